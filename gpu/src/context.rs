@@ -1,0 +1,169 @@
+//! The one headless wgpu context every technique, the harness and the tests share.
+//!
+//! Adapter choice: `WGPU_BACKEND` selects backends (default Vulkan only, because wgpu would
+//! otherwise fall back silently to GL on llvmpipe, which lacks `FLOAT32_FILTERABLE` and
+//! `Rgba32Float` targets); `WGPU_ADAPTER_NAME` picks an adapter by case-insensitive substring;
+//! otherwise a discrete GPU is preferred, then an integrated one, then anything else, and a
+//! software adapter (lavapipe) last.
+
+use crate::GpuError;
+
+/// Features we use when the adapter has them; none is strictly required by the context itself.
+/// Techniques declare what they need through [`Context::require`].
+const WANTED_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    .union(wgpu::Features::FLOAT32_FILTERABLE)
+    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+    .union(wgpu::Features::SHADER_FLOAT32_ATOMIC)
+    .union(wgpu::Features::TEXTURE_ATOMIC)
+    .union(wgpu::Features::IMMEDIATES);
+
+/// What a user sees about the adapter in every results table.
+#[derive(Clone, Debug)]
+pub struct AdapterSummary {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+    pub is_software: bool,
+}
+
+impl std::fmt::Display for AdapterSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} ({}, {})", self.name, self.backend, self.device_type)
+    }
+}
+
+/// The shared GPU context: adapter, device and queue, plus what the adapter can do.
+pub struct Context {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub summary: AdapterSummary,
+}
+
+impl Context {
+    /// Creates the context on the best adapter (see the module documentation).
+    pub fn new() -> Result<Self, GpuError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> Result<Self, GpuError> {
+        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::VULKAN);
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = backends;
+        desc.flags = wgpu::InstanceFlags::from_env_or_default();
+        let instance = wgpu::Instance::new(desc);
+        let adapters = instance.enumerate_adapters(backends).await;
+        let wanted_name = std::env::var("WGPU_ADAPTER_NAME").ok().map(|s| s.to_lowercase());
+        let adapter = choose_adapter(adapters, wanted_name.as_deref())?;
+
+        let info = adapter.get_info();
+        let features = adapter.features() & WANTED_FEATURES;
+        // The adapter's own limits: big cube maps and storage buffers on real GPUs, and
+        // `check_size` reports the true bound to the user.
+        let limits = adapter.limits();
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("shared device"),
+                required_features: features,
+                required_limits: limits,
+                experimental_features: wgpu::ExperimentalFeatures::disabled(),
+                memory_hints: wgpu::MemoryHints::Performance,
+                trace: wgpu::Trace::Off,
+            })
+            .await
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        let summary = AdapterSummary {
+            name: info.name.clone(),
+            backend: format!("{:?}", info.backend).to_lowercase(),
+            device_type: format!("{:?}", info.device_type),
+            driver: format!("{} {}", info.driver, info.driver_info),
+            is_software: info.device_type == wgpu::DeviceType::Cpu,
+        };
+        Ok(Self { instance, adapter, device, queue, summary })
+    }
+
+    /// The features the device was created with.
+    pub fn features(&self) -> wgpu::Features {
+        self.device.features()
+    }
+
+    /// Whether GPU timestamps can bracket passes on this device.
+    pub fn has_timestamps(&self) -> bool {
+        self.features().contains(wgpu::Features::TIMESTAMP_QUERY)
+    }
+
+    /// Fails with a sentence naming the missing features, so the harness can skip a technique
+    /// on an adapter without them and say why.
+    pub fn require(&self, features: wgpu::Features) -> Result<(), GpuError> {
+        let missing = features - self.features();
+        if missing.is_empty() {
+            Ok(())
+        } else {
+            Err(GpuError::MissingFeatures(format!("{missing:?}"), self.summary.name.clone()))
+        }
+    }
+
+    /// Checks a requested 2D image size against the device limit.
+    pub fn check_size(&self, width: u32, height: u32) -> Result<(), GpuError> {
+        let max = self.device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(GpuError::SizeOverLimit { width, height, max });
+        }
+        Ok(())
+    }
+
+    /// Blocks until all submitted work is done.
+    pub fn wait(&self) {
+        // An error here means the device was lost; the next call surfaces it properly.
+        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+    }
+
+    /// Runs `f` with validation errors captured, turning them into a `GpuError` instead of the
+    /// default panic handler.
+    pub fn validated<T>(&self, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f();
+        match pollster::block_on(scope.pop()) {
+            Some(err) => Err(GpuError::Validation(err.to_string())),
+            None => Ok(value),
+        }
+    }
+}
+
+fn adapter_rank(device_type: wgpu::DeviceType) -> u8 {
+    match device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Other => 3,
+        wgpu::DeviceType::Cpu => 4,
+    }
+}
+
+fn choose_adapter(
+    adapters: Vec<wgpu::Adapter>,
+    wanted_name: Option<&str>,
+) -> Result<wgpu::Adapter, GpuError> {
+    if adapters.is_empty() {
+        return Err(GpuError::NoAdapter);
+    }
+    let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+    let mut candidates: Vec<wgpu::Adapter> = match wanted_name {
+        Some(wanted) => adapters
+            .into_iter()
+            .filter(|a| a.get_info().name.to_lowercase().contains(wanted))
+            .collect(),
+        None => adapters,
+    };
+    if candidates.is_empty() {
+        return Err(GpuError::NoNamedAdapter(
+            wanted_name.unwrap_or_default().to_string(),
+            names.join(", "),
+        ));
+    }
+    candidates.sort_by_key(|a| adapter_rank(a.get_info().device_type));
+    Ok(candidates.remove(0))
+}

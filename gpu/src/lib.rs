@@ -1,0 +1,76 @@
+//! The shared GPU layer of the workspace: one headless wgpu [`Context`], HDR render targets
+//! and read-back, cube-map targets, depth peeling, a full-screen pass, GPU timers, and the
+//! WGSL prelude (with its Rust twin in [`prelude`]) that every technique's shaders include.
+
+mod context;
+pub mod cube;
+pub mod depth_peel;
+pub mod fullscreen;
+pub mod prelude;
+mod target;
+mod timer;
+
+pub use context::{AdapterSummary, Context};
+pub use target::{
+    DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, depth_texture, map_buffer, read_buffer,
+    read_texture_bytes, read_texture_f32, read_texture_f32x4,
+};
+pub use timer::{GpuTimer, TimeStats, TimerKind};
+pub use wgpu;
+
+/// Everything that can go wrong in the GPU layer, each as one sentence a user can act on.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error(
+        "no GPU adapter found: wgpu could not load a Vulkan driver; on Debian/Ubuntu install the \
+         Mesa software driver with `sudo apt-get install mesa-vulkan-drivers libvulkan1` \
+         (or run `cargo xtask test`, which does it), or set WGPU_BACKEND=gl to try OpenGL"
+    )]
+    NoAdapter,
+    #[error("no adapter name contains \"{0}\" (WGPU_ADAPTER_NAME); adapters found: {1}")]
+    NoNamedAdapter(String, String),
+    #[error("could not create the GPU device: {0}")]
+    Device(String),
+    #[error("adapter {1} lacks required features {0}")]
+    MissingFeatures(String, String),
+    #[error(
+        "image size {width}x{height} is outside this adapter's limit (1 to {max} pixels per side)"
+    )]
+    SizeOverLimit { width: u32, height: u32, max: u32 },
+    #[error("GPU read-back failed: {0}")]
+    ReadBack(String),
+    #[error("GPU validation error: {0}")]
+    Validation(String),
+}
+
+/// The vertex layout shared by the scene upload, depth peeling and every technique:
+/// world-space position, shading normal, texture coordinate.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+}
+
+impl Vertex {
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
+
+    pub fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}
+
+/// Compiles WGSL source prefixed with the shared prelude.
+pub fn shader_with_prelude(ctx: &Context, label: &str, source: &str) -> wgpu::ShaderModule {
+    let full = format!("{}\n{}", prelude::PRELUDE_WGSL, source);
+    ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(full.into()),
+    })
+}

@@ -1,0 +1,157 @@
+//! Rust twin of `shaders/prelude.wgsl`: the same functions, same names, same constants.
+//! The CPU reference renderer uses these, so the reference and every technique agree on
+//! Fresnel and on cube-map addressing by construction; `tests/prelude_conformance.rs` runs the
+//! WGSL versions in a compute shader and compares them with these.
+
+use glam::{Vec2, Vec3, Vec4};
+
+/// The WGSL prelude source; prefix it to a shader with [`crate::shader_with_prelude`].
+pub const PRELUDE_WGSL: &str = include_str!("shaders/prelude.wgsl");
+
+pub const PI: f32 = std::f32::consts::PI;
+/// Empty interval returned by [`ray_sphere`] and [`ray_box`] on a miss (t_near > t_far).
+pub const MISS: Vec2 = Vec2::new(1.0, -1.0);
+
+/// Ray / plane `dot(n, x) = c`: the ray parameter, or -1 when the ray is parallel.
+pub fn ray_plane(o: Vec3, d: Vec3, n: Vec3, c: f32) -> f32 {
+    let denom = n.dot(d);
+    if denom.abs() < 1e-12 {
+        return -1.0;
+    }
+    (c - n.dot(o)) / denom
+}
+
+/// Ray / sphere: (t_near, t_far) or [`MISS`].
+pub fn ray_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32) -> Vec2 {
+    let oc = o - center;
+    let b = oc.dot(d);
+    let c = oc.dot(oc) - radius * radius;
+    let disc = b * b - c;
+    if disc < 0.0 {
+        return MISS;
+    }
+    let s = disc.sqrt();
+    Vec2::new(-b - s, -b + s)
+}
+
+/// Ray / axis-aligned box by slabs: (t_near, t_far) or [`MISS`].
+pub fn ray_box(o: Vec3, d: Vec3, bmin: Vec3, bmax: Vec3) -> Vec2 {
+    let inv = d.recip();
+    let t0 = (bmin - o) * inv;
+    let t1 = (bmax - o) * inv;
+    // WGSL min/max of (-inf, nan) cases do not arise: a zero component gives +-inf only.
+    let tmin = t0.min(t1);
+    let tmax = t0.max(t1);
+    let t_near = tmin.max_element();
+    let t_far = tmax.min_element();
+    if t_near > t_far {
+        return MISS;
+    }
+    Vec2::new(t_near, t_far)
+}
+
+/// Mirror direction of `i` about unit normal `n`.
+pub fn reflect_dir(i: Vec3, n: Vec3) -> Vec3 {
+    i - 2.0 * n.dot(i) * n
+}
+
+/// Snell refraction, `eta = n_incident / n_transmitted`, `n` facing against `i`.
+/// Returns (direction, 1) or on total internal reflection (reflected direction, 0).
+pub fn refract_dir(i: Vec3, n: Vec3, eta: f32) -> Vec4 {
+    let cos_i = -n.dot(i);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    if k < 0.0 {
+        return reflect_dir(i, n).extend(0.0);
+    }
+    (eta * i + (eta * cos_i - k.sqrt()) * n).normalize().extend(1.0)
+}
+
+/// The seeds' Fresnel approximation with refractive index `n` and extinction `k` per channel.
+pub fn fresnel_nk(cos_theta: f32, n: Vec3, k: Vec3) -> Vec3 {
+    let c = cos_theta.clamp(0.0, 1.0);
+    let m = (1.0 - c).powf(5.0);
+    let k2 = k * k;
+    ((n - 1.0) * (n - 1.0) + k2 + 4.0 * n * m) / ((n + 1.0) * (n + 1.0) + k2)
+}
+
+/// Dielectric Fresnel reflectance with the same approximation; `eta_rel = n_t / n_i`.
+pub fn fresnel_dielectric(cos_i: f32, eta_rel: f32) -> f32 {
+    let c = cos_i.clamp(0.0, 1.0);
+    if eta_rel >= 1.0 {
+        return fresnel_nk(c, Vec3::splat(eta_rel), Vec3::ZERO).x;
+    }
+    let sin2_t = (1.0 - c * c) / (eta_rel * eta_rel);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    fresnel_nk((1.0 - sin2_t).sqrt(), Vec3::splat(1.0 / eta_rel), Vec3::ZERO).x
+}
+
+/// Direction -> (face, u, v), faces +X,-X,+Y,-Y,+Z,-Z, v = 0 on texel row 0.
+pub fn cube_dir_to_face_uv(d: Vec3) -> Vec3 {
+    let a = d.abs();
+    let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
+        if d.x >= 0.0 { (0.0, -d.z, -d.y, a.x) } else { (1.0, d.z, -d.y, a.x) }
+    } else if a.y >= a.z {
+        if d.y >= 0.0 { (2.0, d.x, d.z, a.y) } else { (3.0, d.x, -d.z, a.y) }
+    } else if d.z >= 0.0 {
+        (4.0, d.x, -d.y, a.z)
+    } else {
+        (5.0, -d.x, -d.y, a.z)
+    };
+    Vec3::new(face, 0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0))
+}
+
+/// (face, u, v) -> unnormalised direction; inverse of [`cube_dir_to_face_uv`].
+pub fn cube_face_uv_to_dir(face: u32, u: f32, v: f32) -> Vec3 {
+    let sc = 2.0 * u - 1.0;
+    let tc = 2.0 * v - 1.0;
+    match face {
+        0 => Vec3::new(1.0, -tc, -sc),
+        1 => Vec3::new(-1.0, -tc, sc),
+        2 => Vec3::new(sc, 1.0, tc),
+        3 => Vec3::new(sc, -1.0, -tc),
+        4 => Vec3::new(sc, -tc, 1.0),
+        _ => Vec3::new(-sc, -tc, -1.0),
+    }
+}
+
+fn sign_not_neg(v: Vec2) -> Vec2 {
+    Vec2::new(if v.x >= 0.0 { 1.0 } else { -1.0 }, if v.y >= 0.0 { 1.0 } else { -1.0 })
+}
+
+/// Octahedral encoding of a unit vector into [-1,1]^2.
+pub fn oct_encode(n: Vec3) -> Vec2 {
+    let p = Vec2::new(n.x, n.y) / (n.x.abs() + n.y.abs() + n.z.abs());
+    if n.z >= 0.0 {
+        return p;
+    }
+    (Vec2::ONE - Vec2::new(p.y, p.x).abs()) * sign_not_neg(p)
+}
+
+/// Inverse of [`oct_encode`].
+pub fn oct_decode(e: Vec2) -> Vec3 {
+    let mut n = Vec3::new(e.x, e.y, 1.0 - e.x.abs() - e.y.abs());
+    if n.z < 0.0 {
+        let xy = (Vec2::ONE - Vec2::new(n.y, n.x).abs()) * sign_not_neg(Vec2::new(n.x, n.y));
+        n = Vec3::new(xy.x, xy.y, n.z);
+    }
+    n.normalize()
+}
+
+/// PCG hash (O'Neill).
+pub fn pcg_hash(x: u32) -> u32 {
+    let state = x.wrapping_mul(747796405).wrapping_add(2891336453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277803737);
+    (word >> 22) ^ word
+}
+
+/// Uniform float in [0, 1) from [`pcg_hash`].
+pub fn hash_to_unit(x: u32) -> f32 {
+    (pcg_hash(x) >> 8) as f32 * (1.0 / 16777216.0)
+}
+
+/// Relative luminance of linear RGB (Rec. 709).
+pub fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}

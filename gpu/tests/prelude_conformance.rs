@@ -1,0 +1,866 @@
+//! GPU conformance of the WGSL prelude (`gpu/src/shaders/prelude.wgsl`) against its Rust twin
+//! (`gpu::prelude`).
+//!
+//! Every prelude function runs in a compute shader on a few thousand deterministic random
+//! inputs plus hand-written edge cases; the results are read back bit for bit (through
+//! `bitcast`, so infinities survive) and compared with the Rust twin.
+//!
+//! Tolerances (`close(gpu, cpu, abs, rel)` means `|gpu - cpu| <= abs + rel * |cpu|`, and equal
+//! values, infinities included, always pass):
+//!
+//! | function | tolerance |
+//! | --- | --- |
+//! | `pcg_hash`, `hash_to_unit` | bit-exact |
+//! | `cube_dir_to_face_uv` | face exact (abs and comparisons are exact on both sides, so ties on face edges and diagonals resolve the same way); u, v abs 2e-6 |
+//! | `cube_face_uv_to_dir` | abs 1e-6 |
+//! | `reflect_dir`, `luminance`, `oct_encode`, `oct_decode` | abs 1e-5 (luminance: rel 1e-5) |
+//! | `ray_plane` | rel 1e-4 plus the rounding bound of the quotient, `8 eps (abs(c) + abs(dot(n, o)) + abs(t)) / abs(dot(n, d))`; when `abs(dot(n, d))` is within rounding of 0 (GPUs may fuse the dot product into FMAs) the parallel test is ill-conditioned and either answer is accepted; exactly parallel cases (representable zero dot products) must give -1 |
+//! | `ray_sphere` | rel 1e-4 plus the propagated rounding error of the discriminant; hit/miss must agree unless the discriminant is within rounding of 0 (tangent rays) |
+//! | `ray_box` | abs 1e-5, rel 1e-5; hit/miss must agree unless the interval is degenerate (`t_near` within 1e-4 of `t_far`: rays grazing an edge). Zero direction components are included; origins never lie exactly on a slab plane of a zero component (0 * inf, see the README) |
+//! | `refract_dir` | abs 1e-5 plus `4 eps / sqrt(abs(k))` with `k = 1 - eta^2 sin^2`; the TIR flag must agree unless `abs(k) < 1e-5`, where either branch is accepted if it returns a unit vector |
+//! | `fresnel_nk` | abs 2e-5, rel 1e-4 (`pow` on the GPU is exp2/log2) |
+//! | `fresnel_dielectric` | abs 2e-5, rel 1e-4, plus `5 * dc` for eta < 1 where `dc` is the rounding error of the transmitted cosine `sqrt(x)`, `x = 1 - sin^2_t` (ill-conditioned near the critical angle; the function is continuous there, so no band is needed) |
+//!
+//! `mutated_prelude_constants_are_detected` shows that the comparison can fail: it breaks
+//! prelude constants in a copy of the source and checks that the affected functions are
+//! reported.
+
+use std::sync::OnceLock;
+
+use glam::{Vec2, Vec3, Vec4};
+use gpu::prelude as p;
+use gpu::wgpu;
+use gpu::wgpu::util::DeviceExt;
+
+/// Random cases per function, on top of the edge cases.
+const RANDOM_CASES: usize = 4096;
+const EPS: f64 = f32::EPSILON as f64;
+
+fn ctx() -> &'static gpu::Context {
+    static CTX: OnceLock<gpu::Context> = OnceLock::new();
+    CTX.get_or_init(|| {
+        gpu::Context::new().unwrap_or_else(|e| panic!("the prelude conformance test needs a GPU adapter: {e}"))
+    })
+}
+
+/// One compute kernel per prelude function. A case reads four `vec4` arguments (as raw bits)
+/// and writes two `vec4` results (as raw bits).
+const KERNELS: &str = r#"
+@group(0) @binding(0) var<storage, read> cases: array<vec4u>;
+@group(0) @binding(1) var<storage, read_write> results: array<vec4u>;
+
+fn arg(i: u32, k: u32) -> vec4f { return bitcast<vec4f>(cases[4u * i + k]); }
+fn argu(i: u32, k: u32) -> vec4u { return cases[4u * i + k]; }
+fn put(i: u32, k: u32, v: vec4f) { results[2u * i + k] = bitcast<vec4u>(v); }
+fn putu(i: u32, k: u32, v: vec4u) { results[2u * i + k] = v; }
+fn case_count() -> u32 { return arrayLength(&results) / 2u; }
+
+@compute @workgroup_size(64)
+fn k_ray_plane(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    let o = arg(i, 0u); let d = arg(i, 1u); let n = arg(i, 2u);
+    put(i, 0u, vec4f(ray_plane(o.xyz, d.xyz, n.xyz, n.w), 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_ray_sphere(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    let o = arg(i, 0u); let d = arg(i, 1u); let s = arg(i, 2u);
+    put(i, 0u, vec4f(ray_sphere(o.xyz, d.xyz, s.xyz, s.w), 0.0, 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_ray_box(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    let o = arg(i, 0u); let d = arg(i, 1u); let lo = arg(i, 2u); let hi = arg(i, 3u);
+    put(i, 0u, vec4f(ray_box(o.xyz, d.xyz, lo.xyz, hi.xyz), 0.0, 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_reflect_dir(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    put(i, 0u, vec4f(reflect_dir(arg(i, 0u).xyz, arg(i, 1u).xyz), 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_refract_dir(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    let a = arg(i, 0u); let n = arg(i, 1u);
+    put(i, 0u, refract_dir(a.xyz, n.xyz, n.w));
+}
+
+@compute @workgroup_size(64)
+fn k_fresnel_nk(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    let c = arg(i, 0u); let n = arg(i, 1u); let k = arg(i, 2u);
+    put(i, 0u, vec4f(fresnel_nk(c.x, n.xyz, k.xyz), 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_fresnel_dielectric(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    let a = arg(i, 0u);
+    put(i, 0u, vec4f(fresnel_dielectric(a.x, a.y), 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_cube_dir_to_face_uv(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    put(i, 0u, vec4f(cube_dir_to_face_uv(arg(i, 0u).xyz), 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_cube_face_uv_to_dir(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    let face = argu(i, 0u).x;
+    let uv = arg(i, 1u);
+    put(i, 0u, vec4f(cube_face_uv_to_dir(face, uv.x, uv.y), 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_oct_encode(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    put(i, 0u, vec4f(oct_encode(arg(i, 0u).xyz), 0.0, 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_oct_decode(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    put(i, 0u, vec4f(oct_decode(arg(i, 0u).xy), 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_pcg_hash(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    putu(i, 0u, vec4u(pcg_hash(argu(i, 0u).x), 0u, 0u, 0u));
+}
+
+@compute @workgroup_size(64)
+fn k_hash_to_unit(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    put(i, 0u, vec4f(hash_to_unit(argu(i, 0u).x), 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_luminance(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    put(i, 0u, vec4f(luminance(arg(i, 0u).xyz), 0.0, 0.0, 0.0));
+}
+"#;
+
+// ---------------------------------------------------------------------------------------------
+// Harness
+// ---------------------------------------------------------------------------------------------
+
+/// Four `vec4` arguments of one case, as raw bits.
+type Case = [[u32; 4]; 4];
+/// Two `vec4` results of one case, as raw bits.
+type Output = [[u32; 4]; 2];
+
+fn bits(v: Vec4) -> [u32; 4] {
+    v.to_array().map(f32::to_bits)
+}
+
+fn case(args: &[Vec4]) -> Case {
+    let mut c = [[0u32; 4]; 4];
+    for (slot, a) in c.iter_mut().zip(args) {
+        *slot = bits(*a);
+    }
+    c
+}
+
+fn float4(o: [u32; 4]) -> Vec4 {
+    Vec4::from_array(o.map(f32::from_bits))
+}
+
+fn arg(c: &Case, k: usize) -> Vec4 {
+    float4(c[k])
+}
+
+/// Runs kernel `entry` of `KERNELS` compiled after `prelude` on `cases`.
+fn run_kernel(prelude: &str, entry: &str, cases: &[Case]) -> Vec<Output> {
+    let ctx = ctx();
+    let source = format!("{prelude}\n{KERNELS}");
+    let (pipeline, input, output) = ctx
+        .validated(|| {
+            let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(entry),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            let pipeline = ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            let input = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("conformance cases"),
+                contents: bytemuck::cast_slice(cases),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("conformance results"),
+                size: std::mem::size_of_val(cases) as u64 / 2,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            (pipeline, input, output)
+        })
+        .unwrap_or_else(|e| panic!("building kernel {entry}: {e}"));
+    let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(entry),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+        ],
+    });
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(entry),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
+    }
+    ctx.queue.submit([encoder.finish()]);
+    let bytes = gpu::read_buffer(ctx, &output).unwrap_or_else(|e| panic!("{entry}: {e}"));
+    bytemuck::pod_collect_to_vec(&bytes)
+}
+
+/// Runs `entry` on every case and collects a message for each case `check` rejects.
+fn compare(
+    prelude: &str,
+    entry: &str,
+    cases: &[Case],
+    check: impl Fn(&Case, &Output) -> Result<(), String>,
+) -> Vec<String> {
+    let outputs = run_kernel(prelude, entry, cases);
+    assert_eq!(outputs.len(), cases.len());
+    cases
+        .iter()
+        .zip(&outputs)
+        .enumerate()
+        .filter_map(|(i, (c, o))| check(c, o).err().map(|e| format!("{entry} case {i}: {e}")))
+        .collect()
+}
+
+fn assert_conforms(name: &str, failures: Vec<String>) {
+    if !failures.is_empty() {
+        let shown: Vec<&str> = failures.iter().take(12).map(String::as_str).collect();
+        panic!(
+            "{name}: {} cases differ from the Rust twin:\n{}",
+            failures.len(),
+            shown.join("\n")
+        );
+    }
+}
+
+/// `|a - b| <= abs + rel * |b|`; equal values (infinities included) always pass, NaN never.
+fn close(a: f32, b: f32, abs: f32, rel: f32) -> bool {
+    a == b || (a - b).abs() <= abs + rel * b.abs()
+}
+
+fn close_v(a: Vec4, b: Vec4, abs: f32, rel: f32) -> bool {
+    (0..4).all(|k| close(a[k], b[k], abs, rel))
+}
+
+/// Deterministic SplitMix64 generator for the random cases.
+struct Rng(u64);
+
+impl Rng {
+    fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn u32(&mut self) -> u32 {
+        (self.next_u64() >> 32) as u32
+    }
+    /// Uniform in [a, b).
+    fn range(&mut self, a: f32, b: f32) -> f32 {
+        let unit = (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
+        a + (b - a) * unit
+    }
+    fn vec3(&mut self, a: f32, b: f32) -> Vec3 {
+        Vec3::new(self.range(a, b), self.range(a, b), self.range(a, b))
+    }
+    fn unit_vec3(&mut self) -> Vec3 {
+        loop {
+            let v = self.vec3(-1.0, 1.0);
+            let l = v.length();
+            if l > 1e-2 && l <= 1.0 {
+                return v / l;
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// One check per prelude function; each takes the prelude source so the mutation test can run
+// it on a broken copy.
+// ---------------------------------------------------------------------------------------------
+
+fn check_ray_plane(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(1);
+    let mut cases = Vec::new();
+    // Exactly parallel: every product in dot(n, d) is exact, so the dot is exactly 0 on both.
+    for (n, d) in [
+        (Vec3::Z, Vec3::new(0.6, 0.8, 0.0)),
+        (Vec3::Y, Vec3::X),
+        (Vec3::NEG_X, Vec3::new(0.0, -0.28, 0.96)),
+        (Vec3::Z, Vec3::new(-1.0, 0.0, 0.0)),
+    ] {
+        cases.push(case(&[Vec4::new(0.3, -0.2, 0.7, 0.0), d.extend(0.0), n.extend(1.5)]));
+    }
+    // Nearly parallel (tilts down to 1e-4 rad) and axis-aligned planes.
+    for k in 0..64 {
+        let n = rng.unit_vec3();
+        let t = n.any_orthonormal_vector();
+        let tilt = 10f32.powf(-1.0 - 3.0 * (k as f32 / 63.0));
+        let d = (t + tilt * n).normalize();
+        cases.push(case(&[rng.vec3(-3.0, 3.0).extend(0.0), d.extend(0.0), n.extend(rng.range(-2.0, 2.0))]));
+    }
+    for axis in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::NEG_X, Vec3::NEG_Y, Vec3::NEG_Z] {
+        cases.push(case(&[Vec4::new(0.1, 0.2, 0.3, 0.0), axis.extend(0.0), axis.extend(2.0)]));
+    }
+    for _ in 0..RANDOM_CASES {
+        cases.push(case(&[
+            rng.vec3(-5.0, 5.0).extend(0.0),
+            rng.unit_vec3().extend(0.0),
+            rng.unit_vec3().extend(rng.range(-3.0, 3.0)),
+        ]));
+    }
+    compare(prelude, "k_ray_plane", &cases, |c, out| {
+        let (o, d, n) = (arg(c, 0).truncate(), arg(c, 1).truncate(), arg(c, 2));
+        let (nv, cc) = (n.truncate(), n.w);
+        let want = p::ray_plane(o, d, nv, cc);
+        let got = float4(out[0]).x;
+        let denom = nv.as_dvec3().dot(d.as_dvec3());
+        let denom_err = 4.0 * EPS * (nv.as_dvec3().abs().dot(d.as_dvec3().abs()));
+        if denom.abs() <= denom_err.max(1e-12) && denom != 0.0 {
+            return Ok(()); // ill-conditioned parallel test: either answer
+        }
+        if denom == 0.0 {
+            return if got == -1.0 && want == -1.0 { Ok(()) } else { Err(format!("parallel: gpu {got} cpu {want}")) };
+        }
+        let bound = 8.0 * EPS * (cc.abs() as f64 + nv.dot(o).abs() as f64 + want.abs() as f64) / denom.abs();
+        if close(got, want, 1e-6 + bound as f32, 1e-4) {
+            Ok(())
+        } else {
+            Err(format!("o {o} d {d} n {nv} c {cc}: gpu {got} cpu {want} (bound {bound:e})"))
+        }
+    })
+}
+
+fn check_ray_sphere(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(2);
+    let mut cases = Vec::new();
+    // Tangent (discriminant exactly 0), through the centre, from inside, from the surface.
+    cases.push(case(&[Vec4::new(0.0, 1.0, -5.0, 0.0), Vec4::new(0.0, 0.0, 1.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 1.0)]));
+    cases.push(case(&[Vec4::new(0.0, 0.0, 5.0, 0.0), Vec4::new(0.0, 0.0, -1.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 1.0)]));
+    cases.push(case(&[Vec4::new(0.1, 0.2, 0.0, 0.0), Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 2.0)]));
+    cases.push(case(&[Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(-1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 1.0)]));
+    cases.push(case(&[Vec4::new(0.0, 3.0, 0.0, 0.0), Vec4::new(0.0, 1.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 1.0)]));
+    for k in 0..RANDOM_CASES {
+        let o = rng.vec3(-4.0, 4.0);
+        let center = rng.vec3(-1.0, 1.0);
+        let r = rng.range(0.1, 2.0);
+        // Half the rays are aimed near the sphere so that hits, misses and grazing rays mix.
+        let d = if k % 2 == 0 {
+            let aim = center + rng.unit_vec3() * r * rng.range(0.0, 1.3);
+            let d = aim - o;
+            if d.length() < 1e-3 { rng.unit_vec3() } else { d.normalize() }
+        } else {
+            rng.unit_vec3()
+        };
+        cases.push(case(&[o.extend(0.0), d.extend(0.0), center.extend(r)]));
+    }
+    compare(prelude, "k_ray_sphere", &cases, |c, out| {
+        let (o, d, s) = (arg(c, 0).truncate(), arg(c, 1).truncate(), arg(c, 2));
+        let want = p::ray_sphere(o, d, s.truncate(), s.w);
+        let got = float4(out[0]).truncate().truncate();
+        let oc = (o - s.truncate()).as_dvec3();
+        let b = oc.dot(d.as_dvec3());
+        let disc = b * b - (oc.dot(oc) - (s.w as f64).powi(2));
+        let disc_err = 8.0 * EPS * (b * b + oc.dot(oc) + (s.w as f64).powi(2));
+        let (want_hit, got_hit) = (want.x <= want.y, got.x <= got.y);
+        if disc.abs() <= disc_err {
+            // Tangent ray: the hit/miss decision is within rounding; if both hit, the
+            // interval is within sqrt of the discriminant's error.
+            if want_hit && got_hit {
+                let tol = (2.0 * disc_err.sqrt() + 1e-5 * (1.0 + b.abs())) as f32;
+                if !close(got.x, want.x, tol, 1e-4) || !close(got.y, want.y, tol, 1e-4) {
+                    return Err(format!("tangent: gpu {got} cpu {want}"));
+                }
+            }
+            return Ok(());
+        }
+        if want_hit != got_hit {
+            return Err(format!("o {o} d {d} sphere {s}: hit differs: gpu {got} cpu {want}"));
+        }
+        if !want_hit {
+            return if got == p::MISS { Ok(()) } else { Err(format!("miss is {got}, not MISS")) };
+        }
+        let s_err = (disc_err / (2.0 * disc.sqrt())).min(disc_err.sqrt());
+        let tol = (2.0 * s_err + 1e-5 * (1.0 + b.abs())) as f32;
+        if close(got.x, want.x, tol, 1e-4) && close(got.y, want.y, tol, 1e-4) {
+            Ok(())
+        } else {
+            Err(format!("o {o} d {d} sphere {s}: gpu {got} cpu {want} (tol {tol:e})"))
+        }
+    })
+}
+
+fn check_ray_box(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(3);
+    let mut cases = Vec::new();
+    let unit_box = (Vec3::splat(-1.0), Vec3::splat(1.0));
+    // Axis-aligned rays (two zero components, some of them -0.0): hitting from outside, from
+    // inside, missing beside the box, and pointing away.
+    let axis_rays = [
+        (Vec3::new(0.25, 0.5, 5.0), Vec3::new(0.0, -0.0, -1.0)),
+        (Vec3::new(0.25, 0.5, 0.125), Vec3::new(-0.0, 0.0, 1.0)),
+        (Vec3::new(3.0, 0.5, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+        (Vec3::new(0.25, 0.5, 5.0), Vec3::new(0.0, 0.0, 1.0)),
+        (Vec3::new(-4.0, 0.3, -0.7), Vec3::new(1.0, 0.0, 0.0)),
+        (Vec3::new(0.3, -4.0, -0.7), Vec3::new(-0.0, 1.0, -0.0)),
+        (Vec3::new(0.3, 4.0, 1.5), Vec3::new(0.0, -1.0, 0.0)),
+        (Vec3::new(0.0625, 0.0625, 0.0625), Vec3::new(0.0, -1.0, 0.0)),
+    ];
+    for (o, d) in axis_rays {
+        cases.push(case(&[o.extend(0.0), d.extend(0.0), unit_box.0.extend(0.0), unit_box.1.extend(0.0)]));
+    }
+    for k in 0..RANDOM_CASES {
+        let lo = rng.vec3(-2.0, 0.0);
+        let hi = lo + rng.vec3(0.1, 3.0);
+        let o = rng.vec3(-5.0, 5.0);
+        let mut d = if k % 2 == 0 { ((lo + hi) * 0.5 + rng.vec3(-1.5, 1.5) - o).normalize() } else { rng.unit_vec3() };
+        // A third of the components are zeroed (half of those as -0.0).
+        for a in 0..3 {
+            if rng.u32() % 3 == 0 {
+                d[a] = if rng.u32() % 2 == 0 { 0.0 } else { -0.0 };
+            }
+        }
+        if d.abs().max_element() == 0.0 {
+            d = Vec3::X;
+        }
+        let d = d / d.length();
+        cases.push(case(&[o.extend(0.0), d.extend(0.0), lo.extend(0.0), hi.extend(0.0)]));
+    }
+    compare(prelude, "k_ray_box", &cases, |c, out| {
+        let (o, d, lo, hi) = (arg(c, 0).truncate(), arg(c, 1).truncate(), arg(c, 2).truncate(), arg(c, 3).truncate());
+        let want = p::ray_box(o, d, lo, hi);
+        let got = float4(out[0]).truncate().truncate();
+        if got.is_nan() || want.is_nan() {
+            return Err(format!("NaN: gpu {got} cpu {want}"));
+        }
+        let degenerate = |v: Vec2| (v.x - v.y).abs() <= 1e-4 * (1.0 + v.x.abs());
+        let (want_hit, got_hit) = (want.x <= want.y, got.x <= got.y);
+        if want_hit != got_hit {
+            let hit = if want_hit { want } else { got };
+            return if degenerate(hit) { Ok(()) } else { Err(format!("o {o} d {d} box {lo}..{hi}: hit differs: gpu {got} cpu {want}")) };
+        }
+        if !want_hit {
+            return if got == p::MISS { Ok(()) } else { Err(format!("miss is {got}, not MISS")) };
+        }
+        if close(got.x, want.x, 1e-5, 1e-5) && close(got.y, want.y, 1e-5, 1e-5) {
+            Ok(())
+        } else {
+            Err(format!("o {o} d {d} box {lo}..{hi}: gpu {got} cpu {want}"))
+        }
+    })
+}
+
+fn check_reflect_dir(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(4);
+    let mut cases = vec![
+        case(&[Vec4::new(0.0, 0.0, -1.0, 0.0), Vec4::new(0.0, 0.0, 1.0, 0.0)]),
+        case(&[Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 1.0, 0.0, 0.0)]),
+    ];
+    for _ in 0..RANDOM_CASES {
+        cases.push(case(&[rng.unit_vec3().extend(0.0), rng.unit_vec3().extend(0.0)]));
+    }
+    compare(prelude, "k_reflect_dir", &cases, |c, out| {
+        let (i, n) = (arg(c, 0).truncate(), arg(c, 1).truncate());
+        let want = p::reflect_dir(i, n).extend(0.0);
+        let got = float4(out[0]);
+        if close_v(got, want, 1e-5, 0.0) { Ok(()) } else { Err(format!("i {i} n {n}: gpu {got} cpu {want}")) }
+    })
+}
+
+fn check_refract_dir(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(5);
+    let mut cases = Vec::new();
+    let n = Vec3::Z;
+    // Normal incidence, grazing incidence, both sides of the critical angle, eta = 1, eta < 1.
+    for eta in [1.0f32, 1.0 / 1.5, 1.5, 1.0 / 2.4, 2.4, 0.5, 0.98] {
+        for cos_i in [1.0f32, 0.999, 0.5, 0.1, 1e-3, 0.0] {
+            let i = Vec3::new((1.0 - cos_i * cos_i).sqrt(), 0.0, -cos_i);
+            cases.push(case(&[i.extend(0.0), n.extend(eta)]));
+        }
+        if eta > 1.0 {
+            let sin_c = 1.0 / eta;
+            for delta in [-1e-2f32, -1e-3, 1e-3, 1e-2] {
+                let s = sin_c + delta;
+                let i = Vec3::new(s, 0.0, -(1.0 - s * s).sqrt());
+                cases.push(case(&[i.extend(0.0), n.extend(eta)]));
+            }
+        }
+    }
+    for _ in 0..RANDOM_CASES {
+        let n = rng.unit_vec3();
+        let mut i = rng.unit_vec3();
+        if i.dot(n) > 0.0 {
+            i = -i;
+        }
+        let eta = if rng.u32() % 2 == 0 { rng.range(1.0, 2.5) } else { 1.0 / rng.range(1.0, 2.5) };
+        cases.push(case(&[i.extend(0.0), n.extend(eta)]));
+    }
+    compare(prelude, "k_refract_dir", &cases, |c, out| {
+        let (i, nv) = (arg(c, 0).truncate(), arg(c, 1));
+        let (n, eta) = (nv.truncate(), nv.w);
+        let want = p::refract_dir(i, n, eta);
+        let got = float4(out[0]);
+        let cos_i = -n.as_dvec3().dot(i.as_dvec3());
+        let k = 1.0 - (eta as f64).powi(2) * (1.0 - cos_i * cos_i);
+        if k.abs() < 1e-5 {
+            // At the critical angle either branch is right; it must still be a unit vector.
+            let unit = (got.truncate().length() - 1.0).abs() < 1e-4;
+            return if unit && (got.w == 0.0 || got.w == 1.0) { Ok(()) } else { Err(format!("critical: gpu {got}")) };
+        }
+        if got.w != want.w {
+            return Err(format!("i {i} n {n} eta {eta}: TIR flag differs: gpu {got} cpu {want} (k {k:e})"));
+        }
+        let tol = 1e-5 + (4.0 * EPS / k.abs().sqrt()) as f32;
+        if close_v(got, want, tol, 0.0) { Ok(()) } else { Err(format!("i {i} n {n} eta {eta}: gpu {got} cpu {want}")) }
+    })
+}
+
+fn check_fresnel_nk(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(6);
+    let mut cases = Vec::new();
+    let gold = (Vec3::new(0.17, 0.35, 1.5), Vec3::new(3.1, 2.7, 1.9));
+    let glass = (Vec3::splat(1.5), Vec3::ZERO);
+    let unit = (Vec3::ONE, Vec3::ZERO);
+    for (n, k) in [gold, glass, unit] {
+        for cos in [-1.0f32, -0.25, 0.0, 1e-4, 0.5, 1.0, 1.25, 2.0] {
+            cases.push(case(&[Vec4::new(cos, 0.0, 0.0, 0.0), n.extend(0.0), k.extend(0.0)]));
+        }
+    }
+    for _ in 0..RANDOM_CASES {
+        cases.push(case(&[
+            Vec4::new(rng.range(-0.5, 1.5), 0.0, 0.0, 0.0),
+            rng.vec3(0.05, 4.0).extend(0.0),
+            rng.vec3(0.0, 8.0).extend(0.0),
+        ]));
+    }
+    compare(prelude, "k_fresnel_nk", &cases, |c, out| {
+        let (cos, n, k) = (arg(c, 0).x, arg(c, 1).truncate(), arg(c, 2).truncate());
+        let want = p::fresnel_nk(cos, n, k).extend(0.0);
+        let got = float4(out[0]);
+        if close_v(got, want, 2e-5, 1e-4) { Ok(()) } else { Err(format!("cos {cos} n {n} k {k}: gpu {got} cpu {want}")) }
+    })
+}
+
+fn check_fresnel_dielectric(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(7);
+    let mut cases = Vec::new();
+    for eta in [1.0f32, 1.5, 1.0 / 1.5, 0.3, 3.0] {
+        for cos in [-0.5f32, 0.0, 1e-4, 0.3, 0.7453560, 0.75, 1.0, 1.5] {
+            cases.push(case(&[Vec4::new(cos, eta, 0.0, 0.0)]));
+        }
+        if eta < 1.0 {
+            // Around the critical angle: sin_i = eta (+-).
+            for delta in [-1e-3f32, -1e-5, 0.0, 1e-5, 1e-3] {
+                let s = (eta + delta).min(1.0);
+                cases.push(case(&[Vec4::new((1.0 - s * s).sqrt(), eta, 0.0, 0.0)]));
+            }
+        }
+    }
+    for _ in 0..RANDOM_CASES {
+        let eta = if rng.u32() % 2 == 0 { rng.range(1.0, 3.0) } else { 1.0 / rng.range(1.0, 3.0) };
+        cases.push(case(&[Vec4::new(rng.range(-0.25, 1.25), eta, 0.0, 0.0)]));
+    }
+    compare(prelude, "k_fresnel_dielectric", &cases, |c, out| {
+        let (cos, eta) = (arg(c, 0).x, arg(c, 0).y);
+        let want = p::fresnel_dielectric(cos, eta);
+        let got = float4(out[0]).x;
+        let mut tol = 2e-5f64;
+        if eta < 1.0 {
+            let cc = (cos as f64).clamp(0.0, 1.0);
+            let x = 1.0 - (1.0 - cc * cc) / (eta as f64).powi(2);
+            if x > 0.0 {
+                let dx = 16.0 * EPS / (eta as f64).powi(2);
+                tol += 5.0 * (dx / (2.0 * x.sqrt())).min(dx.sqrt());
+            }
+        }
+        if close(got, want, tol as f32, 1e-4) { Ok(()) } else { Err(format!("cos {cos} eta {eta}: gpu {got} cpu {want}")) }
+    })
+}
+
+fn check_cube_dir_to_face_uv(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(8);
+    let mut cases = Vec::new();
+    // Axes, face edges (two equal largest components) and corners (three), with signs and -0.0.
+    let mut edge_dirs = vec![
+        Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z,
+        Vec3::new(-0.0, 1.0, -0.0), Vec3::new(1.0, -0.0, 0.0), Vec3::new(0.0, -0.0, -1.0),
+    ];
+    for sx in [-1.0f32, 1.0] {
+        for sy in [-1.0f32, 1.0] {
+            for sz in [-1.0f32, 1.0] {
+                edge_dirs.push(Vec3::new(sx, sy, sz));
+                edge_dirs.push(Vec3::new(sx, sy, 0.3 * sz));
+                edge_dirs.push(Vec3::new(sx, 0.3 * sy, sz));
+                edge_dirs.push(Vec3::new(0.3 * sx, sy, sz));
+                edge_dirs.push(Vec3::new(sx, sy, 0.0));
+            }
+        }
+    }
+    for d in edge_dirs {
+        cases.push(case(&[d.extend(0.0)]));
+    }
+    for _ in 0..RANDOM_CASES {
+        let scale = 10f32.powf(rng.range(-2.0, 2.0));
+        cases.push(case(&[(rng.unit_vec3() * scale).extend(0.0)]));
+    }
+    compare(prelude, "k_cube_dir_to_face_uv", &cases, |c, out| {
+        let d = arg(c, 0).truncate();
+        let want = p::cube_dir_to_face_uv(d);
+        let got = float4(out[0]).truncate();
+        if got.x == want.x && close(got.y, want.y, 2e-6, 0.0) && close(got.z, want.z, 2e-6, 0.0) {
+            Ok(())
+        } else {
+            Err(format!("d {d}: gpu {got} cpu {want}"))
+        }
+    })
+}
+
+fn check_cube_face_uv_to_dir(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(9);
+    let mut cases = Vec::new();
+    let uv_edges = [0.0f32, 0.5, 1.0];
+    for face in 0..8u32 {
+        for &u in &uv_edges {
+            for &v in &uv_edges {
+                cases.push([[face, 0, 0, 0], bits(Vec4::new(u, v, 0.0, 0.0)), [0; 4], [0; 4]]);
+            }
+        }
+    }
+    for _ in 0..RANDOM_CASES {
+        let face = rng.u32() % 7; // 6 exercises the default arm
+        cases.push([[face, 0, 0, 0], bits(Vec4::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), 0.0, 0.0)), [0; 4], [0; 4]]);
+    }
+    compare(prelude, "k_cube_face_uv_to_dir", &cases, |c, out| {
+        let (face, uv) = (c[0][0], arg(c, 1));
+        let want = p::cube_face_uv_to_dir(face, uv.x, uv.y).extend(0.0);
+        let got = float4(out[0]);
+        if close_v(got, want, 1e-6, 0.0) { Ok(()) } else { Err(format!("face {face} uv {uv}: gpu {got} cpu {want}")) }
+    })
+}
+
+fn check_oct_encode(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(10);
+    let mut cases = Vec::new();
+    for d in [
+        Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z,
+        Vec3::new(0.6, 0.8, 0.0), Vec3::new(-0.6, 0.0, -0.8), Vec3::new(0.0, -0.0, -1.0),
+        Vec3::new(-0.0, 0.6, -0.8),
+    ] {
+        cases.push(case(&[d.extend(0.0)]));
+    }
+    for _ in 0..RANDOM_CASES {
+        cases.push(case(&[rng.unit_vec3().extend(0.0)]));
+    }
+    compare(prelude, "k_oct_encode", &cases, |c, out| {
+        let d = arg(c, 0).truncate();
+        let want = p::oct_encode(d).extend(0.0).extend(0.0);
+        let got = float4(out[0]);
+        if close_v(got, want, 1e-5, 0.0) { Ok(()) } else { Err(format!("n {d}: gpu {got} cpu {want}")) }
+    })
+}
+
+fn check_oct_decode(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(11);
+    let mut cases = Vec::new();
+    for x in [-1.0f32, -0.5, -0.0, 0.0, 0.5, 1.0] {
+        for y in [-1.0f32, -0.5, 0.0, 0.5, 1.0] {
+            cases.push(case(&[Vec4::new(x, y, 0.0, 0.0)]));
+        }
+    }
+    for _ in 0..RANDOM_CASES {
+        cases.push(case(&[Vec4::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0, 0.0)]));
+    }
+    compare(prelude, "k_oct_decode", &cases, |c, out| {
+        let e = arg(c, 0).truncate().truncate();
+        let want = p::oct_decode(e).extend(0.0);
+        let got = float4(out[0]);
+        if close_v(got, want, 1e-5, 0.0) { Ok(()) } else { Err(format!("e {e}: gpu {got} cpu {want}")) }
+    })
+}
+
+fn hash_inputs() -> Vec<Case> {
+    let mut rng = Rng::new(12);
+    let mut inputs: Vec<u32> = vec![0, 1, 2, 0x7fff_ffff, 0x8000_0000, u32::MAX, u32::MAX - 1, 12345];
+    inputs.extend(0..256);
+    inputs.extend((0..RANDOM_CASES).map(|_| rng.u32()));
+    inputs.into_iter().map(|x| [[x, 0, 0, 0], [0; 4], [0; 4], [0; 4]]).collect()
+}
+
+fn check_pcg_hash(prelude: &str) -> Vec<String> {
+    compare(prelude, "k_pcg_hash", &hash_inputs(), |c, out| {
+        let (x, got) = (c[0][0], out[0][0]);
+        let want = p::pcg_hash(x);
+        if got == want { Ok(()) } else { Err(format!("x {x}: gpu {got:#x} cpu {want:#x}")) }
+    })
+}
+
+fn check_hash_to_unit(prelude: &str) -> Vec<String> {
+    compare(prelude, "k_hash_to_unit", &hash_inputs(), |c, out| {
+        let x = c[0][0];
+        let (got, want) = (f32::from_bits(out[0][0]), p::hash_to_unit(x));
+        if got.to_bits() == want.to_bits() && (0.0..1.0).contains(&got) {
+            Ok(())
+        } else {
+            Err(format!("x {x}: gpu {got} cpu {want}"))
+        }
+    })
+}
+
+fn check_luminance(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(13);
+    let mut cases = vec![
+        case(&[Vec4::ZERO]),
+        case(&[Vec4::new(1.0, 1.0, 1.0, 0.0)]),
+        case(&[Vec4::new(1.0, 0.0, 0.0, 0.0)]),
+        case(&[Vec4::new(0.0, 1.0, 0.0, 0.0)]),
+        case(&[Vec4::new(0.0, 0.0, 1.0, 0.0)]),
+    ];
+    for _ in 0..RANDOM_CASES {
+        cases.push(case(&[(rng.vec3(0.0, 1.0) * 10f32.powf(rng.range(-3.0, 3.0))).extend(0.0)]));
+    }
+    compare(prelude, "k_luminance", &cases, |c, out| {
+        let rgb = arg(c, 0).truncate();
+        let (got, want) = (float4(out[0]).x, p::luminance(rgb));
+        if close(got, want, 1e-6, 1e-5) { Ok(()) } else { Err(format!("rgb {rgb}: gpu {got} cpu {want}")) }
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tests
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn ray_plane_conforms() {
+    assert_conforms("ray_plane", check_ray_plane(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn ray_sphere_conforms() {
+    assert_conforms("ray_sphere", check_ray_sphere(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn ray_box_conforms() {
+    assert_conforms("ray_box", check_ray_box(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn reflect_dir_conforms() {
+    assert_conforms("reflect_dir", check_reflect_dir(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn refract_dir_conforms() {
+    assert_conforms("refract_dir", check_refract_dir(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn fresnel_nk_conforms() {
+    assert_conforms("fresnel_nk", check_fresnel_nk(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn fresnel_dielectric_conforms() {
+    assert_conforms("fresnel_dielectric", check_fresnel_dielectric(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn cube_dir_to_face_uv_conforms() {
+    assert_conforms("cube_dir_to_face_uv", check_cube_dir_to_face_uv(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn cube_face_uv_to_dir_conforms() {
+    assert_conforms("cube_face_uv_to_dir", check_cube_face_uv_to_dir(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn oct_encode_conforms() {
+    assert_conforms("oct_encode", check_oct_encode(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn oct_decode_conforms() {
+    assert_conforms("oct_decode", check_oct_decode(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn pcg_hash_conforms() {
+    assert_conforms("pcg_hash", check_pcg_hash(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn hash_to_unit_conforms() {
+    assert_conforms("hash_to_unit", check_hash_to_unit(p::PRELUDE_WGSL));
+}
+
+#[test]
+fn luminance_conforms() {
+    assert_conforms("luminance", check_luminance(p::PRELUDE_WGSL));
+}
+
+/// The comparison can fail: a copy of the prelude with one constant broken per function
+/// family is reported by the check of that family.
+#[test]
+fn mutated_prelude_constants_are_detected() {
+    type Check = fn(&str) -> Vec<String>;
+    let mutations: [(&str, &str, &str, Check); 6] = [
+        ("luminance", "0.7152", "0.7153", check_luminance),
+        ("pcg_hash", "277803737u", "277803739u", check_pcg_hash),
+        ("fresnel_nk", "4.0 * n * m", "3.99 * n * m", check_fresnel_nk),
+        ("ray_sphere", "let c = dot(oc, oc) - radius * radius;", "let c = dot(oc, oc) - radius * radius * 1.001;", check_ray_sphere),
+        ("cube_dir_to_face_uv", "face = 4.0; sc = d.x; tc = -d.y;", "face = 4.0; sc = d.x; tc = d.y;", check_cube_dir_to_face_uv),
+        ("refract_dir", "(eta * cos_i - sqrt(k)) * n", "(eta * cos_i - sqrt(k) * 1.0001) * n", check_refract_dir),
+    ];
+    for (name, from, to, check) in mutations {
+        assert_eq!(p::PRELUDE_WGSL.matches(from).count(), 1, "mutation of {name}: `{from}` must occur once in the prelude");
+        let broken = p::PRELUDE_WGSL.replace(from, to);
+        let failures = check(&broken);
+        assert!(!failures.is_empty(), "breaking {name} (`{from}` -> `{to}`) went unnoticed");
+    }
+}

@@ -1,0 +1,381 @@
+//! The built-in named scenes: the equal ground every technique is compared on.
+//!
+//! A scene is named by a spec `name` or `name:key=value,key=value`, for example
+//! `cornell-sphere:material=mirror` or `city:buildings=64`. Each scene declares its
+//! parameters (name, default, meaning) so `harness list --params` and `harness sweep` can
+//! read them.
+
+use crate::mesh::{cuboid, cylinder, quad, uv_sphere};
+use crate::{
+    Building, Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError,
+    Texture, Volume,
+};
+use glam::{Mat4, Quat, Vec2, Vec3};
+use std::collections::BTreeMap;
+
+/// A declared scene parameter.
+#[derive(Clone, Debug)]
+pub struct SceneParam {
+    pub name: &'static str,
+    pub default: &'static str,
+    pub help: &'static str,
+}
+
+/// A built-in scene and what can be changed about it.
+#[derive(Clone, Debug)]
+pub struct SceneInfo {
+    pub name: &'static str,
+    pub description: &'static str,
+    pub params: Vec<SceneParam>,
+}
+
+const MATERIAL_HELP: &str = "sphere material: glass-1.5, glass-1.1, glass-0.75, mirror, gold, \
+                             copper, diffuse";
+
+/// Every built-in scene.
+pub fn builtin_scenes() -> Vec<SceneInfo> {
+    let material = |default| SceneParam { name: "material", default, help: MATERIAL_HELP };
+    vec![
+        SceneInfo {
+            name: "cornell-sphere",
+            description: "closed Cornell-style room, one point light, one sphere that moves \
+                          along x over the camera path",
+            params: vec![
+                material("glass-1.5"),
+                SceneParam { name: "sphere_x", default: "0", help: "sphere centre x (m), -0.6..0.6" },
+            ],
+        },
+        SceneInfo {
+            name: "cornell-box",
+            description: "the same room with a tall box that makes it concave (the distance-\
+                          impostor paper's hard case)",
+            params: vec![
+                material("mirror"),
+                SceneParam { name: "sphere_x", default: "0", help: "sphere centre x (m), -0.6..0.6" },
+            ],
+        },
+        SceneInfo {
+            name: "refraction-bunny",
+            description: "a glass Stanford bunny in front of a checker wall with nearby boxes",
+            params: vec![SceneParam { name: "ior", default: "1.5", help: "bunny index of refraction" }],
+        },
+        SceneInfo {
+            name: "city",
+            description: "a grid of box buildings plus a cylinder and a sphere building; \
+                          camera path along a street",
+            params: vec![
+                SceneParam { name: "buildings", default: "16", help: "number of buildings (>= 2)" },
+                SceneParam {
+                    name: "rooms_per_building",
+                    default: "1000",
+                    help: "rooms per building; sets the room size of each hull",
+                },
+            ],
+        },
+        SceneInfo {
+            name: "smoke",
+            description: "ground plane and posts/logs crossing a large soft volume, plus a \
+                          particle cloud",
+            params: vec![SceneParam { name: "particles", default: "24", help: "particles in the cloud" }],
+        },
+    ]
+}
+
+/// Parses `name` or `name:key=value,...` into the name and its parameters.
+pub fn parse_spec(spec: &str) -> Result<(String, BTreeMap<String, String>), SceneError> {
+    let (name, rest) = spec.split_once(':').unwrap_or((spec, ""));
+    let mut params = BTreeMap::new();
+    for pair in rest.split(',').filter(|s| !s.is_empty()) {
+        let (k, v) = pair
+            .split_once('=')
+            .ok_or_else(|| SceneError::BadParam(format!("\"{pair}\" is not key=value")))?;
+        params.insert(k.trim().to_string(), v.trim().to_string());
+    }
+    Ok((name.to_string(), params))
+}
+
+/// Builds a built-in scene by name with the given parameters (unknown parameters are errors).
+pub fn build(name: &str, params: &BTreeMap<String, String>) -> Result<Scene, SceneError> {
+    let info = builtin_scenes()
+        .into_iter()
+        .find(|s| s.name == name)
+        .ok_or_else(|| SceneError::UnknownScene(name.to_string(), scene_names()))?;
+    for key in params.keys() {
+        if !info.params.iter().any(|p| p.name == key) {
+            let known: Vec<_> = info.params.iter().map(|p| p.name).collect();
+            return Err(SceneError::BadParam(format!(
+                "scene {name} has no parameter \"{key}\" (it has: {})",
+                known.join(", ")
+            )));
+        }
+    }
+    let get = |key: &str| -> String {
+        params.get(key).cloned().unwrap_or_else(|| {
+            info.params.iter().find(|p| p.name == key).map(|p| p.default.to_string()).unwrap_or_default()
+        })
+    };
+    let mut scene = match name {
+        "cornell-sphere" => cornell(false, &get("material"), num(&get("sphere_x"), "sphere_x")?)?,
+        "cornell-box" => cornell(true, &get("material"), num(&get("sphere_x"), "sphere_x")?)?,
+        "refraction-bunny" => crate::bunny::refraction_bunny(num(&get("ior"), "ior")?)?,
+        "city" => city(
+            num(&get("buildings"), "buildings")? as usize,
+            num(&get("rooms_per_building"), "rooms_per_building")?,
+        )?,
+        "smoke" => smoke(num(&get("particles"), "particles")? as usize),
+        _ => unreachable!("checked against builtin_scenes above"),
+    };
+    scene.name = spec_string(name, params);
+    scene.validate()?;
+    Ok(scene)
+}
+
+fn spec_string(name: &str, params: &BTreeMap<String, String>) -> String {
+    if params.is_empty() {
+        return name.to_string();
+    }
+    let kv: Vec<String> = params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    format!("{name}:{}", kv.join(","))
+}
+
+fn scene_names() -> String {
+    builtin_scenes().iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
+}
+
+fn num(value: &str, key: &str) -> Result<f32, SceneError> {
+    value
+        .parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| SceneError::BadParam(format!("{key}={value} is not a finite number")))
+}
+
+fn sphere_material(name: &str) -> Result<(Material, Roles), SceneError> {
+    let refr = Roles::REFRACTOR | Roles::CAUSTIC_CASTER;
+    let refl = Roles::REFLECTOR | Roles::CAUSTIC_CASTER;
+    Ok(match name {
+        "glass-1.5" => (Material::glass(1.5), refr),
+        "glass-1.1" => (Material::glass(1.1), refr),
+        "glass-0.75" => (Material::glass(0.75), refr),
+        "mirror" => (Material::perfect_mirror(), refl),
+        "gold" => (Material::gold(), refl),
+        "copper" => (Material::copper(), refl),
+        "diffuse" => (Material::diffuse(0.7, 0.7, 0.7), Roles::NONE),
+        other => {
+            return Err(SceneError::BadParam(format!("unknown material \"{other}\" ({MATERIAL_HELP})")));
+        }
+    })
+}
+
+/// Room interior: x in [-1, 1], y in [0, 2], z in [-1, 1], walls facing inwards.
+fn room_objects() -> Vec<Object> {
+    let id = Mat4::IDENTITY;
+    let white = Material::diffuse(0.75, 0.75, 0.75);
+    let wall = |name: &str, origin: Vec3, u: Vec3, v: Vec3, m: Material| {
+        Object::new(name, quad(origin, u, v, Vec2::ONE), m, id)
+    };
+    vec![
+        wall("floor", Vec3::new(-1.0, 0.0, 1.0), Vec3::X * 2.0, Vec3::NEG_Z * 2.0, white.clone()),
+        wall("ceiling", Vec3::new(-1.0, 2.0, -1.0), Vec3::X * 2.0, Vec3::Z * 2.0, white.clone()),
+        wall("back wall", Vec3::new(-1.0, 0.0, -1.0), Vec3::X * 2.0, Vec3::Y * 2.0, white.clone()),
+        wall("front wall", Vec3::new(1.0, 0.0, 1.0), Vec3::NEG_X * 2.0, Vec3::Y * 2.0,
+             Material::diffuse(0.55, 0.55, 0.75)),
+        wall("left wall", Vec3::new(-1.0, 0.0, 1.0), Vec3::NEG_Z * 2.0, Vec3::Y * 2.0,
+             Material::diffuse(0.75, 0.15, 0.12)),
+        wall("right wall", Vec3::new(1.0, 0.0, -1.0), Vec3::Z * 2.0, Vec3::Y * 2.0,
+             Material::diffuse(0.15, 0.65, 0.15)),
+    ]
+}
+
+fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, SceneError> {
+    let (mat, roles) = sphere_material(material)?;
+    let mut objects = room_objects();
+    if tall_box {
+        let bx = cuboid(Vec3::new(-0.25, 0.0, -0.25), Vec3::new(0.25, 1.3, 0.25));
+        let t = Mat4::from_rotation_translation(Quat::from_rotation_y(0.35), Vec3::new(0.5, 0.0, -0.45));
+        objects.push(Object::new("tall box", bx, Material::diffuse(0.8, 0.75, 0.3), t));
+    }
+    let center = Vec3::new(sphere_x, 0.55, -0.1);
+    let mut sphere = Object::new("sphere", uv_sphere(0.3, 48, 96), mat, Mat4::from_translation(center))
+        .with_roles(roles);
+    // Over the camera path the sphere moves 0.5 m along x and back (paper, figure 5).
+    sphere.motion = Motion {
+        keys: vec![(0.0, Vec3::ZERO), (1.0, Vec3::new(-0.5, 0.0, 0.0)), (2.0, Vec3::ZERO)],
+    };
+    objects.push(sphere);
+    let camera = Camera {
+        eye: Vec3::new(0.0, 1.0, 0.95),
+        target: Vec3::new(0.0, 0.7, -0.4),
+        up: Vec3::Y,
+        fov_y_deg: 62.0,
+    };
+    let moved = Camera { eye: Vec3::new(0.3, 1.1, 0.9), ..camera };
+    Ok(Scene {
+        name: String::new(),
+        objects,
+        textures: vec![],
+        lights: vec![PointLight {
+            name: "ceiling light".into(),
+            position: Vec3::new(0.0, 1.85, 0.0),
+            intensity: Vec3::splat(2.5),
+        }],
+        camera,
+        camera_path: CameraPath { keys: vec![(0.0, camera), (1.0, moved), (2.0, camera)] },
+        volumes: vec![],
+        background: Vec3::ZERO,
+    })
+}
+
+/// Checkerboard texture, sRGB RGBA8, `cells` x `cells` squares.
+pub fn checker_texture(name: &str, size: u32, cells: u32, a: [u8; 3], b: [u8; 3]) -> Texture {
+    let mut rgba8 = Vec::with_capacity((size * size * 4) as usize);
+    for j in 0..size {
+        for i in 0..size {
+            let c = if (i * cells / size + j * cells / size) % 2 == 0 { a } else { b };
+            rgba8.extend_from_slice(&[c[0], c[1], c[2], 255]);
+        }
+    }
+    Texture { name: name.to_string(), width: size, height: size, rgba8 }
+}
+
+fn city(buildings: usize, rooms_per_building: f32) -> Result<Scene, SceneError> {
+    if buildings < 2 || buildings > 100_000 {
+        return Err(SceneError::BadParam(format!("buildings={buildings} is not in 2..=100000")));
+    }
+    if !(1.0..=1e8).contains(&rooms_per_building) {
+        return Err(SceneError::BadParam(format!(
+            "rooms_per_building={rooms_per_building} is not in 1..=1e8"
+        )));
+    }
+    // Hull 20 x 40 x 20 m; rooms split it into n x n^2 x n (more floors than rooms per side
+    // would be odd, so rooms are distributed in proportion to the hull's extent).
+    let hull = Vec3::new(20.0, 40.0, 20.0);
+    let per_axis = (rooms_per_building / 2.0).cbrt().max(1.0);
+    let room_size = hull / Vec3::new(per_axis, 2.0 * per_axis, per_axis);
+    let spacing = 32.0;
+    let columns = (buildings as f32).sqrt().ceil() as usize;
+    let facade = 0;
+    let mut objects = vec![Object::new(
+        "ground",
+        quad(
+            Vec3::new(-spacing, 0.0, spacing),
+            Vec3::X * spacing * (columns as f32 + 1.0),
+            Vec3::NEG_Z * spacing * (columns as f32 + 1.0),
+            Vec2::splat(columns as f32 + 1.0),
+        ),
+        Material::diffuse(0.3, 0.3, 0.3),
+        Mat4::IDENTITY,
+    )];
+    for b in 0..buildings {
+        let (col, row) = (b % columns, b / columns);
+        let at = Vec3::new(col as f32 * spacing, 0.0, -(row as f32) * spacing);
+        let (mesh, shape) = match b {
+            1 => (cylinder(hull.x * 0.5, hull.y, 32), "cylinder"),
+            2 => {
+                let s = uv_sphere(hull.x * 0.5, 16, 32);
+                (s, "sphere")
+            }
+            _ => (cuboid(Vec3::new(-hull.x * 0.5, 0.0, -hull.z * 0.5), Vec3::new(hull.x * 0.5, hull.y, hull.z * 0.5)), "box"),
+        };
+        let lift = if shape == "sphere" { Vec3::Y * hull.x * 0.5 } else { Vec3::ZERO };
+        let mut o = Object::new(
+            &format!("building {b} ({shape})"),
+            mesh,
+            Material::Diffuse { albedo: Vec3::splat(0.8), texture: Some(facade) },
+            Mat4::from_translation(at + lift),
+        )
+        .with_roles(Roles::BUILDING);
+        o.building = Some(Building { room_size });
+        objects.push(o);
+    }
+    let street_x = spacing * 0.5;
+    let depth = spacing * (columns as f32 - 1.0).max(1.0);
+    let cam = |z: f32| Camera {
+        eye: Vec3::new(street_x, 1.8, spacing * 0.6 - z),
+        target: Vec3::new(street_x - 12.0, 8.0, -z - 25.0),
+        up: Vec3::Y,
+        fov_y_deg: 60.0,
+    };
+    Ok(Scene {
+        name: String::new(),
+        objects,
+        textures: vec![checker_texture("facade", 64, 8, [170, 165, 150], [60, 70, 90])],
+        lights: vec![PointLight {
+            name: "sun-like light".into(),
+            position: Vec3::new(-200.0, 400.0, 300.0),
+            intensity: Vec3::splat(2.0e5),
+        }],
+        camera: cam(0.0),
+        camera_path: CameraPath { keys: vec![(0.0, cam(0.0)), (4.0, cam(depth))] },
+        volumes: vec![],
+        background: Vec3::new(0.35, 0.45, 0.6),
+    })
+}
+
+fn smoke(particles: usize) -> Scene {
+    let wood = Material::diffuse(0.45, 0.3, 0.18);
+    let mut objects = vec![Object::new(
+        "ground",
+        quad(Vec3::new(-6.0, 0.0, 6.0), Vec3::X * 12.0, Vec3::NEG_Z * 12.0, Vec2::splat(6.0)),
+        Material::Diffuse { albedo: Vec3::splat(0.8), texture: Some(0) },
+        Mat4::IDENTITY,
+    )];
+    for (k, x) in [-1.2f32, 0.3, 1.4].iter().enumerate() {
+        objects.push(Object::new(
+            &format!("post {k}"),
+            cylinder(0.12, 2.6, 16),
+            wood.clone(),
+            Mat4::from_translation(Vec3::new(*x, 0.0, -0.4 + 0.5 * k as f32)),
+        ));
+    }
+    objects.push(Object::new(
+        "log",
+        cylinder(0.15, 4.0, 16),
+        wood,
+        Mat4::from_rotation_translation(Quat::from_rotation_z(std::f32::consts::FRAC_PI_2), Vec3::new(2.0, 0.15, 0.2)),
+    ));
+    let mut volumes = vec![Volume {
+        name: "smoke".into(),
+        center: Vec3::new(0.0, 1.0, 0.0),
+        radius: 1.5,
+        color: Vec3::new(0.8, 0.8, 0.85),
+        density: 0.6,
+        particle: false,
+        motion: Motion::default(),
+    }];
+    for p in 0..particles {
+        let h = |k: u32| gpu::prelude::hash_to_unit(p as u32 * 4 + k);
+        let center = Vec3::new(2.5 + (h(0) - 0.5) * 2.0, 0.4 + h(1) * 1.8, 1.5 + (h(2) - 0.5) * 2.0);
+        volumes.push(Volume {
+            name: format!("particle {p}"),
+            center,
+            radius: 0.25 + 0.2 * h(3),
+            color: Vec3::new(0.7, 0.7, 0.75),
+            density: 1.5,
+            particle: true,
+            motion: Motion { keys: vec![(0.0, Vec3::ZERO), (2.0, Vec3::Y * 0.5)] },
+        });
+    }
+    let camera = Camera {
+        eye: Vec3::new(0.5, 1.6, 5.5),
+        target: Vec3::new(0.5, 0.9, 0.0),
+        up: Vec3::Y,
+        fov_y_deg: 55.0,
+    };
+    let side = Camera { eye: Vec3::new(3.5, 1.8, 4.5), ..camera };
+    Scene {
+        name: String::new(),
+        objects,
+        textures: vec![checker_texture("ground", 64, 8, [200, 200, 200], [120, 120, 120])],
+        lights: vec![PointLight {
+            name: "light".into(),
+            position: Vec3::new(-2.0, 5.0, 3.0),
+            intensity: Vec3::splat(30.0),
+        }],
+        camera,
+        camera_path: CameraPath { keys: vec![(0.0, camera), (2.0, side)] },
+        volumes,
+        background: Vec3::new(0.05, 0.06, 0.08),
+    }
+}
+

@@ -1,0 +1,50 @@
+//! The scene side of the workspace: the scene model, built-in scenes, glTF import/export,
+//! the BVH with exact ray queries, the CPU reference renderer (the ground truth), image
+//! metrics, the GPU upload with the shared raster pass, and the `Technique` trait.
+
+pub mod builtin;
+mod bunny;
+pub mod bvh;
+pub mod gltf_io;
+mod gpu_scene;
+pub mod mesh;
+pub mod metrics;
+mod model;
+pub mod reference;
+pub mod technique;
+
+pub use gpu_scene::{GpuScene, ObjectFilter, RasterTarget};
+pub use model::*;
+pub use technique::{Frame, Param, Technique, TechniqueError, TechniqueResult, Timing, View};
+
+use std::path::Path;
+
+/// Everything that can go wrong when making or loading a scene, each one sentence.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("unknown scene \"{0}\" (built-in scenes: {1}; or give a path to a .gltf/.glb file)")]
+    UnknownScene(String, String),
+    #[error("bad scene parameter: {0}")]
+    BadParam(String),
+    #[error("cannot read {0}: {1}")]
+    Io(String, String),
+    #[error("cannot load glTF {0}: {1}")]
+    Gltf(String, String),
+    #[error("invalid scene: {0}")]
+    Invalid(String),
+    #[error(transparent)]
+    Gpu(#[from] gpu::GpuError),
+}
+
+/// Loads a scene from a spec: a built-in name (`cornell-sphere`, `city:buildings=64`, see
+/// [`builtin::builtin_scenes`]) or a path to a `.gltf` / `.glb` file.
+pub fn load(spec: &str) -> Result<Scene, SceneError> {
+    let lower = spec.to_lowercase();
+    if lower.ends_with(".gltf") || lower.ends_with(".glb") || Path::new(spec).exists() {
+        let scene = gltf_io::import(Path::new(spec))?;
+        scene.validate()?;
+        return Ok(scene);
+    }
+    let (name, params) = builtin::parse_spec(spec)?;
+    builtin::build(&name, &params)
+}

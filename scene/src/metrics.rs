@@ -1,0 +1,1 @@
+//! Image error metrics against the reference. (Being written.)

@@ -1,0 +1,425 @@
+//! The scene model shared by the reference renderer, the GPU upload and every technique.
+//!
+//! Units are metres, right-handed, +Y up. Meshes are stored in object space; an object's
+//! world transform is its `transform` followed by its animated translation at time t.
+
+use glam::{Mat3, Mat4, Vec2, Vec3};
+
+/// A triangle mesh in object space. `normals` and `uvs` have one entry per position.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub uvs: Vec<Vec2>,
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Axis-aligned bounds in object space (min, max).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.positions.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        )
+    }
+}
+
+/// Surface materials (DESIGN.md): diffuse with optional texture, metal/mirror with n and k
+/// per channel, glass with an index of refraction (which may be below 1).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Material {
+    /// Lambertian; `texture` indexes `Scene::textures` and multiplies `albedo`.
+    Diffuse { albedo: Vec3, texture: Option<usize> },
+    /// Conductor with the seeds' Fresnel approximation; n = 0, k = 1 is a perfect mirror.
+    Metal { n: Vec3, k: Vec3 },
+    /// Dielectric, ior relative to the surrounding air.
+    Glass { ior: f32 },
+}
+
+impl Material {
+    pub fn diffuse(r: f32, g: f32, b: f32) -> Self {
+        Material::Diffuse { albedo: Vec3::new(r, g, b), texture: None }
+    }
+    /// F = 1 at every angle with the seeds' approximation: ((0-1)^2 + 1) / ((0+1)^2 + 1).
+    pub fn perfect_mirror() -> Self {
+        Material::Metal { n: Vec3::ZERO, k: Vec3::ONE }
+    }
+    /// Gold (n, k at roughly 650/550/450 nm).
+    pub fn gold() -> Self {
+        Material::Metal { n: Vec3::new(0.143, 0.374, 1.442), k: Vec3::new(3.983, 2.385, 1.603) }
+    }
+    /// Copper.
+    pub fn copper() -> Self {
+        Material::Metal { n: Vec3::new(0.200, 0.924, 1.102), k: Vec3::new(3.912, 2.452, 2.142) }
+    }
+    pub fn glass(ior: f32) -> Self {
+        Material::Glass { ior }
+    }
+    pub fn is_specular(&self) -> bool {
+        !matches!(self, Material::Diffuse { .. })
+    }
+}
+
+/// An sRGB-encoded RGBA8 texture, sampled with wrap-around addressing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    /// Row 0 is v = 0 (the top of the image), as in glTF.
+    pub rgba8: Vec<u8>,
+}
+
+impl Texture {
+    /// Bilinear lookup returning linear RGB (the GPU samples an `Rgba8UnormSrgb` view the
+    /// same way: decode each texel, then filter).
+    pub fn sample(&self, uv: Vec2) -> Vec3 {
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = uv.y * self.height as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let texel = |i: i64, j: i64| {
+            let i = i.rem_euclid(self.width as i64) as usize;
+            let j = j.rem_euclid(self.height as i64) as usize;
+            let o = 4 * (j * self.width as usize + i);
+            Vec3::new(
+                srgb_to_linear(self.rgba8[o]),
+                srgb_to_linear(self.rgba8[o + 1]),
+                srgb_to_linear(self.rgba8[o + 2]),
+            )
+        };
+        let (i, j) = (x0 as i64, y0 as i64);
+        let top = texel(i, j).lerp(texel(i + 1, j), fx);
+        let bottom = texel(i, j + 1).lerp(texel(i + 1, j + 1), fx);
+        top.lerp(bottom, fy)
+    }
+}
+
+/// sRGB 8-bit to linear, exactly as the GPU's `*UnormSrgb` formats decode.
+pub fn srgb_to_linear(v: u8) -> f32 {
+    let c = v as f32 / 255.0;
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+/// The special roles a technique may treat differently from the shared diffuse raster pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Roles(u32);
+
+impl Roles {
+    pub const NONE: Roles = Roles(0);
+    pub const REFLECTOR: Roles = Roles(1);
+    pub const REFRACTOR: Roles = Roles(2);
+    pub const CAUSTIC_CASTER: Roles = Roles(4);
+    pub const BUILDING: Roles = Roles(8);
+    pub const VOLUME: Roles = Roles(16);
+    pub const HEIGHT_FIELD: Roles = Roles(32);
+    pub const ALL: [(Roles, &'static str); 6] = [
+        (Roles::REFLECTOR, "reflector"),
+        (Roles::REFRACTOR, "refractor"),
+        (Roles::CAUSTIC_CASTER, "caustic-caster"),
+        (Roles::BUILDING, "building"),
+        (Roles::VOLUME, "volume"),
+        (Roles::HEIGHT_FIELD, "height-field"),
+    ];
+
+    pub fn contains(self, other: Roles) -> bool {
+        self.0 & other.0 == other.0 && other.0 != 0
+    }
+    pub fn intersects(self, other: Roles) -> bool {
+        self.0 & other.0 != 0
+    }
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+    pub fn names(self) -> Vec<&'static str> {
+        Roles::ALL.iter().filter(|(r, _)| self.contains(*r)).map(|(_, n)| *n).collect()
+    }
+    pub fn from_name(name: &str) -> Option<Roles> {
+        Roles::ALL.iter().find(|(_, n)| *n == name).map(|(r, _)| *r)
+    }
+    pub fn bits(self) -> u32 {
+        self.0
+    }
+}
+
+impl std::ops::BitOr for Roles {
+    type Output = Roles;
+    fn bitor(self, rhs: Roles) -> Roles {
+        Roles(self.0 | rhs.0)
+    }
+}
+
+/// How an object moves: piecewise-linear translation keyframes (time in seconds, offset
+/// added after the object's transform). Empty means static.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Motion {
+    pub keys: Vec<(f32, Vec3)>,
+}
+
+impl Motion {
+    pub fn offset(&self, time: f32) -> Vec3 {
+        sample_keys(&self.keys, time, |a, b, s| a.lerp(*b, s)).unwrap_or(Vec3::ZERO)
+    }
+    pub fn is_static(&self) -> bool {
+        self.keys.iter().all(|(_, v)| *v == Vec3::ZERO)
+    }
+}
+
+/// Interior layout of a building hull (for interior mapping): room size per axis, metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Building {
+    pub room_size: Vec3,
+}
+
+/// One renderable object.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    pub name: String,
+    pub mesh: Mesh,
+    pub material: Material,
+    pub transform: Mat4,
+    pub roles: Roles,
+    pub motion: Motion,
+    pub building: Option<Building>,
+}
+
+impl Object {
+    pub fn new(name: &str, mesh: Mesh, material: Material, transform: Mat4) -> Self {
+        Self {
+            name: name.to_string(),
+            mesh,
+            material,
+            transform,
+            roles: Roles::NONE,
+            motion: Motion::default(),
+            building: None,
+        }
+    }
+    pub fn with_roles(mut self, roles: Roles) -> Self {
+        self.roles = roles;
+        self
+    }
+    /// Object-to-world matrix at `time`.
+    pub fn world_at(&self, time: f32) -> Mat4 {
+        Mat4::from_translation(self.motion.offset(time)) * self.transform
+    }
+    /// Matrix that transforms object-space normals to world space at `time`.
+    pub fn normal_matrix_at(&self, time: f32) -> Mat3 {
+        Mat3::from_mat4(self.world_at(time)).inverse().transpose()
+    }
+    /// World-space centre of the object's bounding box at `time` (the reference point of
+    /// environment maps taken "from the object's centre").
+    pub fn center_at(&self, time: f32) -> Vec3 {
+        let (lo, hi) = self.mesh.bounds();
+        self.world_at(time).transform_point3((lo + hi) * 0.5)
+    }
+    /// Radius of a world-space sphere around `center_at` that bounds the object.
+    pub fn bounding_radius_at(&self, time: f32) -> f32 {
+        let world = self.world_at(time);
+        let c = self.center_at(time);
+        self.mesh
+            .positions
+            .iter()
+            .map(|p| world.transform_point3(*p).distance(c))
+            .fold(0.0, f32::max)
+    }
+}
+
+/// A point light with RGB radiant intensity (W/sr) and inverse-square falloff.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointLight {
+    pub name: String,
+    pub position: Vec3,
+    pub intensity: Vec3,
+}
+
+/// A pinhole camera: eye, target, up and vertical field of view in degrees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub fov_y_deg: f32,
+}
+
+impl Camera {
+    pub const NEAR: f32 = 0.01;
+    pub const FAR: f32 = 1000.0;
+
+    pub fn view(&self) -> Mat4 {
+        glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
+    }
+    /// Perspective projection with depth in [0, 1] (wgpu convention).
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        glam::camera::rh::proj::directx::perspective(
+            self.fov_y_deg.to_radians(),
+            aspect,
+            Self::NEAR,
+            Self::FAR,
+        )
+    }
+    pub fn view_proj(&self, width: u32, height: u32) -> Mat4 {
+        self.projection(width as f32 / height as f32) * self.view()
+    }
+    /// World-space unit direction through pixel (x, y) given in pixels; pixel centres are
+    /// at (i + 0.5, j + 0.5) and row 0 is the top, exactly as the rasterizer samples.
+    pub fn ray_dir(&self, x: f32, y: f32, width: u32, height: u32) -> Vec3 {
+        let forward = (self.target - self.eye).normalize();
+        let right = forward.cross(self.up).normalize();
+        let up = right.cross(forward);
+        let tan_half = (self.fov_y_deg.to_radians() * 0.5).tan();
+        let aspect = width as f32 / height as f32;
+        let sx = (2.0 * x / width as f32 - 1.0) * tan_half * aspect;
+        let sy = (1.0 - 2.0 * y / height as f32) * tan_half;
+        (forward + sx * right + sy * up).normalize()
+    }
+    /// Pixel coordinates (continuous) of a world point, or None behind the camera.
+    pub fn project(&self, p: Vec3, width: u32, height: u32) -> Option<Vec2> {
+        let clip = self.view_proj(width, height) * p.extend(1.0);
+        if clip.w <= 1e-6 {
+            return None;
+        }
+        let ndc = clip.truncate() / clip.w;
+        Some(Vec2::new((ndc.x + 1.0) * 0.5 * width as f32, (1.0 - ndc.y) * 0.5 * height as f32))
+    }
+}
+
+/// Keyframed camera for animated runs (`--frames N`): eye, target and fov are interpolated
+/// linearly between keys.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CameraPath {
+    pub keys: Vec<(f32, Camera)>,
+}
+
+impl CameraPath {
+    pub fn duration(&self) -> f32 {
+        self.keys.last().map(|k| k.0).unwrap_or(0.0)
+    }
+    pub fn sample(&self, time: f32) -> Option<Camera> {
+        sample_keys(&self.keys, time, |a, b, s| Camera {
+            eye: a.eye.lerp(b.eye, s),
+            target: a.target.lerp(b.target, s),
+            up: a.up.lerp(b.up, s).normalize(),
+            fov_y_deg: a.fov_y_deg + (b.fov_y_deg - a.fov_y_deg) * s,
+        })
+    }
+}
+
+fn sample_keys<T: Copy>(keys: &[(f32, T)], time: f32, lerp: impl Fn(&T, &T, f32) -> T) -> Option<T> {
+    let first = keys.first()?;
+    if time <= first.0 {
+        return Some(first.1);
+    }
+    for pair in keys.windows(2) {
+        let ((t0, a), (t1, b)) = (pair[0], pair[1]);
+        if time <= t1 {
+            let s = if t1 > t0 { (time - t0) / (t1 - t0) } else { 1.0 };
+            return Some(lerp(&a, &b, s));
+        }
+    }
+    keys.last().map(|k| k.1)
+}
+
+/// A soft volume (participating medium of uniform density) bounded by a sphere.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Volume {
+    pub name: String,
+    pub center: Vec3,
+    pub radius: f32,
+    /// Linear RGB colour of the medium (what it adds, scaled by opacity).
+    pub color: Vec3,
+    /// Opacity reached over one metre of path (the path-length-to-opacity scale).
+    pub density: f32,
+    /// True for members of a particle cloud, false for a single large volume.
+    pub particle: bool,
+    pub motion: Motion,
+}
+
+/// A complete scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub name: String,
+    pub objects: Vec<Object>,
+    pub textures: Vec<Texture>,
+    pub lights: Vec<PointLight>,
+    pub camera: Camera,
+    pub camera_path: CameraPath,
+    pub volumes: Vec<Volume>,
+    /// Radiance of rays that leave the scene.
+    pub background: Vec3,
+}
+
+impl Scene {
+    /// Indices of the objects with any of `roles`.
+    pub fn objects_with(&self, roles: Roles) -> Vec<usize> {
+        (0..self.objects.len()).filter(|&i| self.objects[i].roles.intersects(roles)).collect()
+    }
+    /// The objects a technique treats specially (everything but plain diffuse scenery).
+    pub fn special_objects(&self) -> Vec<usize> {
+        (0..self.objects.len()).filter(|&i| !self.objects[i].roles.is_empty()).collect()
+    }
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.triangle_count()).sum()
+    }
+    /// The camera at `time`: on the camera path if the scene has one, else the default view.
+    pub fn camera_at(&self, time: f32) -> Camera {
+        self.camera_path.sample(time).unwrap_or(self.camera)
+    }
+
+    /// Checks every number that reaches the renderers: a NaN or infinite transform, position,
+    /// light or camera, or a texture index out of range, is an error here rather than a NaN
+    /// image later.
+    pub fn validate(&self) -> Result<(), crate::SceneError> {
+        let bad = |what: String| Err(crate::SceneError::Invalid(what));
+        for o in &self.objects {
+            if !o.transform.is_finite() {
+                return bad(format!("object \"{}\" has a non-finite transform", o.name));
+            }
+            if o.mesh.positions.iter().any(|p| !p.is_finite())
+                || o.mesh.normals.iter().any(|n| !n.is_finite())
+            {
+                return bad(format!("object \"{}\" has non-finite vertices", o.name));
+            }
+            if o.mesh.normals.len() != o.mesh.positions.len()
+                || o.mesh.uvs.len() != o.mesh.positions.len()
+            {
+                return bad(format!("object \"{}\" has mismatched vertex attributes", o.name));
+            }
+            if o.mesh.indices.len() % 3 != 0
+                || o.mesh.indices.iter().any(|&i| i as usize >= o.mesh.positions.len())
+            {
+                return bad(format!("object \"{}\" has invalid triangle indices", o.name));
+            }
+            if Mat3::from_mat4(o.transform).determinant().abs() < 1e-12 {
+                return bad(format!("object \"{}\" has a singular transform", o.name));
+            }
+            if let Material::Diffuse { texture: Some(t), .. } = o.material {
+                if t >= self.textures.len() {
+                    return bad(format!("object \"{}\" uses missing texture {t}", o.name));
+                }
+            }
+            if let Material::Glass { ior } = o.material {
+                if !(ior.is_finite() && ior > 0.0) {
+                    return bad(format!("object \"{}\" has invalid ior {ior}", o.name));
+                }
+            }
+        }
+        for l in &self.lights {
+            if !l.position.is_finite() || !l.intensity.is_finite() {
+                return bad(format!("light \"{}\" is not finite", l.name));
+            }
+        }
+        let c = &self.camera;
+        if !c.eye.is_finite() || !c.target.is_finite() || c.eye == c.target {
+            return bad("the camera is not finite or looks at its own eye".into());
+        }
+        if !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0) {
+            return bad(format!("camera field of view {} is not in (0, 180)", c.fov_y_deg));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,1 @@
+//! The CPU reference renderer: the ground truth. (Being written.)

@@ -1,0 +1,114 @@
+//! The one small trait every technique implements, and what the harness hands it.
+//!
+//! Like a wgpu example, a technique declares what it needs (features) and which scenes it
+//! can render; like a Falcor render pass, it declares its parameters by name with defaults
+//! and ranges (what `harness list --params` and `harness sweep` read). `prepare` builds its
+//! maps once per scene; `render` records one frame into the harness's encoder.
+
+use crate::{Camera, GpuScene, Scene};
+use gpu::{Context, GpuError, GpuTimer, Target};
+
+/// A declared, sweepable parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Param {
+    pub name: &'static str,
+    pub default: f64,
+    pub min: f64,
+    pub max: f64,
+    /// Whether only integer values make sense (iteration counts, resolutions).
+    pub integer: bool,
+    pub help: &'static str,
+}
+
+/// What is being rendered this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    pub camera: Camera,
+    /// Seconds along the scene's camera path / object motion.
+    pub time: f32,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// The per-frame GPU recording context: the harness opens the encoder and times it; a
+/// technique records passes into it and may bracket named parts (for example "regenerate")
+/// with the timer so they are reported apart from the frame.
+pub struct Frame<'a> {
+    pub gpu: &'a Context,
+    pub encoder: &'a mut gpu::wgpu::CommandEncoder,
+    pub timer: &'a mut GpuTimer,
+}
+
+/// Errors a technique reports; each is one sentence for the user.
+#[derive(Debug, thiserror::Error)]
+pub enum TechniqueError {
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error(transparent)]
+    Scene(#[from] crate::SceneError),
+    #[error("technique {0} has no parameter \"{1}\" (it has: {2})")]
+    UnknownParam(String, String, String),
+    #[error("parameter {0}={1} is outside its range [{2}, {3}]")]
+    ParamOutOfRange(String, f64, f64, f64),
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+pub type TechniqueResult<T> = Result<T, TechniqueError>;
+
+/// Where a technique's frame time comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Timing {
+    /// Recorded GPU work, timed by the harness with timestamp queries.
+    Gpu,
+    /// CPU work (the reference): wall-clock time of `render`.
+    Cpu,
+}
+
+pub trait Technique {
+    /// Stable identifier, `family/variant`, e.g. "impostors/false-position-4".
+    fn id(&self) -> String;
+    /// One line for `harness list`.
+    fn description(&self) -> String;
+    /// Declared parameters with defaults and ranges.
+    fn params(&self) -> Vec<Param> {
+        Vec::new()
+    }
+    /// Sets a declared parameter (validated by [`check_param`]).
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id(), &self.params(), name, value)
+    }
+    /// Device features without which the technique cannot run (the harness skips it, with
+    /// the reason, on an adapter that lacks them).
+    fn required_features(&self) -> gpu::wgpu::Features {
+        gpu::wgpu::Features::empty()
+    }
+    /// Whether the technique can render this scene (for example: it has a refractor).
+    fn supports(&self, scene: &Scene) -> bool;
+    fn timing(&self) -> Timing {
+        Timing::Gpu
+    }
+    /// Builds per-scene resources; GPU work recorded into `frame` is timed as "prepare".
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()>;
+    /// Records one frame of `view` into `target` (colour = linear radiance).
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()>;
+}
+
+/// Validates `name=value` against declared parameters: the default `set_param` check, and
+/// what an implementation calls before storing the value.
+pub fn check_param(id: &str, params: &[Param], name: &str, value: f64) -> TechniqueResult<()> {
+    let Some(p) = params.iter().find(|p| p.name == name) else {
+        let names: Vec<_> = params.iter().map(|p| p.name).collect();
+        return Err(TechniqueError::UnknownParam(id.into(), name.into(), names.join(", ")));
+    };
+    if !(value >= p.min && value <= p.max) || (p.integer && value.fract() != 0.0) {
+        return Err(TechniqueError::ParamOutOfRange(name.into(), value, p.min, p.max));
+    }
+    Ok(())
+}
