@@ -205,7 +205,7 @@ fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, Scene
     objects.push(sphere);
     let camera = Camera {
         eye: Vec3::new(0.0, 1.0, 0.95),
-        target: Vec3::new(0.0, 0.7, -0.4),
+        target: Vec3::new(0.0, 0.5, -0.5),
         up: Vec3::Y,
         fov_y_deg: 62.0,
     };

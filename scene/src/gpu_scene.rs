@@ -1,4 +1,698 @@
-//! GPU upload and the shared raster pass. (Being written.)
-pub struct GpuScene {}
-pub struct ObjectFilter {}
-pub struct RasterTarget {}
+//! The scene on the GPU and the shared raster pass.
+//!
+//! `GpuScene` uploads every object once (object-space vertices, one index range per object,
+//! a storage buffer of per-object transforms and materials, the lights, the diffuse textures
+//! as one texture array) and owns one distance cube shadow map per light. Its raster pass
+//! shades diffuse surfaces exactly like the CPU reference (`shaders/scene.wgsl`), so every
+//! technique differs from the reference only where its special objects are.
+//!
+//! Techniques reuse the same bindings: their shaders are `gpu` prelude + [`SCENE_WGSL`] +
+//! their own fragment entry points, with the camera at `@group(0)` and the scene data at
+//! `@group(1)` (see [`GpuScene::pipeline_layout_with`]).
+
+use crate::{Frame, Material, Object, Scene, SceneError};
+use glam::{Mat4, Vec3, Vec4};
+use gpu::wgpu::{self, util::DeviceExt};
+use gpu::{Context, Vertex};
+
+/// Scene bindings and the shared diffuse shading model, in WGSL (needs the `gpu` prelude).
+pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
+const RASTER_WGSL: &str = include_str!("shaders/raster.wgsl");
+/// Resolution of each face of the shadow cube maps.
+pub const SHADOW_MAP_SIZE: u32 = 1024;
+const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Distance written for texels that see no geometry (must match scene.wgsl).
+pub const BACKGROUND_DISTANCE: f32 = 60000.0;
+
+/// Which objects a draw call includes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ObjectFilter {
+    All,
+    /// Objects without special roles and with diffuse materials.
+    Diffuse,
+    /// Every object except these indices.
+    Except(Vec<usize>),
+    /// Only these indices.
+    Only(Vec<usize>),
+}
+
+impl ObjectFilter {
+    pub fn includes(&self, index: usize, object: &Object) -> bool {
+        match self {
+            ObjectFilter::All => true,
+            ObjectFilter::Diffuse => {
+                object.roles.is_empty() && matches!(object.material, Material::Diffuse { .. })
+            }
+            ObjectFilter::Except(list) => !list.contains(&index),
+            ObjectFilter::Only(list) => list.contains(&index),
+        }
+    }
+}
+
+/// Where a raster pass draws: a colour view of a known format, a depth view, and whether to
+/// clear them first (to the background radiance and [`BACKGROUND_DISTANCE`]).
+pub struct RasterTarget<'a> {
+    pub color: &'a wgpu::TextureView,
+    pub depth: &'a wgpu::TextureView,
+    pub format: wgpu::TextureFormat,
+    pub clear: bool,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct CameraGpu {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ObjectGpu {
+    model: [[f32; 4]; 4],
+    normal_matrix: [[f32; 4]; 4],
+    albedo: [f32; 4],
+    material: [f32; 4],
+    n: [f32; 4],
+    k: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct LightGpu {
+    position: [f32; 4],
+    intensity: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SceneInfoGpu {
+    light_count: u32,
+    shadow_size: f32,
+    specular_as_diffuse: u32,
+    _pad: u32,
+    background: [f32; 4],
+}
+
+/// One object's slice of the shared vertex and index buffers.
+#[derive(Clone, Copy, Debug)]
+pub struct DrawRange {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub base_vertex: i32,
+}
+
+/// The uploaded scene.
+pub struct GpuScene {
+    /// The CPU scene this was made from (techniques read materials, roles, positions).
+    pub scene: Scene,
+    pub vertex_buffer: wgpu::Buffer,
+    pub index_buffer: wgpu::Buffer,
+    pub draws: Vec<DrawRange>,
+    pub camera_layout: wgpu::BindGroupLayout,
+    pub scene_layout: wgpu::BindGroupLayout,
+    scene_bind_group: wgpu::BindGroup,
+    raster_bind_group: wgpu::BindGroup,
+    shadow_bind_group: wgpu::BindGroup,
+    object_buffer: wgpu::Buffer,
+    light_buffer: wgpu::Buffer,
+    info_buffer: wgpu::Buffer,
+    raster_info_buffer: wgpu::Buffer,
+    shadow_face_views: Vec<wgpu::TextureView>,
+    shadow_depth_views: Vec<wgpu::TextureView>,
+    raster_pipelines: Vec<(wgpu::TextureFormat, wgpu::RenderPipeline)>,
+    shadow_pipeline: wgpu::RenderPipeline,
+    time: Option<f32>,
+}
+
+impl GpuScene {
+    /// Uploads `scene` (validated first).
+    pub fn new(ctx: &Context, scene: &Scene) -> Result<Self, SceneError> {
+        scene.validate()?;
+        let device = &ctx.device;
+        let (vertices, indices, draws) = pack_meshes(&scene.objects);
+        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene vertices"),
+            contents: bytemuck::cast_slice(&vertices),
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+        });
+        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
+        });
+        let object_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene objects"),
+            contents: bytemuck::cast_slice(&object_records(scene, 0.0)),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
+        let mut lights: Vec<LightGpu> = scene
+            .lights
+            .iter()
+            .map(|l| LightGpu {
+                position: l.position.extend(1.0).to_array(),
+                intensity: l.intensity.extend(0.0).to_array(),
+            })
+            .collect();
+        let light_count = lights.len() as u32;
+        if lights.is_empty() {
+            lights.push(LightGpu { position: [0.0; 4], intensity: [0.0; 4] });
+        }
+        let light_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene lights"),
+            contents: bytemuck::cast_slice(&lights),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
+        let info = |specular_as_diffuse: u32| SceneInfoGpu {
+            light_count,
+            shadow_size: SHADOW_MAP_SIZE as f32,
+            specular_as_diffuse,
+            _pad: 0,
+            background: scene.background.extend(0.0).to_array(),
+        };
+        let uniform = |label: &str, info: SceneInfoGpu| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::bytes_of(&info),
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        };
+        let info_buffer = uniform("scene info", info(0));
+        let raster_info_buffer = uniform("scene info (specular as diffuse)", info(1));
+
+        let albedo_view = upload_textures(ctx, scene)?;
+        let shadow_layers = 6 * lights.len() as u32;
+        let shadow = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow cube maps"),
+            size: wgpu::Extent3d {
+                width: SHADOW_MAP_SIZE,
+                height: SHADOW_MAP_SIZE,
+                depth_or_array_layers: shadow_layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let shadow_depth = gpu::depth_texture(ctx, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, 6, "shadow depth");
+        let layer_view = |t: &wgpu::Texture, layer: u32| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        };
+        let shadow_face_views = (0..shadow_layers).map(|l| layer_view(&shadow, l)).collect();
+        let shadow_depth_views = (0..6).map(|l| layer_view(&shadow_depth, l)).collect();
+        let shadow_cube_view = shadow.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::CubeArray),
+            ..Default::default()
+        });
+
+        let camera_layout = camera_bind_group_layout(ctx);
+        let scene_layout = scene_bind_group_layout(ctx);
+        let albedo_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("albedo sampler"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow sampler"),
+            ..Default::default()
+        });
+        let bind = |info: &wgpu::Buffer| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("scene"),
+                layout: &scene_layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: object_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: light_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(&albedo_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::Sampler(&albedo_sampler),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::TextureView(&shadow_cube_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: wgpu::BindingResource::Sampler(&shadow_sampler),
+                    },
+                    wgpu::BindGroupEntry { binding: 6, resource: info.as_entire_binding() },
+                ],
+            })
+        };
+        let scene_bind_group = bind(&info_buffer);
+        let raster_bind_group = bind(&raster_info_buffer);
+
+        let layout = pipeline_layout(ctx, &camera_layout, &scene_layout, &[]);
+        let module = gpu::shader_with_prelude(ctx, "raster", &format!("{SCENE_WGSL}\n{RASTER_WGSL}"));
+        let raster_pipelines = [gpu::HDR_FORMAT, wgpu::TextureFormat::Rgba16Float]
+            .into_iter()
+            .map(|f| (f, scene_pipeline(ctx, "raster", &layout, &module, "raster_fs", f)))
+            .collect();
+        // The shadow pass writes the shadow maps, so it must not bind them: its group 1 holds
+        // only the object buffer (all that scene_vs and shadow_fs read).
+        let objects_layout = objects_only_layout(ctx);
+        let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene objects only"),
+            layout: &objects_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: object_buffer.as_entire_binding() }],
+        });
+        let shadow_layout = pipeline_layout(ctx, &camera_layout, &objects_layout, &[]);
+        let shadow_pipeline =
+            scene_pipeline(ctx, "shadow", &shadow_layout, &module, "shadow_fs", SHADOW_FORMAT);
+
+        Ok(Self {
+            scene: scene.clone(),
+            vertex_buffer,
+            index_buffer,
+            draws,
+            camera_layout,
+            scene_layout,
+            scene_bind_group,
+            raster_bind_group,
+            shadow_bind_group,
+            object_buffer,
+            light_buffer,
+            info_buffer,
+            raster_info_buffer,
+            shadow_face_views,
+            shadow_depth_views,
+            raster_pipelines,
+            shadow_pipeline,
+            time: None,
+        })
+    }
+
+    /// The scene bind group (`@group(1)`) for technique pipelines.
+    pub fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.scene_bind_group
+    }
+
+    /// A camera bind group (`@group(0)`) for one view: world-to-clip matrix and eye position.
+    /// Each view of a frame needs its own (uniform writes are applied at submission).
+    pub fn camera_bind_group(&self, ctx: &Context, view_proj: Mat4, eye: Vec3) -> wgpu::BindGroup {
+        let data = CameraGpu { view_proj: view_proj.to_cols_array_2d(), eye: eye.extend(1.0).to_array() };
+        let buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("camera"),
+            contents: bytemuck::bytes_of(&data),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("camera"),
+            layout: &self.camera_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
+        })
+    }
+
+    /// A pipeline layout with the camera at group 0, the scene at group 1 and `extra` after.
+    pub fn pipeline_layout_with(&self, ctx: &Context, extra: &[&wgpu::BindGroupLayout]) -> wgpu::PipelineLayout {
+        pipeline_layout(ctx, &self.camera_layout, &self.scene_layout, extra)
+    }
+
+    /// Moves objects to `time` (transforms uploaded) and re-renders the shadow maps when
+    /// anything moved, recording into `frame`: call once per frame before drawing.
+    pub fn set_time(&mut self, frame: &mut Frame, time: f32) {
+        let moving = self.scene.objects.iter().any(|o| !o.motion.is_static());
+        if self.time == Some(time) || (self.time.is_some() && !moving) {
+            return;
+        }
+        frame.gpu.queue.write_buffer(&self.object_buffer, 0, bytemuck::cast_slice(&object_records(&self.scene, time)));
+        self.time = Some(time);
+        self.render_shadows(frame);
+    }
+
+    /// The time the GPU transforms were last set to.
+    pub fn time(&self) -> f32 {
+        self.time.unwrap_or(0.0)
+    }
+
+    fn render_shadows(&self, frame: &mut Frame) {
+        for (l, light) in self.scene.lights.iter().enumerate() {
+            for face in 0..6 {
+                let view_proj = gpu::cube::cube_face_view_proj(face, light.position, 0.01, 2.0 * BACKGROUND_DISTANCE);
+                let camera = self.camera_bind_group(frame.gpu, view_proj, light.position);
+                let writes = frame.timer.render_pass("shadow maps");
+                let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("shadow face"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &self.shadow_face_views[6 * l + face],
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color { r: 2.0 * BACKGROUND_DISTANCE as f64, g: 0.0, b: 0.0, a: 0.0 }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(depth_attachment(&self.shadow_depth_views[face])),
+                    timestamp_writes: writes,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&self.shadow_pipeline);
+                pass.set_bind_group(0, &camera, &[]);
+                pass.set_bind_group(1, &self.shadow_bind_group, &[]);
+                self.draw_objects(&mut pass, &ObjectFilter::All);
+            }
+        }
+    }
+
+    /// The shared raster pass: draws the objects selected by `filter` into `target` with the
+    /// reference's diffuse shading. With `specular_as_diffuse`, metals and glass are drawn
+    /// as plain grey diffuse (the `raster` technique); otherwise they are skipped here and
+    /// left to the technique.
+    pub fn raster(
+        &self,
+        frame: &mut Frame,
+        target: &RasterTarget,
+        view_proj: Mat4,
+        eye: Vec3,
+        filter: &ObjectFilter,
+        specular_as_diffuse: bool,
+    ) {
+        let Some((_, pipeline)) = self.raster_pipelines.iter().find(|(f, _)| *f == target.format) else {
+            panic!("raster pass supports Rgba32Float and Rgba16Float targets, not {:?}", target.format);
+        };
+        let camera = self.camera_bind_group(frame.gpu, view_proj, eye);
+        let mut pass = begin_scene_pass(frame.encoder, target, self.scene.background, "raster");
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &camera, &[]);
+        pass.set_bind_group(1, if specular_as_diffuse { &self.raster_bind_group } else { &self.scene_bind_group }, &[]);
+        let keep_specular = specular_as_diffuse;
+        let scene = &self.scene;
+        self.draw_filtered(&mut pass, |i| {
+            let o = &scene.objects[i];
+            filter.includes(i, o) && (keep_specular || !o.material.is_specular())
+        });
+    }
+
+    /// Records indexed draws of the objects `filter` selects (vertex/index buffers set here;
+    /// the caller has set its pipeline and bind groups).
+    pub fn draw_objects(&self, pass: &mut wgpu::RenderPass<'_>, filter: &ObjectFilter) {
+        let scene = &self.scene;
+        self.draw_filtered(pass, |i| filter.includes(i, &scene.objects[i]));
+    }
+
+    fn draw_filtered(&self, pass: &mut wgpu::RenderPass<'_>, include: impl Fn(usize) -> bool) {
+        pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+        pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+        for (i, d) in self.draws.iter().enumerate() {
+            if include(i) && d.index_count > 0 {
+                let instance = i as u32;
+                pass.draw_indexed(d.first_index..d.first_index + d.index_count, d.base_vertex, instance..instance + 1);
+            }
+        }
+    }
+
+    /// Keeps the light and info buffers alive and documents that they exist for techniques
+    /// that bind them directly.
+    pub fn light_buffer(&self) -> &wgpu::Buffer {
+        &self.light_buffer
+    }
+    pub fn object_buffer(&self) -> &wgpu::Buffer {
+        &self.object_buffer
+    }
+    pub fn info_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        (&self.info_buffer, &self.raster_info_buffer)
+    }
+}
+
+/// Begins a render pass on `target` (cleared to the background and its distance if asked).
+pub fn begin_scene_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    target: &RasterTarget,
+    background: Vec3,
+    label: &str,
+) -> wgpu::RenderPass<'e> {
+    let color_load = if target.clear {
+        wgpu::LoadOp::Clear(wgpu::Color {
+            r: background.x as f64,
+            g: background.y as f64,
+            b: background.z as f64,
+            a: BACKGROUND_DISTANCE as f64,
+        })
+    } else {
+        wgpu::LoadOp::Load
+    };
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: target.color,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations { load: color_load, store: wgpu::StoreOp::Store },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: target.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: if target.clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+fn depth_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+        stencil_ops: None,
+    }
+}
+
+/// A render pipeline drawing scene objects with `scene_vs` and the given fragment entry:
+/// depth test less, no culling (surfaces are two-sided, cube faces differ in handedness).
+pub fn scene_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("scene_vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(Vertex::layout())],
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fragment_entry),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })],
+        }),
+        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: gpu::DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+fn pipeline_layout(
+    ctx: &Context,
+    camera: &wgpu::BindGroupLayout,
+    scene: &wgpu::BindGroupLayout,
+    extra: &[&wgpu::BindGroupLayout],
+) -> wgpu::PipelineLayout {
+    let mut layouts: Vec<Option<&wgpu::BindGroupLayout>> = vec![Some(camera), Some(scene)];
+    layouts.extend(extra.iter().map(|l| Some(*l)));
+    ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("scene pipeline layout"),
+        bind_group_layouts: &layouts,
+        immediate_size: 0,
+    })
+}
+
+fn camera_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("camera"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }],
+    })
+}
+
+fn objects_only_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("scene objects only"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }],
+    })
+}
+
+fn scene_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+    let all = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
+    let storage = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: all,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let texture = |binding, filterable, dim| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: all,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable },
+            view_dimension: dim,
+            multisampled: false,
+        },
+        count: None,
+    };
+    let sampler = |binding, kind| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: all,
+        ty: wgpu::BindingType::Sampler(kind),
+        count: None,
+    };
+    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("scene"),
+        entries: &[
+            storage(0),
+            storage(1),
+            texture(2, true, wgpu::TextureViewDimension::D2Array),
+            sampler(3, wgpu::SamplerBindingType::Filtering),
+            texture(4, false, wgpu::TextureViewDimension::CubeArray),
+            sampler(5, wgpu::SamplerBindingType::NonFiltering),
+            wgpu::BindGroupLayoutEntry {
+                binding: 6,
+                visibility: all,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+        ],
+    })
+}
+
+fn pack_meshes(objects: &[Object]) -> (Vec<Vertex>, Vec<u32>, Vec<DrawRange>) {
+    let (mut vertices, mut indices, mut draws) = (Vec::new(), Vec::new(), Vec::new());
+    for o in objects {
+        draws.push(DrawRange {
+            first_index: indices.len() as u32,
+            index_count: o.mesh.indices.len() as u32,
+            base_vertex: vertices.len() as i32,
+        });
+        indices.extend_from_slice(&o.mesh.indices);
+        vertices.extend(o.mesh.positions.iter().zip(&o.mesh.normals).zip(&o.mesh.uvs).map(|((p, n), uv)| Vertex {
+            position: p.to_array(),
+            normal: n.to_array(),
+            uv: uv.to_array(),
+        }));
+    }
+    (vertices, indices, draws)
+}
+
+fn object_records(scene: &Scene, time: f32) -> Vec<ObjectGpu> {
+    scene
+        .objects
+        .iter()
+        .map(|o| {
+            let normal = Mat4::from_mat3(o.normal_matrix_at(time));
+            let (albedo, kind, ior, n, k) = match &o.material {
+                Material::Diffuse { albedo, texture } => {
+                    (albedo.extend(texture.map_or(-1.0, |t| t as f32)), 0.0, 1.0, Vec3::ZERO, Vec3::ZERO)
+                }
+                Material::Metal { n, k } => (Vec4::new(0.7, 0.7, 0.7, -1.0), 1.0, 1.0, *n, *k),
+                Material::Glass { ior } => (Vec4::new(0.7, 0.7, 0.7, -1.0), 2.0, *ior, Vec3::ZERO, Vec3::ZERO),
+            };
+            ObjectGpu {
+                model: o.world_at(time).to_cols_array_2d(),
+                normal_matrix: normal.to_cols_array_2d(),
+                albedo: albedo.to_array(),
+                material: [kind, ior, o.roles.bits() as f32, 0.0],
+                n: n.extend(0.0).to_array(),
+                k: k.extend(0.0).to_array(),
+            }
+        })
+        .collect()
+}
+
+/// Uploads all diffuse textures as layers of one `Rgba8UnormSrgb` array (the GPU decodes
+/// sRGB then filters bilinearly, exactly what `Texture::sample` does). Textures of other
+/// sizes than the largest are resampled to it (nearest), which only imported glTF scenes
+/// with mixed sizes hit.
+fn upload_textures(ctx: &Context, scene: &Scene) -> Result<wgpu::TextureView, SceneError> {
+    let size = scene.textures.iter().map(|t| t.width.max(t.height)).max().unwrap_or(1);
+    ctx.check_size(size, size)?;
+    let layers = scene.textures.len().max(1) as u32;
+    let mut data = Vec::with_capacity((size * size * 4 * layers) as usize);
+    if scene.textures.is_empty() {
+        data.extend_from_slice(&[255, 255, 255, 255]);
+    }
+    for t in &scene.textures {
+        for j in 0..size {
+            for i in 0..size {
+                let (x, y) = (i * t.width / size, j * t.height / size);
+                let o = 4 * (y * t.width + x) as usize;
+                data.extend_from_slice(&t.rgba8[o..o + 4]);
+            }
+        }
+    }
+    let texture = ctx.device.create_texture_with_data(
+        &ctx.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("albedo textures"),
+            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8UnormSrgb,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &data,
+    );
+    Ok(texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    }))
+}

@@ -12,8 +12,12 @@ pub mod metrics;
 mod model;
 pub mod reference;
 pub mod technique;
+pub mod techniques;
 
-pub use gpu_scene::{GpuScene, ObjectFilter, RasterTarget};
+pub use gpu_scene::{
+    BACKGROUND_DISTANCE, DrawRange, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL, begin_scene_pass,
+    scene_pipeline,
+};
 pub use model::*;
 pub use technique::{Frame, Param, Technique, TechniqueError, TechniqueResult, Timing, View};
 

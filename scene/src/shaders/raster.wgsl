@@ -1,0 +1,22 @@
+// The shared raster pass: diffuse surfaces shaded like the reference; specular objects drawn
+// as plain grey diffuse when `specular_as_diffuse` is set (the `raster` technique).
+// Output: rgb = radiance, a = distance from the eye (so any view is also a distance impostor).
+
+const PLAIN_GREY: vec3f = vec3f(0.7);
+
+@fragment
+fn raster_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    let eye = camera.eye.xyz;
+    let n = facing_normal(in.normal, in.world, eye);
+    var albedo = surface_albedo(in.object, in.uv);
+    if (objects[in.object].material.x != MATERIAL_DIFFUSE) {
+        albedo = PLAIN_GREY;
+    }
+    return vec4f(shade_diffuse(in.world, n, albedo), distance(in.world, eye));
+}
+
+// Shadow pass: distance from the light (camera.eye) to the nearest surface.
+@fragment
+fn shadow_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    return vec4f(distance(in.world, camera.eye.xyz), 0.0, 0.0, 0.0);
+}

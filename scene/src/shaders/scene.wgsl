@@ -1,0 +1,119 @@
+// ---------------------------------------------------------------------------------------------
+// Shared scene bindings and the diffuse shading model (DESIGN.md): identical to the CPU
+// reference's direct lighting: albedo / pi * I * max(0, n.l) / d^2 * visibility, summed over
+// point lights, no ambient, visibility from a distance cube shadow map per light.
+// Technique shaders are prelude + this file + their own entry points; they draw objects with
+// `scene_vs` (instance index = object index) and shade diffuse surfaces with `shade_diffuse`.
+// ---------------------------------------------------------------------------------------------
+
+struct CameraUniform {
+    view_proj: mat4x4f,
+    eye: vec4f,
+};
+
+struct ObjectGpu {
+    model: mat4x4f,
+    normal_matrix: mat4x4f,
+    // rgb: diffuse albedo; w: texture layer, or -1 when untextured.
+    albedo: vec4f,
+    // x: material kind (0 diffuse, 1 metal, 2 glass); y: ior; z: role bits; w: unused.
+    material: vec4f,
+    // Metal n and k per channel.
+    n: vec4f,
+    k: vec4f,
+};
+
+struct LightGpu {
+    position: vec4f,
+    intensity: vec4f,
+};
+
+struct SceneInfo {
+    light_count: u32,
+    shadow_size: f32,
+    // Raster technique: 1 = shade specular objects as plain grey diffuse.
+    specular_as_diffuse: u32,
+    _pad: u32,
+    background: vec4f,
+};
+
+const MATERIAL_DIFFUSE: f32 = 0.0;
+const MATERIAL_METAL: f32 = 1.0;
+const MATERIAL_GLASS: f32 = 2.0;
+// Distance written for texels that see no geometry (fits Rgba16Float).
+const BACKGROUND_DISTANCE: f32 = 60000.0;
+
+@group(0) @binding(0) var<uniform> camera: CameraUniform;
+@group(1) @binding(0) var<storage, read> objects: array<ObjectGpu>;
+@group(1) @binding(1) var<storage, read> lights: array<LightGpu>;
+@group(1) @binding(2) var albedo_textures: texture_2d_array<f32>;
+@group(1) @binding(3) var albedo_sampler: sampler;
+@group(1) @binding(4) var shadow_maps: texture_cube_array<f32>;
+@group(1) @binding(5) var shadow_sampler: sampler;
+@group(1) @binding(6) var<uniform> scene_info: SceneInfo;
+
+struct SceneVertexIn {
+    @location(0) position: vec3f,
+    @location(1) normal: vec3f,
+    @location(2) uv: vec2f,
+};
+
+struct SceneVertexOut {
+    @builtin(position) clip: vec4f,
+    @location(0) world: vec3f,
+    @location(1) normal: vec3f,
+    @location(2) uv: vec2f,
+    @location(3) @interpolate(flat) object: u32,
+};
+
+@vertex
+fn scene_vs(v: SceneVertexIn, @builtin(instance_index) object: u32) -> SceneVertexOut {
+    let o = objects[object];
+    let world = (o.model * vec4f(v.position, 1.0)).xyz;
+    var out: SceneVertexOut;
+    out.clip = camera.view_proj * vec4f(world, 1.0);
+    out.world = world;
+    out.normal = (o.normal_matrix * vec4f(v.normal, 0.0)).xyz;
+    out.uv = v.uv;
+    out.object = object;
+    return out;
+}
+
+// The shading normal turned to face the viewer (surfaces are two-sided, as in the reference).
+fn facing_normal(n: vec3f, p: vec3f, eye: vec3f) -> vec3f {
+    let nn = normalize(n);
+    return select(nn, -nn, dot(nn, eye - p) < 0.0);
+}
+
+fn surface_albedo(object: u32, uv: vec2f) -> vec3f {
+    let o = objects[object];
+    if (o.albedo.w < 0.0) { return o.albedo.rgb; }
+    let t = textureSampleLevel(albedo_textures, albedo_sampler, uv, i32(o.albedo.w), 0.0).rgb;
+    return o.albedo.rgb * t;
+}
+
+// Visibility of light `i` from p: the cube shadow map stores the distance to the nearest
+// surface per direction; p is lit when it is not farther than that (with a bias that grows
+// with distance and with the slope between the normal and the light direction).
+fn light_visibility(i: u32, p: vec3f, n: vec3f) -> f32 {
+    let to_p = p - lights[i].position.xyz;
+    let d = length(to_p);
+    let stored = textureSampleLevel(shadow_maps, shadow_sampler, to_p, i32(i), 0.0).r;
+    let cos_l = clamp(dot(n, -to_p / d), 0.05, 1.0);
+    let texel = 2.0 / scene_info.shadow_size;
+    let bias = d * texel * (1.5 + sqrt(1.0 - cos_l * cos_l) / cos_l) + 1e-4 * max(1.0, d);
+    return select(0.0, 1.0, d - bias <= stored);
+}
+
+// Direct diffuse radiance toward the viewer: n must face the viewer.
+fn shade_diffuse(p: vec3f, n: vec3f, albedo: vec3f) -> vec3f {
+    var sum = vec3f(0.0);
+    for (var i = 0u; i < scene_info.light_count; i++) {
+        let to_l = lights[i].position.xyz - p;
+        let d2 = dot(to_l, to_l);
+        let cos_l = dot(n, to_l) * inverseSqrt(d2);
+        if (cos_l <= 0.0) { continue; }
+        sum += albedo / PI * lights[i].intensity.rgb * cos_l / d2 * light_visibility(i, p, n);
+    }
+    return sum;
+}

@@ -1,0 +1,187 @@
+//! The foundation's techniques: `reference` (the ground truth itself), `raster` (the shared
+//! raster pass with special objects drawn as plain diffuse) and `envmap/classic` (special
+//! objects reflect/refract a classic environment cube map taken from the object's centre:
+//! the baseline every later technique must beat). They live here, not in a technique crate,
+//! so technique crates (which depend on `gpu` and `scene` only) can reuse the classic map.
+
+use crate::technique::check_param;
+use crate::{
+    Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueResult, View,
+};
+use gpu::cube::{CubeTarget, cube_face_view_proj};
+use gpu::wgpu;
+use gpu::{Context, Target};
+
+fn main_target(target: &Target) -> RasterTarget<'_> {
+    RasterTarget { color: &target.color_view, depth: &target.depth_view, format: gpu::HDR_FORMAT, clear: true }
+}
+
+/// Writes linear RGBA pixels into the target's colour texture.
+pub fn upload_image(ctx: &Context, target: &Target, pixels: &[[f32; 4]]) {
+    ctx.queue.write_texture(
+        target.color.as_image_copy(),
+        bytemuck::cast_slice(pixels),
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(16 * target.width), rows_per_image: Some(target.height) },
+        target.color.size(),
+    );
+}
+
+/// The shared raster pass alone: every object diffuse, specular ones as plain grey.
+#[derive(Default)]
+pub struct RasterTechnique;
+
+impl Technique for RasterTechnique {
+    fn id(&self) -> String {
+        "raster".into()
+    }
+    fn description(&self) -> String {
+        "shared raster pass (diffuse model + shadow cube maps); specular objects as grey diffuse".into()
+    }
+    fn supports(&self, _scene: &Scene) -> bool {
+        true
+    }
+    fn prepare(&mut self, _frame: &mut Frame, _scene: &GpuScene) -> TechniqueResult<()> {
+        Ok(())
+    }
+    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
+        let view_proj = view.camera.view_proj(view.width, view.height);
+        scene.raster(frame, &main_target(target), view_proj, view.camera.eye, &ObjectFilter::All, true);
+        Ok(())
+    }
+}
+
+/// Classic environment mapping: one cube map per specular object from its centre,
+/// regenerated every frame (objects move), looked up by direction only.
+pub struct ClassicEnvMap {
+    pub resolution: u32,
+    maps: Vec<EnvMap>,
+    pipeline: Option<wgpu::RenderPipeline>,
+}
+
+/// One specular object's environment cube map and the bind group that samples it.
+pub struct EnvMap {
+    pub object: usize,
+    pub cube: CubeTarget,
+    pub bind_group: wgpu::BindGroup,
+}
+
+impl Default for ClassicEnvMap {
+    fn default() -> Self {
+        Self { resolution: 256, maps: Vec::new(), pipeline: None }
+    }
+}
+
+/// Layout of `@group(2)` in envmap.wgsl: a cube texture and a filtering sampler.
+pub fn envmap_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("environment map"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::Cube,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
+        ],
+    })
+}
+
+/// Renders the diffuse scene (without `object`) into the six faces of `cube` from `object`'s
+/// centre at the scene's current time: the localized (radiance + distance) environment of
+/// the object. Alpha holds the per-fragment distance from the centre.
+pub fn render_environment(frame: &mut Frame, scene: &GpuScene, cube: &CubeTarget, object: usize) {
+    let center = scene.scene.objects[object].center_at(scene.time());
+    for face in 0..6 {
+        let view_proj = cube_face_view_proj(face, center, 0.01, 2.0 * crate::BACKGROUND_DISTANCE);
+        let target = RasterTarget {
+            color: &cube.face_views[face],
+            depth: &cube.depth_face_views[face],
+            format: cube.format,
+            clear: true,
+        };
+        scene.raster(frame, &target, view_proj, center, &ObjectFilter::Except(vec![object]), false);
+    }
+}
+
+impl Technique for ClassicEnvMap {
+    fn id(&self) -> String {
+        "envmap/classic".into()
+    }
+    fn description(&self) -> String {
+        "classic environment map from each specular object's centre (direction-only lookup)".into()
+    }
+    fn params(&self) -> Vec<Param> {
+        vec![Param { name: "resolution", default: 256.0, min: 4.0, max: 4096.0, integer: true, help: "cube map face size (texels)" }]
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id(), &self.params(), name, value)?;
+        self.resolution = value as u32;
+        Ok(())
+    }
+    fn supports(&self, scene: &Scene) -> bool {
+        scene.objects.iter().any(|o| o.material.is_specular())
+    }
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        let layout = envmap_layout(ctx);
+        let sampler = ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("environment sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        self.maps.clear();
+        for (object, o) in scene.scene.objects.iter().enumerate() {
+            if !o.material.is_specular() {
+                continue;
+            }
+            let cube = CubeTarget::new(ctx, self.resolution, wgpu::TextureFormat::Rgba16Float, "classic environment map")?;
+            let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("environment map"),
+                layout: &layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&cube.cube_view) },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&sampler) },
+                ],
+            });
+            self.maps.push(EnvMap { object, cube, bind_group });
+        }
+        let source = format!("{}\n{}", crate::SCENE_WGSL, include_str!("shaders/envmap.wgsl"));
+        let module = gpu::shader_with_prelude(ctx, "envmap/classic", &source);
+        let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
+        self.pipeline = Some(crate::scene_pipeline(ctx, "envmap/classic", &pipeline_layout, &module, "envmap_fs", gpu::HDR_FORMAT));
+        Ok(())
+    }
+    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
+        frame.timer.begin(frame.encoder, "regenerate");
+        for map in &self.maps {
+            render_environment(frame, scene, &map.cube, map.object);
+        }
+        frame.timer.end(frame.encoder, "regenerate");
+
+        let view_proj = view.camera.view_proj(view.width, view.height);
+        let specular: Vec<usize> = self.maps.iter().map(|m| m.object).collect();
+        scene.raster(frame, &main_target(target), view_proj, view.camera.eye, &ObjectFilter::Except(specular), false);
+        let camera = scene.camera_bind_group(frame.gpu, view_proj, view.camera.eye);
+        let pipeline = self.pipeline.as_ref().expect("prepare() runs before render()");
+        let mut pass = crate::begin_scene_pass(frame.encoder, &RasterTarget { clear: false, ..main_target(target) }, scene.scene.background, "envmap/classic");
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &camera, &[]);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        for map in &self.maps {
+            pass.set_bind_group(2, &map.bind_group, &[]);
+            scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![map.object]));
+        }
+        Ok(())
+    }
+}
