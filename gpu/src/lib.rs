@@ -11,6 +11,7 @@ mod target;
 mod timer;
 
 pub use context::{AdapterSummary, Context};
+pub use depth_peel::DepthPeeler;
 pub use target::{
     DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, depth_texture, map_buffer, read_buffer,
     read_texture_bytes, read_texture_f32, read_texture_f32x4,
@@ -41,6 +42,8 @@ pub enum GpuError {
     ReadBack(String),
     #[error("GPU validation error: {0}")]
     Validation(String),
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
 }
 
 /// The vertex layout shared by the scene upload, depth peeling and every technique:

@@ -11,6 +11,9 @@ pub const PRELUDE_WGSL: &str = include_str!("shaders/prelude.wgsl");
 pub const PI: f32 = std::f32::consts::PI;
 /// Empty interval returned by [`ray_sphere`] and [`ray_box`] on a miss (t_near > t_far).
 pub const MISS: Vec2 = Vec2::new(1.0, -1.0);
+/// Stand-in for infinity (WGSL implementations may assume no infinities): the bound of a slab
+/// that does not limit a ray in [`ray_box`].
+pub const BIG: f32 = 1e30;
 
 /// Ray / plane `dot(n, x) = c`: the ray parameter, or -1 when the ray is parallel.
 pub fn ray_plane(o: Vec3, d: Vec3, n: Vec3, c: f32) -> f32 {
@@ -34,14 +37,19 @@ pub fn ray_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32) -> Vec2 {
     Vec2::new(-b - s, -b + s)
 }
 
-/// Ray / axis-aligned box by slabs: (t_near, t_far) or [`MISS`].
+/// Ray / axis-aligned box by slabs: (t_near, t_far) or [`MISS`]. A direction component below
+/// 1e-30 in magnitude is "flat": its slab does not limit t when the origin lies in it (boundary
+/// planes included: the box is closed) and empties the interval otherwise, so there is no
+/// division by zero and no NaN (an origin on a slab plane would give 0 * inf).
 pub fn ray_box(o: Vec3, d: Vec3, bmin: Vec3, bmax: Vec3) -> Vec2 {
-    let inv = d.recip();
+    let flat = d.abs().cmplt(Vec3::splat(1e-30));
+    let inside = o.cmpge(bmin) & o.cmple(bmax);
+    let inv = Vec3::select(flat, Vec3::ONE, d).recip();
     let t0 = (bmin - o) * inv;
     let t1 = (bmax - o) * inv;
-    // WGSL min/max of (-inf, nan) cases do not arise: a zero component gives +-inf only.
-    let tmin = t0.min(t1);
-    let tmax = t0.max(t1);
+    let open = Vec3::select(inside, Vec3::splat(-BIG), Vec3::splat(BIG));
+    let tmin = Vec3::select(flat, open, t0.min(t1));
+    let tmax = Vec3::select(flat, -open, t0.max(t1));
     let t_near = tmin.max_element();
     let t_far = tmax.min_element();
     if t_near > t_far {

@@ -16,7 +16,7 @@
 //! | `reflect_dir`, `luminance`, `oct_encode`, `oct_decode` | abs 1e-5 (luminance: rel 1e-5) |
 //! | `ray_plane` | rel 1e-4 plus the rounding bound of the quotient, `8 eps (abs(c) + abs(dot(n, o)) + abs(t)) / abs(dot(n, d))`; when `abs(dot(n, d))` is within rounding of 0 (GPUs may fuse the dot product into FMAs) the parallel test is ill-conditioned and either answer is accepted; exactly parallel cases (representable zero dot products) must give -1 |
 //! | `ray_sphere` | rel 1e-4 plus the propagated rounding error of the discriminant; hit/miss must agree unless the discriminant is within rounding of 0 (tangent rays) |
-//! | `ray_box` | abs 1e-5, rel 1e-5; hit/miss must agree unless the interval is degenerate (`t_near` within 1e-4 of `t_far`: rays grazing an edge). Zero direction components are included; origins never lie exactly on a slab plane of a zero component (0 * inf, see the README) |
+//! | `ray_box` | abs 1e-5, rel 1e-5; hit/miss must agree unless the interval is degenerate (`t_near` within 1e-4 of `t_far`: rays grazing an edge). Zero direction components (+0, -0) are included, also with the origin exactly on a slab plane of that component (a ray in a face plane: the box is closed) |
 //! | `refract_dir` | abs 1e-5 plus `4 eps / sqrt(abs(k))` with `k = 1 - eta^2 sin^2`; the TIR flag must agree unless `abs(k) < 1e-5`, where either branch is accepted if it returns a unit vector |
 //! | `fresnel_nk` | abs 2e-5, rel 1e-4 (`pow` on the GPU is exp2/log2) |
 //! | `fresnel_dielectric` | abs 2e-5, rel 1e-4, plus `5 * dc` for eta < 1 where `dc` is the rounding error of the transmitted cosine `sqrt(x)`, `x = 1 - sin^2_t` (ill-conditioned near the critical angle; the function is continuous there, so no band is needed) |
@@ -450,6 +450,12 @@ fn check_ray_box(prelude: &str) -> Vec<String> {
         (Vec3::new(0.3, -4.0, -0.7), Vec3::new(-0.0, 1.0, -0.0)),
         (Vec3::new(0.3, 4.0, 1.5), Vec3::new(0.0, -1.0, 0.0)),
         (Vec3::new(0.0625, 0.0625, 0.0625), Vec3::new(0.0, -1.0, 0.0)),
+        // In a face plane (origin on the plane, zero component): hits along the face.
+        (Vec3::new(1.0, 0.5, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+        (Vec3::new(-1.0, 0.5, 5.0), Vec3::new(-0.0, 0.0, -1.0)),
+        (Vec3::new(0.5, 1.0, -3.0), Vec3::new(0.6, 0.0, 0.8)),
+        (Vec3::new(1.0, 1.0, 4.0), Vec3::new(0.0, 0.0, -1.0)),
+        (Vec3::new(1.0, 0.5, 0.5), Vec3::new(0.0, 0.6, -0.8)),
     ];
     for (o, d) in axis_rays {
         cases.push(case(&[o.extend(0.0), d.extend(0.0), unit_box.0.extend(0.0), unit_box.1.extend(0.0)]));
@@ -469,6 +475,13 @@ fn check_ray_box(prelude: &str) -> Vec<String> {
             d = Vec3::X;
         }
         let d = d / d.length();
+        // Now and then put the origin exactly on a slab plane of a zero component.
+        let mut o = o;
+        for a in 0..3 {
+            if d[a] == 0.0 && rng.u32() % 4 == 0 {
+                o[a] = if rng.u32() % 2 == 0 { lo[a] } else { hi[a] };
+            }
+        }
         cases.push(case(&[o.extend(0.0), d.extend(0.0), lo.extend(0.0), hi.extend(0.0)]));
     }
     compare(prelude, "k_ray_box", &cases, |c, out| {

@@ -28,14 +28,20 @@ fn ray_sphere(o: vec3f, d: vec3f, center: vec3f, radius: f32) -> vec2f {
     return vec2f(-b - s, -b + s);
 }
 
-// Ray / axis-aligned box by slabs: (t_near, t_far), MISS when empty. Division by a zero
-// direction component gives +-inf, which the min/max handle (origin inside the slab or not).
+// Ray / axis-aligned box by slabs: (t_near, t_far), MISS when empty. A direction component
+// below 1e-30 in magnitude (zero, -0.0, denormal) is "flat": that slab does not limit t when the
+// origin lies in it (boundary planes included: the box is closed) and empties the interval
+// otherwise. This avoids 1/0 and 0 * inf (NaN for an origin on a slab plane), which WGSL
+// implementations may not handle as IEEE does.
 fn ray_box(o: vec3f, d: vec3f, bmin: vec3f, bmax: vec3f) -> vec2f {
-    let inv = 1.0 / d;
+    let flat = abs(d) < vec3f(1e-30);
+    let inside = (o >= bmin) & (o <= bmax);
+    let inv = 1.0 / select(d, vec3f(1.0), flat);
     let t0 = (bmin - o) * inv;
     let t1 = (bmax - o) * inv;
-    let tmin = min(t0, t1);
-    let tmax = max(t0, t1);
+    let open = select(vec3f(BIG), vec3f(-BIG), inside);
+    let tmin = select(min(t0, t1), open, flat);
+    let tmax = select(max(t0, t1), -open, flat);
     let t_near = max(max(tmin.x, tmin.y), tmin.z);
     let t_far = min(min(tmax.x, tmax.y), tmax.z);
     if (t_near > t_far) { return MISS; }
