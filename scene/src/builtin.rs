@@ -291,8 +291,8 @@ fn city(buildings: usize, rooms_per_building: f32) -> Result<Scene, SceneError> 
     let street_x = spacing * 0.5;
     let depth = spacing * (columns as f32 - 1.0).max(1.0);
     let cam = |z: f32| Camera {
-        eye: Vec3::new(street_x, 1.8, spacing * 0.6 - z),
-        target: Vec3::new(street_x - 12.0, 8.0, -z - 25.0),
+        eye: Vec3::new(street_x, 6.0, spacing * 0.8 - z),
+        target: Vec3::new(street_x - 3.0, 12.0, -z - 60.0),
         up: Vec3::Y,
         fov_y_deg: 60.0,
     };
@@ -302,8 +302,8 @@ fn city(buildings: usize, rooms_per_building: f32) -> Result<Scene, SceneError> 
         textures: vec![checker_texture("facade", 64, 8, [170, 165, 150], [60, 70, 90])],
         lights: vec![PointLight {
             name: "sun-like light".into(),
-            position: Vec3::new(-200.0, 400.0, 300.0),
-            intensity: Vec3::splat(2.0e5),
+            position: Vec3::new(250.0, 400.0, 300.0),
+            intensity: Vec3::splat(4.0e5),
         }],
         camera: cam(0.0),
         camera_path: CameraPath { keys: vec![(0.0, cam(0.0)), (4.0, cam(depth))] },
