@@ -1,0 +1,787 @@
+//! Import of glTF written by hand (as another tool would write it), and of bad input.
+//!
+//! The fixture is written below as JSON: a node hierarchy with a parent transform, a glass
+//! box (`KHR_materials_transmission` + `KHR_materials_ior`), a mirror (metallic 1,
+//! roughness 0) given as a triangle strip without normals, a textured floor with normalized
+//! `u8` texture coordinates and a line primitive (skipped), a `KHR_lights_punctual` point
+//! light and a perspective camera. Its buffer and PNG image are base64 `data:` URIs, or
+//! external files beside the `.gltf` for the path import.
+
+use glam::{Mat4, Quat, Vec2, Vec3};
+use scene::gltf_io::{import, import_slice, to_glb_bytes};
+use scene::{Material, Roles, SceneError};
+use serde_json::{Value, json};
+use std::path::PathBuf;
+
+fn base64(bytes: &[u8]) -> String {
+    const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ABC[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+const TEXELS: [u8; 16] = [
+    255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 128,
+];
+
+fn png_2x2() -> Vec<u8> {
+    use image::ImageEncoder;
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(&TEXELS, 2, 2, image::ExtendedColorType::Rgba8)
+        .unwrap();
+    out
+}
+
+/// The fixture's binary data and where each part starts.
+#[derive(Clone)]
+struct Fixture {
+    json: Value,
+    bin: Vec<u8>,
+    box_indices_at: usize,
+    box_positions_at: usize,
+}
+
+fn fixture() -> Fixture {
+    let mut bin = Vec::new();
+    let mut push = |bytes: &[u8]| {
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        let at = bin.len();
+        bin.extend_from_slice(bytes);
+        (at, bytes.len())
+    };
+    let cube = scene::mesh::cuboid(Vec3::splat(-0.5), Vec3::splat(0.5));
+    let f32s = |v: &[Vec3]| {
+        v.iter()
+            .flat_map(|p| p.to_array())
+            .flat_map(f32::to_le_bytes)
+            .collect::<Vec<u8>>()
+    };
+    let (box_pos, box_pos_len) = push(&f32s(&cube.positions));
+    let (box_nor, box_nor_len) = push(&f32s(&cube.normals));
+    let box_idx_bytes: Vec<u8> = cube
+        .indices
+        .iter()
+        .flat_map(|&i| (i as u16).to_le_bytes())
+        .collect();
+    let (box_idx, box_idx_len) = push(&box_idx_bytes);
+    // Mirror: a strip of two triangles in the z = 0 plane, facing +z, no normals, no indices.
+    let strip = [
+        Vec3::new(-1.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(-1.0, 2.0, 0.0),
+        Vec3::new(1.0, 2.0, 0.0),
+    ];
+    let (mir_pos, mir_pos_len) = push(&f32s(&strip));
+    // Floor: a quad facing +y; uvs are normalized u8 in a view with a 4-byte stride.
+    let floor = [
+        Vec3::new(-2.0, 0.0, 2.0),
+        Vec3::new(2.0, 0.0, 2.0),
+        Vec3::new(2.0, 0.0, -2.0),
+        Vec3::new(-2.0, 0.0, -2.0),
+    ];
+    let (fl_pos, fl_pos_len) = push(&f32s(&floor));
+    let (fl_nor, fl_nor_len) = push(&f32s(&[Vec3::Y; 4]));
+    let (fl_uv, fl_uv_len) = push(&[0, 0, 0, 0, 255, 0, 0, 0, 255, 255, 0, 0, 0, 255, 0, 0]);
+    let (fl_idx, fl_idx_len) = push(&[0, 1, 2, 0, 2, 3]);
+    let view = |at: usize, len: usize| json!({ "buffer": 0, "byteOffset": at, "byteLength": len });
+    let mut uv_view = view(fl_uv, fl_uv_len);
+    uv_view["byteStride"] = json!(4);
+    let json = json!({
+        "asset": { "version": "2.0", "generator": "hand-written test fixture" },
+        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior", "KHR_lights_punctual"],
+        "scene": 0,
+        "scenes": [{ "name": "fixture", "nodes": [0, 4, 5] }],
+        "nodes": [
+            { "name": "group", "translation": [1.0, 0.0, 0.0], "scale": [2.0, 2.0, 2.0], "children": [1, 2, 3] },
+            { "name": "glass box", "mesh": 0, "translation": [0.0, 0.5, 0.0] },
+            { "name": "lamp", "translation": [0.0, 2.0, 0.0], "extensions": { "KHR_lights_punctual": { "light": 0 } } },
+            // Rotation of 90 degrees about +y, then translation (0, 0, -1); column-major.
+            { "name": "mirror", "mesh": 1, "matrix": [0.0, 0.0, -1.0, 0.0,  0.0, 1.0, 0.0, 0.0,  1.0, 0.0, 0.0, 0.0,  0.0, 0.0, -1.0, 1.0] },
+            { "name": "floor", "mesh": 2 },
+            { "name": "camera", "camera": 0, "translation": [0.0, 1.0, 5.0] }
+        ],
+        "meshes": [
+            { "name": "box", "primitives": [{ "attributes": { "POSITION": 0, "NORMAL": 1 }, "indices": 2, "material": 0 }] },
+            { "name": "mirror", "primitives": [{ "attributes": { "POSITION": 3 }, "material": 1, "mode": 5 }] },
+            { "name": "floor", "primitives": [
+                { "attributes": { "POSITION": 4, "NORMAL": 5, "TEXCOORD_0": 6 }, "indices": 7, "material": 2 },
+                { "attributes": { "POSITION": 4 }, "mode": 1 }
+            ] }
+        ],
+        "materials": [
+            { "name": "glass", "pbrMetallicRoughness": { "metallicFactor": 0.0, "roughnessFactor": 0.0 },
+              "extensions": { "KHR_materials_transmission": { "transmissionFactor": 1.0 }, "KHR_materials_ior": { "ior": 1.45 } } },
+            { "name": "mirror", "pbrMetallicRoughness": { "baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 1.0, "roughnessFactor": 0.0 } },
+            { "name": "floor", "pbrMetallicRoughness": { "baseColorFactor": [0.5, 0.5, 0.5, 1.0], "baseColorTexture": { "index": 0 }, "metallicFactor": 0.0 } }
+        ],
+        "textures": [{ "source": 0 }],
+        "images": [{ "name": "tiles", "uri": format!("data:image/png;base64,{}", base64(&png_2x2())) }],
+        "extensions": { "KHR_lights_punctual": { "lights": [{ "name": "lamp", "type": "point", "color": [1.0, 0.5, 0.25], "intensity": 683.0 }] } },
+        "cameras": [{ "type": "perspective", "perspective": { "yfov": 0.6, "znear": 0.05 } }],
+        "accessors": [
+            { "bufferView": 0, "componentType": 5126, "count": 24, "type": "VEC3", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5] },
+            { "bufferView": 1, "componentType": 5126, "count": 24, "type": "VEC3" },
+            { "bufferView": 2, "componentType": 5123, "count": 36, "type": "SCALAR" },
+            { "bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, 0.0], "max": [1.0, 2.0, 0.0] },
+            { "bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-2.0, 0.0, -2.0], "max": [2.0, 0.0, 2.0] },
+            { "bufferView": 5, "componentType": 5126, "count": 4, "type": "VEC3" },
+            { "bufferView": 6, "componentType": 5121, "normalized": true, "count": 4, "type": "VEC2" },
+            { "bufferView": 7, "componentType": 5121, "count": 6, "type": "SCALAR" }
+        ],
+        "bufferViews": [
+            view(box_pos, box_pos_len), view(box_nor, box_nor_len), view(box_idx, box_idx_len),
+            view(mir_pos, mir_pos_len), view(fl_pos, fl_pos_len), view(fl_nor, fl_nor_len),
+            uv_view, view(fl_idx, fl_idx_len)
+        ],
+        "buffers": [{ "byteLength": 0 }]
+    });
+    let mut f = Fixture {
+        json,
+        bin,
+        box_indices_at: box_idx,
+        box_positions_at: box_pos,
+    };
+    f.json["buffers"][0]["byteLength"] = json!(f.bin.len());
+    f
+}
+
+impl Fixture {
+    /// The fixture as one self-contained `.gltf` (the buffer as a data URI).
+    fn gltf_bytes(&self) -> Vec<u8> {
+        let mut j = self.json.clone();
+        let uri = json!(format!(
+            "data:application/octet-stream;base64,{}",
+            base64(&self.bin)
+        ));
+        // (Fuzzed documents may have no buffer object to put it in.)
+        if let Some(buffer) = j
+            .get_mut("buffers")
+            .and_then(|b| b.get_mut(0))
+            .and_then(Value::as_object_mut)
+        {
+            buffer.insert("uri".into(), uri);
+        }
+        serde_json::to_vec_pretty(&j).unwrap()
+    }
+}
+
+fn load(f: &Fixture) -> Result<scene::Scene, SceneError> {
+    import_slice(&f.gltf_bytes(), "fixture.gltf")
+}
+
+fn check_fixture(s: &scene::Scene) {
+    assert_eq!(s.name, "fixture");
+    let names: Vec<&str> = s.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["glass box", "mirror", "floor"],
+        "the line primitive is skipped"
+    );
+
+    // Glass box: world = T(1,0,0) * S(2) * T(0,0.5,0); mesh kept in object space.
+    let glass = &s.objects[0];
+    assert_eq!(glass.material, Material::Glass { ior: 1.45 });
+    assert_eq!(glass.roles, Roles::REFRACTOR | Roles::CAUSTIC_CASTER);
+    let expect = Mat4::from_translation(Vec3::X)
+        * Mat4::from_scale(Vec3::splat(2.0))
+        * Mat4::from_translation(Vec3::Y * 0.5);
+    assert!(
+        glass.transform.abs_diff_eq(expect, 1e-6),
+        "{}",
+        glass.transform
+    );
+    assert_eq!(
+        glass.transform.transform_point3(Vec3::splat(0.5)),
+        Vec3::new(2.0, 2.0, 1.0)
+    );
+    assert_eq!(
+        glass.mesh,
+        scene::mesh::cuboid(Vec3::splat(-0.5), Vec3::splat(0.5)).tap_uvs_zero()
+    );
+
+    // Mirror: metallic 1, roughness 0, white -> a perfect mirror (F = 1 at every angle).
+    let mirror = &s.objects[1];
+    let Material::Metal { n, k } = mirror.material else {
+        panic!("mirror is {:?}", mirror.material)
+    };
+    for cos in [1.0, 0.5, 0.0] {
+        assert!(
+            (gpu::prelude::fresnel_nk(cos, n, k) - Vec3::ONE)
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+    }
+    assert_eq!(mirror.roles, Roles::REFLECTOR | Roles::CAUSTIC_CASTER);
+    let m = Mat4::from_rotation_translation(
+        Quat::from_rotation_y(std::f32::consts::FRAC_PI_2),
+        Vec3::new(0.0, 0.0, -1.0),
+    );
+    let expect = Mat4::from_translation(Vec3::X) * Mat4::from_scale(Vec3::splat(2.0)) * m;
+    assert!(
+        mirror.transform.abs_diff_eq(expect, 1e-6),
+        "{}",
+        mirror.transform
+    );
+    // The strip became two triangles with flat normals (+z in object space, unwelded).
+    assert_eq!(mirror.mesh.triangle_count(), 2);
+    assert_eq!(mirror.mesh.positions.len(), 6);
+    assert!(mirror.mesh.normals.iter().all(|n| *n == Vec3::Z));
+    // World normal: +z rotated 90 degrees about y is +x.
+    let wn = (mirror.normal_matrix_at(0.0) * Vec3::Z).normalize();
+    assert!(wn.abs_diff_eq(Vec3::X, 1e-6), "{wn}");
+
+    // Floor: textured diffuse; normalized u8 uvs.
+    let floor = &s.objects[2];
+    assert_eq!(
+        floor.material,
+        Material::Diffuse {
+            albedo: Vec3::splat(0.5),
+            texture: Some(0)
+        }
+    );
+    assert_eq!(floor.roles, Roles::NONE);
+    assert_eq!(floor.mesh.uvs, [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]);
+    assert_eq!(floor.mesh.indices, [0, 1, 2, 0, 2, 3]);
+    assert_eq!(s.textures.len(), 1);
+    assert_eq!(
+        (
+            s.textures[0].name.as_str(),
+            s.textures[0].width,
+            s.textures[0].height
+        ),
+        ("tiles", 2, 2)
+    );
+    assert_eq!(s.textures[0].rgba8, TEXELS);
+
+    // Light: under the group, so at (1,0,0) + 2 * (0,2,0); 683 cd of colour (1, .5, .25)
+    // is (1, .5, .25) W/sr.
+    assert_eq!(s.lights.len(), 1);
+    assert_eq!(s.lights[0].name, "lamp");
+    assert_eq!(s.lights[0].position, Vec3::new(1.0, 4.0, 0.0));
+    assert!(
+        s.lights[0]
+            .intensity
+            .abs_diff_eq(Vec3::new(1.0, 0.5, 0.25), 1e-6)
+    );
+
+    // Camera: at (0,1,5) looking down -z with +y up, 0.6 rad.
+    let c = s.camera;
+    assert_eq!(c.eye, Vec3::new(0.0, 1.0, 5.0));
+    assert!(
+        (c.target - c.eye)
+            .normalize()
+            .abs_diff_eq(Vec3::NEG_Z, 1e-6)
+    );
+    assert!(c.up.abs_diff_eq(Vec3::Y, 1e-6));
+    assert!((c.fov_y_deg - 0.6f32.to_degrees()).abs() < 1e-4);
+    assert!(s.camera_path.keys.is_empty() && s.volumes.is_empty() && s.background == Vec3::ZERO);
+}
+
+trait UvsZero {
+    fn tap_uvs_zero(self) -> Self;
+}
+impl UvsZero for scene::Mesh {
+    fn tap_uvs_zero(mut self) -> Self {
+        self.uvs = vec![Vec2::ZERO; self.positions.len()];
+        self
+    }
+}
+
+#[test]
+fn hand_written_gltf_with_data_uris() {
+    let s = load(&fixture()).unwrap();
+    check_fixture(&s);
+    // And what we make of it survives our own export.
+    let back = import_slice(&to_glb_bytes(&s).unwrap(), "again.glb").unwrap();
+    assert!(back == s);
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("scene-gltf-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn hand_written_gltf_with_external_files() {
+    let f = fixture();
+    let dir = temp_dir("external");
+    std::fs::write(dir.join("fixture data.bin"), &f.bin).unwrap();
+    std::fs::write(dir.join("tiles.png"), png_2x2()).unwrap();
+    let mut j = f.json.clone();
+    j["buffers"][0]["uri"] = json!("fixture%20data.bin");
+    j["images"][0]["uri"] = json!("tiles.png");
+    let path = dir.join("fixture.gltf");
+    std::fs::write(&path, serde_json::to_vec_pretty(&j).unwrap()).unwrap();
+    check_fixture(&import(&path).unwrap());
+    // From memory, the external files cannot be found: a clear error.
+    let e = import_slice(&std::fs::read(&path).unwrap(), "fixture.gltf")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("fixture data.bin") && e.contains("from memory"),
+        "{e}"
+    );
+    // A missing external file names the file.
+    std::fs::remove_file(dir.join("tiles.png")).unwrap();
+    let e = import(&path).unwrap_err().to_string();
+    assert!(e.contains("tiles.png"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn without_a_camera_the_scene_is_framed() {
+    let mut f = fixture();
+    f.json["scenes"][0]["nodes"] = json!([0, 4]);
+    let s = load(&f).unwrap();
+    // Every object vertex projects inside the image.
+    for o in &s.objects {
+        for p in &o.mesh.positions {
+            let q = s
+                .camera
+                .project(o.transform.transform_point3(*p), 100, 100)
+                .unwrap();
+            assert!(
+                q.x >= 0.0 && q.x <= 100.0 && q.y >= 0.0 && q.y <= 100.0,
+                "{} at {q}",
+                o.name
+            );
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Bad input: an Err with one readable sentence, never a panic.
+
+fn gltf_err(bytes: &[u8]) -> String {
+    match import_slice(bytes, "bad.gltf") {
+        Ok(_) => panic!("bad input was accepted"),
+        Err(e) => {
+            let text = e.to_string();
+            assert!(
+                !text.is_empty() && !text.contains('\n'),
+                "message is not one line: {text}"
+            );
+            text
+        }
+    }
+}
+
+/// A `.glb` with its JSON chunk text edited by `edit` (which must change it).
+fn edit_glb_json(glb: &[u8], edit: impl Fn(&str) -> String) -> Vec<u8> {
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let text = std::str::from_utf8(&glb[20..20 + json_len]).unwrap();
+    let mut json = edit(text.trim_end()).into_bytes();
+    assert_ne!(json, text.trim_end().as_bytes(), "the edit changed nothing");
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let rest = &glb[20 + json_len..];
+    let mut out = b"glTF".to_vec();
+    for w in [
+        2u32,
+        (20 + json.len() + rest.len()) as u32,
+        json.len() as u32,
+        0x4E4F534A,
+    ] {
+        out.extend_from_slice(&w.to_le_bytes());
+    }
+    out.extend_from_slice(&json);
+    out.extend_from_slice(rest);
+    out
+}
+
+fn err_with(f: &Fixture) -> String {
+    gltf_err(&f.gltf_bytes())
+}
+
+#[test]
+fn missing_file() {
+    let e = import(std::path::Path::new("/no/such/dir/scene.glb")).unwrap_err();
+    assert!(matches!(e, SceneError::Io(..)), "{e:?}");
+    let text = e.to_string();
+    assert!(
+        text.contains("/no/such/dir/scene.glb") && text.contains("cannot read"),
+        "{text}"
+    );
+    assert!(scene::load("/no/such/dir/scene.gltf").is_err());
+}
+
+#[test]
+fn malformed_json() {
+    let e = gltf_err(b"{ \"asset\": { \"version\": \"2.0\" }, \"nodes\": [ ");
+    assert!(e.contains("JSON is malformed"), "{e}");
+    let e = gltf_err(b"");
+    assert!(e.contains("JSON"), "{e}");
+    // NaN is not JSON: a node matrix with a literal NaN is malformed JSON.
+    let text = String::from_utf8(fixture().gltf_bytes())
+        .unwrap()
+        .replace("\"scale\": [\n        2.0", "\"scale\": [\n        NaN");
+    assert!(text.contains("NaN"));
+    assert!(gltf_err(text.as_bytes()).contains("JSON"));
+    // Valid JSON that is not glTF.
+    let e = gltf_err(b"{\"hello\": 1}");
+    assert!(e.contains("asset") || e.contains("glTF"), "{e}");
+}
+
+#[test]
+fn truncated_glb() {
+    let bytes = to_glb_bytes(&scene::load("cornell-sphere").unwrap()).unwrap();
+    for len in [
+        4,
+        11,
+        12,
+        19,
+        20,
+        100,
+        bytes.len() / 2,
+        bytes.len() - 4,
+        bytes.len() - 1,
+    ] {
+        let e = gltf_err(&bytes[..len]);
+        assert!(e.contains("truncated") || e.contains("short"), "{len}: {e}");
+    }
+    // A header that declares a length shorter than a header.
+    let mut bad = bytes.clone();
+    bad[8..12].copy_from_slice(&8u32.to_le_bytes());
+    gltf_err(&bad);
+    // A chunk that runs past the end.
+    let mut bad = bytes.clone();
+    bad[12..16].copy_from_slice(&u32::MAX.to_le_bytes());
+    assert!(gltf_err(&bad).contains("chunk"));
+    // Wrong version.
+    let mut bad = bytes;
+    bad[4] = 1;
+    assert!(gltf_err(&bad).contains("version"));
+}
+
+#[test]
+fn accessor_out_of_range() {
+    let mut f = fixture();
+    f.json["accessors"][0]["count"] = json!(10_000);
+    let e = err_with(&f);
+    assert!(
+        e.contains("accessor 0") && e.contains("out of range"),
+        "{e}"
+    );
+
+    let mut f = fixture();
+    f.json["accessors"][1]["byteOffset"] = json!(u32::MAX);
+    assert!(err_with(&f).contains("out of range"));
+
+    let mut f = fixture();
+    f.json["bufferViews"][3]["byteLength"] = json!(1_000_000);
+    let e = err_with(&f);
+    assert!(e.contains("buffer view 3") && e.contains("outside"), "{e}");
+
+    let mut f = fixture();
+    f.json["buffers"][0]["byteLength"] = json!(f.bin.len() + 100);
+    assert!(err_with(&f).contains("byteLength"));
+
+    // An accessor index that does not exist is caught by validation.
+    let mut f = fixture();
+    f.json["meshes"][0]["primitives"][0]["indices"] = json!(99);
+    let e = err_with(&f);
+    assert!(
+        e.contains("does not validate") && e.contains("indices"),
+        "{e}"
+    );
+
+    // A NORMAL accessor of the wrong type.
+    let mut f = fixture();
+    f.json["accessors"][1]["type"] = json!("VEC2");
+    let e = err_with(&f);
+    assert!(e.contains("NORMAL") && e.contains("expected Vec3"), "{e}");
+    // A POSITION accessor that does not exist (the gltf crate's own validation would
+    // index out of bounds here).
+    let mut f = fixture();
+    f.json["meshes"][1]["primitives"][0]["attributes"]["POSITION"] = json!(255);
+    let e = err_with(&f);
+    assert!(e.contains("accessor 255 for POSITION"), "{e}");
+}
+
+#[test]
+fn index_out_of_range() {
+    let mut f = fixture();
+    let at = f.box_indices_at + 2 * 5;
+    f.bin[at..at + 2].copy_from_slice(&99u16.to_le_bytes());
+    let e = err_with(&f);
+    assert!(
+        e.contains("index 99")
+            && e.contains("24 vertices")
+            && e.contains("mesh 0 (\"box\") primitive 0"),
+        "{e}"
+    );
+}
+
+#[test]
+fn non_finite_node_transform() {
+    // 1e39 overflows f32 to infinity; JSON cannot hold NaN itself.
+    let cases: Vec<(usize, &str, Value)> = vec![
+        (
+            3,
+            "matrix",
+            json!([1e39, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]),
+        ),
+        (1, "translation", json!([0.0, 1e39, 0.0])),
+        (1, "scale", json!([1.0, 1.0, -1e39])),
+        (1, "rotation", json!([0.0, 1e39, 0.0, 1.0])),
+    ];
+    for (node, key, value) in cases {
+        let mut f = fixture();
+        f.json["nodes"][node][key] = value;
+        let e = err_with(&f);
+        assert!(
+            e.contains("non-finite transform") && e.contains(&format!("node {node}")),
+            "{key}: {e}"
+        );
+    }
+    // Finite locally, infinite once multiplied down the hierarchy.
+    let mut f = fixture();
+    f.json["nodes"][0]["scale"] = json!([1e30, 1e30, 1e30]);
+    f.json["nodes"][1]["translation"] = json!([1e10, 0.0, 0.0]);
+    assert!(err_with(&f).contains("non-finite world transform"));
+    // A zero quaternion is no rotation.
+    let mut f = fixture();
+    f.json["nodes"][1]["rotation"] = json!([0.0, 0.0, 0.0, 0.0]);
+    assert!(err_with(&f).contains("quaternion"));
+}
+
+#[test]
+fn non_finite_vertex_data() {
+    let mut f = fixture();
+    let at = f.box_positions_at + 4 * 7;
+    f.bin[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    let e = err_with(&f);
+    assert!(
+        e.contains("non-finite vertices") && e.contains("glass box"),
+        "{e}"
+    );
+}
+
+#[test]
+fn other_malformed_content() {
+    // A node hierarchy with a cycle.
+    let mut f = fixture();
+    f.json["nodes"][1]["children"] = json!([0]);
+    let e = err_with(&f);
+    assert!(
+        e.contains("cycle") || e.contains("does not validate"),
+        "{e}"
+    );
+    // An image that is not an image.
+    let mut f = fixture();
+    f.json["images"][0]["uri"] = json!(format!(
+        "data:image/png;base64,{}",
+        base64(b"not a png at all")
+    ));
+    assert!(err_with(&f).contains("image 0 cannot be decoded"));
+    // Bad base64.
+    let mut f = fixture();
+    f.json["images"][0]["uri"] = json!("data:image/png;base64,@@@@");
+    assert!(err_with(&f).contains("base64"));
+    // A URI scheme we do not fetch.
+    let mut f = fixture();
+    f.json["images"][0]["uri"] = json!("https://example.com/tiles.png");
+    assert!(err_with(&f).contains("scheme"));
+    // Only lines: nothing to render.
+    let mut f = fixture();
+    f.json["scenes"][0]["nodes"] = json!([5]);
+    assert!(err_with(&f).contains("no triangle"));
+    // A required extension we do not support.
+    let mut f = fixture();
+    f.json["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
+    assert!(err_with(&f).contains("Unsupported extension"));
+    // Triangle count not a multiple of three.
+    let mut f = fixture();
+    f.json["accessors"][7]["count"] = json!(5);
+    assert!(err_with(&f).contains("multiple of 3"));
+    // Extras from a newer version of this format.
+    let cornell = to_glb_bytes(&scene::load("cornell-sphere").unwrap()).unwrap();
+    let newer = edit_glb_json(&cornell, |t| t.replace("\"version\":1,", "\"version\":9,"));
+    assert!(gltf_err(&newer).contains("version 9"));
+    // Exact data in the extras that overflows f32 (a volume's radius) is checked too.
+    let smoke = to_glb_bytes(&scene::load("smoke:particles=1").unwrap()).unwrap();
+    let huge = edit_glb_json(&smoke, |t| {
+        t.replacen("\"radius\":1.5", "\"radius\":1e39", 1)
+    });
+    let e = gltf_err(&huge);
+    assert!(e.contains("volume \"smoke\" is not finite"), "{e}");
+}
+
+/// Every path to a value in a JSON document.
+fn value_paths(v: &Value, path: &mut Vec<Value>, out: &mut Vec<Vec<Value>>) {
+    out.push(path.clone());
+    match v {
+        Value::Array(a) => a.iter().enumerate().for_each(|(i, x)| {
+            path.push(json!(i));
+            value_paths(x, path, out);
+            path.pop();
+        }),
+        Value::Object(m) => m.iter().for_each(|(k, x)| {
+            path.push(json!(k));
+            value_paths(x, path, out);
+            path.pop();
+        }),
+        _ => {}
+    }
+}
+
+/// The document with the value at `path` replaced (`Some`) or removed (`None`).
+fn mutated(doc: &Value, path: &[Value], value: Option<&Value>) -> Value {
+    let mut doc = doc.clone();
+    let Some((last, parents)) = path.split_last() else {
+        return value.cloned().unwrap_or(Value::Null);
+    };
+    let parent = parents.iter().fold(&mut doc, |v, k| match k {
+        Value::String(s) => &mut v[s.as_str()],
+        k => &mut v[k.as_u64().unwrap() as usize],
+    });
+    match (parent, last, value) {
+        (Value::Object(m), Value::String(k), None) => {
+            m.remove(k);
+        }
+        (Value::Array(a), k, None) => {
+            a.remove(k.as_u64().unwrap() as usize);
+        }
+        (Value::Object(m), Value::String(k), Some(v)) => {
+            m.insert(k.clone(), v.clone());
+        }
+        (Value::Array(a), k, Some(v)) => a[k.as_u64().unwrap() as usize] = v.clone(),
+        _ => unreachable!(),
+    }
+    doc
+}
+
+/// Structural fuzzing: every value in the fixture's JSON (and in an exported scene's JSON,
+/// extras included) removed or replaced, one at a time, by awkward values; and bit flips
+/// and truncations over a whole exported `.glb`. Nothing may panic; every rejection is a
+/// readable sentence.
+#[test]
+fn no_panic_on_corrupted_input() {
+    let numbers = [
+        json!(0),
+        json!(1),
+        json!(-1),
+        json!(3),
+        json!(255),
+        json!(4294967295u64),
+        json!(1e39),
+        json!(-0.5),
+    ];
+    let others = [
+        json!(null),
+        json!("VEC3"),
+        json!([]),
+        json!({}),
+        json!([1, 2, 3]),
+    ];
+    let (mut ok, mut err) = (0, 0);
+    let mut check = |result: Result<scene::Scene, SceneError>| match result {
+        Ok(_) => ok += 1,
+        Err(e) => {
+            let text = e.to_string();
+            assert!(!text.is_empty() && !text.contains('\n'), "{text}");
+            err += 1;
+        }
+    };
+
+    let f = fixture();
+    let mut paths = vec![];
+    value_paths(&f.json, &mut vec![], &mut paths);
+    assert!(paths.len() > 100);
+    for path in &paths {
+        let mut g = f.clone();
+        g.json = mutated(&f.json, path, None);
+        check(load(&g));
+        for value in numbers.iter().chain(&others) {
+            g.json = mutated(&f.json, path, Some(value));
+            check(load(&g));
+        }
+    }
+
+    let mut small = scene::load("cornell-sphere").unwrap();
+    small.objects.last_mut().unwrap().mesh = scene::mesh::uv_sphere(0.3, 4, 8);
+    small.textures.push(scene::builtin::checker_texture(
+        "t",
+        4,
+        2,
+        [0, 0, 0],
+        [255, 255, 255],
+    ));
+    small.objects[0].material = Material::Diffuse {
+        albedo: Vec3::ONE,
+        texture: Some(0),
+    };
+    let bytes = to_glb_bytes(&small).unwrap();
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let doc: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let bin = &bytes[20 + json_len + 8..];
+    let glb = |doc: &Value| {
+        let mut j = serde_json::to_vec(doc).unwrap();
+        while !j.len().is_multiple_of(4) {
+            j.push(b' ');
+        }
+        let mut out = b"glTF".to_vec();
+        for w in [
+            2u32,
+            (28 + j.len() + bin.len()) as u32,
+            j.len() as u32,
+            0x4E4F534A,
+        ] {
+            out.extend_from_slice(&w.to_le_bytes());
+        }
+        out.extend_from_slice(&j);
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(&0x004E4942u32.to_le_bytes());
+        out.extend_from_slice(bin);
+        out
+    };
+    assert!(import_slice(&glb(&doc), "rebuilt.glb").unwrap() == small);
+    let mut paths = vec![];
+    value_paths(&doc, &mut vec![], &mut paths);
+    for path in &paths {
+        check(import_slice(&glb(&mutated(&doc, path, None)), "fuzz.glb"));
+        for value in [
+            &numbers[0],
+            &numbers[5],
+            &numbers[6],
+            &others[0],
+            &others[1],
+        ] {
+            check(import_slice(
+                &glb(&mutated(&doc, path, Some(value))),
+                "fuzz.glb",
+            ));
+        }
+    }
+
+    for k in 0..3000usize {
+        let mut b = bytes.clone();
+        let pos = (k * 7919 + k * k * 31) % b.len();
+        b[pos] ^= 1 << (k % 8);
+        if k % 3 == 0 {
+            b.truncate((k * 104_729) % bytes.len());
+        }
+        check(import_slice(&b, "fuzz.glb"));
+    }
+    assert!(ok > 100 && err > 100, "{ok} accepted, {err} rejected");
+}
