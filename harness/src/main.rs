@@ -1,1 +1,333 @@
-fn main(){}
+//! `harness`: runs techniques on scenes against the reference; see `harness --help` and
+//! harness/README.md.
+
+use anyhow::{Context as _, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use harness::compare::CompareOptions;
+use harness::sweep::SweepOptions;
+use harness::{Env, Frames, Size, images};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "harness", version, about = "Runs every technique on the same scenes against the same ground truth; writes tables, images and plots.")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Args, Clone, Copy)]
+struct FrameArgs {
+    /// Timed frames along the scene's camera path (time = i * duration / N).
+    #[arg(long, default_value_t = 16, value_name = "N")]
+    frames: u32,
+    /// Untimed warm-up frames before them.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    warmup: u32,
+}
+
+impl FrameArgs {
+    fn frames(self) -> Frames {
+        Frames { timed: self.frames, warmup: self.warmup }
+    }
+}
+
+/// Options of the CPU reference renderer (part of the reference cache key).
+#[derive(Args, Clone, Copy)]
+struct RefArgs {
+    /// Reference: specular interactions followed per path [default: the renderer's, 8].
+    #[arg(long, value_name = "N")]
+    ref_depth: Option<u32>,
+    /// Reference: caustic photons in total; 0 disables caustics [default: the renderer's].
+    #[arg(long, value_name = "N")]
+    ref_photons: Option<u64>,
+    /// Reference: eye samples per pixel [default: 1, the pixel centre].
+    #[arg(long, value_name = "N")]
+    ref_spp: Option<u32>,
+}
+
+impl RefArgs {
+    fn reference(self) -> harness::CpuReference {
+        let mut options = scene::reference::ReferenceOptions::default();
+        if let Some(d) = self.ref_depth {
+            options.max_depth = d;
+        }
+        if let Some(p) = self.ref_photons {
+            options.photons = p;
+        }
+        if let Some(s) = self.ref_spp {
+            options.samples_per_pixel = s.max(1);
+        }
+        harness::CpuReference { options }
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Built-in scenes and technique variants.
+    List {
+        /// Also show every technique parameter (default, range, help) and scene parameter.
+        #[arg(long)]
+        params: bool,
+    },
+    /// Every supported (scene, technique) pair against the reference: results.{csv,json,md}
+    /// and images under --out.
+    Compare {
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Scene specs or .gltf/.glb paths, comma separated (default: every built-in scene).
+        #[arg(long, value_name = "A,B")]
+        scenes: Option<String>,
+        /// Technique ids or families, comma separated (default: every technique).
+        #[arg(long, value_name = "X,Y", value_delimiter = ',')]
+        techniques: Option<Vec<String>>,
+        /// Image size.
+        #[arg(long, default_value = "256x256", value_name = "WxH")]
+        size: Size,
+        #[command(flatten)]
+        frames: FrameArgs,
+        #[command(flatten)]
+        reference: RefArgs,
+        /// Exit with status 3 if any technique failed or produced NaN/infinite pixels.
+        #[arg(long)]
+        strict: bool,
+    },
+    /// One technique on one scene over the values of one parameter: sweep.{csv,json,md,png}.
+    Sweep {
+        #[arg(long, value_name = "SCENE")]
+        scene: String,
+        #[arg(long, value_name = "ID")]
+        technique: String,
+        /// A technique or scene parameter and its values.
+        #[arg(long, value_name = "NAME=V1,V2,...")]
+        param: String,
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        #[arg(long, default_value = "256x256", value_name = "WxH")]
+        size: Size,
+        #[command(flatten)]
+        frames: FrameArgs,
+        #[command(flatten)]
+        reference: RefArgs,
+    },
+    /// Renders one image of a scene's default view at time 0 (.png or .exr by extension).
+    /// `--technique reference` renders the ground truth.
+    Render {
+        #[arg(long, value_name = "SCENE")]
+        scene: String,
+        #[arg(long, value_name = "ID")]
+        technique: String,
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+        #[arg(long, default_value = "256x256", value_name = "WxH")]
+        size: Size,
+        #[command(flatten)]
+        reference: RefArgs,
+    },
+    /// Writes a scene (built-in spec or glTF) as binary glTF.
+    ExportScene {
+        /// Scene spec, e.g. cornell-sphere:material=mirror.
+        scene: String,
+        #[arg(long, value_name = "FILE.glb")]
+        out: PathBuf,
+    },
+}
+
+/// An error as one line.
+fn one_line(text: &str) -> String {
+    text.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" ")
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion)
+                || e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            {
+                let _ = e.print();
+                return ExitCode::from(e.exit_code() as u8);
+            }
+            // The message up to the first blank line (clap's usage and hint follow it).
+            let rendered = e.render().to_string();
+            let head: String = rendered.split("\n\n").next().unwrap_or("").to_string();
+            let line = one_line(&head);
+            let line = line.strip_prefix("error: ").unwrap_or(&line);
+            eprintln!("error: {line} (see harness --help)");
+            return ExitCode::from(2);
+        }
+    };
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {}", one_line(&format!("{e:#}")));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn context() -> Result<gpu::Context> {
+    Ok(gpu::Context::new()?)
+}
+
+fn run(cli: Cli) -> Result<ExitCode> {
+    match cli.command {
+        Command::List { params } => list(params),
+        Command::Compare { out, scenes, techniques, size, frames, reference, strict } => {
+            let scenes = scenes.map(|s| harness::split_scene_list(&s)).unwrap_or_default();
+            // Check names and scenes before creating the GPU context (seconds on a software
+            // adapter); the runner checks them again.
+            let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
+            harness::select_techniques(&all_ids, techniques.as_deref())?;
+            for spec in &scenes {
+                harness::load_scene(spec)?;
+            }
+            let ctx = context()?;
+            let reference = reference.reference();
+            let env = Env::standard(&ctx, &reference);
+            let opts = CompareOptions { out: out.clone(), scenes, techniques, size, frames: frames.frames() };
+            let report = harness::compare::run(&env, &opts)?;
+            println!("adapter: {} (timer: {})", ctx.summary, report.adapter.timer_kind);
+            println!();
+            print!("{}", report.markdown);
+            println!();
+            println!(
+                "wrote {0}/results.csv, {0}/results.json, {0}/results.md and {0}/images/",
+                out.display()
+            );
+            if !report.errors.is_empty() {
+                eprintln!("{} error(s), printed above and listed in results.json", report.errors.len());
+            }
+            let nan = report.rows.iter().any(|r| r.nan_pixels.unwrap_or(0) > 0);
+            if strict && (!report.errors.is_empty() || nan) {
+                eprintln!("error: --strict: the run had errors or non-finite pixels");
+                return Ok(ExitCode::from(3));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Sweep { scene, technique, param, out, size, frames, reference } => {
+            let (param, values) = harness::sweep::parse_param_arg(&param)?;
+            let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
+            harness::select_techniques(&all_ids, Some(std::slice::from_ref(&technique)))?;
+            harness::load_scene(&scene)?;
+            let ctx = context()?;
+            let reference = reference.reference();
+            let env = Env::standard(&ctx, &reference);
+            let opts = SweepOptions { out: out.clone(), scene, technique, param, values, size, frames: frames.frames() };
+            let report = harness::sweep::run(&env, &opts)?;
+            println!("adapter: {} (timer: {})", ctx.summary, report.adapter.timer_kind);
+            println!();
+            print!("{}", report.markdown);
+            println!();
+            println!("wrote {0}/sweep.csv, {0}/sweep.json, {0}/sweep.png and {0}/images/", out.display());
+            if !report.errors.is_empty() {
+                eprintln!("{} error(s), printed above and listed in sweep.json", report.errors.len());
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Render { scene, technique, out, size, reference } => {
+            render(&scene, &technique, &out, size, &reference.reference())
+        }
+        Command::ExportScene { scene, out } => {
+            if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb")) {
+                bail!("{} must end in .glb", out.display());
+            }
+            let model = harness::load_scene(&scene)?;
+            harness::backend::export_glb(&model, &out)?;
+            println!("wrote {}", out.display());
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+fn list(params: bool) -> Result<ExitCode> {
+    println!("Scenes (spec: name or name:key=value,...; or a path to a .gltf/.glb file):");
+    for s in scene::builtin::builtin_scenes() {
+        println!("  {:<18} {}", s.name, s.description);
+        if params {
+            for p in &s.params {
+                println!("      {:<20} default {:<10} {}", p.name, p.default, p.help);
+            }
+        } else if !s.params.is_empty() {
+            let names: Vec<String> = s.params.iter().map(|p| format!("{}={}", p.name, p.default)).collect();
+            println!("      params: {}", names.join(", "));
+        }
+    }
+    println!();
+    let techniques = harness::registry();
+    println!("Techniques ({}):", techniques.len());
+    if techniques.is_empty() {
+        println!("  (none registered)");
+    }
+    for t in &techniques {
+        println!("  {:<32} {}", t.id(), t.description());
+        if params {
+            for p in t.params() {
+                let kind = if p.integer { "integer" } else { "real" };
+                println!(
+                    "      {:<20} default {:<8} range [{}, {}] {kind}  {}",
+                    p.name, p.default, p.min, p.max, p.help
+                );
+            }
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn render(
+    spec: &str,
+    technique: &str,
+    out: &std::path::Path,
+    size: Size,
+    reference: &harness::CpuReference,
+) -> Result<ExitCode> {
+    let ext = out.extension().and_then(|e| e.to_str()).map(str::to_lowercase);
+    if !matches!(ext.as_deref(), Some("png" | "exr")) {
+        bail!("cannot tell the image format of {}: use a .png or .exr name", out.display());
+    }
+    let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
+    let use_ground_truth = technique == "reference" && !all_ids.iter().any(|id| id == "reference");
+    let id = if use_ground_truth {
+        String::new()
+    } else {
+        let ids = harness::select_techniques(&all_ids, Some(&[technique.to_string()]))?;
+        match ids.as_slice() {
+            [id] => id.clone(),
+            _ => bail!("\"{technique}\" names several techniques ({}); give one id", ids.join(", ")),
+        }
+    };
+    let scene = harness::load_scene(spec)?;
+    let ctx = context()?;
+    ctx.check_size(size.width, size.height)?;
+    let image = if use_ground_truth {
+        harness::backend::render_reference(&scene, &scene.camera, 0.0, size.width, size.height, &reference.options)?
+            .image
+    } else {
+        let mut t = harness::registry()
+            .into_iter()
+            .find(|t| t.id() == id)
+            .with_context(|| format!("technique {id} vanished"))?;
+        if !t.supports(&scene) {
+            bail!("technique {id} does not support scene {spec}");
+        }
+        ctx.require(t.required_features()).with_context(|| format!("technique {id}"))?;
+        let mut gpu_scene = harness::backend::upload_scene(&ctx, &scene)?;
+        let run = harness::run::run_technique(
+            &ctx,
+            t.as_mut(),
+            &mut gpu_scene,
+            size,
+            Frames { timed: 0, warmup: 0 },
+            &mut |_| {},
+        )?;
+        run.image
+    };
+    images::write_by_extension(out, &image)?;
+    let bad = image.non_finite_count();
+    if bad > 0 {
+        eprintln!("warning: {bad} NaN or infinite pixels");
+    }
+    println!("wrote {}", out.display());
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,319 @@
+//! The harness: runs every technique on the same scenes, against the same ground truth, with
+//! the same metrics and timers, and writes tables, images and plots.
+//!
+//! The binary (`harness list | compare | sweep | render | export-scene`) is a thin layer over
+//! this library, which workspace tests reuse:
+//!
+//! - [`registry`]: fresh instances of every technique variant.
+//! - [`Env`]: what a run needs (GPU context, technique factory, ground truth, progress bars).
+//! - [`compare::run`] / [`sweep::run`]: the two runners; [`run::run_technique`] runs one
+//!   technique on one uploaded scene (prepare, error frame, warm-up, timed frames).
+//! - [`cache`]: the on-disk reference cache; [`images`]: PNG/EXR writing and reading;
+//!   [`report`]: the result rows and their CSV/JSON/markdown forms; [`plot`]: `sweep.png`.
+//! - [`backend`]: the adapters onto scene-crate APIs (reference renderer, glTF export, GPU
+//!   upload).
+
+pub mod backend;
+pub mod cache;
+pub mod compare;
+pub mod images;
+pub mod plot;
+pub mod report;
+pub mod run;
+pub mod sweep;
+
+use anyhow::{Context as _, Result, bail};
+use gpu::HdrImage;
+use scene::{Camera, Scene, Technique};
+use std::str::FromStr;
+
+/// Every technique variant, as fresh instances (a run calls this once per scene).
+///
+/// Adding a technique crate means adding its variants here (and the crate to
+/// `harness/Cargo.toml`).
+#[allow(clippy::vec_init_then_push)] // one line per crate, added and removed independently
+pub fn registry() -> Vec<Box<dyn Technique>> {
+    let mut techniques: Vec<Box<dyn Technique>> = Vec::new();
+    // ---- REGISTRY: one line per technique crate (and add the crate to harness/Cargo.toml) ----
+    // The foundation's techniques (scene::techniques).
+    // techniques.push(Box::new(scene::techniques::ReferenceTechnique::default())); // "reference"
+    techniques.push(Box::new(scene::techniques::RasterTechnique));
+    techniques.push(Box::new(scene::techniques::ClassicEnvMap::default()));
+    // Technique crates:
+    // techniques.extend(impostors::techniques());
+    // techniques.extend(volumes::techniques());
+    // ---- end of registry ----
+    techniques
+}
+
+/// A technique factory: returns fresh instances of every variant it knows.
+pub type TechniqueFactory = dyn Fn() -> Vec<Box<dyn Technique>>;
+
+/// The ground truth for one view, as the reference renderer returns it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reference {
+    pub image: HdrImage,
+    /// Per pixel: index of the object the camera ray hits first, -1 for background.
+    pub object_ids: Vec<i32>,
+    /// Per pixel: whether the pixel shows a special object (the masked FLIP mean uses it).
+    pub mask: Vec<bool>,
+    pub stats: ReferenceStats,
+}
+
+/// What the reference renderer reports about its work (written to `results.json`).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ReferenceStats {
+    pub camera_rays: u64,
+    pub shadow_rays: u64,
+    pub photon_rays: u64,
+    pub photons_stored: u64,
+    pub seconds: f64,
+    pub rays_per_second: f64,
+}
+
+/// Where the ground truth comes from: the CPU reference renderer ([`CpuReference`]), or in
+/// tests anything else.
+pub trait GroundTruth {
+    /// Identifies the renderer and its options; part of the cache key, so changing options
+    /// never reuses a stale image.
+    fn key(&self) -> String;
+    fn render(&self, scene: &Scene, camera: &Camera, time: f32, width: u32, height: u32)
+    -> Result<Reference>;
+}
+
+/// The CPU reference renderer (`scene::reference`) with its options.
+#[derive(Clone, Debug, Default)]
+pub struct CpuReference {
+    pub options: scene::reference::ReferenceOptions,
+}
+
+impl GroundTruth for CpuReference {
+    fn key(&self) -> String {
+        format!("cpu-reference {}", backend::reference_options_key(&self.options))
+    }
+    fn render(&self, scene: &Scene, camera: &Camera, time: f32, w: u32, h: u32) -> Result<Reference> {
+        backend::render_reference(scene, camera, time, w, h, &self.options)
+    }
+}
+
+/// What every runner needs.
+pub struct Env<'a> {
+    pub ctx: &'a gpu::Context,
+    pub techniques: &'a TechniqueFactory,
+    pub ground_truth: &'a dyn GroundTruth,
+    /// Draw progress bars (they hide themselves when stderr is not a terminal).
+    pub progress: bool,
+}
+
+impl<'a> Env<'a> {
+    /// The standard environment: [`registry`] and the given CPU reference.
+    pub fn standard(ctx: &'a gpu::Context, reference: &'a CpuReference) -> Self {
+        Env { ctx, techniques: &registry, ground_truth: reference, progress: true }
+    }
+}
+
+/// An image size `WxH` (also accepts `W` for a square).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Size {
+    pub const fn new(width: u32, height: u32) -> Self {
+        Size { width, height }
+    }
+}
+
+impl std::fmt::Display for Size {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}x{}", self.width, self.height)
+    }
+}
+
+impl FromStr for Size {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad = || format!("\"{s}\" is not a size; expected WxH, e.g. 256x256");
+        let (w, h) = match s.trim().split_once(['x', 'X']) {
+            Some((w, h)) => (w, h),
+            None => (s.trim(), s.trim()),
+        };
+        let w: u32 = w.trim().parse().map_err(|_| bad())?;
+        let h: u32 = h.trim().parse().map_err(|_| bad())?;
+        if w == 0 || h == 0 {
+            return Err(format!("size {s} has a zero side"));
+        }
+        Ok(Size { width: w, height: h })
+    }
+}
+
+/// Frame counts of a timed run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Frames {
+    /// Timed frames along the scene's camera path (time = i * duration / N).
+    pub timed: u32,
+    /// Untimed frames first (at time 0).
+    pub warmup: u32,
+}
+
+impl Default for Frames {
+    fn default() -> Self {
+        Frames { timed: 16, warmup: 3 }
+    }
+}
+
+/// A technique id or scene spec as a file name: `/` becomes `__`, and every character other
+/// than ASCII letters, digits, `-`, `_`, `.` and `=` becomes `_`
+/// (`impostors/false-position` -> `impostors__false-position`,
+/// `cornell-sphere:material=mirror` -> `cornell-sphere_material=mirror`).
+pub fn file_name(id: &str) -> String {
+    let mut out = String::with_capacity(id.len() + 4);
+    for c in id.chars() {
+        match c {
+            '/' => out.push_str("__"),
+            c if c.is_ascii_alphanumeric() || "-_.=".contains(c) => out.push(c),
+            _ => out.push('_'),
+        }
+    }
+    if out.is_empty() || out.starts_with('.') {
+        out.insert(0, '_');
+    }
+    out
+}
+
+/// Whether a scene spec names a file rather than a built-in scene.
+pub fn is_scene_path(spec: &str) -> bool {
+    let lower = spec.to_lowercase();
+    lower.ends_with(".gltf") || lower.ends_with(".glb") || std::path::Path::new(spec).exists()
+}
+
+/// The folder name of a scene's images: the file name for a glTF path, the spec otherwise.
+pub fn scene_dir_name(spec: &str) -> String {
+    if is_scene_path(spec) {
+        let name = std::path::Path::new(spec).file_name().map(|n| n.to_string_lossy().into_owned());
+        return file_name(&name.unwrap_or_else(|| spec.to_string()));
+    }
+    file_name(spec)
+}
+
+/// Splits a `--scenes` list on commas, keeping `key=value` pieces with the spec before them:
+/// `city:buildings=64,rooms_per_building=8,cornell-sphere` is two scenes.
+pub fn split_scene_list(list: &str) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for piece in list.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let continues = piece.contains('=') && !piece.contains(':') && !is_scene_path(piece);
+        match out.last_mut() {
+            Some(last) if continues && last.contains(':') => {
+                last.push(',');
+                last.push_str(piece);
+            }
+            _ => out.push(piece.to_string()),
+        }
+    }
+    out
+}
+
+/// The built-in scene specs (default parameters), in declaration order.
+pub fn builtin_scene_names() -> Vec<String> {
+    scene::builtin::builtin_scenes().iter().map(|s| s.name.to_string()).collect()
+}
+
+/// Loads a scene spec (built-in or .gltf/.glb path) with a one-line error.
+pub fn load_scene(spec: &str) -> Result<Scene> {
+    let scene = scene::load(spec).with_context(|| format!("scene \"{spec}\""))?;
+    Ok(scene)
+}
+
+/// Resolves `--techniques` names against the ids a factory offers: an exact id, or a family
+/// (`impostors` or `impostors/`) for all its variants. Unknown names are an error that lists
+/// the known ids. `None` selects every technique.
+pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Result<Vec<String>> {
+    let Some(wanted) = wanted else { return Ok(all_ids.to_vec()) };
+    let mut out: Vec<String> = Vec::new();
+    for name in wanted {
+        let family = name.trim_end_matches('/');
+        let matches: Vec<&String> = all_ids
+            .iter()
+            .filter(|id| *id == name || id.split('/').next() == Some(family) && !family.is_empty())
+            .collect();
+        if matches.is_empty() {
+            let known = if all_ids.is_empty() { "none registered".to_string() } else { all_ids.join(", ") };
+            bail!("unknown technique \"{name}\" (techniques: {known})");
+        }
+        for id in matches {
+            if !out.contains(id) {
+                out.push(id.clone());
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A new progress bar of `len` steps (hidden when `show` is false or stderr is no terminal).
+pub fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {
+    if !show {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{elapsed_precise} [{bar:30}] {pos}/{len} {wide_msg}",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    // Keeps the clock moving during long steps (a CPU reference takes seconds).
+    bar.enable_steady_tick(std::time::Duration::from_millis(250));
+    bar
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse() {
+        assert_eq!("256x128".parse::<Size>(), Ok(Size::new(256, 128)));
+        assert_eq!("64".parse::<Size>(), Ok(Size::new(64, 64)));
+        assert_eq!(" 32X16 ".parse::<Size>(), Ok(Size::new(32, 16)));
+        assert!("abc".parse::<Size>().is_err());
+        assert!("0x5".parse::<Size>().is_err());
+        assert!("10x".parse::<Size>().is_err());
+        assert!("-1x4".parse::<Size>().is_err());
+        assert!("99999999999x4".parse::<Size>().is_err());
+    }
+
+    #[test]
+    fn file_names_are_safe() {
+        assert_eq!(file_name("impostors/false-position"), "impostors__false-position");
+        assert_eq!(file_name("cornell-sphere:material=mirror"), "cornell-sphere_material=mirror");
+        assert_eq!(file_name("a b/c"), "a_b__c");
+        assert_eq!(file_name("../x"), "_..__x");
+        assert_eq!(file_name(""), "_");
+    }
+
+    #[test]
+    fn scene_lists_keep_parameters_together() {
+        assert_eq!(
+            split_scene_list("city:buildings=64,rooms_per_building=8,cornell-sphere"),
+            vec!["city:buildings=64,rooms_per_building=8", "cornell-sphere"]
+        );
+        assert_eq!(split_scene_list("a, b,,c"), vec!["a", "b", "c"]);
+        assert_eq!(split_scene_list("x.glb,cornell-box:material=gold"), vec!["x.glb", "cornell-box:material=gold"]);
+    }
+
+    #[test]
+    fn technique_selection() {
+        let ids: Vec<String> = ["reference", "impostors/classic", "impostors/false-position"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let pick = |w: &[&str]| {
+            select_techniques(&ids, Some(&w.iter().map(|s| s.to_string()).collect::<Vec<_>>()))
+        };
+        assert_eq!(pick(&["impostors"]).unwrap(), vec!["impostors/classic", "impostors/false-position"]);
+        assert_eq!(pick(&["impostors/classic", "reference"]).unwrap(), vec!["impostors/classic", "reference"]);
+        let err = pick(&["nope"]).unwrap_err().to_string();
+        assert!(err.contains("unknown technique \"nope\"") && err.contains("reference"), "{err}");
+        assert_eq!(select_techniques(&ids, None).unwrap().len(), 3);
+    }
+}

@@ -1,0 +1,296 @@
+//! Result rows and their three forms: CSV (every figure at full precision), JSON (the same plus
+//! extra timer spans, skipped techniques and reference statistics) and a markdown table.
+//!
+//! Missing figures (a technique that failed, no reference) are empty CSV cells and JSON
+//! `null`. PSNR of identical images is infinite: `inf` in CSV and markdown, `null` in JSON
+//! (then `rmse` is 0). `flip_mean_masked` is empty/`null` when the reference mask is empty.
+
+use crate::run::TechniqueRun;
+use scene::metrics::Metrics;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+/// One (scene, technique[, parameter value]) result.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct ResultRow {
+    pub scene: String,
+    pub technique: String,
+    /// Swept parameter name and value (sweep only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub param: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value: Option<String>,
+    pub width: u32,
+    pub height: u32,
+    /// Timed frames behind the median and p95.
+    pub frames: u32,
+    pub frame_ms_median: Option<f64>,
+    pub frame_ms_p95: Option<f64>,
+    /// Time of `prepare`, measured like the frames (same timer kind).
+    pub prepare_ms: Option<f64>,
+    /// Wall-clock time of `prepare` including submission and wait.
+    pub prepare_wall_ms: Option<f64>,
+    /// "gpu-timestamp", "wall" or "cpu" (see the README).
+    pub timer: String,
+    pub rmse: Option<f64>,
+    pub psnr_db: Option<f64>,
+    pub flip_mean: Option<f64>,
+    pub flip_mean_masked: Option<f64>,
+    pub flip_over_0_1_pct: Option<f64>,
+    pub nan_pixels: Option<usize>,
+    pub masked_pixels: Option<usize>,
+    /// Extra named timer spans a technique recorded, median per frame (`regenerate_ms`), and
+    /// those recorded during prepare (`prepare.build_ms`).
+    pub spans_ms: BTreeMap<String, f64>,
+    pub adapter: String,
+    pub error: Option<String>,
+}
+
+impl ResultRow {
+    /// A row with identity fields only (the rest filled by [`ResultRow::with_run`] and
+    /// [`ResultRow::with_metrics`], or an error).
+    pub fn new(scene: &str, technique: &str, size: crate::Size, adapter: &str) -> Self {
+        ResultRow {
+            scene: scene.to_string(),
+            technique: technique.to_string(),
+            width: size.width,
+            height: size.height,
+            adapter: adapter.to_string(),
+            ..Default::default()
+        }
+    }
+
+    pub fn with_run(mut self, run: &TechniqueRun) -> Self {
+        self.frames = run.frame.samples as u32;
+        let timed = run.frame.samples > 0;
+        self.frame_ms_median = timed.then_some(run.frame.median_ms);
+        self.frame_ms_p95 = timed.then_some(run.frame.p95_ms);
+        self.prepare_ms = Some(run.prepare_ms);
+        self.prepare_wall_ms = Some(run.prepare_wall_ms);
+        self.timer = run.timer.clone();
+        self.spans_ms = run.spans_ms.clone();
+        self
+    }
+
+    pub fn with_metrics(mut self, m: &Metrics) -> Self {
+        self.rmse = Some(m.rmse);
+        self.psnr_db = Some(m.psnr_db);
+        self.flip_mean = Some(m.flip_mean);
+        self.flip_mean_masked = Some(m.flip_mean_masked);
+        self.flip_over_0_1_pct = Some(m.flip_over_0_1_pct);
+        self.nan_pixels = Some(m.nan_pixels);
+        self.masked_pixels = Some(m.masked_pixels);
+        self
+    }
+
+    pub fn with_error(mut self, error: impl Into<String>) -> Self {
+        self.error = Some(error.into());
+        self
+    }
+}
+
+/// The CSV columns, in order (sweep adds `param,value` after `technique`).
+pub const CSV_COLUMNS: &[&str] = &[
+    "scene",
+    "technique",
+    "width",
+    "height",
+    "frames",
+    "frame_ms_median",
+    "frame_ms_p95",
+    "prepare_ms",
+    "timer",
+    "rmse",
+    "psnr_db",
+    "flip_mean",
+    "flip_mean_masked",
+    "flip_over_0_1_pct",
+    "nan_pixels",
+    "masked_pixels",
+    "adapter",
+    "error",
+];
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// A number for CSV: full precision, `inf`/`-inf`, empty for NaN or missing.
+fn csv_num(v: Option<f64>) -> String {
+    match v {
+        Some(v) if v.is_nan() => String::new(),
+        Some(v) if v.is_infinite() => if v > 0.0 { "inf" } else { "-inf" }.to_string(),
+        Some(v) => format!("{v}"),
+        None => String::new(),
+    }
+}
+
+fn csv_int(v: Option<usize>) -> String {
+    v.map(|v| v.to_string()).unwrap_or_default()
+}
+
+/// CSV text of rows (header included). `with_param` adds the sweep's `param,value` columns.
+pub fn to_csv(rows: &[ResultRow], with_param: bool) -> String {
+    let mut out = String::new();
+    let mut header: Vec<&str> = CSV_COLUMNS.to_vec();
+    if with_param {
+        header.splice(2..2, ["param", "value"]);
+    }
+    out.push_str(&header.join(","));
+    out.push('\n');
+    for r in rows {
+        let mut f: Vec<String> = vec![csv_field(&r.scene), csv_field(&r.technique)];
+        if with_param {
+            f.push(csv_field(r.param.as_deref().unwrap_or("")));
+            f.push(csv_field(r.value.as_deref().unwrap_or("")));
+        }
+        f.extend([
+            r.width.to_string(),
+            r.height.to_string(),
+            r.frames.to_string(),
+            csv_num(r.frame_ms_median),
+            csv_num(r.frame_ms_p95),
+            csv_num(r.prepare_ms),
+            csv_field(&r.timer),
+            csv_num(r.rmse),
+            csv_num(r.psnr_db),
+            csv_num(r.flip_mean),
+            csv_num(r.flip_mean_masked),
+            csv_num(r.flip_over_0_1_pct),
+            csv_int(r.nan_pixels),
+            csv_int(r.masked_pixels),
+            csv_field(&r.adapter),
+            csv_field(r.error.as_deref().unwrap_or("")),
+        ]);
+        out.push_str(&f.join(","));
+        out.push('\n');
+    }
+    out
+}
+
+fn md_num(v: Option<f64>, decimals: usize) -> String {
+    match v {
+        Some(v) if v.is_nan() => "-".into(),
+        Some(v) if v.is_infinite() => if v > 0.0 { "inf" } else { "-inf" }.into(),
+        Some(v) => format!("{v:.decimals$}"),
+        None => "-".into(),
+    }
+}
+
+fn md_cell(s: &str) -> String {
+    s.replace('|', "\\|").replace('\n', " ")
+}
+
+/// A markdown table of rows (`with_param` adds the sweep's parameter columns).
+pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
+    let mut out = String::new();
+    let mut header = vec!["scene", "technique"];
+    if with_param {
+        header.extend(["param", "value"]);
+    }
+    header.extend([
+        "frame ms (median)",
+        "p95",
+        "prepare ms",
+        "timer",
+        "RMSE",
+        "PSNR dB",
+        "FLIP",
+        "FLIP masked",
+        "FLIP>0.1 %",
+        "NaN px",
+        "error",
+    ]);
+    let _ = writeln!(out, "| {} |", header.join(" | "));
+    let _ = writeln!(out, "|{}", " --- |".repeat(header.len()));
+    for r in rows {
+        let mut cells = vec![md_cell(&r.scene), md_cell(&r.technique)];
+        if with_param {
+            cells.push(md_cell(r.param.as_deref().unwrap_or("")));
+            cells.push(md_cell(r.value.as_deref().unwrap_or("")));
+        }
+        cells.extend([
+            md_num(r.frame_ms_median, 3),
+            md_num(r.frame_ms_p95, 3),
+            md_num(r.prepare_ms, 3),
+            md_cell(&r.timer),
+            md_num(r.rmse, 4),
+            md_num(r.psnr_db, 2),
+            md_num(r.flip_mean, 4),
+            md_num(r.flip_mean_masked, 4),
+            md_num(r.flip_over_0_1_pct, 2),
+            r.nan_pixels.map(|n| n.to_string()).unwrap_or_else(|| "-".into()),
+            md_cell(r.error.as_deref().unwrap_or("")),
+        ]);
+        let _ = writeln!(out, "| {} |", cells.join(" | "));
+    }
+    out
+}
+
+/// The adapter as written to JSON.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct AdapterJson {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+    pub is_software: bool,
+    /// Whether frame spans are GPU timestamps ("gpu-timestamp") or wall clock ("wall").
+    pub timer_kind: String,
+}
+
+impl AdapterJson {
+    pub fn of(ctx: &gpu::Context) -> Self {
+        let s = &ctx.summary;
+        let timer = gpu::GpuTimer::new(ctx, 1);
+        AdapterJson {
+            name: s.name.clone(),
+            backend: s.backend.clone(),
+            device_type: s.device_type.clone(),
+            driver: s.driver.clone(),
+            is_software: s.is_software,
+            timer_kind: timer.kind().label().to_string(),
+        }
+    }
+}
+
+/// A technique that did not run on a scene, and why.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Skipped {
+    pub scene: String,
+    pub technique: String,
+    pub reason: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_and_markdown_write_missing_and_infinite_values_sensibly() {
+        let mut row = ResultRow::new("cornell-sphere:material=a,b", "x/y", crate::Size::new(4, 2), "llvmpipe");
+        row.psnr_db = Some(f64::INFINITY);
+        row.rmse = Some(0.0);
+        row.flip_mean_masked = Some(f64::NAN);
+        row.error = Some("said \"no\"".into());
+        let csv = to_csv(std::slice::from_ref(&row), false);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines[0], CSV_COLUMNS.join(","));
+        assert_eq!(
+            lines[1],
+            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,llvmpipe,\"said \"\"no\"\"\""
+        );
+        let swept = to_csv(std::slice::from_ref(&row), true);
+        assert!(swept.starts_with("scene,technique,param,value,width"));
+        let md = to_markdown(std::slice::from_ref(&row), false);
+        assert!(md.contains("| inf |") && md.lines().count() == 3, "{md}");
+        let json = serde_json::to_value(&row).unwrap();
+        assert!(json["psnr_db"].is_null() && json["flip_mean_masked"].is_null());
+        assert_eq!(json["rmse"], 0.0);
+        assert!(json.get("param").is_none());
+    }
+}

@@ -1,0 +1,196 @@
+//! Running one technique on one uploaded scene: prepare, the error frame, warm-up and timed
+//! frames, each in its own command encoder bracketed by the timer.
+//!
+//! Per frame the harness creates an encoder, calls `timer.begin(enc, "frame")`,
+//! `technique.render(...)`, `timer.end(enc, "frame")` and `timer.submit_and_collect(ctx, enc)`.
+//! The frame time is the "frame" span when the timer has GPU timestamps ("gpu-timestamp"), the
+//! "wall" span (CPU clock around submit + wait) when it has not ("wall"), and the wall-clock
+//! time of the `render` call for a technique whose [`Timing`] is `Cpu` ("cpu"). Prepare is
+//! timed the same way under the label "prepare". Any other span label a technique records is
+//! reported apart (median per frame, as `<label>_ms`).
+//!
+//! Before each frame, and before prepare, the shared scene is moved to the frame's time in a
+//! submission of its own (objects' transforms and shadow maps: the same work for every
+//! technique), so it is not part of any technique's time.
+//!
+//! Order: prepare (scene at time 0); the error frame on the scene's default view
+//! (`scene.camera`) at time 0, which is read back; `warmup` untimed frames on the camera path
+//! at time 0; `timed` frames at `time = i * duration / timed` on the camera path (moving objects
+//! move too). A GPU validation error in any of these is the technique's error.
+
+use crate::{Frames, Size, backend};
+use anyhow::{Result, anyhow};
+use gpu::{Context, GpuTimer, HdrImage, Target, TimeStats, TimerKind};
+use scene::{Frame, GpuScene, Technique, TechniqueResult, Timing, View};
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// What a run measured.
+#[derive(Clone, Debug)]
+pub struct TechniqueRun {
+    /// The error frame (default view, time 0), read back.
+    pub image: HdrImage,
+    /// "gpu-timestamp", "wall" or "cpu".
+    pub timer: String,
+    pub frame: TimeStats,
+    pub prepare_ms: f64,
+    /// Wall clock of prepare including submission and wait.
+    pub prepare_wall_ms: f64,
+    /// Extra named spans: `<label>_ms` (median per timed frame) and `prepare.<label>_ms`.
+    pub spans_ms: BTreeMap<String, f64>,
+}
+
+/// Spans a timer can return that are not a technique's own.
+const HARNESS_LABELS: &[&str] = &["frame", "prepare", "wall", "scene_update"];
+
+struct Sample {
+    spans: Vec<(String, f64)>,
+    /// Wall clock of the technique's call alone.
+    call_ms: f64,
+    /// Wall clock of the call plus submission and wait.
+    total_ms: f64,
+}
+
+impl Sample {
+    /// The figure for `label` under this timer kind (see the module documentation).
+    fn time(&self, label: &str, timing: Timing, kind: TimerKind) -> f64 {
+        let span = |l: &str| self.spans.iter().find(|(s, _)| s == l).map(|(_, v)| *v);
+        match (timing, kind) {
+            (Timing::Cpu, _) => self.call_ms,
+            (Timing::Gpu, TimerKind::GpuTimestamp) => span(label).unwrap_or(self.total_ms),
+            (Timing::Gpu, TimerKind::Wall) => span("wall").unwrap_or(self.total_ms),
+        }
+    }
+
+    fn extra(&self) -> impl Iterator<Item = &(String, f64)> {
+        self.spans.iter().filter(|(l, _)| !HARNESS_LABELS.contains(&l.as_str()))
+    }
+}
+
+/// Records one timed submission: encoder, `begin(label)`, `f`, `end(label)`, submit, collect;
+/// GPU validation errors raised meanwhile become the error.
+fn record(
+    ctx: &Context,
+    timer: &mut GpuTimer,
+    label: &str,
+    f: impl FnOnce(&mut Frame) -> TechniqueResult<()>,
+) -> Result<Sample> {
+    let result = ctx.validated(|| -> Result<Sample> {
+        let mut encoder = ctx.device.create_command_encoder(&gpu::wgpu::CommandEncoderDescriptor {
+            label: Some(label),
+        });
+        timer.begin(&mut encoder, label);
+        let start = Instant::now();
+        {
+            let mut frame = Frame { gpu: ctx, encoder: &mut encoder, timer: &mut *timer };
+            f(&mut frame)?;
+        }
+        let call_ms = start.elapsed().as_secs_f64() * 1e3;
+        timer.end(&mut encoder, label);
+        let spans = timer.submit_and_collect(ctx, encoder)?;
+        Ok(Sample { spans, call_ms, total_ms: start.elapsed().as_secs_f64() * 1e3 })
+    });
+    match result {
+        Ok(inner) => inner,
+        Err(validation) => Err(anyhow!(validation)),
+    }
+}
+
+/// Moves the shared scene to `time` in a submission of its own.
+fn update_scene(ctx: &Context, timer: &mut GpuTimer, scene: &mut GpuScene, time: f32) -> Result<()> {
+    record(ctx, timer, "scene_update", |frame| {
+        backend::set_scene_time(scene, frame, time);
+        Ok(())
+    })
+    .map(|_| ())
+    .map_err(|e| e.context("moving the scene to the frame's time"))
+}
+
+/// Runs `technique` on `scene` (see the module documentation). `on_frame` is told each step.
+pub fn run_technique(
+    ctx: &Context,
+    technique: &mut dyn Technique,
+    scene: &mut GpuScene,
+    size: Size,
+    frames: Frames,
+    on_frame: &mut dyn FnMut(&str),
+) -> Result<TechniqueRun> {
+    let target = Target::new(ctx, size.width, size.height)?;
+    let mut timer = GpuTimer::new(ctx, 64);
+    let kind = timer.kind();
+    let timing = technique.timing();
+    let default_camera = scene.scene.camera;
+    let duration = scene.scene.camera_path.duration().max(0.0);
+    let path_camera = |t: f32| scene.scene.camera_at(t);
+    let mut views: Vec<(View, bool)> = Vec::new(); // (view, timed)
+    let view = |camera, time| View { camera, time, width: size.width, height: size.height };
+    for _ in 0..frames.warmup {
+        views.push((view(path_camera(0.0), 0.0), false));
+    }
+    for i in 0..frames.timed {
+        let t = if frames.timed == 0 { 0.0 } else { i as f32 * duration / frames.timed as f32 };
+        views.push((view(path_camera(t), t), true));
+    }
+
+    on_frame("prepare");
+    update_scene(ctx, &mut timer, scene, 0.0)?;
+    let prep = record(ctx, &mut timer, "prepare", |frame| technique.prepare(frame, scene))
+        .map_err(|e| e.context("prepare"))?;
+    let mut spans_ms = BTreeMap::new();
+    for (label, ms) in prep.extra() {
+        *spans_ms.entry(format!("prepare.{label}_ms")).or_insert(0.0) += ms;
+    }
+
+    on_frame("error frame");
+    let error_view = view(default_camera, 0.0);
+    render_frame(ctx, &mut timer, technique, scene, &error_view, &target)?;
+    let image = target.read(ctx)?;
+
+    let mut times = Vec::new();
+    let mut extra: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    let timed_total = frames.timed;
+    let mut timed_done = 0;
+    for (v, timed) in &views {
+        if *timed {
+            timed_done += 1;
+            on_frame(&format!("frame {timed_done}/{timed_total}"));
+        } else {
+            on_frame("warm-up");
+        }
+        let sample = render_frame(ctx, &mut timer, technique, scene, v, &target)?;
+        if *timed {
+            times.push(sample.time("frame", timing, kind));
+            for (label, ms) in sample.extra() {
+                extra.entry(format!("{label}_ms")).or_default().push(*ms);
+            }
+        }
+    }
+    for (label, samples) in extra {
+        spans_ms.insert(label, TimeStats::from_samples(&samples).median_ms);
+    }
+    Ok(TechniqueRun {
+        image,
+        timer: match timing {
+            Timing::Cpu => "cpu".to_string(),
+            Timing::Gpu => kind.label().to_string(),
+        },
+        frame: TimeStats::from_samples(&times),
+        prepare_ms: prep.time("prepare", timing, kind),
+        prepare_wall_ms: prep.total_ms,
+        spans_ms,
+    })
+}
+
+fn render_frame(
+    ctx: &Context,
+    timer: &mut GpuTimer,
+    technique: &mut dyn Technique,
+    scene: &mut GpuScene,
+    view: &View,
+    target: &Target,
+) -> Result<Sample> {
+    update_scene(ctx, timer, scene, view.time)?;
+    let scene = &*scene;
+    record(ctx, timer, "frame", |frame| technique.render(frame, scene, view, target))
+        .map_err(|e| e.context(format!("frame at time {}", view.time)))
+}

@@ -1,0 +1,269 @@
+//! `harness sweep`: one technique on one scene over the values of one parameter.
+//!
+//! The parameter is looked up first among the technique's declared parameters
+//! (`Technique::params`, set with `set_param` on a fresh instance per value), then among the
+//! built-in scene's declared parameters (the scene spec is rebuilt with `NAME=value`, so the
+//! reference is rendered, and cached, per value). Every value is checked before any GPU work.
+//!
+//! Writes `sweep.csv` (the compare columns plus `param` and `value`), `sweep.json`, `sweep.md`,
+//! `sweep.png` (see [`crate::plot`]) and `images/<technique>__<param>=<value>.{png,exr,flip.png}`
+//! (with `images/reference__<param>=<value>.{png,exr}` for a scene parameter, or
+//! `images/reference.{png,exr}` for a technique parameter).
+
+use crate::compare::{self, Outcome, write_text};
+use crate::plot::{self, PlotPoint, PlotText};
+use crate::report::{self, AdapterJson, ResultRow};
+use crate::{Env, Frames, Size, backend, file_name, images};
+use anyhow::{Context as _, Result, anyhow, bail};
+use scene::Technique;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+#[derive(Clone, Debug)]
+pub struct SweepOptions {
+    pub out: PathBuf,
+    pub scene: String,
+    pub technique: String,
+    pub param: String,
+    pub values: Vec<String>,
+    pub size: Size,
+    pub frames: Frames,
+}
+
+/// Whose parameter is swept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ParamOwner {
+    Technique,
+    Scene,
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SweepReport {
+    pub adapter: AdapterJson,
+    pub scene: String,
+    pub technique: String,
+    pub param: String,
+    pub owner: ParamOwner,
+    pub size: String,
+    pub frames: u32,
+    pub warmup: u32,
+    pub rows: Vec<ResultRow>,
+    pub errors: Vec<String>,
+    /// Whether `sweep.png` has text (false when no font could be loaded).
+    pub plot_has_text: bool,
+    #[serde(skip)]
+    pub markdown: String,
+}
+
+/// Parses `NAME=v1,v2,...`.
+pub fn parse_param_arg(arg: &str) -> Result<(String, Vec<String>)> {
+    let (name, values) = arg
+        .split_once('=')
+        .ok_or_else(|| anyhow!("--param \"{arg}\" is not NAME=v1,v2,..."))?;
+    let values: Vec<String> =
+        values.split(',').map(str::trim).filter(|v| !v.is_empty()).map(String::from).collect();
+    if name.trim().is_empty() || values.is_empty() {
+        bail!("--param \"{arg}\" is not NAME=v1,v2,...");
+    }
+    Ok((name.trim().to_string(), values))
+}
+
+/// A fresh instance of technique `id`.
+fn instance(env: &Env, id: &str) -> Result<Box<dyn Technique>> {
+    (env.techniques)().into_iter().find(|t| t.id() == id).ok_or_else(|| anyhow!("technique {id} vanished"))
+}
+
+/// The built-in scene spec with `name=value` set.
+fn scene_spec_with(spec: &str, name: &str, value: &str) -> Result<String> {
+    let (scene_name, mut params) = scene::builtin::parse_spec(spec)?;
+    params.insert(name.to_string(), value.to_string());
+    let kv: Vec<String> = params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    Ok(format!("{scene_name}:{}", kv.join(",")))
+}
+
+/// Runs the sweep (see the module documentation) and writes every file.
+pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
+    let all_ids: Vec<String> = (env.techniques)().iter().map(|t| t.id()).collect();
+    let ids = crate::select_techniques(&all_ids, Some(std::slice::from_ref(&opts.technique)))?;
+    let [id] = ids.as_slice() else {
+        bail!("\"{}\" names several techniques ({}); give one id", opts.technique, ids.join(", "));
+    };
+    let base_scene = crate::load_scene(&opts.scene)?;
+    let probe = instance(env, id)?;
+    let owner = if probe.params().iter().any(|p| p.name == opts.param) {
+        ParamOwner::Technique
+    } else {
+        let scene_params: Vec<&'static str> = if crate::is_scene_path(&opts.scene) {
+            Vec::new()
+        } else {
+            let (name, _) = scene::builtin::parse_spec(&opts.scene)?;
+            scene::builtin::builtin_scenes()
+                .into_iter()
+                .find(|s| s.name == name)
+                .map(|s| s.params.iter().map(|p| p.name).collect())
+                .unwrap_or_default()
+        };
+        if !scene_params.contains(&opts.param.as_str()) {
+            let tp: Vec<&str> = probe.params().iter().map(|p| p.name).collect();
+            bail!(
+                "neither technique {id} (parameters: {}) nor scene {} (parameters: {}) has a parameter \"{}\"",
+                if tp.is_empty() { "none".into() } else { tp.join(", ") },
+                opts.scene,
+                if scene_params.is_empty() { "none".into() } else { scene_params.join(", ") },
+                opts.param
+            );
+        }
+        ParamOwner::Scene
+    };
+
+    // Check every value before any GPU work: technique values parse and are in range, scene
+    // values build a valid scene.
+    let mut scenes = BTreeMap::new(); // value -> (spec, scene)
+    for value in &opts.values {
+        match owner {
+            ParamOwner::Technique => {
+                let v: f64 = value.parse().map_err(|_| anyhow!("{}={value} is not a number", opts.param))?;
+                instance(env, id)?.set_param(&opts.param, v)?;
+            }
+            ParamOwner::Scene => {
+                let spec = scene_spec_with(&opts.scene, &opts.param, value)?;
+                let scene = crate::load_scene(&spec)?;
+                scenes.insert(value.clone(), (spec, scene));
+            }
+        }
+    }
+    env.ctx.require(probe.required_features()).with_context(|| format!("technique {id}"))?;
+    env.ctx.check_size(opts.size.width, opts.size.height)?;
+    std::fs::create_dir_all(&opts.out).with_context(|| format!("cannot create {}", opts.out.display()))?;
+    let image_dir = opts.out.join("images");
+
+    let adapter_name = env.ctx.summary.name.clone();
+    let mut rows = Vec::new();
+    let mut errors = Vec::new();
+    let bar = crate::progress_bar(env.progress, opts.values.len() as u64);
+    let say = |line: String| bar.suspend(|| eprintln!("{line}"));
+    let mut shared: Option<(Option<crate::Reference>, Option<scene::GpuScene>)> = None;
+    for value in &opts.values {
+        let (spec, scene) = match owner {
+            ParamOwner::Scene => scenes
+                .get(value)
+                .map(|(s, sc)| (s.clone(), sc.clone()))
+                .ok_or_else(|| anyhow!("scene for {}={value} was not built", opts.param))?,
+            ParamOwner::Technique => (opts.scene.clone(), base_scene.clone()),
+        };
+        let suffix = format!("{}={value}", opts.param);
+        let mut row = ResultRow::new(&spec, id, opts.size, &adapter_name);
+        row.param = Some(opts.param.clone());
+        row.value = Some(value.clone());
+
+        // Reference and upload: once for a technique parameter, per value for a scene one.
+        if owner == ParamOwner::Scene || shared.is_none() {
+            bar.set_message(format!("{suffix}: reference"));
+            let reference = match compare::scene_reference(env, &opts.out, &spec, &scene, opts.size) {
+                Ok((r, _)) => {
+                    let stem = match owner {
+                        ParamOwner::Scene => format!("reference__{}", file_name(&suffix)),
+                        ParamOwner::Technique => "reference".into(),
+                    };
+                    images::write_png(&image_dir.join(format!("{stem}.png")), &r.image)?;
+                    images::write_exr(&image_dir.join(format!("{stem}.exr")), &r.image)?;
+                    Some(r)
+                }
+                Err(e) => {
+                    let msg = format!("{spec} / reference: {e:#}");
+                    say(format!("error: {msg}"));
+                    errors.push(msg);
+                    None
+                }
+            };
+            let gpu_scene = match backend::upload_scene(env.ctx, &scene) {
+                Ok(s) => Some(s),
+                Err(e) => {
+                    let msg = format!("{spec} / upload: {e:#}");
+                    say(format!("error: {msg}"));
+                    errors.push(msg);
+                    None
+                }
+            };
+            shared = Some((reference, gpu_scene));
+        }
+        let Some((reference, gpu_scene)) = shared.as_mut() else { bail!("no scene prepared") };
+
+        let mut technique = instance(env, id)?;
+        let outcome = if !technique.supports(&scene) {
+            Outcome { row: row.with_error("the technique does not support this scene"), run: None, flip: None }
+        } else if let Some(gs) = gpu_scene.as_mut() {
+            if owner == ParamOwner::Technique {
+                let v: f64 = value.parse().unwrap_or(f64::NAN);
+                technique.set_param(&opts.param, v)?;
+            }
+            let mut on_frame = |step: &str| bar.set_message(format!("{suffix}: {step}"));
+            compare::measure(env, technique.as_mut(), gs, reference.as_ref(), opts.frames, row, &mut on_frame)
+        } else {
+            Outcome { row: row.with_error("scene upload failed"), run: None, flip: None }
+        };
+        compare::write_outcome_images(&image_dir, &format!("{}__{}", file_name(id), file_name(&suffix)), &outcome)?;
+        if let Some(err) = &outcome.row.error {
+            let msg = format!("{suffix}: {err}");
+            say(format!("error: {msg}"));
+            errors.push(msg);
+        }
+        rows.push(outcome.row);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+
+    let points: Vec<PlotPoint> = rows
+        .iter()
+        .map(|r| PlotPoint {
+            value: r.value.clone().unwrap_or_default(),
+            flip_mean: r.flip_mean,
+            rmse: r.rmse,
+            frame_ms: r.frame_ms_median,
+        })
+        .collect();
+    let title = format!("{id} on {} over {}", opts.scene, opts.param);
+    let text = plot::sweep_plot(&opts.out.join("sweep.png"), &title, &opts.param, &points)?;
+
+    let report = SweepReport {
+        adapter: AdapterJson::of(env.ctx),
+        scene: opts.scene.clone(),
+        technique: id.clone(),
+        param: opts.param.clone(),
+        owner,
+        size: opts.size.to_string(),
+        frames: opts.frames.timed,
+        warmup: opts.frames.warmup,
+        markdown: report::to_markdown(&rows, true),
+        rows,
+        errors,
+        plot_has_text: text == PlotText::Drawn,
+    };
+    write_text(&opts.out.join("sweep.csv"), &report::to_csv(&report.rows, true))?;
+    write_text(&opts.out.join("sweep.md"), &report.markdown)?;
+    write_text(&opts.out.join("sweep.json"), &serde_json::to_string_pretty(&report)?)?;
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn param_arguments_parse() {
+        assert_eq!(parse_param_arg("iterations=1,2, 4").unwrap(), ("iterations".into(), vec!["1".into(), "2".into(), "4".into()]));
+        assert!(parse_param_arg("iterations").is_err());
+        assert!(parse_param_arg("iterations=").is_err());
+        assert!(parse_param_arg("=1").is_err());
+    }
+
+    #[test]
+    fn scene_specs_are_rebuilt_with_the_value() {
+        assert_eq!(scene_spec_with("cornell-sphere", "material", "gold").unwrap(), "cornell-sphere:material=gold");
+        assert_eq!(
+            scene_spec_with("cornell-sphere:sphere_x=0.2,material=mirror", "material", "gold").unwrap(),
+            "cornell-sphere:material=gold,sphere_x=0.2"
+        );
+    }
+}

@@ -1,0 +1,212 @@
+//! Bad input to the built binary: each case exits non-zero with one "error: ..." line on stderr
+//! and never a panic.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn harness(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args(args)
+        .env("NODEVICE_SELECT", "1")
+        .output()
+        .expect("run the harness binary")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("harness-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Asserts a clean failure and returns the error line.
+fn fails(args: &[&str]) -> String {
+    let out = harness(args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "{args:?} succeeded; stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{args:?}: expected one line, got: {stderr}");
+    assert!(lines[0].starts_with("error: "), "{args:?}: {stderr}");
+    lines[0].to_string()
+}
+
+fn out_dir() -> String {
+    tmp("out").display().to_string()
+}
+
+#[test]
+fn unknown_scene() {
+    let e = fails(&["compare", "--out", &out_dir(), "--scenes", "no-such-scene"]);
+    assert!(e.contains("unknown scene \"no-such-scene\"") && e.contains("cornell-sphere"), "{e}");
+    let e = fails(&["sweep", "--scene", "nope", "--technique", "x", "--param", "a=1", "--out", &out_dir()]);
+    assert!(e.contains("unknown"), "{e}");
+}
+
+#[test]
+fn unknown_technique() {
+    let e = fails(&["compare", "--out", &out_dir(), "--techniques", "no/such-technique"]);
+    assert!(e.contains("unknown technique \"no/such-technique\""), "{e}");
+    let e = fails(&["render", "--scene", "cornell-sphere", "--technique", "nope", "--out", &tmp("x.png").display().to_string()]);
+    assert!(e.contains("unknown technique"), "{e}");
+}
+
+#[test]
+fn missing_glb() {
+    let missing = tmp("does-not-exist.glb").display().to_string();
+    let e = fails(&["compare", "--out", &out_dir(), "--scenes", &missing]);
+    assert!(e.contains("does-not-exist.glb"), "{e}");
+    let e = fails(&["export-scene", &missing, "--out", &tmp("x.glb").display().to_string()]);
+    assert!(e.contains("does-not-exist.glb"), "{e}");
+}
+
+#[test]
+fn malformed_gltf() {
+    let bad = tmp("garbage.gltf");
+    std::fs::write(&bad, b"{ this is not glTF \x00\x01").unwrap();
+    let e = fails(&["compare", "--out", &out_dir(), "--scenes", &bad.display().to_string()]);
+    assert!(e.contains("garbage.gltf"), "{e}");
+    let bad = tmp("garbage.glb");
+    std::fs::write(&bad, b"glTF\x02\x00\x00\x00garbage").unwrap();
+    fails(&["compare", "--out", &out_dir(), "--scenes", &bad.display().to_string()]);
+}
+
+#[test]
+fn nan_in_a_scene_parameter() {
+    let e = fails(&["compare", "--out", &out_dir(), "--scenes", "cornell-sphere:sphere_x=nan"]);
+    assert!(e.contains("sphere_x=nan is not a finite number"), "{e}");
+}
+
+/// A one-triangle glTF whose node translation is `translation` (JSON text).
+fn triangle_gltf(translation: &str) -> String {
+    let uri = "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA=";
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+ "nodes": [{{"mesh": 0, "translation": {translation}}}],
+ "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}],
+ "buffers": [{{"byteLength": 44, "uri": "{uri}"}}],
+ "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 6}}],
+ "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+               {{"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}}]}}"#
+    )
+}
+
+#[test]
+fn non_finite_transform_in_gltf() {
+    // 1e39 does not fit an f32: the node's translation is infinite.
+    let bad = tmp("infinite-node.gltf");
+    std::fs::write(&bad, triangle_gltf("[1e39, 0, -3]")).unwrap();
+    let e = fails(&["compare", "--out", &out_dir(), "--scenes", &bad.display().to_string()]);
+    assert!(e.contains("non-finite"), "{e}");
+    // The same file with a finite translation loads (the test above fails for the right reason).
+    let good = tmp("finite-node.gltf");
+    std::fs::write(&good, triangle_gltf("[0, 0, -3]")).unwrap();
+    scene::load(&good.display().to_string()).expect("the finite twin loads");
+}
+
+#[test]
+fn unparsable_size() {
+    let e = fails(&["compare", "--out", &out_dir(), "--size", "abc"]);
+    assert!(e.contains("\"abc\" is not a size"), "{e}");
+    fails(&["render", "--scene", "cornell-sphere", "--technique", "reference", "--out", "x.png", "--size", "0x4"]);
+}
+
+#[test]
+fn size_over_the_adapter_limit() {
+    // Needs an adapter (the limit is the adapter's); the error names the limit.
+    let e = fails(&[
+        "compare",
+        "--out",
+        &out_dir(),
+        "--scenes",
+        "cornell-sphere",
+        "--size",
+        "100000x100000",
+        "--frames",
+        "1",
+    ]);
+    assert!(e.contains("100000x100000") && e.contains("limit"), "{e}");
+}
+
+#[test]
+fn other_bad_arguments() {
+    let e = fails(&["render", "--scene", "cornell-sphere", "--technique", "reference", "--out", "x.jpg"]);
+    assert!(e.contains(".png or .exr"), "{e}");
+    let e = fails(&["sweep", "--scene", "cornell-sphere", "--technique", "x", "--param", "novalue", "--out", &out_dir()]);
+    assert!(e.contains("NAME=v1,v2"), "{e}");
+    let e = fails(&["export-scene", "cornell-sphere", "--out", "x.gltf"]);
+    assert!(e.contains(".glb"), "{e}");
+    let e = fails(&["compare"]);
+    assert!(e.contains("--out"), "{e}");
+    fails(&["no-such-command"]);
+}
+
+#[test]
+fn list_shows_scenes_and_parameters() {
+    let out = harness(&["list", "--params"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for s in ["cornell-sphere", "cornell-box", "refraction-bunny", "city", "smoke", "material", "rooms_per_building", "Techniques"] {
+        assert!(text.contains(s), "missing {s} in:\n{text}");
+    }
+    assert!(harness(&["list"]).status.success());
+    assert!(harness(&["--help"]).status.success());
+}
+
+#[test]
+fn compare_with_the_registered_techniques_at_32x32() {
+    let out = tmp("real-compare");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = harness(&[
+        "compare",
+        "--out",
+        &out.display().to_string(),
+        "--scenes",
+        "cornell-sphere",
+        "--size",
+        "32x32",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--ref-photons",
+        "20000",
+        "--strict",
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "stdout: {stdout}\nstderr: {stderr}");
+    assert!(stdout.contains("| scene | technique |"), "{stdout}");
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let registered = harness::registry();
+    let supported = registered.iter().filter(|t| t.supports(&scene::load("cornell-sphere").unwrap())).count();
+    assert_eq!(csv.lines().count(), 1 + supported, "{csv}");
+    for line in csv.lines().skip(1) {
+        assert!(line.ends_with(','), "a row has an error: {line}");
+    }
+    assert!(out.join("images/cornell-sphere/reference.exr").is_file());
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn export_render_and_reimport() {
+    let glb = tmp("exported.glb");
+    let run = harness(&["export-scene", "cornell-sphere:material=gold", "--out", &glb.display().to_string()]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let png = tmp("from-glb.png");
+    let run = harness(&[
+        "render",
+        "--scene",
+        &glb.display().to_string(),
+        "--technique",
+        "reference",
+        "--ref-photons",
+        "0",
+        "--size",
+        "16x12",
+        "--out",
+        &png.display().to_string(),
+    ]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (16, 12));
+}
