@@ -36,7 +36,7 @@ pub fn registry() -> Vec<Box<dyn Technique>> {
     let mut techniques: Vec<Box<dyn Technique>> = Vec::new();
     // ---- REGISTRY: one line per technique crate (and add the crate to harness/Cargo.toml) ----
     // The foundation's techniques (scene::techniques).
-    // techniques.push(Box::new(scene::techniques::ReferenceTechnique::default())); // "reference"
+    techniques.push(Box::new(scene::techniques::ReferenceTechnique::default()));
     techniques.push(Box::new(scene::techniques::RasterTechnique));
     techniques.push(Box::new(scene::techniques::ClassicEnvMap::default()));
     // Technique crates:

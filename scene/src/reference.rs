@@ -1,1 +1,1051 @@
-//! The CPU reference renderer: the ground truth. (Being written.)
+//! The CPU reference renderer: the ground truth every technique is measured against.
+//!
+//! It computes, for each pixel, the light that the workspace's shading model says reaches
+//! the eye, as exactly as a CPU can: exact ray/triangle queries on a BVH ([`SceneBvh`]),
+//! specular chains followed to a stated depth, and caustics from a light tracer. It runs on
+//! all cores with rayon and is deterministic: the same inputs and seed give bit-identical
+//! images whatever the thread count.
+//!
+//! # What is computed
+//!
+//! The radiance `L(x <- w)` arriving at the eye is defined by three kinds of surface
+//! (DESIGN.md) and point lights only:
+//!
+//! * **Diffuse** (Lambertian, albedo `rho`, optionally times a texture): direct lighting only,
+//!
+//!   ```text
+//!   L_o = sum_lights  rho / pi * I * max(0, n_s . l) / d^2 * V(x, light)
+//!   ```
+//!
+//!   with `n_s` the interpolated shading normal flipped to the side the ray arrives from
+//!   (surfaces are two-sided), `l` the unit direction and `d` the distance to the light, and
+//!   `V` a shadow ray. *Every* object blocks shadow rays, glass included: light that passes
+//!   through glass arrives only as caustic photons (below). A light behind the geometric
+//!   surface (`n_g . l <= 0`) contributes nothing even where a smooth shading normal would
+//!   still face it. No ambient term, no diffuse inter-reflection. This is exactly the
+//!   function the shared GPU raster pass evaluates (with its own visibility).
+//! * **Metal / mirror** (per-channel `n`, `k`): perfect reflection weighted by the shared
+//!   Fresnel approximation `fresnel_nk(cos_i, n, k)` ([`gpu::prelude`]).
+//! * **Glass** (index `eta`, possibly below 1, in air): the Whitted split. At each
+//!   interface the side is decided by the *geometric* normal (`dot(dir, n_g) < 0`: entering,
+//!   relative index `eta_rel = n_t / n_i = eta`; otherwise exiting, `eta_rel = 1 / eta`),
+//!   `F = fresnel_dielectric(cos_i, eta_rel)`, and *both* the reflected ray (weight `F`) and
+//!   the refracted ray (weight `1 - F`) are traced; on total internal reflection only the
+//!   reflected ray, with weight 1. There is no absorption inside glass. Radiance is not
+//!   scaled by `(n_t / n_i)^2` at interfaces: every path that reaches the eye starts and
+//!   ends in air, where the factors cancel.
+//!
+//! Reflection and refraction directions use the interpolated shading normal (what every
+//! GPU technique sees from its interpolated vertex normals), so a finely tessellated sphere
+//! refracts like a sphere; the side of the surface, and the direction in which new ray
+//! origins are pushed off it, come from the geometric normal.
+//!
+//! # Eye pass: a Whitted-style tree per pixel
+//!
+//! A primary ray leaves the eye through each pixel centre `(x + 0.5, y + 0.5)`
+//! ([`Camera::ray_dir`], row 0 at the top); with `samples_per_pixel > 1` the pixel is
+//! instead sampled at a fixed, deterministic set of positions (a Hammersley set shifted so
+//! that one sample falls on the centre when there is one) and the results averaged, while
+//! `object_ids` and `mask` always come from the centre ray. A miss returns
+//! `scene.background`. At a specular surface the tree splits as above. Two bounds keep it
+//! finite:
+//!
+//! * **Depth**: `max_depth` counts specular interactions (each reflection or refraction is
+//!   one). A ray that reaches a specular surface after `max_depth` interactions returns
+//!   black. With `max_depth = 0` specular objects are black.
+//! * **Throughput**: a branch whose accumulated weight (the product of Fresnel factors along
+//!   it) falls below [`MIN_THROUGHPUT`] in every channel is dropped. For a glass sphere this
+//!   drops the paths with three or more internal reflections (weight < 0.04^3 ~ 6e-5); the
+//!   energy lost is below 1e-4 of the radiance behind the branch.
+//!
+//! New rays start `offset_epsilon(p) = 1e-4 * max(1, |p|)` metres off the surface along the
+//! geometric normal, on the side the new ray travels into (the scene scale runs from 2 m
+//! rooms to cities of hundreds of metres; single-precision hit points carry a relative
+//! error near 1e-7, so the offset has three orders of magnitude of headroom).
+//!
+//! # Light pass: caustics by light tracing
+//!
+//! Light that reaches a diffuse surface through one or more specular interactions (paths
+//! `L S+ D E` in Heckbert's notation) cannot be found from the eye: the eye's shadow ray
+//! to a point light through glass hits the glass. So it is traced from the light instead.
+//!
+//! **Emission.** Only the directions that can reach a caustic caster matter: the objects
+//! with [`Roles::CAUSTIC_CASTER`] or a specular material ([`caustic_casters`]). For each
+//! light and caster, the caster's bounding sphere (`center_at`, `bounding_radius_at`) seen
+//! from the light subtends a cone of half-angle `theta_max`, `sin theta_max = R / D`, with
+//! solid angle `Omega = 2 pi (1 - cos theta_max)` (the whole sphere, `4 pi`, if the light is
+//! inside). `N_j` photons are drawn uniformly in cone `j`, where the photon budget is split
+//! between cones in proportion to the power each receives, `(I_r + I_g + I_b) Omega_j`.
+//! The radiant flux of a point light into a cone is `I Omega` (intensity is flux per unit
+//! solid angle), so a photon drawn in a cone alone carries `I Omega_j / N_j`. Cones of
+//! different casters may overlap; a direction `w` inside several of them could then be
+//! drawn from each, and the sum over cones would count it twice. The balance heuristic
+//! (Veach 1997, one-sample form) fixes this: with the sampling densities
+//! `p_j(w) = N_j / Omega_j` for the cones that contain `w`, a photon carries
+//!
+//! ```text
+//! Phi = I / sum_{j : w in cone j} (N_j / Omega_j)            (per channel)
+//! ```
+//!
+//! which is `I Omega_j / N_j` where cones do not overlap.
+//!
+//! **Transport.** A photon follows its path through specular surfaces. At glass it chooses
+//! reflection with probability `F` and refraction with probability `1 - F` (Russian roulette
+//! on the Fresnel split: the estimator weight `F / F = 1` leaves its power unchanged and
+//! the expectation equals the split); on total internal reflection it reflects. At metal it
+//! reflects and its power is multiplied by `fresnel_nk`. Flux, unlike radiance, is not
+//! scaled at refractive interfaces. The photon stops at the first diffuse surface (it lands
+//! there only if it made at least one specular interaction: zero-bounce light is the eye
+//! pass's direct lighting), when it leaves the scene, or at a specular surface after
+//! `max_depth` interactions.
+//!
+//! **Connection to the eye.** A photon of power `Phi` that lands at `x` is connected to
+//! the pinhole; for a box pixel filter its contribution to the pixel `j` that `x` projects
+//! into is
+//!
+//! ```text
+//!                rho / pi * cos_s * W                                   1
+//! dI_j  =  Phi * --------------------  V(x, eye),     W  =  ---------------------- .
+//!                        d^2                                  A_pix * cos^3 theta_c
+//! ```
+//!
+//! Derivation (pbrt-v4's `PerspectiveCamera::We`/`SampleWi` are the model): pixel `j`
+//! shows the average radiance over its footprint on the image plane at unit distance in
+//! front of the pinhole, `I_j = 1/A_pix * integral_{pixel} L(w(u)) du`, where
+//! `A_pix = (2 tan(fov_y / 2))^2 * aspect / (width * height)`. A patch `du` of that plane
+//! seen at angle `theta_c` from the optical axis lies at distance `1 / cos theta_c` and is
+//! tilted by `theta_c`, so it subtends `dw = du cos^3 theta_c`; hence
+//! `I_j = integral L(w) W(w) dw` with `W = 1 / (A_pix cos^3 theta_c)` inside the pixel
+//! (pbrt's `We = 1 / (A cos^4 theta)` times the `cos theta` of its pinhole's area measure,
+//! with `A` one pixel's area instead of the film's). Next, change variables from the eye's
+//! directions to the surface points `x` they see: `dw = cos_s dA / d^2`, with `cos_s` the
+//! cosine between the geometric normal at `x` and the direction to the eye and `d` the
+//! distance, and write the radiance leaving a Lambertian surface as `L_o = rho / pi * E(x)`:
+//! `I_j = integral_{x seen in pixel j} W rho / pi E(x) cos_s / d^2 V dA`. Finally, the
+//! photons are an unbiased estimate of the incident flux, `E(x) dA`: for any patch `A`,
+//! `E[sum_{photons landing in A} Phi_k] = integral_A E dA`. Replacing `E dA` by the photons
+//! gives the formula above, one term per photon. The test
+//! `light_tracing_matches_direct_lighting` checks this normalisation against the eye pass
+//! on a plane lit directly. The photon is counted only if `x` is on the side of the surface
+//! facing the eye (the side it arrived on), projects into the image, is in front of the
+//! camera, and the segment to the eye is unoccluded (a shadow ray). For smooth-shaded
+//! surfaces the irradiance is corrected to the shading normal like the direct term
+//! (`max(0, n_s . w_i) / (n_g . w_i)`, capped at 10), so caustics and direct light agree.
+//!
+//! **Photon count.** `ReferenceOptions::default().photons` is 4 million: at 256 x 256 the
+//! caustic under the glass sphere of `cornell-sphere` is smooth and its dim halo (light
+//! through the sphere's rim, spread wide) shows only faint grain; 1 million is visibly
+//! grainy. The noise per pixel depends on photons per pixel, so
+//! [`ReferenceOptions::for_image`] scales the count with the image.
+//!
+//! # Determinism
+//!
+//! Pixels are independent. Photons are split into fixed chunks of [`PHOTON_CHUNK`], each
+//! seeded from `(seed, cone, chunk)` with SplitMix64; each chunk returns its list of
+//! splats, and the lists are added to the image in chunk order. (Per-thread images summed
+//! at the end would be faster to reduce, but the floating-point sum would depend on how
+//! rayon assigned chunks to threads; the ordered reduction is what makes 1 and 16 threads
+//! give the same bits.)
+//!
+//! # What the reference leaves out
+//!
+//! * Diffuse inter-reflection (no indirect diffuse light, no colour bleeding) and ambient.
+//! * Caustics seen through a specular chain: a caustic on the floor seen in a mirror or
+//!   through glass is not in the image (the photon's connection ray to the eye is blocked by
+//!   the specular object, and the eye pass only gathers direct light at diffuse points).
+//! * Light through glass other than as caustic photons (shadows of glass are black, then
+//!   lit by photons).
+//! * Specular chains longer than `max_depth` and eye-tree branches below
+//!   [`MIN_THROUGHPUT`].
+//! * Volumes: the foundation does not render participating media; pixels whose primary ray
+//!   crosses a volume sphere are only flagged in `mask`.
+//! * Lights other than point lights; absorption in glass; dispersion; polarisation;
+//!   anti-aliasing beyond `samples_per_pixel` (the default samples pixel centres only, like
+//!   a rasterizer without MSAA).
+
+use crate::bvh::{Hit, SceneBvh};
+use crate::{Camera, Material, Roles, Scene};
+use glam::{Vec2, Vec3};
+use gpu::HdrImage;
+use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
+use rayon::prelude::*;
+use std::f32::consts::{FRAC_1_PI, PI};
+use std::time::Instant;
+
+/// Eye-tree branches whose accumulated throughput is below this in every channel are
+/// dropped (documented bias below 1e-4 of the radiance behind them).
+pub const MIN_THROUGHPUT: f32 = 1e-4;
+
+/// Photons per deterministic work unit of the light pass.
+pub const PHOTON_CHUNK: u64 = 8192;
+
+/// Largest shading-normal correction `n_s . w_i / n_g . w_i` applied to a landed photon.
+const MAX_SHADING_CORRECTION: f32 = 10.0;
+
+/// Options of a reference render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReferenceOptions {
+    /// Specular interactions (reflections and refractions) followed along a path; beyond it
+    /// a path returns black (eye pass) or stops (photons).
+    pub max_depth: u32,
+    /// Light-traced caustic photons in total over all lights and casters; 0 disables
+    /// caustics. The default, 4 million, gives a smooth caustic under the sphere of
+    /// `cornell-sphere` at 256 x 256 (about [`PHOTONS_PER_PIXEL`] per pixel); use
+    /// [`ReferenceOptions::for_image`] to keep that density at other sizes.
+    pub photons: u64,
+    /// Seed of the light pass (the eye pass uses no random numbers).
+    pub seed: u64,
+    /// Eye samples per pixel; 1 (the default) samples the pixel centre only.
+    pub samples_per_pixel: u32,
+}
+
+/// Photon density of the default options: 4 million photons over 256 x 256 pixels.
+pub const PHOTONS_PER_PIXEL: u64 = 61;
+
+impl Default for ReferenceOptions {
+    fn default() -> Self {
+        Self {
+            max_depth: 8,
+            photons: 4_000_000,
+            seed: 0x5eed_0fca_0571_c5e5,
+            samples_per_pixel: 1,
+        }
+    }
+}
+
+impl ReferenceOptions {
+    /// The defaults with the photon count scaled to the image, [`PHOTONS_PER_PIXEL`] per
+    /// pixel (at least 100 000), so caustic noise per pixel is about the same at every size
+    /// and small test images do not pay for 4 million photons.
+    pub fn for_image(width: u32, height: u32) -> Self {
+        let photons = (PHOTONS_PER_PIXEL * width as u64 * height as u64).max(100_000);
+        Self {
+            photons,
+            ..Self::default()
+        }
+    }
+}
+
+/// What a render cost. Every ray cast is counted once.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReferenceStats {
+    /// Closest-hit rays of the eye pass: primary rays (plus one centre ray per pixel for ids
+    /// when `samples_per_pixel > 1`) and every reflected or refracted ray.
+    pub camera_rays: u64,
+    /// Any-hit rays from diffuse points of the eye pass to the lights.
+    pub shadow_rays: u64,
+    /// Rays of the light pass: every photon path segment plus each landed photon's
+    /// visibility ray to the eye.
+    pub photon_rays: u64,
+    /// Wall-clock seconds of the whole render (BVH build, eye pass, light pass).
+    pub seconds: f64,
+    /// All rays above divided by `seconds`.
+    pub rays_per_second: f64,
+    /// Photons that landed on a diffuse surface after a specular interaction and were added
+    /// to a pixel (visible to the eye).
+    pub photons_stored: u64,
+}
+
+/// A reference image with the per-pixel bookkeeping the metrics need.
+#[derive(Clone, Debug)]
+pub struct ReferenceImage {
+    /// Linear radiance, alpha 1, row 0 at the top.
+    pub image: HdrImage,
+    /// Object index of each pixel's primary (centre) hit, -1 for background.
+    pub object_ids: Vec<i32>,
+    /// The pixel shows a special object (any non-empty roles) or its primary ray crosses a
+    /// volume sphere before its hit.
+    pub mask: Vec<bool>,
+    pub stats: ReferenceStats,
+}
+
+/// Renders the ground truth of `scene` seen by `camera` at `time`.
+pub fn render(
+    scene: &Scene,
+    camera: &Camera,
+    time: f32,
+    width: u32,
+    height: u32,
+    opts: &ReferenceOptions,
+) -> ReferenceImage {
+    let start = Instant::now();
+    let bvh = SceneBvh::build(scene, time);
+    let tracer = Tracer {
+        scene,
+        bvh: &bvh,
+        max_depth: opts.max_depth,
+    };
+    let spp = opts.samples_per_pixel.max(1);
+    let volumes: Vec<(Vec3, f32)> = scene
+        .volumes
+        .iter()
+        .map(|v| (v.center + v.motion.offset(time), v.radius))
+        .collect();
+
+    // Eye pass, one row per task; rows come back in order.
+    let rows: Vec<Row> = (0..height)
+        .into_par_iter()
+        .map(|y| {
+            let mut counts = Counts::default();
+            let mut pixels = Vec::with_capacity(width as usize);
+            let mut ids = Vec::with_capacity(width as usize);
+            let mut mask = Vec::with_capacity(width as usize);
+            for x in 0..width {
+                let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+                let dir = camera.ray_dir(px, py, width, height);
+                counts.camera += 1;
+                let centre_hit = bvh.closest_hit(camera.eye, dir, f32::INFINITY);
+                let t_hit = centre_hit.map_or(f32::INFINITY, |h| h.t);
+                let special = centre_hit.is_some_and(|h| !scene.objects[h.object].roles.is_empty());
+                let in_volume = volumes.iter().any(|&(c, r)| {
+                    let s = ray_sphere(camera.eye, dir, c, r);
+                    s.x <= s.y && s.y > 0.0 && s.x < t_hit
+                });
+                ids.push(centre_hit.map_or(-1, |h| h.object as i32));
+                mask.push(special || in_volume);
+                let l = if spp == 1 {
+                    match &centre_hit {
+                        Some(h) => tracer.shade(h, dir, 0, Vec3::ONE, &mut counts),
+                        None => scene.background,
+                    }
+                } else {
+                    let mut sum = Vec3::ZERO;
+                    for i in 0..spp {
+                        let o = pixel_sample(i, spp);
+                        let d = camera.ray_dir(x as f32 + o.x, y as f32 + o.y, width, height);
+                        sum += tracer.radiance(camera.eye, d, 0, Vec3::ONE, &mut counts);
+                    }
+                    sum / spp as f32
+                };
+                pixels.push([l.x, l.y, l.z, 1.0]);
+            }
+            Row {
+                pixels,
+                ids,
+                mask,
+                counts,
+            }
+        })
+        .collect();
+
+    let mut image = HdrImage {
+        width,
+        height,
+        pixels: Vec::with_capacity((width * height) as usize),
+    };
+    let mut object_ids = Vec::with_capacity((width * height) as usize);
+    let mut mask = Vec::with_capacity((width * height) as usize);
+    let mut counts = Counts::default();
+    for row in rows {
+        image.pixels.extend(row.pixels);
+        object_ids.extend(row.ids);
+        mask.extend(row.mask);
+        counts.add(&row.counts);
+    }
+
+    // Light pass: caustics.
+    let mut photons_stored = 0;
+    if opts.photons > 0 {
+        let setup = PhotonSetup::caustics(scene);
+        let lt = light_trace_with(scene, &bvh, camera, time, width, height, opts, &setup);
+        for (px, add) in image.pixels.iter_mut().zip(&lt.radiance) {
+            px[0] += add.x;
+            px[1] += add.y;
+            px[2] += add.z;
+        }
+        counts.photon += lt.rays;
+        photons_stored = lt.photons_stored;
+    }
+
+    let seconds = start.elapsed().as_secs_f64();
+    let rays = counts.camera + counts.shadow + counts.photon;
+    ReferenceImage {
+        image,
+        object_ids,
+        mask,
+        stats: ReferenceStats {
+            camera_rays: counts.camera,
+            shadow_rays: counts.shadow,
+            photon_rays: counts.photon,
+            seconds,
+            rays_per_second: if seconds > 0.0 {
+                rays as f64 / seconds
+            } else {
+                0.0
+            },
+            photons_stored,
+        },
+    }
+}
+
+/// The objects photons are aimed at: caustic casters by role, and every specular object.
+pub fn caustic_casters(scene: &Scene) -> Vec<usize> {
+    (0..scene.objects.len())
+        .filter(|&i| {
+            let o = &scene.objects[i];
+            o.roles.contains(Roles::CAUSTIC_CASTER) || o.material.is_specular()
+        })
+        .collect()
+}
+
+/// How the light pass emits and which landings it keeps.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhotonSetup {
+    /// Objects whose bounding-sphere cones photons are emitted into.
+    pub targets: Vec<usize>,
+    /// Specular interactions a photon must have made before a diffuse landing counts: 1 for
+    /// caustics; 0 turns the light pass into a light tracer of direct lighting too (for
+    /// checking the camera normalisation against the eye pass).
+    pub min_specular_bounces: u32,
+}
+
+impl PhotonSetup {
+    /// The caustic setup [`render`] uses.
+    pub fn caustics(scene: &Scene) -> Self {
+        Self {
+            targets: caustic_casters(scene),
+            min_specular_bounces: 1,
+        }
+    }
+}
+
+/// The result of a light pass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightTrace {
+    /// Radiance added per pixel (`width * height`, row 0 at the top).
+    pub radiance: Vec<Vec3>,
+    /// Per light: total power (W) of the photons that landed on diffuse surfaces (after
+    /// `min_specular_bounces`), whether or not the eye sees the landing point.
+    pub deposited: Vec<Vec3>,
+    /// Per light: `sum_j I Omega_j` over its cones (W; overlapping cones each count in
+    /// full, so this bounds the emitted power from above).
+    pub emitted: Vec<Vec3>,
+    pub photons_traced: u64,
+    /// Landed photons added to a pixel.
+    pub photons_stored: u64,
+    /// Rays cast (path segments plus visibility rays to the eye).
+    pub rays: u64,
+}
+
+/// Runs the light pass on its own (the caustic part of [`render`] with
+/// [`PhotonSetup::caustics`]); `opts.photons` photons in all.
+pub fn light_trace(
+    scene: &Scene,
+    camera: &Camera,
+    time: f32,
+    width: u32,
+    height: u32,
+    opts: &ReferenceOptions,
+    setup: &PhotonSetup,
+) -> LightTrace {
+    let bvh = SceneBvh::build(scene, time);
+    light_trace_with(scene, &bvh, camera, time, width, height, opts, setup)
+}
+
+/// One row of the eye pass.
+struct Row {
+    pixels: Vec<[f32; 4]>,
+    ids: Vec<i32>,
+    mask: Vec<bool>,
+    counts: Counts,
+}
+
+/// Ray counters of one task.
+#[derive(Clone, Copy, Debug, Default)]
+struct Counts {
+    camera: u64,
+    shadow: u64,
+    photon: u64,
+}
+
+impl Counts {
+    fn add(&mut self, o: &Counts) {
+        self.camera += o.camera;
+        self.shadow += o.shadow;
+        self.photon += o.photon;
+    }
+}
+
+/// Distance new rays start off a surface at `p`.
+pub fn offset_epsilon(p: Vec3) -> f32 {
+    1e-4 * p.length().max(1.0)
+}
+
+/// Sample `i` of `n` inside a pixel, in [0, 1)^2: a Hammersley set shifted by half a cell
+/// so that `n = 1` gives the pixel centre.
+fn pixel_sample(i: u32, n: u32) -> Vec2 {
+    let x = (i as f32 + 0.5) / n as f32;
+    let y = (i.reverse_bits() as f32 * (1.0 / 4_294_967_296.0) + 0.5).fract();
+    Vec2::new(x, y)
+}
+
+/// A hit seen from the direction a ray or photon arrived from.
+struct Surface {
+    p: Vec3,
+    /// Geometric normal on the side the ray came from (`dot(ng, dir) <= 0`).
+    ng: Vec3,
+    /// Shading normal flipped together with `ng`.
+    ns: Vec3,
+    /// The ray hit the front (the side the authored normals point to).
+    front: bool,
+    eps: f32,
+}
+
+impl Surface {
+    fn new(hit: &Hit, dir: Vec3) -> Self {
+        let front = hit.geometric_normal.dot(dir) < 0.0;
+        let s = if front { 1.0 } else { -1.0 };
+        Surface {
+            p: hit.position,
+            ng: hit.geometric_normal * s,
+            ns: hit.normal * s,
+            front,
+            eps: offset_epsilon(hit.position),
+        }
+    }
+    /// Origin for a ray leaving on the side the incoming ray came from.
+    fn above(&self) -> Vec3 {
+        self.p + self.ng * self.eps
+    }
+    /// Origin for a ray continuing through the surface.
+    fn below(&self) -> Vec3 {
+        self.p - self.ng * self.eps
+    }
+}
+
+/// What a specular surface does to a ray arriving along `dir`.
+enum Scatter {
+    /// Glass: reflect with weight `f`, refract with `1 - f` (`refracted` is `None` on total
+    /// internal reflection, where `f` is 1).
+    Dielectric {
+        f: f32,
+        reflected: Vec3,
+        refracted: Option<Vec3>,
+    },
+    /// Metal: reflect with per-channel weight.
+    Conductor { f: Vec3, reflected: Vec3 },
+}
+
+fn scatter(material: &Material, s: &Surface, dir: Vec3) -> Option<Scatter> {
+    let cos_i = (-dir).dot(s.ns).clamp(0.0, 1.0);
+    let reflected = reflect_dir(dir, s.ns).normalize();
+    match *material {
+        Material::Diffuse { .. } => None,
+        Material::Metal { n, k } => Some(Scatter::Conductor {
+            f: fresnel_nk(cos_i, n, k),
+            reflected,
+        }),
+        Material::Glass { ior } => {
+            // eta_rel = n_t / n_i: entering the glass from air, or leaving it.
+            let eta_rel = if s.front { ior } else { 1.0 / ior };
+            let f = fresnel_dielectric(cos_i, eta_rel);
+            let t = refract_dir(dir, s.ns, 1.0 / eta_rel);
+            if t.w == 0.0 || f >= 1.0 {
+                Some(Scatter::Dielectric {
+                    f: 1.0,
+                    reflected,
+                    refracted: None,
+                })
+            } else {
+                Some(Scatter::Dielectric {
+                    f,
+                    reflected,
+                    refracted: Some(t.truncate()),
+                })
+            }
+        }
+    }
+}
+
+struct Tracer<'a> {
+    scene: &'a Scene,
+    bvh: &'a SceneBvh,
+    max_depth: u32,
+}
+
+impl Tracer<'_> {
+    /// Radiance arriving at `origin` from direction `-dir`; `depth` specular interactions
+    /// so far, `throughput` the product of weights along the path from the eye.
+    fn radiance(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        depth: u32,
+        throughput: Vec3,
+        c: &mut Counts,
+    ) -> Vec3 {
+        c.camera += 1;
+        match self.bvh.closest_hit(origin, dir, f32::INFINITY) {
+            Some(hit) => self.shade(&hit, dir, depth, throughput, c),
+            None => self.scene.background,
+        }
+    }
+
+    /// Radiance leaving `hit` back along `dir`.
+    fn shade(&self, hit: &Hit, dir: Vec3, depth: u32, throughput: Vec3, c: &mut Counts) -> Vec3 {
+        let s = Surface::new(hit, dir);
+        let material = &self.scene.objects[hit.object].material;
+        let Some(sc) = scatter(material, &s, dir) else {
+            return self.direct_light(&s, self.albedo(hit), c);
+        };
+        if depth >= self.max_depth {
+            return Vec3::ZERO; // the chain is longer than max_depth
+        }
+        match sc {
+            Scatter::Conductor { f, reflected } => {
+                let t = throughput * f;
+                if t.max_element() < MIN_THROUGHPUT {
+                    return Vec3::ZERO;
+                }
+                f * self.radiance(s.above(), reflected, depth + 1, t, c)
+            }
+            Scatter::Dielectric {
+                f,
+                reflected,
+                refracted,
+            } => {
+                let mut l = Vec3::ZERO;
+                let tr = throughput * f;
+                if tr.max_element() >= MIN_THROUGHPUT {
+                    l += f * self.radiance(s.above(), reflected, depth + 1, tr, c);
+                }
+                if let Some(t_dir) = refracted {
+                    let tt = throughput * (1.0 - f);
+                    if tt.max_element() >= MIN_THROUGHPUT {
+                        l += (1.0 - f) * self.radiance(s.below(), t_dir, depth + 1, tt, c);
+                    }
+                }
+                l
+            }
+        }
+    }
+
+    /// Diffuse albedo at a hit (albedo times the texture, if any).
+    fn albedo(&self, hit: &Hit) -> Vec3 {
+        match &self.scene.objects[hit.object].material {
+            Material::Diffuse { albedo, texture } => {
+                match texture.and_then(|t| self.scene.textures.get(t)) {
+                    Some(tex) => *albedo * tex.sample(hit.uv),
+                    None => *albedo,
+                }
+            }
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// `sum_lights rho / pi * I * max(0, n_s . l) / d^2 * V`.
+    fn direct_light(&self, s: &Surface, albedo: Vec3, c: &mut Counts) -> Vec3 {
+        let origin = s.above();
+        let mut sum = Vec3::ZERO;
+        for light in &self.scene.lights {
+            let to_light = light.position - s.p;
+            let d2 = to_light.length_squared();
+            if d2 <= 0.0 {
+                continue;
+            }
+            let l = to_light / d2.sqrt();
+            let cos = s.ns.dot(l);
+            if cos <= 0.0 || s.ng.dot(l) <= 0.0 {
+                continue;
+            }
+            let seg = light.position - origin;
+            let len = seg.length();
+            c.shadow += 1;
+            if self.bvh.any_hit(origin, seg / len, len) {
+                continue;
+            }
+            sum += light.intensity * (cos / d2);
+        }
+        albedo * FRAC_1_PI * sum
+    }
+
+    /// Follows one photon from `origin` along `dir` with `power`; calls `land` at the diffuse
+    /// surface where it stops if it made at least `min_bounces` specular interactions.
+    #[allow(clippy::too_many_arguments)]
+    fn trace_photon(
+        &self,
+        mut origin: Vec3,
+        mut dir: Vec3,
+        mut power: Vec3,
+        min_bounces: u32,
+        rng: &mut SplitMix64,
+        rays: &mut u64,
+        mut land: impl FnMut(&Hit, &Surface, Vec3, Vec3, Vec3),
+    ) {
+        let mut bounces = 0;
+        loop {
+            *rays += 1;
+            let Some(hit) = self.bvh.closest_hit(origin, dir, f32::INFINITY) else {
+                return;
+            };
+            let s = Surface::new(&hit, dir);
+            let material = &self.scene.objects[hit.object].material;
+            let Some(sc) = scatter(material, &s, dir) else {
+                if bounces >= min_bounces {
+                    land(&hit, &s, self.albedo(&hit), dir, power);
+                }
+                return;
+            };
+            if bounces >= self.max_depth {
+                return;
+            }
+            bounces += 1;
+            match sc {
+                Scatter::Conductor { f, reflected } => {
+                    power *= f;
+                    if power.max_element() <= 0.0 {
+                        return;
+                    }
+                    (origin, dir) = (s.above(), reflected);
+                }
+                Scatter::Dielectric {
+                    f,
+                    reflected,
+                    refracted,
+                } => match refracted {
+                    Some(t_dir) if rng.next_f32() >= f => (origin, dir) = (s.below(), t_dir),
+                    _ => (origin, dir) = (s.above(), reflected),
+                },
+            }
+        }
+    }
+}
+
+/// The pinhole camera as the light pass sees it: where a point lands on the image and
+/// what one pixel's importance is.
+struct Eye {
+    camera: Camera,
+    forward: Vec3,
+    width: u32,
+    height: u32,
+    /// Area of one pixel on the image plane at unit distance.
+    pixel_area: f32,
+}
+
+impl Eye {
+    fn new(camera: &Camera, width: u32, height: u32) -> Self {
+        let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
+        let aspect = width as f32 / height as f32;
+        Eye {
+            camera: *camera,
+            forward: (camera.target - camera.eye).normalize(),
+            width,
+            height,
+            pixel_area: (2.0 * tan_half) * (2.0 * tan_half) * aspect
+                / (width as f32 * height as f32),
+        }
+    }
+
+    /// The pixel index and radiance a photon of `power` landed at `s` adds (see the module
+    /// docs for the derivation), or None if the eye does not see it.
+    fn connect(
+        &self,
+        bvh: &SceneBvh,
+        s: &Surface,
+        albedo: Vec3,
+        photon_dir: Vec3,
+        power: Vec3,
+        rays: &mut u64,
+    ) -> Option<(usize, Vec3)> {
+        let to_eye = self.camera.eye - s.p;
+        let d2 = to_eye.length_squared();
+        if d2 <= 0.0 {
+            return None;
+        }
+        let w_c = to_eye / d2.sqrt();
+        let cos_surface = s.ng.dot(w_c); // eye on the lit side?
+        let cos_camera = self.forward.dot(-w_c); // cos theta_c
+        if cos_surface <= 0.0 || cos_camera <= 0.0 {
+            return None;
+        }
+        let px = self.camera.project(s.p, self.width, self.height)?;
+        if !(px.x >= 0.0 && px.y >= 0.0 && px.x < self.width as f32 && px.y < self.height as f32) {
+            return None;
+        }
+        let (x, y) = (
+            (px.x as u32).min(self.width - 1),
+            (px.y as u32).min(self.height - 1),
+        );
+        *rays += 1;
+        let origin = s.above();
+        let seg = self.camera.eye - origin;
+        let len = seg.length();
+        if bvh.any_hit(origin, seg / len, len) {
+            return None;
+        }
+        // Irradiance measured with the shading normal, like the direct term.
+        let w_i = -photon_dir;
+        let cos_i_g = s.ng.dot(w_i).max(1e-6);
+        let correction = (s.ns.dot(w_i).max(0.0) / cos_i_g).min(MAX_SHADING_CORRECTION);
+        let importance = 1.0 / (self.pixel_area * cos_camera * cos_camera * cos_camera);
+        let value = power * albedo * FRAC_1_PI * (correction * cos_surface / d2 * importance);
+        Some(((y * self.width + x) as usize, value))
+    }
+}
+
+/// One cone of photon directions: from a light toward a target's bounding sphere.
+struct Emitter {
+    light: usize,
+    axis: Vec3,
+    /// `1 - cos theta_max` (2 for the whole sphere), kept apart for precision.
+    one_minus_cos: f32,
+    solid_angle: f32,
+    photons: u64,
+}
+
+impl Emitter {
+    fn contains(&self, w: Vec3) -> bool {
+        self.one_minus_cos >= 2.0 || 1.0 - w.dot(self.axis) <= self.one_minus_cos
+    }
+    /// Uniform direction in the cone: `cos theta = 1 - u (1 - cos theta_max)`.
+    fn sample(&self, u: f32, v: f32) -> Vec3 {
+        let omc = u * self.one_minus_cos; // 1 - cos theta
+        let cos_t = 1.0 - omc;
+        let sin_t = (omc * (2.0 - omc)).max(0.0).sqrt();
+        let phi = 2.0 * PI * v;
+        let (t, b) = self.axis.any_orthonormal_pair();
+        (self.axis * cos_t + (t * phi.cos() + b * phi.sin()) * sin_t).normalize()
+    }
+}
+
+fn emitters(scene: &Scene, time: f32, setup: &PhotonSetup, photons: u64) -> Vec<Emitter> {
+    let mut out = Vec::new();
+    for (li, light) in scene.lights.iter().enumerate() {
+        if light.intensity.max_element() <= 0.0 {
+            continue;
+        }
+        for &ti in &setup.targets {
+            let Some(object) = scene.objects.get(ti) else {
+                continue;
+            };
+            if object.mesh.indices.is_empty() {
+                continue;
+            }
+            let center = object.center_at(time);
+            let radius = object.bounding_radius_at(time) * (1.0 + 1e-4) + 1e-6;
+            let to = center - light.position;
+            let dist = to.length();
+            let (axis, one_minus_cos) = if dist <= radius {
+                (Vec3::Y, 2.0)
+            } else {
+                let sin2 = (radius / dist) * (radius / dist);
+                (to / dist, sin2 / (1.0 + (1.0 - sin2).sqrt()))
+            };
+            out.push(Emitter {
+                light: li,
+                axis,
+                one_minus_cos,
+                solid_angle: 2.0 * PI * one_minus_cos,
+                photons: 0,
+            });
+        }
+    }
+    // Split the budget in proportion to the power into each cone.
+    let weight =
+        |e: &Emitter| scene.lights[e.light].intensity.element_sum() as f64 * e.solid_angle as f64;
+    let total: f64 = out.iter().map(weight).sum();
+    if total > 0.0 {
+        for e in &mut out {
+            e.photons = ((photons as f64 * weight(e) / total).round() as u64).max(1);
+        }
+    }
+    out
+}
+
+/// SplitMix64 (Steele, Lea, Flood 2014): tiny, fast, and good enough for sampling.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1) with 24 bits.
+    fn next_f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 * (1.0 / 16_777_216.0)
+    }
+}
+
+fn chunk_seed(seed: u64, emitter: usize, chunk: u64) -> u64 {
+    let mut m = SplitMix64(seed);
+    let a = m.next_u64() ^ (emitter as u64).wrapping_mul(0xd1b5_4a32_d192_ed03);
+    let mut m = SplitMix64(a);
+    m.next_u64() ^ chunk.wrapping_mul(0x8cb9_2ba7_2f3d_8dd7)
+}
+
+struct ChunkResult {
+    splats: Vec<(usize, Vec3)>,
+    deposited: Vec<Vec3>,
+    rays: u64,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn light_trace_with(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    camera: &Camera,
+    time: f32,
+    width: u32,
+    height: u32,
+    opts: &ReferenceOptions,
+    setup: &PhotonSetup,
+) -> LightTrace {
+    let n_lights = scene.lights.len();
+    let pixels = (width * height) as usize;
+    let emitters = emitters(scene, time, setup, opts.photons);
+    let mut emitted = vec![Vec3::ZERO; n_lights];
+    for e in &emitters {
+        emitted[e.light] += scene.lights[e.light].intensity * e.solid_angle;
+    }
+    let mut work = Vec::new();
+    for (ei, e) in emitters.iter().enumerate() {
+        let mut first = 0;
+        while first < e.photons {
+            work.push((ei, first, PHOTON_CHUNK.min(e.photons - first)));
+            first += PHOTON_CHUNK;
+        }
+    }
+    let tracer = Tracer {
+        scene,
+        bvh,
+        max_depth: opts.max_depth,
+    };
+    let eye = Eye::new(camera, width, height);
+    let results: Vec<ChunkResult> = work
+        .par_iter()
+        .map(|&(ei, first, count)| {
+            let e = &emitters[ei];
+            let light = &scene.lights[e.light];
+            let mut rng = SplitMix64(chunk_seed(opts.seed, ei, first));
+            let mut out = ChunkResult {
+                splats: Vec::new(),
+                deposited: vec![Vec3::ZERO; n_lights],
+                rays: 0,
+            };
+            for _ in 0..count {
+                let (u, v) = (rng.next_f32(), rng.next_f32());
+                let w = e.sample(u, v);
+                // Balance heuristic over the cones of this light that contain w.
+                let mut density = e.photons as f32 / e.solid_angle;
+                for (oj, o) in emitters.iter().enumerate() {
+                    if oj != ei && o.light == e.light && o.contains(w) {
+                        density += o.photons as f32 / o.solid_angle;
+                    }
+                }
+                let power = light.intensity / density;
+                let (mut rays, mut eye_rays) = (0, 0);
+                tracer.trace_photon(
+                    light.position,
+                    w,
+                    power,
+                    setup.min_specular_bounces,
+                    &mut rng,
+                    &mut rays,
+                    |_hit, s, albedo, dir, p| {
+                        out.deposited[e.light] += p;
+                        if let Some(splat) = eye.connect(bvh, s, albedo, dir, p, &mut eye_rays) {
+                            out.splats.push(splat);
+                        }
+                    },
+                );
+                out.rays += rays + eye_rays;
+            }
+            out
+        })
+        .collect();
+
+    // Ordered reduction: the same sums in the same order whatever the thread count.
+    let mut radiance = vec![Vec3::ZERO; pixels];
+    let mut deposited = vec![Vec3::ZERO; n_lights];
+    let (mut rays, mut stored) = (0, 0);
+    for r in results {
+        for (i, v) in &r.splats {
+            radiance[*i] += *v;
+        }
+        stored += r.splats.len() as u64;
+        for (d, x) in deposited.iter_mut().zip(&r.deposited) {
+            *d += *x;
+        }
+        rays += r.rays;
+    }
+    LightTrace {
+        radiance,
+        deposited,
+        emitted,
+        photons_traced: emitters.iter().map(|e| e.photons).sum(),
+        photons_stored: stored,
+        rays,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_sample_is_the_pixel_centre_and_many_stay_inside() {
+        assert_eq!(pixel_sample(0, 1), Vec2::splat(0.5));
+        for n in [2, 4, 9, 16] {
+            for i in 0..n {
+                let s = pixel_sample(i, n);
+                assert!(s.x > 0.0 && s.x < 1.0 && s.y >= 0.0 && s.y < 1.0, "{s:?}");
+            }
+        }
+    }
+
+    /// Cone sampling: every direction inside the cone, and uniform in solid angle (the mean
+    /// of cos theta over a uniform cone is 1 - (1 - cos theta_max) / 2).
+    #[test]
+    fn cone_samples_are_uniform_inside_the_cone() {
+        for (axis, omc) in [
+            (Vec3::new(0.3, -1.0, 0.2).normalize(), 0.05f32),
+            (Vec3::Z, 1.2),
+            (Vec3::Y, 2.0),
+        ] {
+            let e = Emitter {
+                light: 0,
+                axis,
+                one_minus_cos: omc,
+                solid_angle: 2.0 * PI * omc,
+                photons: 1,
+            };
+            let mut rng = SplitMix64(7);
+            let n = 200_000;
+            let mut mean_cos = 0.0f64;
+            for _ in 0..n {
+                let w = e.sample(rng.next_f32(), rng.next_f32());
+                assert!((w.length() - 1.0).abs() < 1e-5);
+                assert!(e.contains(w) || 1.0 - w.dot(axis) <= omc * (1.0 + 1e-4) + 1e-6);
+                mean_cos += w.dot(axis) as f64;
+            }
+            mean_cos /= n as f64;
+            let want = 1.0 - omc as f64 / 2.0;
+            assert!(
+                (mean_cos - want).abs() < 3e-3 * omc as f64 + 1e-4,
+                "{mean_cos} vs {want}"
+            );
+        }
+    }
+
+    #[test]
+    fn chunk_seeds_differ_and_repeat() {
+        assert_eq!(chunk_seed(1, 2, 3), chunk_seed(1, 2, 3));
+        let seeds: std::collections::HashSet<u64> = (0..4)
+            .flat_map(|e| (0..64).map(move |c| chunk_seed(9, e, c * PHOTON_CHUNK)))
+            .collect();
+        assert_eq!(seeds.len(), 4 * 64);
+    }
+
+    #[test]
+    fn photons_scale_with_the_image() {
+        assert_eq!(ReferenceOptions::for_image(256, 256).photons, 61 * 65536);
+        assert_eq!(ReferenceOptions::for_image(16, 16).photons, 100_000);
+        assert_eq!(
+            ReferenceOptions::for_image(64, 64).max_depth,
+            ReferenceOptions::default().max_depth
+        );
+    }
+}
