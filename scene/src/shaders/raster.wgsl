@@ -7,12 +7,13 @@ const PLAIN_GREY: vec3f = vec3f(0.7);
 @fragment
 fn raster_fs(in: SceneVertexOut) -> @location(0) vec4f {
     let eye = camera.eye.xyz;
-    let n = facing_normal(in.normal, in.world, eye);
+    let ng = geometric_facing_normal(in.world, eye);
+    let n = shading_normal(in.normal, ng);
     var albedo = surface_albedo(in.object, in.uv);
     if (objects[in.object].material.x != MATERIAL_DIFFUSE) {
         albedo = PLAIN_GREY;
     }
-    return vec4f(shade_diffuse(in.world, n, albedo), distance(in.world, eye));
+    return vec4f(shade_diffuse_ng(in.world, n, ng, albedo), distance(in.world, eye));
 }
 
 // Shadow pass: distance from the light (camera.eye) to the nearest surface.

@@ -80,9 +80,25 @@ fn scene_vs(v: SceneVertexIn, @builtin(instance_index) object: u32) -> SceneVert
 }
 
 // The shading normal turned to face the viewer (surfaces are two-sided, as in the reference).
+// Simple form for technique shaders; the raster pass uses the geometric rule below.
 fn facing_normal(n: vec3f, p: vec3f, eye: vec3f) -> vec3f {
     let nn = normalize(n);
     return select(nn, -nn, dot(nn, eye - p) < 0.0);
+}
+
+// Unit geometric normal of the triangle under this fragment, turned toward the eye. From
+// screen-space derivatives of the world position, so it needs no winding convention (cube
+// faces are mirrored views) and must be called in uniform control flow.
+fn geometric_facing_normal(p: vec3f, eye: vec3f) -> vec3f {
+    let ng = normalize(cross(dpdx(p), dpdy(p)));
+    return select(ng, -ng, dot(ng, eye - p) < 0.0);
+}
+
+// The reference's rule: the shading normal is turned to the side of the geometric normal the
+// viewer sees.
+fn shading_normal(n: vec3f, ng_facing: vec3f) -> vec3f {
+    let nn = normalize(n);
+    return select(nn, -nn, dot(nn, ng_facing) < 0.0);
 }
 
 fn surface_albedo(object: u32, uv: vec2f) -> vec3f {
@@ -105,15 +121,22 @@ fn light_visibility(i: u32, p: vec3f, n: vec3f) -> f32 {
     return select(0.0, 1.0, d - bias <= stored);
 }
 
-// Direct diffuse radiance toward the viewer: n must face the viewer.
-fn shade_diffuse(p: vec3f, n: vec3f, albedo: vec3f) -> vec3f {
+// Direct diffuse radiance toward the viewer with shading normal n and geometric normal ng,
+// both facing the viewer: a light behind the geometric face contributes nothing, even where
+// the smooth normal still faces it (the reference's rule).
+fn shade_diffuse_ng(p: vec3f, n: vec3f, ng: vec3f, albedo: vec3f) -> vec3f {
     var sum = vec3f(0.0);
     for (var i = 0u; i < scene_info.light_count; i++) {
         let to_l = lights[i].position.xyz - p;
         let d2 = dot(to_l, to_l);
         let cos_l = dot(n, to_l) * inverseSqrt(d2);
-        if (cos_l <= 0.0) { continue; }
-        sum += albedo / PI * lights[i].intensity.rgb * cos_l / d2 * light_visibility(i, p, n);
+        if (cos_l <= 0.0 || dot(ng, to_l) <= 0.0) { continue; }
+        sum += albedo / PI * lights[i].intensity.rgb * cos_l / d2 * light_visibility(i, p, ng);
     }
     return sum;
+}
+
+// The same with the shading normal standing in for the geometric one.
+fn shade_diffuse(p: vec3f, n: vec3f, albedo: vec3f) -> vec3f {
+    return shade_diffuse_ng(p, n, n, albedo);
 }
