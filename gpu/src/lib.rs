@@ -3,6 +3,7 @@
 //! WGSL prelude (with its Rust twin in [`prelude`]) that every technique's shaders include.
 
 mod context;
+pub mod compute;
 pub mod cube;
 pub mod depth_peel;
 pub mod fullscreen;

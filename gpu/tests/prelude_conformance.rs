@@ -29,8 +29,6 @@ use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3, Vec4};
 use gpu::prelude as p;
-use gpu::wgpu;
-use gpu::wgpu::util::DeviceExt;
 
 /// Random cases per function, on top of the edge cases.
 const RANDOM_CASES: usize = 4096;
@@ -193,57 +191,9 @@ fn arg(c: &Case, k: usize) -> Vec4 {
 
 /// Runs kernel `entry` of `KERNELS` compiled after `prelude` on `cases`.
 fn run_kernel(prelude: &str, entry: &str, cases: &[Case]) -> Vec<Output> {
-    let ctx = ctx();
     let source = format!("{prelude}\n{KERNELS}");
-    let (pipeline, input, output) = ctx
-        .validated(|| {
-            let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(entry),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            });
-            let pipeline = ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            });
-            let input = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("conformance cases"),
-                contents: bytemuck::cast_slice(cases),
-                usage: wgpu::BufferUsages::STORAGE,
-            });
-            let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("conformance results"),
-                size: std::mem::size_of_val(cases) as u64 / 2,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            (pipeline, input, output)
-        })
-        .unwrap_or_else(|e| panic!("building kernel {entry}: {e}"));
-    let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(entry),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
-        ],
-    });
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(entry),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
-    }
-    ctx.queue.submit([encoder.finish()]);
-    let bytes = gpu::read_buffer(ctx, &output).unwrap_or_else(|e| panic!("{entry}: {e}"));
-    bytemuck::pod_collect_to_vec(&bytes)
+    gpu::compute::run_kernel(ctx(), &source, entry, cases, 1)
+        .unwrap_or_else(|e| panic!("kernel {entry}: {e}"))
 }
 
 /// Runs `entry` on every case and collects a message for each case `check` rejects.

@@ -1,0 +1,74 @@
+//! One-shot compute kernels over plain arrays: what every GPU conformance test does (run a
+//! WGSL routine on random inputs, read the results back, compare with its Rust twin).
+//!
+//! Kernel convention: `@group(0) @binding(0) var<storage, read> inputs: array<I>;`,
+//! `@group(0) @binding(1) var<storage, read_write> outputs: array<O>;`, entry point with
+//! `@workgroup_size(64)` indexed by `global_invocation_id.x` (guard `i < arrayLength(&inputs)`).
+
+use crate::{Context, GpuError};
+use wgpu::util::DeviceExt;
+
+/// Threads per workgroup the kernels are written for.
+pub const WORKGROUP_SIZE: u32 = 64;
+
+/// Compiles `source` (prefix the prelude yourself if the kernel needs it), runs `entry` over
+/// `inputs` and returns `outputs_per_input * inputs.len()` outputs. Shader and validation
+/// errors come back as `GpuError::Validation`.
+pub fn run_kernel<I: bytemuck::Pod, O: bytemuck::Pod>(
+    ctx: &Context,
+    source: &str,
+    entry: &str,
+    inputs: &[I],
+    outputs_per_input: usize,
+) -> Result<Vec<O>, GpuError> {
+    if inputs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let output_bytes = (std::mem::size_of::<O>() * outputs_per_input * inputs.len()) as u64;
+    let (pipeline, input, output) = ctx.validated(|| {
+        let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(entry),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let pipeline = ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: None,
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let input = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("kernel inputs"),
+            contents: bytemuck::cast_slice(inputs),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("kernel outputs"),
+            size: output_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        (pipeline, input, output)
+    })?;
+    ctx.validated(|| {
+        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(entry),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+            ],
+        });
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups((inputs.len() as u32).div_ceil(WORKGROUP_SIZE), 1, 1);
+        }
+        ctx.queue.submit([encoder.finish()]);
+    })?;
+    let bytes = crate::read_buffer(ctx, &output)?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
+}
