@@ -1,0 +1,73 @@
+//! Soft volumes: billboards, slices and ray-traced volumes against the scene depth, after
+//! chapter 6 of van Dongen's thesis "Using raycasting in GPU shaders to enhance real-time
+//! graphics" (`raycasting-in-shaders-interior-mapping-and-volumes.md`).
+//!
+//! - [`path_length`]: the visible path length through each volume primitive, clipped by the
+//!   eye and the scene depth, and the path-length-to-opacity functions; the WGSL in
+//!   `shaders/path_length.wgsl` is its twin.
+//! - [`technique`]: the variants (the 17 of the thesis's figure 6.23 plus particle-system
+//!   versions) behind `scene::Technique`.
+//! - [`ground_truth`]: the exact uniform media composited over a volume-free image, on the
+//!   CPU, with the opacity function of the variant under test.
+//!
+//! See `README.md` for how each variant maps to the thesis and where it departs from it.
+
+pub mod ground_truth;
+pub mod path_length;
+pub mod technique;
+
+pub use ground_truth::{TruthSpec, VolumeSet};
+pub use path_length::{OpacityFn, Primitive};
+pub use technique::{Method, Variant, VolumeTechnique};
+
+/// All technique variants of this crate: the 17 of the thesis's figure 6.23 in its order,
+/// then the particle-system versions.
+pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
+    technique::all_variants()
+        .into_iter()
+        .map(|v| Box::new(VolumeTechnique::new(v)) as Box<dyn scene::Technique>)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_the_thesis_tests() {
+        let ids: Vec<String> = technique::thesis_variants().iter().map(|v| v.id()).collect();
+        let expected = [
+            "volumes/billboard",
+            "volumes/slices-5",
+            "volumes/slices-9",
+            "volumes/slices-19",
+            "volumes/slices-39",
+            "volumes/slices-79",
+            "volumes/slices-5-float",
+            "volumes/slices-9-float",
+            "volumes/slices-19-float",
+            "volumes/slices-39-float",
+            "volumes/slices-79-float",
+            "volumes/raytraced-constant",
+            "volumes/raytraced-linear",
+            "volumes/raytraced-sphere-log",
+            "volumes/raytraced-sphere-linear",
+            "volumes/raytraced-sphere-sqrt",
+            "volumes/raytraced-thickness",
+        ];
+        assert_eq!(ids, expected);
+        for (i, v) in technique::thesis_variants().iter().enumerate() {
+            assert_eq!(v.thesis_test(), Some(i as u32 + 1), "{}", v.id());
+        }
+        let all: Vec<String> = techniques().iter().map(|t| t.id()).collect();
+        let mut unique = all.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), all.len(), "ids are unique: {all:?}");
+        assert!(all.contains(&"volumes/particles-billboard".to_string()));
+        assert!(all.contains(&"volumes/particles-raytraced-sphere-log".to_string()));
+        for id in &all {
+            assert!(ground_truth::spec_for(id).is_some(), "{id} has a ground truth");
+        }
+    }
+}

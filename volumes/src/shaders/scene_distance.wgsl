@@ -1,0 +1,8 @@
+// The depth pre-pass of thesis 6.3.3: the scene's distance from the eye per pixel, into an
+// R16Float texture ("a 16 bit floating point texture is used here"). Needs the prelude and
+// scene::SCENE_WGSL (scene_vs, the camera at group 0).
+
+@fragment
+fn scene_distance_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    return vec4f(distance(in.world, camera.eye.xyz), 0.0, 0.0, 0.0);
+}

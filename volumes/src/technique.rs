@@ -1,0 +1,876 @@
+//! The volume techniques of thesis section 6.3 behind the workspace's `Technique` trait.
+//!
+//! One frame:
+//!
+//! 1. (ray-traced volumes, unless `free_depth`; billboards and slices only with
+//!    `depth_prepass`) the depth pre-pass of 6.3.3: the scene's distance from the eye into an
+//!    R16Float texture, timed as the span `scene-depth`;
+//! 2. the diffuse scene with `GpuScene::raster` into an Rgba16Float colour buffer, with the
+//!    target's depth buffer;
+//! 3. (8-bit slices) a full-screen copy of that colour into an Rgba8Unorm buffer: from here the
+//!    slices blend at 8 bits per channel, as in a 2008 frame buffer;
+//! 4. the volumes, sorted back to front, as camera-facing quads in one instanced draw, timed
+//!    as the span `volumes`: billboards and slices depth-tested against the scene, ray-traced
+//!    billboards without depth test reading the scene distance instead;
+//! 5. a full-screen resolve of the colour buffer into the target (alpha 1).
+//!
+//! The target is `Rgba32Float`, which is not blendable without `FLOAT32_BLENDABLE` (the shared
+//! context does not request it); the Rgba16Float buffer of steps 2-5 is the thesis's "floating
+//! point colour buffer" (16 bits were enough, 6.3.2).
+
+use crate::ground_truth::VolumeSet;
+use crate::path_length::{OpacityFn, PATH_LENGTH_WGSL, Primitive, THICKNESS_TEXTURE_SIZE, thickness_texels};
+use glam::Vec3;
+use gpu::wgpu::{self, util::DeviceExt};
+use gpu::{Context, Target};
+use scene::technique::check_param;
+use scene::{
+    BACKGROUND_DISTANCE, Camera, Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueResult,
+    View, Volume,
+};
+
+const VOLUMES_WGSL: &str = include_str!("shaders/volumes.wgsl");
+const COPY_WGSL: &str = include_str!("shaders/copy.wgsl");
+const SCENE_DISTANCE_WGSL: &str = include_str!("shaders/scene_distance.wgsl");
+
+/// Colour buffer the scene and the volumes are composited in (the "floating point buffer").
+pub const FLOAT_BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Colour buffer of the 8-bit slice variants.
+pub const BYTE_BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The depth pre-pass's distance texture: "a 16 bit floating point texture" (6.3.3).
+pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+/// How a variant renders a volume.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// 6.3.1: one textured billboard, no volume.
+    Billboard,
+    /// 6.3.2: `count` parallel slices; `float_buffer` blends them in Rgba16Float instead of
+    /// Rgba8Unorm.
+    Slices { count: u32, float_buffer: bool },
+    /// 6.3.3: a billboard that ray-traces a volume primitive against the scene distance.
+    Raytraced(Primitive),
+}
+
+/// One technique variant: method, opacity function and which volumes it draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Variant {
+    pub method: Method,
+    pub opacity: OpacityFn,
+    pub set: VolumeSet,
+}
+
+impl Variant {
+    /// `volumes/<name>`, `volumes/particles-<name>` for the particle-system versions.
+    pub fn id(&self) -> String {
+        let name = match self.method {
+            Method::Billboard => "billboard".to_string(),
+            Method::Slices { count, float_buffer } => {
+                format!("slices-{count}{}", if float_buffer { "-float" } else { "" })
+            }
+            Method::Raytraced(Primitive::Constant) => "raytraced-constant".into(),
+            Method::Raytraced(Primitive::Linear) => "raytraced-linear".into(),
+            Method::Raytraced(Primitive::Texture) => "raytraced-thickness".into(),
+            Method::Raytraced(Primitive::Sphere) => format!("raytraced-sphere-{}", self.opacity.name()),
+        };
+        let suffix = match (self.method, self.opacity) {
+            (Method::Raytraced(Primitive::Sphere), _) | (_, OpacityFn::Log) => String::new(),
+            (_, f) => format!("-{}", f.name()),
+        };
+        let prefix = if self.set == VolumeSet::All { "particles-" } else { "" };
+        format!("volumes/{prefix}{name}{suffix}")
+    }
+
+    /// The test number of the thesis's figure 6.23 this variant reproduces.
+    pub fn thesis_test(&self) -> Option<u32> {
+        if self.set != VolumeSet::Single {
+            return None;
+        }
+        let slice_rank = |n: u32| [5, 9, 19, 39, 79].iter().position(|&m| m == n).map(|p| p as u32);
+        match (self.method, self.opacity) {
+            (Method::Billboard, OpacityFn::Log) => Some(1),
+            (Method::Slices { count, float_buffer }, OpacityFn::Log) => {
+                slice_rank(count).map(|r| if float_buffer { 7 + r } else { 2 + r })
+            }
+            (Method::Raytraced(Primitive::Constant), OpacityFn::Log) => Some(12),
+            (Method::Raytraced(Primitive::Linear), OpacityFn::Log) => Some(13),
+            (Method::Raytraced(Primitive::Sphere), OpacityFn::Log) => Some(14),
+            (Method::Raytraced(Primitive::Sphere), OpacityFn::Linear) => Some(15),
+            (Method::Raytraced(Primitive::Sphere), OpacityFn::Sqrt) => Some(16),
+            (Method::Raytraced(Primitive::Texture), OpacityFn::Log) => Some(17),
+            _ => None,
+        }
+    }
+
+    fn description(&self) -> String {
+        let what = match self.method {
+            Method::Billboard => "simple billboard, no volume (6.3.1)".to_string(),
+            Method::Slices { count, float_buffer } => format!(
+                "{count} camera-facing slices forming a sphere, perspective-corrected texture \
+                 coordinates, {} colour buffer (6.3.2)",
+                if float_buffer { "16-bit float" } else { "8-bit" }
+            ),
+            Method::Raytraced(p) => format!(
+                "ray-traced {} against the scene depth (6.3.3)",
+                match p {
+                    Primitive::Constant => "constant-thickness volume",
+                    Primitive::Linear => "linearly decreasing thickness volume",
+                    Primitive::Sphere => "sphere",
+                    Primitive::Texture => "thickness-texture volume",
+                }
+            ),
+        };
+        let set = match self.set {
+            VolumeSet::Single => "the scene's large volumes",
+            VolumeSet::All => "every volume as a particle system",
+        };
+        let test = self.thesis_test().map(|t| format!(", thesis fig. 6.23 test {t}")).unwrap_or_default();
+        format!("{what}; {} path-length-to-opacity; {set}{test}", self.opacity.name())
+    }
+}
+
+/// The 17 variants of the thesis's figure 6.23, in its order.
+pub fn thesis_variants() -> Vec<Variant> {
+    let single = |method, opacity| Variant { method, opacity, set: VolumeSet::Single };
+    let mut out = vec![single(Method::Billboard, OpacityFn::Log)];
+    for float_buffer in [false, true] {
+        for count in [5, 9, 19, 39, 79] {
+            out.push(single(Method::Slices { count, float_buffer }, OpacityFn::Log));
+        }
+    }
+    out.push(single(Method::Raytraced(Primitive::Constant), OpacityFn::Log));
+    out.push(single(Method::Raytraced(Primitive::Linear), OpacityFn::Log));
+    for f in [OpacityFn::Log, OpacityFn::Linear, OpacityFn::Sqrt] {
+        out.push(single(Method::Raytraced(Primitive::Sphere), f));
+    }
+    out.push(single(Method::Raytraced(Primitive::Texture), OpacityFn::Log));
+    out
+}
+
+/// The particle-system versions: every volume of the scene, sorted back to front.
+pub fn particle_variants() -> Vec<Variant> {
+    let all = |method| Variant { method, opacity: OpacityFn::Log, set: VolumeSet::All };
+    vec![
+        all(Method::Billboard),
+        all(Method::Slices { count: 9, float_buffer: false }),
+        all(Method::Slices { count: 9, float_buffer: true }),
+        all(Method::Raytraced(Primitive::Sphere)),
+        all(Method::Raytraced(Primitive::Texture)),
+    ]
+}
+
+/// Every variant this crate registers.
+pub fn all_variants() -> Vec<Variant> {
+    let mut v = thesis_variants();
+    v.extend(particle_variants());
+    v
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GlobalsGpu {
+    view_proj: [[f32; 4]; 4],
+    inv_view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    viewport: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct VolumeGpu {
+    center: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+    normal: [f32; 4],
+    color: [f32; 4],
+}
+
+/// A volume placed for one frame, with its camera-facing billboard axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlacedVolume {
+    pub center: Vec3,
+    pub radius: f32,
+    pub color: Vec3,
+    pub density: f32,
+    /// Unit billboard axes: right and up in the plane, normal toward the eye.
+    pub right: Vec3,
+    pub up: Vec3,
+    pub normal: Vec3,
+    /// Distance from the eye to the centre (the sort key).
+    pub distance: f32,
+}
+
+/// The volumes of `set` at `time`, with billboards facing `camera`'s eye, sorted back to
+/// front (farthest centre first). A billboard's normal points from its centre to the eye;
+/// its right axis is the camera's right made perpendicular to that normal, so billboards
+/// keep the camera's roll. With the eye at the centre the normal is the camera's backward
+/// axis.
+pub fn placed_volumes(volumes: &[Volume], set: VolumeSet, camera: &Camera, time: f32) -> Vec<PlacedVolume> {
+    let forward = (camera.target - camera.eye).normalize();
+    let cam_right = forward.cross(camera.up).normalize();
+    let cam_up = cam_right.cross(forward);
+    let mut out: Vec<PlacedVolume> = volumes
+        .iter()
+        .filter(|v| set.includes(v))
+        .map(|v| {
+            let center = v.center + v.motion.offset(time);
+            let to_eye = camera.eye - center;
+            let distance = to_eye.length();
+            let normal = if distance > 1e-6 * v.radius.max(1e-6) { to_eye / distance } else { -forward };
+            let mut right = cam_right - normal * cam_right.dot(normal);
+            if right.length_squared() < 1e-8 {
+                right = cam_up.cross(normal);
+            }
+            let right = right.normalize();
+            let up = normal.cross(right);
+            PlacedVolume { center, radius: v.radius, color: v.color, density: v.density, right, up, normal, distance }
+        })
+        .collect();
+    out.sort_by(|a, b| b.distance.total_cmp(&a.distance));
+    out
+}
+
+/// One variant of the volume techniques.
+pub struct VolumeTechnique {
+    variant: Variant,
+    /// Billboard half size in units of the volume radius (billboards and ray-traced).
+    billboard_scale: f32,
+    /// Ray-traced: size each billboard to the sphere's silhouette, and draw a screen-filling
+    /// quad when the eye is inside or next to the sphere (a departure from the thesis, which
+    /// accepts the cut-off, 6.3.3).
+    fit_silhouette: bool,
+    /// Ray-traced: read the raster pass's depth buffer instead of rendering the thesis's
+    /// distance texture (the depth "already exists for other reasons").
+    free_depth: bool,
+    /// Billboards and slices: render the distance texture anyway (the thesis's measurement of
+    /// what the depth texture costs, 6.4.3).
+    depth_prepass: bool,
+    gpu: Option<Resources>,
+    buffers: Option<FrameBuffers>,
+}
+
+struct Resources {
+    /// The `free_depth` the volume pipeline was specialised for.
+    free_depth: bool,
+    volume_layout: wgpu::BindGroupLayout,
+    copy_layout: wgpu::BindGroupLayout,
+    volume_pipeline: wgpu::RenderPipeline,
+    to_bytes_pipeline: Option<wgpu::RenderPipeline>,
+    resolve_pipeline: wgpu::RenderPipeline,
+    distance_pipeline: wgpu::RenderPipeline,
+    thickness_view: wgpu::TextureView,
+    sampler: wgpu::Sampler,
+    dummy_distance_view: wgpu::TextureView,
+    dummy_depth_view: wgpu::TextureView,
+}
+
+struct FrameBuffers {
+    width: u32,
+    height: u32,
+    scene_color_view: wgpu::TextureView,
+    bytes_view: Option<wgpu::TextureView>,
+    distance_view: wgpu::TextureView,
+    distance_depth_view: wgpu::TextureView,
+    to_bytes_bind_group: Option<wgpu::BindGroup>,
+    resolve_bind_group: wgpu::BindGroup,
+}
+
+impl VolumeTechnique {
+    pub fn new(variant: Variant) -> Self {
+        Self {
+            variant,
+            billboard_scale: DEFAULT_BILLBOARD_SCALE,
+            fit_silhouette: false,
+            free_depth: false,
+            depth_prepass: false,
+            gpu: None,
+            buffers: None,
+        }
+    }
+
+    pub fn variant(&self) -> Variant {
+        self.variant
+    }
+
+    fn is_raytraced(&self) -> bool {
+        matches!(self.variant.method, Method::Raytraced(_))
+    }
+
+    fn slice_count(&self) -> u32 {
+        match self.variant.method {
+            Method::Slices { count, .. } => count,
+            _ => 1,
+        }
+    }
+
+    fn buffer_format(&self) -> wgpu::TextureFormat {
+        match self.variant.method {
+            Method::Slices { float_buffer: false, .. } => BYTE_BUFFER_FORMAT,
+            _ => FLOAT_BUFFER_FORMAT,
+        }
+    }
+
+    fn renders_distance(&self) -> bool {
+        if self.is_raytraced() { !self.free_depth } else { self.depth_prepass }
+    }
+
+    fn ensure_buffers(&mut self, ctx: &Context, width: u32, height: u32) {
+        if self.buffers.as_ref().is_some_and(|b| b.width == width && b.height == height) {
+            return;
+        }
+        let res = self.gpu.as_ref().expect("prepare() runs before render()");
+        let texture = |label: &str, format: wgpu::TextureFormat| {
+            ctx.device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        let scene_color_view = texture("volumes scene colour (Rgba16Float)", FLOAT_BUFFER_FORMAT);
+        let bytes_view = (self.buffer_format() == BYTE_BUFFER_FORMAT)
+            .then(|| texture("volumes colour (Rgba8Unorm)", BYTE_BUFFER_FORMAT));
+        let distance_view = texture("volumes scene distance (R16Float)", DISTANCE_FORMAT);
+        let distance_depth_view =
+            gpu::depth_texture(ctx, width, height, 1, "volumes depth pre-pass depth").create_view(&Default::default());
+        let copy_bind_group = |view: &wgpu::TextureView| {
+            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("volumes copy"),
+                layout: &res.copy_layout,
+                entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(view) }],
+            })
+        };
+        let to_bytes_bind_group = bytes_view.as_ref().map(|_| copy_bind_group(&scene_color_view));
+        let resolve_bind_group = copy_bind_group(bytes_view.as_ref().unwrap_or(&scene_color_view));
+        self.buffers = Some(FrameBuffers {
+            width,
+            height,
+            scene_color_view,
+            bytes_view,
+            distance_view,
+            distance_depth_view,
+            to_bytes_bind_group,
+            resolve_bind_group,
+        });
+    }
+}
+
+/// Default billboard half size in units of the volume radius: "the sphere is made only
+/// slightly smaller than the billboard" (6.3.3).
+pub const DEFAULT_BILLBOARD_SCALE: f32 = 1.1;
+
+impl Technique for VolumeTechnique {
+    fn id(&self) -> String {
+        self.variant.id()
+    }
+
+    fn description(&self) -> String {
+        self.variant.description()
+    }
+
+    fn params(&self) -> Vec<Param> {
+        let mut params = Vec::new();
+        match self.variant.method {
+            Method::Raytraced(_) => {
+                params.push(scale_param());
+                params.push(Param {
+                    name: "fit_silhouette",
+                    default: 0.0,
+                    min: 0.0,
+                    max: 1.0,
+                    integer: true,
+                    help: "1: size each billboard to cover the sphere's silhouette and fill the screen \
+                           when the eye is inside or next to the volume (not in the thesis); \
+                           0: billboard_scale times the radius, as the thesis",
+                });
+                params.push(Param {
+                    name: "free_depth",
+                    default: 0.0,
+                    min: 0.0,
+                    max: 1.0,
+                    integer: true,
+                    help: "1: read the raster pass's depth buffer (the depth texture exists for other \
+                           reasons, its cost not charged); 0: render the thesis's R16Float distance texture",
+                });
+            }
+            Method::Billboard | Method::Slices { .. } => {
+                if self.variant.method == Method::Billboard {
+                    params.push(scale_param());
+                }
+                params.push(Param {
+                    name: "depth_prepass",
+                    default: 0.0,
+                    min: 0.0,
+                    max: 1.0,
+                    integer: true,
+                    help: "1: also render the (unused) scene distance texture, as the thesis did to \
+                           measure its cost (6.4.3)",
+                });
+            }
+        }
+        params
+    }
+
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id(), &self.params(), name, value)?;
+        match name {
+            "billboard_scale" => self.billboard_scale = value as f32,
+            "free_depth" => self.free_depth = value != 0.0,
+            "fit_silhouette" => self.fit_silhouette = value != 0.0,
+            "depth_prepass" => self.depth_prepass = value != 0.0,
+            _ => unreachable!("check_param accepts declared names only"),
+        }
+        Ok(())
+    }
+
+    fn supports(&self, scene: &Scene) -> bool {
+        scene.volumes.iter().any(|v| self.variant.set.includes(v))
+    }
+
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        self.buffers = None;
+        let resources = ctx.validated(|| self.create_resources(ctx, scene))?;
+        self.gpu = Some(resources);
+        Ok(())
+    }
+
+    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        if self.gpu.as_ref().is_some_and(|r| r.free_depth != self.free_depth) {
+            // `free_depth` changed after prepare: respecialise the pipelines.
+            self.gpu = Some(ctx.validated(|| self.create_resources(ctx, scene))?);
+            self.buffers = None;
+        }
+        self.ensure_buffers(ctx, target.width, target.height);
+        let res = self.gpu.as_ref().expect("prepare() runs before render()");
+        let buffers = self.buffers.as_ref().expect("ensure_buffers made them");
+        let camera = &view.camera;
+        let view_proj = camera.view_proj(target.width, target.height);
+
+        // 1. The thesis's depth pre-pass (scene distance into an R16Float texture).
+        if self.renders_distance() {
+            frame.timer.begin(frame.encoder, "scene-depth");
+            {
+                let camera_group = scene.camera_bind_group(ctx, view_proj, camera.eye);
+                let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("volumes scene distance"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &buffers.distance_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: BACKGROUND_DISTANCE as f64,
+                                g: 0.0,
+                                b: 0.0,
+                                a: 0.0,
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &buffers.distance_depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&res.distance_pipeline);
+                pass.set_bind_group(0, &camera_group, &[]);
+                pass.set_bind_group(1, scene.bind_group(), &[]);
+                scene.draw_objects(&mut pass, &ObjectFilter::All);
+            }
+            frame.timer.end(frame.encoder, "scene-depth");
+        }
+
+        // 2. The diffuse scene.
+        let scene_target = RasterTarget {
+            color: &buffers.scene_color_view,
+            depth: &target.depth_view,
+            format: FLOAT_BUFFER_FORMAT,
+            clear: true,
+        };
+        scene.raster(frame, &scene_target, view_proj, camera.eye, &ObjectFilter::All, true);
+
+        // 3. 8-bit slices: from here on the frame is 8 bits per channel.
+        if let (Some(bytes_view), Some(pipeline), Some(group)) =
+            (&buffers.bytes_view, &res.to_bytes_pipeline, &buffers.to_bytes_bind_group)
+        {
+            let mut pass = colour_pass(frame.encoder, bytes_view, "volumes to 8-bit", false);
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            gpu::fullscreen::draw(&mut pass);
+        }
+        let work_view = buffers.bytes_view.as_ref().unwrap_or(&buffers.scene_color_view);
+
+        // 4. The volumes, back to front.
+        let placed = placed_volumes(&scene.scene.volumes, self.variant.set, camera, view.time);
+        if !placed.is_empty() {
+            let globals = GlobalsGpu {
+                view_proj: view_proj.to_cols_array_2d(),
+                inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+                eye: camera.eye.extend(1.0).to_array(),
+                viewport: [target.width as f32, target.height as f32, 0.0, 0.0],
+            };
+            let records: Vec<VolumeGpu> = placed.iter().map(|v| self.volume_record(v)).collect();
+            let globals_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("volumes globals"),
+                contents: bytemuck::bytes_of(&globals),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let volume_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("volumes"),
+                contents: bytemuck::cast_slice(&records),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            let raytraced = self.is_raytraced();
+            let distance_view =
+                if raytraced && !self.free_depth { &buffers.distance_view } else { &res.dummy_distance_view };
+            let depth_view = if raytraced && self.free_depth { &target.depth_view } else { &res.dummy_depth_view };
+            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("volumes"),
+                layout: &res.volume_layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: globals_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: volume_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(&res.thickness_view),
+                    },
+                    wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&res.sampler) },
+                    wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(distance_view) },
+                    wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(depth_view) },
+                ],
+            });
+            frame.timer.begin(frame.encoder, "volumes");
+            {
+                let depth_test = (!raytraced).then_some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &target.depth_view,
+                    depth_ops: None,
+                    stencil_ops: None,
+                });
+                let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("volumes"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: work_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                    })],
+                    depth_stencil_attachment: depth_test,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&res.volume_pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..6, 0..placed.len() as u32 * self.slice_count());
+            }
+            frame.timer.end(frame.encoder, "volumes");
+        }
+
+        // 5. Into the HDR target.
+        let mut pass = colour_pass(frame.encoder, &target.color_view, "volumes resolve", false);
+        pass.set_pipeline(&res.resolve_pipeline);
+        pass.set_bind_group(0, &buffers.resolve_bind_group, &[]);
+        gpu::fullscreen::draw(&mut pass);
+        Ok(())
+    }
+}
+
+fn scale_param() -> Param {
+    Param {
+        name: "billboard_scale",
+        default: DEFAULT_BILLBOARD_SCALE as f64,
+        min: 1.0,
+        max: 8.0,
+        integer: false,
+        help: "billboard half size in units of the volume radius (the sphere is cut where its \
+               silhouette leaves the billboard)",
+    }
+}
+
+/// Beyond this ratio of eye distance to radius a fitted billboard covers the silhouette;
+/// closer, the ray-traced pass draws a screen-filling quad.
+const FIT_MIN_DISTANCE: f32 = 1.05;
+
+impl VolumeTechnique {
+    /// The GPU record of a placed volume: billboard half size (metres) and whether to draw a
+    /// screen-filling quad instead.
+    fn volume_record(&self, v: &PlacedVolume) -> VolumeGpu {
+        let (half_size, screen) = billboard_extent(v, self.billboard_scale, self.fit_silhouette && self.is_raytraced());
+        VolumeGpu {
+            center: v.center.extend(v.radius).to_array(),
+            right: v.right.extend(v.density).to_array(),
+            up: v.up.extend(half_size).to_array(),
+            normal: v.normal.extend(if screen { 1.0 } else { 0.0 }).to_array(),
+            color: v.color.extend(1.0).to_array(),
+        }
+    }
+}
+
+/// Half size (metres) of a volume's billboard, and whether a screen-filling quad replaces it.
+/// Without `fit`: `scale * R` (thesis). With `fit`: the plane through the centre facing the eye
+/// meets the silhouette cone of the sphere at radius `R D / sqrt(D^2 - R^2)` (D the eye
+/// distance); 1% more covers it. Closer than [`FIT_MIN_DISTANCE`] R (or inside) no billboard
+/// through the centre can cover the sphere, so the whole screen is drawn.
+pub fn billboard_extent(v: &PlacedVolume, scale: f32, fit: bool) -> (f32, bool) {
+    let r = v.radius;
+    if !fit {
+        return (scale * r, false);
+    }
+    let d = v.distance;
+    if d < FIT_MIN_DISTANCE * r {
+        return (scale * r, true);
+    }
+    let cover = 1.01 * r * d / (d * d - r * r).sqrt();
+    (cover.max(scale * r), false)
+}
+
+fn colour_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+    label: &str,
+    load: bool,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: if load { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(wgpu::Color::BLACK) },
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+impl VolumeTechnique {
+    fn create_resources(&self, ctx: &Context, scene: &GpuScene) -> Resources {
+        let device = &ctx.device;
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let texture_entry = |binding, sample_type| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: fragment,
+            ty: wgpu::BindingType::Texture {
+                sample_type,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let volume_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("volumes"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: both,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: both,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture_entry(2, wgpu::TextureSampleType::Float { filterable: true }),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+                texture_entry(4, wgpu::TextureSampleType::Float { filterable: false }),
+                texture_entry(5, wgpu::TextureSampleType::Depth),
+            ],
+        });
+        let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("volumes copy"),
+            entries: &[texture_entry(0, wgpu::TextureSampleType::Float { filterable: false })],
+        });
+
+        // The volume pass.
+        let source = format!("{PATH_LENGTH_WGSL}\n{VOLUMES_WGSL}");
+        let module = gpu::shader_with_prelude(ctx, "volumes", &source);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("volumes"),
+            bind_group_layouts: &[Some(&volume_layout)],
+            immediate_size: 0,
+        });
+        let (fragment_entry, primitive) = match self.variant.method {
+            Method::Billboard => ("billboard_fs", Primitive::Sphere),
+            Method::Slices { .. } => ("slice_fs", Primitive::Sphere),
+            Method::Raytraced(p) => ("raytraced_fs", p),
+        };
+        let constants = [
+            ("SLICES", self.slice_count() as f64),
+            ("OPACITY", self.variant.opacity.code() as f64),
+            ("PRIMITIVE", primitive.code() as f64),
+            ("DEPTH_SOURCE", if self.free_depth { 1.0 } else { 0.0 }),
+        ];
+        let options =
+            wgpu::PipelineCompilationOptions { constants: &constants, zero_initialize_workgroup_memory: true };
+        let depth_stencil = (!self.is_raytraced()).then(|| wgpu::DepthStencilState {
+            format: gpu::DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        });
+        let premultiplied_over = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::Zero,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            },
+        };
+        let volume_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("volumes"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("volume_vs"),
+                compilation_options: options.clone(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some(fragment_entry),
+                compilation_options: options,
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: self.buffer_format(),
+                    blend: Some(premultiplied_over),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil,
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+
+        // Full-screen copies.
+        let copy_source = |keep_alpha: bool| format!("const COPY_ALPHA: bool = {keep_alpha};\n{COPY_WGSL}");
+        let to_bytes_pipeline = (self.buffer_format() == BYTE_BUFFER_FORMAT).then(|| {
+            gpu::fullscreen::pipeline(
+                ctx,
+                "volumes to 8-bit",
+                &copy_source(true),
+                &[Some(&copy_layout)],
+                BYTE_BUFFER_FORMAT,
+                None,
+            )
+        });
+        let resolve_pipeline = gpu::fullscreen::pipeline(
+            ctx,
+            "volumes resolve",
+            &copy_source(false),
+            &[Some(&copy_layout)],
+            gpu::HDR_FORMAT,
+            None,
+        );
+
+        // The depth pre-pass.
+        let distance_module = gpu::shader_with_prelude(
+            ctx,
+            "volumes scene distance",
+            &format!("{}\n{SCENE_DISTANCE_WGSL}", scene::SCENE_WGSL),
+        );
+        let distance_layout = scene.pipeline_layout_with(ctx, &[]);
+        let distance_pipeline = scene::scene_pipeline(
+            ctx,
+            "volumes scene distance",
+            &distance_layout,
+            &distance_module,
+            "scene_distance_fs",
+            DISTANCE_FORMAT,
+        );
+
+        // The thickness texture (the alpha of the billboard texture) and its sampler.
+        let size = THICKNESS_TEXTURE_SIZE;
+        let thickness = device.create_texture_with_data(
+            &ctx.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("volumes thickness texture"),
+                size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba8Unorm,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            &thickness_texels(),
+        );
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("volumes thickness sampler"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let dummy_distance_view = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("volumes unused distance"),
+                size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DISTANCE_FORMAT,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        let dummy_depth_view =
+            gpu::depth_texture(ctx, 1, 1, 1, "volumes unused depth").create_view(&Default::default());
+        Resources {
+            free_depth: self.free_depth,
+            volume_layout,
+            copy_layout,
+            volume_pipeline,
+            to_bytes_pipeline,
+            resolve_pipeline,
+            distance_pipeline,
+            thickness_view: thickness.create_view(&Default::default()),
+            sampler,
+            dummy_distance_view,
+            dummy_depth_view,
+        }
+    }
+}
