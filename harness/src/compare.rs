@@ -120,7 +120,9 @@ pub(crate) fn measure(
     let mut row = row.with_run(&run);
     let mut flip = None;
     if let Some(r) = reference {
-        let (m, map) = scene::metrics::compare(&run.image, &r.image, Some(&r.mask));
+        let view = scene::View { camera: gpu_scene.scene.camera, time: 0.0, width: size.width, height: size.height };
+        let truth = technique.ground_truth(&gpu_scene.scene, &view, &r.image);
+        let (m, map) = scene::metrics::compare(&run.image, truth.as_ref().unwrap_or(&r.image), Some(&r.mask));
         row = row.with_metrics(&m);
         flip = Some(map);
     }

@@ -40,8 +40,9 @@ pub fn registry() -> Vec<Box<dyn Technique>> {
     techniques.push(Box::new(scene::techniques::RasterTechnique));
     techniques.push(Box::new(scene::techniques::ClassicEnvMap::default()));
     // Technique crates:
-    // techniques.extend(impostors::techniques());
-    // techniques.extend(volumes::techniques());
+    techniques.extend(impostors::techniques());
+    techniques.extend(volumes::techniques());
+    techniques.extend(interior_mapping::techniques());
     // ---- end of registry ----
     techniques
 }

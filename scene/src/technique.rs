@@ -88,6 +88,14 @@ pub trait Technique {
     fn timing(&self) -> Timing {
         Timing::Gpu
     }
+    /// The exact image this technique approximates, when that is not the scene's reference
+    /// alone: volume techniques define opacity from path length by their own function, and
+    /// their ground truth is the reference with each volume composited as a real medium with
+    /// that function (exact path lengths against the exact scene depth). Computed on the CPU
+    /// from `reference` (the scene's reference image of `view`); `None` means the reference.
+    fn ground_truth(&self, _scene: &Scene, _view: &View, _reference: &gpu::HdrImage) -> Option<gpu::HdrImage> {
+        None
+    }
     /// Builds per-scene resources; GPU work recorded into `frame` is timed as "prepare".
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()>;
     /// Records one frame of `view` into `target` (colour = linear radiance).

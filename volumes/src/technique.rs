@@ -433,6 +433,13 @@ impl Technique for VolumeTechnique {
         scene.volumes.iter().any(|v| self.variant.set.includes(v))
     }
 
+    /// The exact volume: the reference with this variant's volumes composited as real media
+    /// with its opacity function (see `ground_truth`).
+    fn ground_truth(&self, scene: &Scene, view: &scene::View, reference: &gpu::HdrImage) -> Option<gpu::HdrImage> {
+        let spec = crate::ground_truth::spec_for(&self.id())?;
+        Some(crate::ground_truth::render(scene, &view.camera, view.time, reference, spec))
+    }
+
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         self.buffers = None;
