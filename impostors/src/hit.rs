@@ -1,0 +1,339 @@
+//! `Hit()`: the approximate ray hit of a distance impostor (paper sections 2.1-2.2 and the
+//! `Hit` listing of section 3), and its WGSL twin in `shaders/hit.wgsl`.
+//!
+//! Coordinates are relative to the reference point `o` of the map (the paper's origin). A
+//! [`DistanceMap`] answers "how far from `o` is the environment surface in direction `u`?".
+//! For a point `y` on the ray `x + R d` the ratio
+//!
+//! ```text
+//!     g(d) = |y| / dist(y),   y = x + R d
+//! ```
+//!
+//! (`llp`, `ppp` in the paper) is below 1 when `y` is in front of the surface
+//! (*undershooting*) and above 1 behind it (*overshooting*); the hit is the root of
+//! `g(d) = 1`. Against a plane `n.y = c` seen from `o`, `dist(u) = c / n.u`, so
+//! `g(d) = n.(x + R d) / c` is *linear* in `d`: two samples on the same plane give the exact
+//! hit in one secant step, which is why the method is exact for large planar faces.
+//!
+//! The steps, with the paper's symbols:
+//!
+//! 1. `|r| = dist(R)`: `r = R |r|` is what classic environment mapping would show.
+//! 2. Perpendicular-surface first guess (eq. 2): `d_p = |r| - R.x`, `p = x + R d_p`.
+//! 3. Planar second guess through `r` and `p'` (eq. 4): `d_l = d_p + |r| (1 - |p|/|p'|)`.
+//! 4. Refinement (eq. 6), `iterations` times:
+//!    `d_new = d_l + (d_l - d_a) (1 - g_l) / (g_l - g_a)` where the partner `a` is
+//!    - [`Method::Secant`]: the previous approximation (`p` on the first step);
+//!    - [`Method::FalsePosition`]: the last approximation of the *opposite* type. With no
+//!      overshoot yet, the partner is the ideal point at infinity of `r`: its chord has slope
+//!      `1/|r|`, giving `d_new = d_l + |r| (1 - g_l)` (the same planar step as eq. 4); with no
+//!      undershoot yet the paper's "safe" choice substitutes `r` again, the same formula.
+//!
+//! Every new ray parameter is clamped to `[0, D_MAX]` (the paper's "avoid flip" clamp to the
+//! non-negative domain, plus an upper bound that keeps a divergent secant finite).
+//!
+//! Departures from the listing, all for robustness, none changes a converging run:
+//! - "no undershoot/overshoot yet" is a flag, not the listing's `d == 0` sentinel (a clamped
+//!   `d = 0` undershoot would otherwise be mistaken for "none");
+//! - `d_p` is clamped to be non-negative like every other ray parameter;
+//! - distances read from the map are floored at [`DIST_EPSILON`] (a reference point on a
+//!   wall reads 0), `|y|` below [`MIN_LENGTH`] counts as ratio 0 (`y` is at `o`: certainly
+//!   in front of the surface), and a secant step whose denominator is below
+//!   [`DENOM_EPSILON`] is skipped (the listing would divide by zero).
+
+use glam::Vec3;
+
+/// Floor of a distance read from the map (metres).
+pub const DIST_EPSILON: f32 = 1e-6;
+/// Points closer than this to the reference point have ratio 0 (undershooting).
+pub const MIN_LENGTH: f32 = 1e-6;
+/// Secant steps with `|g_l - g_a|` below this are skipped (the two ratios are equal).
+pub const DENOM_EPSILON: f32 = 1e-7;
+/// Upper clamp of the ray parameter (metres); beyond the raster pass's background distance.
+pub const D_MAX: f32 = 1.0e5;
+
+/// Distance from the reference point to the environment surface in a direction.
+pub trait DistanceMap {
+    /// Distance along `dir` (any non-zero length; implementations normalise if they need
+    /// to). `dir` is relative to the reference point.
+    fn distance(&self, dir: Vec3) -> f32;
+}
+
+impl<F: Fn(Vec3) -> f32> DistanceMap for F {
+    fn distance(&self, dir: Vec3) -> f32 {
+        self(dir)
+    }
+}
+
+/// How the two initial guesses are refined.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Pair the newest approximation with the previous one (eq. 6 as derived).
+    Secant,
+    /// Pair it with the last approximation of the opposite type (the `Hit` listing).
+    FalsePosition,
+}
+
+impl Method {
+    /// The value of `method` in `shaders/hit.wgsl`.
+    pub fn wgsl_id(self) -> u32 {
+        match self {
+            Method::Secant => 0,
+            Method::FalsePosition => 1,
+        }
+    }
+    pub fn from_wgsl_id(id: u32) -> Self {
+        if id == 0 {
+            Method::Secant
+        } else {
+            Method::FalsePosition
+        }
+    }
+}
+
+/// One evaluated approximation: ray parameter and its ratio `g(d) = |y| / dist(y)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub d: f32,
+    pub ratio: f32,
+}
+
+impl Sample {
+    pub fn undershooting(&self) -> bool {
+        self.ratio < 1.0
+    }
+}
+
+/// What [`hit_traced`] records: every ray parameter produced, in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Trace {
+    /// `d_p`, its ratio.
+    pub perpendicular: Option<Sample>,
+    /// Ray parameters after the planar guess (`d_l`) and after each iteration.
+    pub d: Vec<f32>,
+    /// Ratio of each evaluated iterate (one per iteration: the ratio of `d[i]`).
+    pub ratios: Vec<f32>,
+    /// The bracket `[d_under, d_over]` after each iteration (`None` where no sample of that
+    /// type exists yet; false position only, secant leaves both `None`).
+    pub brackets: Vec<(Option<f32>, Option<f32>)>,
+}
+
+/// Result of [`hit`]: the ray parameter `d` and the point `l = x + R d` (relative to the
+/// reference point), whose direction is what the radiance lookup uses.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HitResult {
+    pub d: f32,
+    pub l: Vec3,
+}
+
+/// Ratio `|y| / dist(y)` of a point relative to the reference point.
+pub fn ratio(map: &impl DistanceMap, y: Vec3) -> f32 {
+    let len = y.length();
+    if len < MIN_LENGTH {
+        return 0.0;
+    }
+    len / map.distance(y).max(DIST_EPSILON)
+}
+
+// `max`/`min` return the non-NaN operand (`f32::clamp` would pass a NaN through), as WGSL's
+// `max`/`min` do on the implementations we run; the step formulas cannot make NaN anyway.
+#[allow(clippy::manual_clamp)]
+fn clamp_d(d: f32) -> f32 {
+    d.max(0.0).min(D_MAX)
+}
+
+/// Approximate hit of the ray `x + R d` (x relative to the reference point, `R` unit length).
+pub fn hit(
+    map: &impl DistanceMap,
+    x: Vec3,
+    r_dir: Vec3,
+    method: Method,
+    iterations: u32,
+) -> HitResult {
+    hit_traced(map, x, r_dir, method, iterations, None)
+}
+
+/// [`hit`] recording every step into `trace` when given.
+pub fn hit_traced(
+    map: &impl DistanceMap,
+    x: Vec3,
+    r_dir: Vec3,
+    method: Method,
+    iterations: u32,
+    mut trace: Option<&mut Trace>,
+) -> HitResult {
+    // |r|: the point r = R |r| is what classic environment mapping shows.
+    let r_len = map.distance(r_dir).max(DIST_EPSILON);
+    // First guess: the surface at r is perpendicular to R (eq. 2).
+    let d_p = clamp_d(r_len - r_dir.dot(x));
+    let p = Sample {
+        d: d_p,
+        ratio: ratio(map, x + r_dir * d_p),
+    };
+    // Second guess: the surface is planar between r and p' (eq. 4).
+    let mut d_l = clamp_d(d_p + r_len * (1.0 - p.ratio));
+
+    // Last undershooting / overshooting samples (false position), previous sample (secant).
+    let mut under: Option<Sample> = p.undershooting().then_some(p);
+    let mut over: Option<Sample> = (!p.undershooting()).then_some(p);
+    let mut previous = p;
+    if let Some(t) = trace.as_deref_mut() {
+        t.perpendicular = Some(p);
+        t.d.push(d_l);
+    }
+
+    for _ in 0..iterations {
+        let l = Sample {
+            d: d_l,
+            ratio: ratio(map, x + r_dir * d_l),
+        };
+        let partner = match method {
+            Method::Secant => {
+                let a = previous;
+                previous = l;
+                Some(a)
+            }
+            Method::FalsePosition => {
+                if l.undershooting() {
+                    under = Some(l);
+                    over
+                } else {
+                    over = Some(l);
+                    under
+                }
+            }
+        };
+        let step = match partner {
+            // Chord through l and the partner (eq. 6).
+            Some(a) => {
+                let denom = l.ratio - a.ratio;
+                if denom.abs() < DENOM_EPSILON {
+                    0.0
+                } else {
+                    (l.d - a.d) * (1.0 - l.ratio) / denom
+                }
+            }
+            // Chord through l and the ideal point at infinity of r (slope 1/|r|).
+            None => r_len * (1.0 - l.ratio),
+        };
+        d_l = clamp_d(d_l + step);
+        if let Some(t) = trace.as_deref_mut() {
+            t.ratios.push(l.ratio);
+            t.d.push(d_l);
+            t.brackets.push(match method {
+                Method::Secant => (None, None),
+                Method::FalsePosition => (under.map(|s| s.d), over.map(|s| s.d)),
+            });
+        }
+    }
+    HitResult {
+        d: d_l,
+        l: x + r_dir * d_l,
+    }
+}
+
+/// An exact distance function of an axis-aligned box room seen from inside: the environment
+/// of the property tests (planar walls, convex from every interior reference point).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoxRoom {
+    pub min: Vec3,
+    pub max: Vec3,
+    /// Reference point (inside the room, walls included).
+    pub reference: Vec3,
+}
+
+impl BoxRoom {
+    /// Exact ray parameter from `origin` (world) along unit `dir` to the first wall, for an
+    /// origin inside the room.
+    pub fn exact_t(&self, origin: Vec3, dir: Vec3) -> f32 {
+        let mut t = f32::INFINITY;
+        for axis in 0..3 {
+            let d = dir[axis];
+            if d > 0.0 {
+                t = t.min((self.max[axis] - origin[axis]) / d);
+            } else if d < 0.0 {
+                t = t.min((self.min[axis] - origin[axis]) / d);
+            }
+        }
+        t.max(0.0)
+    }
+}
+
+impl DistanceMap for BoxRoom {
+    fn distance(&self, dir: Vec3) -> f32 {
+        self.exact_t(self.reference, dir.normalize())
+    }
+}
+
+/// A cube distance map read back from the GPU: six faces of `size` x `size` texels in
+/// layer order +X,-X,+Y,-Y,+Z,-Z, looked up *nearest texel* through the prelude's
+/// `cube_dir_to_face_uv` (what a `Nearest` sampler does on the GPU).
+#[derive(Clone, Debug)]
+pub struct CubeDistanceMap {
+    pub size: u32,
+    /// `faces[f][j * size + i]`: distance of texel (i, j) of face f.
+    pub faces: Vec<Vec<f32>>,
+}
+
+impl CubeDistanceMap {
+    /// From read-back RGBA faces, taking channel `channel` (3: packed alpha).
+    pub fn from_rgba_faces(size: u32, faces: &[Vec<[f32; 4]>], channel: usize) -> Self {
+        Self {
+            size,
+            faces: faces
+                .iter()
+                .map(|f| f.iter().map(|t| t[channel]).collect())
+                .collect(),
+        }
+    }
+
+    /// Texel (face, i, j) that a nearest lookup of `dir` reads.
+    pub fn texel(&self, dir: Vec3) -> (usize, u32, u32) {
+        let fuv = gpu::prelude::cube_dir_to_face_uv(dir);
+        let s = self.size as f32;
+        let i = ((fuv.y * s).floor().max(0.0) as u32).min(self.size - 1);
+        let j = ((fuv.z * s).floor().max(0.0) as u32).min(self.size - 1);
+        (fuv.x as usize, i, j)
+    }
+}
+
+impl DistanceMap for CubeDistanceMap {
+    fn distance(&self, dir: Vec3) -> f32 {
+        let (f, i, j) = self.texel(dir);
+        self.faces[f][(j * self.size + i) as usize]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn room() -> BoxRoom {
+        BoxRoom {
+            min: Vec3::new(-1.0, 0.0, -1.0),
+            max: Vec3::new(1.0, 2.0, 1.0),
+            reference: Vec3::new(0.1, 0.7, -0.2),
+        }
+    }
+
+    #[test]
+    fn planar_guess_is_exact_when_r_and_p_prime_share_the_hit_wall() {
+        // Looking straight at the back wall from near the reference point: r, p' and q all lie
+        // on the plane z = -1.
+        let room = room();
+        let x = Vec3::new(0.05, 0.05, 0.1);
+        let r = Vec3::new(0.1, 0.05, -1.0).normalize();
+        let h = hit(&room, x, r, Method::FalsePosition, 0);
+        let exact = room.exact_t(room.reference + x, r);
+        assert!((h.d - exact).abs() < 1e-5, "{} vs {exact}", h.d);
+    }
+
+    #[test]
+    fn ray_at_the_reference_point_reads_the_map() {
+        let room = room();
+        let r = Vec3::new(0.3, -0.4, 0.5).normalize();
+        for method in [Method::Secant, Method::FalsePosition] {
+            let h = hit(&room, Vec3::ZERO, r, method, 3);
+            assert!((h.d - room.distance(r)).abs() < 1e-5);
+        }
+    }
+}

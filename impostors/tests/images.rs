@@ -1,0 +1,312 @@
+//! Image tests against the CPU reference (`scene::reference`, caustic photons on) on small
+//! images, metrics from `scene::metrics::compare` with the reference's mask (the pixels that
+//! show the sphere). Each test prints its table (`--nocapture`) and writes a strip PNG
+//! (reference, then the techniques in table order) under `target/impostors-tests/`.
+//!
+//! Stated bounds (96 x 96, default camera, time 0, impostor resolution 256):
+//! - `localized_beats_classic_on_cornell_sphere`: the masked FLIP mean and the masked RMSE of
+//!   the localized technique are below classic's (the paper's figures 5 and 7 claim) and its
+//!   masked FLIP <= 0.05: false-position-4 on the mirror, double-refraction on glass-1.5.
+//!   (Single-interface localized refraction, false-position-4 on glass, is *worse* than
+//!   classic there: see README.md.)
+//! - `stale_map_error_vs_iterations`: map made at time 0, sphere moved 0.5 m by time 1
+//!   (paper figure 5): false-position-8 below classic on cornell-sphere and cornell-box.
+//! - `error_vs_iterations`: cornell-sphere mirror / glass-1.5 / cornell-box mirror, masked
+//!   FLIP and RMSE for initial-guess and 1, 2, 4, 8 iterations of each method; no NaN pixel
+//!   anywhere; false-position-8 no worse than initial-guess + 0.01 (masked FLIP).
+//! - `split_layout_matches_packed`: false-position-4 and false-position-4-split give the same
+//!   image (both read the same f16 distances; max abs difference <= 1e-3).
+
+mod common;
+
+use std::sync::OnceLock;
+
+use gpu::HdrImage;
+use scene::metrics::{Metrics, compare};
+use scene::reference::{ReferenceImage, ReferenceOptions};
+
+const SIZE: u32 = 96;
+
+fn reference(spec: &str) -> &'static ReferenceImage {
+    reference_at(spec, 0.0)
+}
+
+fn reference_at(spec: &str, time: f32) -> &'static ReferenceImage {
+    static CACHE: OnceLock<std::sync::Mutex<Vec<(String, &'static ReferenceImage)>>> =
+        OnceLock::new();
+    let cache = CACHE.get_or_init(Default::default);
+    let mut cache = cache.lock().unwrap();
+    let key = format!("{spec}@{time}");
+    if let Some((_, r)) = cache.iter().find(|(s, _)| *s == key) {
+        return r;
+    }
+    let scene = scene::load(spec).unwrap();
+    let opts = ReferenceOptions::for_image(SIZE, SIZE);
+    let r: &'static ReferenceImage = Box::leak(Box::new(scene::reference::render(
+        &scene,
+        &scene.camera,
+        time,
+        SIZE,
+        SIZE,
+        &opts,
+    )));
+    cache.push((key, r));
+    r
+}
+
+struct Row {
+    id: String,
+    metrics: Metrics,
+    image: HdrImage,
+}
+
+fn evaluate(spec: &str, ids: &[&str]) -> Vec<Row> {
+    evaluate_stale(spec, ids, &[0.0])
+}
+
+/// Renders frames at `times` (the map regenerated only at the first unless the technique's
+/// threshold asks; `regen_threshold` is set to 10 m when more than one time is given) and
+/// compares the last with the reference at the last time.
+fn evaluate_stale(spec: &str, ids: &[&str], times: &[f32]) -> Vec<Row> {
+    let scene = scene::load(spec).unwrap();
+    let reference = reference_at(spec, *times.last().unwrap());
+    let mut rows = Vec::new();
+    for id in ids {
+        let mut t = common::technique(id);
+        if times.len() > 1 {
+            t.set_param("regen_threshold", 10.0).unwrap();
+        }
+        let image = {
+            let _g = common::gpu_lock();
+            common::render_frames(t.as_mut(), &scene, times, SIZE)
+        };
+        let (metrics, _) = compare(&image, &reference.image, Some(&reference.mask));
+        assert_eq!(metrics.nan_pixels, 0, "{id} on {spec}: non-finite pixels");
+        rows.push(Row {
+            id: id.to_string(),
+            metrics,
+            image,
+        });
+    }
+    println!(
+        "{spec} at times {times:?} ({SIZE}x{SIZE}, {} masked pixels)",
+        rows[0].metrics.masked_pixels
+    );
+    println!("  technique                          masked FLIP   FLIP      RMSE");
+    for r in &rows {
+        println!(
+            "  {:<34} {:.4}        {:.4}    {:.5}",
+            r.id, r.metrics.flip_mean_masked, r.metrics.flip_mean, r.metrics.rmse
+        );
+    }
+    let mut strip: Vec<&HdrImage> = vec![&reference.image];
+    strip.extend(rows.iter().map(|r| &r.image));
+    let name = format!(
+        "images-{}-t{}.png",
+        spec.replace([':', '=', ','], "_"),
+        times.len()
+    );
+    println!(
+        "  strip: {}",
+        common::save_strip(&strip, &name, 2).display()
+    );
+    rows
+}
+
+fn get<'a>(rows: &'a [Row], id: &str) -> &'a Metrics {
+    &rows.iter().find(|r| r.id == id).unwrap().metrics
+}
+
+/// Masked RMSE: RMSE over the mask's pixels only.
+fn masked_rmse(a: &HdrImage, b: &HdrImage, mask: &[bool]) -> f64 {
+    let (mut sum, mut n) = (0.0f64, 0usize);
+    for ((p, q), m) in a.pixels.iter().zip(&b.pixels).zip(mask) {
+        if *m {
+            for c in 0..3 {
+                sum += (p[c] as f64 - q[c] as f64).powi(2);
+            }
+            n += 3;
+        }
+    }
+    (sum / n.max(1) as f64).sqrt()
+}
+
+#[test]
+fn localized_beats_classic_on_cornell_sphere() {
+    for material in ["mirror", "glass-1.5"] {
+        let spec = format!("cornell-sphere:material={material}");
+        let glass = material.starts_with("glass");
+        // Glass: the localized variant that follows the ray through the sphere is
+        // double-refraction; the single-interface variants are printed for the record.
+        let localized_id = if glass {
+            "impostors/double-refraction"
+        } else {
+            "impostors/false-position-4"
+        };
+        let mut ids = vec!["impostors/classic", "impostors/false-position-4"];
+        if glass {
+            ids.push("impostors/double-refraction");
+        }
+        let rows = evaluate(&spec, &ids);
+        let mask = &reference(&spec).mask;
+        let reference = &reference(&spec).image;
+        let rmse = |id: &str| {
+            masked_rmse(
+                &rows.iter().find(|r| r.id == id).unwrap().image,
+                reference,
+                mask,
+            )
+        };
+        for id in &ids {
+            println!("  masked RMSE {id}: {:.5}", rmse(id));
+        }
+        let (classic, localized) = (get(&rows, "impostors/classic"), get(&rows, localized_id));
+        assert!(
+            localized.flip_mean_masked < classic.flip_mean_masked,
+            "{spec}: {localized_id} masked FLIP {} not below classic {}",
+            localized.flip_mean_masked,
+            classic.flip_mean_masked
+        );
+        assert!(
+            rmse(localized_id) < rmse("impostors/classic"),
+            "{spec}: masked RMSE"
+        );
+        assert!(
+            localized.flip_mean_masked <= 0.05,
+            "{spec}: {localized_id} masked FLIP {}",
+            localized.flip_mean_masked
+        );
+    }
+}
+
+/// The paper's figure 5 set-up: the map is made with the sphere at time 0 and reused at
+/// time 1, when the sphere has moved 0.5 m toward the red wall (regen_threshold 10 m), so
+/// rays start far from the reference point and iterations matter.
+#[test]
+fn stale_map_error_vs_iterations() {
+    let ids = [
+        "impostors/classic",
+        "impostors/initial-guess",
+        "impostors/secant-1",
+        "impostors/secant-2",
+        "impostors/secant-4",
+        "impostors/secant-8",
+        "impostors/false-position-1",
+        "impostors/false-position-2",
+        "impostors/false-position-4",
+        "impostors/false-position-8",
+    ];
+    for spec in [
+        "cornell-sphere:material=mirror",
+        "cornell-box:material=mirror",
+    ] {
+        let rows = evaluate_stale(spec, &ids, &[0.0, 1.0]);
+        let classic = get(&rows, "impostors/classic").flip_mean_masked;
+        let fp8 = get(&rows, "impostors/false-position-8").flip_mean_masked;
+        assert!(
+            fp8 < classic,
+            "{spec}: false-position-8 {fp8} vs classic {classic}"
+        );
+    }
+}
+
+#[test]
+fn error_vs_iterations() {
+    let ids = [
+        "impostors/classic",
+        "impostors/initial-guess",
+        "impostors/secant-1",
+        "impostors/secant-2",
+        "impostors/secant-4",
+        "impostors/secant-8",
+        "impostors/false-position-1",
+        "impostors/false-position-2",
+        "impostors/false-position-4",
+        "impostors/false-position-8",
+    ];
+    for spec in [
+        "cornell-sphere:material=mirror",
+        "cornell-sphere:material=glass-1.5",
+        "cornell-box:material=mirror",
+    ] {
+        let rows = evaluate(spec, &ids);
+        let guess = get(&rows, "impostors/initial-guess").flip_mean_masked;
+        let fp8 = get(&rows, "impostors/false-position-8").flip_mean_masked;
+        assert!(
+            fp8 <= guess + 0.01,
+            "{spec}: false-position-8 {fp8} vs initial guess {guess}"
+        );
+    }
+}
+
+#[test]
+fn split_layout_matches_packed() {
+    let scene = scene::load("cornell-sphere:material=gold").unwrap();
+    let _g = common::gpu_lock();
+    let packed = common::render(
+        common::technique("impostors/false-position-4").as_mut(),
+        &scene,
+        0.0,
+        64,
+    );
+    let split = common::render(
+        common::technique("impostors/false-position-4-split").as_mut(),
+        &scene,
+        0.0,
+        64,
+    );
+    let max = packed
+        .pixels
+        .iter()
+        .zip(&split.pixels)
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
+        .fold(0.0f32, f32::max);
+    assert!(max <= 1e-3, "split and packed layouts differ by {max}");
+}
+
+/// Caustics (paper section 5): the reference's caustic photons land on the floor under the
+/// glass sphere and in its shadow; without caustics every variant misses them. Outside the
+/// mask (the sphere), the caustics variant must bring the image closer to the reference
+/// than double-refraction alone, and the caustic energy it adds must be within a factor of 2
+/// of the reference's.
+#[test]
+fn caustics_reduce_the_error_outside_the_sphere() {
+    for spec in [
+        "cornell-sphere:material=glass-1.5",
+        "cornell-sphere:material=gold",
+    ] {
+        let rows = evaluate(spec, &["impostors/double-refraction", "impostors/caustics"]);
+        let reference = reference(spec);
+        let outside: Vec<bool> = reference.mask.iter().map(|m| !m).collect();
+        let image = |id: &str| &rows.iter().find(|r| r.id == id).unwrap().image;
+        let (plain, caustics) = (
+            image("impostors/double-refraction"),
+            image("impostors/caustics"),
+        );
+        let (e_plain, e_caustics) = (
+            masked_rmse(plain, &reference.image, &outside),
+            masked_rmse(caustics, &reference.image, &outside),
+        );
+        let energy = |img: &HdrImage| -> f64 {
+            img.pixels
+                .iter()
+                .zip(&plain.pixels)
+                .zip(&outside)
+                .filter(|(_, o)| **o)
+                .map(|((a, b), _)| (0..3).map(|c| (a[c] - b[c]) as f64).sum::<f64>())
+                .sum()
+        };
+        let (added, expected) = (energy(caustics), energy(&reference.image));
+        println!(
+            "  outside the sphere: RMSE without caustics {e_plain:.5}, with {e_caustics:.5}; caustic energy added {added:.2}, reference {expected:.2}"
+        );
+        assert!(
+            e_caustics < e_plain,
+            "{spec}: caustics did not reduce the error ({e_caustics} vs {e_plain})"
+        );
+        assert!(
+            added > 0.5 * expected && added < 2.0 * expected,
+            "{spec}: caustic energy {added} vs reference {expected}"
+        );
+    }
+}
