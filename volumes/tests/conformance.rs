@@ -17,8 +17,6 @@ use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3, Vec4};
 use gpu::prelude::hash_to_unit;
-use gpu::wgpu;
-use gpu::wgpu::util::DeviceExt;
 use volumes::path_length::*;
 
 const RANDOM_CASES: u32 = 4096;
@@ -120,56 +118,8 @@ fn run_kernel(entry: &str, cases: &[Case]) -> Vec<Output> {
 }
 
 fn run_kernel_with(path_length_wgsl: &str, entry: &str, cases: &[Case]) -> Vec<Output> {
-    let ctx = ctx();
     let source = format!("{}\n{path_length_wgsl}\n{KERNELS}", gpu::prelude::PRELUDE_WGSL);
-    let (pipeline, input, output) = ctx
-        .validated(|| {
-            let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(entry),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            });
-            let pipeline = ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            });
-            let input = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("cases"),
-                contents: bytemuck::cast_slice(cases),
-                usage: wgpu::BufferUsages::STORAGE,
-            });
-            let output = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("results"),
-                size: (cases.len() * std::mem::size_of::<Output>()) as u64,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            (pipeline, input, output)
-        })
-        .unwrap_or_else(|e| panic!("building kernel {entry}: {e}"));
-    let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(entry),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
-        ],
-    });
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass =
-            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(entry), timestamp_writes: None });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
-    }
-    ctx.queue.submit([encoder.finish()]);
-    let bytes = gpu::read_buffer(ctx, &output).unwrap_or_else(|e| panic!("{entry}: {e}"));
-    let floats: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes);
-    floats.chunks_exact(8).map(|c| [Vec4::from_slice(&c[0..4]), Vec4::from_slice(&c[4..8])]).collect()
+    gpu::compute::run_kernel(ctx(), &source, entry, cases, 1).unwrap_or_else(|e| panic!("kernel {entry}: {e}"))
 }
 
 /// Deterministic random numbers: stream `s`, case `i`, component `k`.
