@@ -7,7 +7,7 @@
 
 use crate::mesh::{cuboid, cylinder, quad, uv_sphere};
 use crate::{
-    Building, Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError,
+    Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError,
     Texture, Volume,
 };
 use glam::{Mat4, Quat, Vec2, Vec3};
@@ -70,6 +70,12 @@ pub fn builtin_scenes() -> Vec<SceneInfo> {
                     default: "1000",
                     help: "rooms per building; sets the room size of each hull",
                 },
+                SceneParam {
+                    name: "interiors",
+                    default: "1",
+                    help: "1: the (at most 3) box buildings beside the start of the street get real \
+                           interiors (window holes, room planes) when rooms_per_building <= 100000; 0: none",
+                },
             ],
         },
         SceneInfo {
@@ -118,9 +124,10 @@ pub fn build(name: &str, params: &BTreeMap<String, String>) -> Result<Scene, Sce
         "cornell-sphere" => cornell(false, &get("material"), num(&get("sphere_x"), "sphere_x")?)?,
         "cornell-box" => cornell(true, &get("material"), num(&get("sphere_x"), "sphere_x")?)?,
         "refraction-bunny" => crate::bunny::refraction_bunny(num(&get("ior"), "ior")?)?,
-        "city" => city(
+        "city" => crate::city::city(
             num(&get("buildings"), "buildings")? as usize,
             num(&get("rooms_per_building"), "rooms_per_building")?,
+            num(&get("interiors"), "interiors")?,
         )?,
         "smoke" => smoke(num(&get("particles"), "particles")? as usize),
         _ => unreachable!("checked against builtin_scenes above"),
@@ -236,80 +243,6 @@ pub fn checker_texture(name: &str, size: u32, cells: u32, a: [u8; 3], b: [u8; 3]
         }
     }
     Texture { name: name.to_string(), width: size, height: size, rgba8 }
-}
-
-fn city(buildings: usize, rooms_per_building: f32) -> Result<Scene, SceneError> {
-    if buildings < 2 || buildings > 100_000 {
-        return Err(SceneError::BadParam(format!("buildings={buildings} is not in 2..=100000")));
-    }
-    if !(1.0..=1e8).contains(&rooms_per_building) {
-        return Err(SceneError::BadParam(format!(
-            "rooms_per_building={rooms_per_building} is not in 1..=1e8"
-        )));
-    }
-    // Hull 20 x 40 x 20 m; rooms split it into n x n^2 x n (more floors than rooms per side
-    // would be odd, so rooms are distributed in proportion to the hull's extent).
-    let hull = Vec3::new(20.0, 40.0, 20.0);
-    let per_axis = (rooms_per_building / 2.0).cbrt().max(1.0);
-    let room_size = hull / Vec3::new(per_axis, 2.0 * per_axis, per_axis);
-    let spacing = 32.0;
-    let columns = (buildings as f32).sqrt().ceil() as usize;
-    let facade = 0;
-    let mut objects = vec![Object::new(
-        "ground",
-        quad(
-            Vec3::new(-spacing, 0.0, spacing),
-            Vec3::X * spacing * (columns as f32 + 1.0),
-            Vec3::NEG_Z * spacing * (columns as f32 + 1.0),
-            Vec2::splat(columns as f32 + 1.0),
-        ),
-        Material::diffuse(0.3, 0.3, 0.3),
-        Mat4::IDENTITY,
-    )];
-    for b in 0..buildings {
-        let (col, row) = (b % columns, b / columns);
-        let at = Vec3::new(col as f32 * spacing, 0.0, -(row as f32) * spacing);
-        let (mesh, shape) = match b {
-            1 => (cylinder(hull.x * 0.5, hull.y, 32), "cylinder"),
-            2 => {
-                let s = uv_sphere(hull.x * 0.5, 16, 32);
-                (s, "sphere")
-            }
-            _ => (cuboid(Vec3::new(-hull.x * 0.5, 0.0, -hull.z * 0.5), Vec3::new(hull.x * 0.5, hull.y, hull.z * 0.5)), "box"),
-        };
-        let lift = if shape == "sphere" { Vec3::Y * hull.x * 0.5 } else { Vec3::ZERO };
-        let mut o = Object::new(
-            &format!("building {b} ({shape})"),
-            mesh,
-            Material::Diffuse { albedo: Vec3::splat(0.8), texture: Some(facade) },
-            Mat4::from_translation(at + lift),
-        )
-        .with_roles(Roles::BUILDING);
-        o.building = Some(Building { room_size });
-        objects.push(o);
-    }
-    let street_x = spacing * 0.5;
-    let depth = spacing * (columns as f32 - 1.0).max(1.0);
-    let cam = |z: f32| Camera {
-        eye: Vec3::new(street_x, 6.0, spacing * 0.8 - z),
-        target: Vec3::new(street_x - 3.0, 12.0, -z - 60.0),
-        up: Vec3::Y,
-        fov_y_deg: 60.0,
-    };
-    Ok(Scene {
-        name: String::new(),
-        objects,
-        textures: vec![checker_texture("facade", 64, 8, [170, 165, 150], [60, 70, 90])],
-        lights: vec![PointLight {
-            name: "sun-like light".into(),
-            position: Vec3::new(250.0, 400.0, 300.0),
-            intensity: Vec3::splat(4.0e5),
-        }],
-        camera: cam(0.0),
-        camera_path: CameraPath { keys: vec![(0.0, cam(0.0)), (4.0, cam(depth))] },
-        volumes: vec![],
-        background: Vec3::new(0.35, 0.45, 0.6),
-    })
 }
 
 fn smoke(particles: usize) -> Scene {

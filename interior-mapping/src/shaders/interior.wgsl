@@ -1,0 +1,103 @@
+// ---------------------------------------------------------------------------------------------
+// Interior mapping ray cast (van Dongen 2008, sections 5.2.1-5.2.2, 5.4.3): the WGSL twin of
+// interior-mapping/src/rooms.rs (same algorithm, same constants; see its docs). Needs the gpu
+// prelude (BIG, hash_to_unit). Grid space: plane k of family a at (k + offset) * size[a].
+// ---------------------------------------------------------------------------------------------
+
+const FAMILY_X: u32 = 0u;
+const FAMILY_Y: u32 = 1u;
+const FAMILY_Z: u32 = 2u;
+const ROOM_EPS: f32 = 1e-4;
+const ROOM_FLAT: f32 = 1e-20;
+
+struct RoomHit {
+    family: u32,
+    t: f32,
+    point: vec3f,
+    room: vec3i,
+    plane: i32,
+};
+
+struct NextPlane {
+    k: i32,
+    t: f32,
+};
+
+fn room_plane_offset(axis: u32, k: i32, amount: f32, seed: u32) -> f32 {
+    if (amount == 0.0) { return 0.0; }
+    let h = hash_to_unit(bitcast<u32>(k) * 3u + axis + seed);
+    return amount * (2.0 * h - 1.0);
+}
+
+fn room_plane_pos(axis: u32, k: i32, amount: f32, seed: u32) -> f32 {
+    return f32(k) + room_plane_offset(axis, k, amount, seed);
+}
+
+// The next plane of one family: for a ray going up the first plane strictly beyond
+// u + ROOM_EPS among the two candidates floor(u + eps - m) + 1 and the one after it.
+fn room_next_plane(axis: u32, u: f32, du: f32, m: f32, seed: u32) -> NextPlane {
+    var r: NextPlane;
+    if (abs(du) < ROOM_FLAT) {
+        r.k = 0;
+        r.t = BIG;
+        return r;
+    }
+    var k: i32;
+    if (du > 0.0) {
+        k = i32(floor(u + ROOM_EPS - m)) + 1;
+        if (!(room_plane_pos(axis, k, m, seed) > u + ROOM_EPS)) { k += 1; }
+    } else {
+        k = i32(ceil(u - ROOM_EPS + m)) - 1;
+        if (!(room_plane_pos(axis, k, m, seed) < u - ROOM_EPS)) { k -= 1; }
+    }
+    r.k = k;
+    r.t = (room_plane_pos(axis, k, m, seed) - u) / du;
+    return r;
+}
+
+fn room_index(axis: u32, u: f32, m: f32, seed: u32) -> i32 {
+    let k = i32(floor(u + m));
+    if (room_plane_pos(axis, k, m, seed) <= u) { return k; }
+    return k - 1;
+}
+
+// Nearest of the three plane families along origin + t * dir (grid space); ties go to the
+// lower family index.
+fn cast_rooms(origin: vec3f, dir: vec3f, size: vec3f, disp: vec3f, seed: u32) -> RoomHit {
+    let u = origin / size;
+    let du = dir / size;
+    let px = room_next_plane(FAMILY_X, u.x, du.x, disp.x, seed);
+    let py = room_next_plane(FAMILY_Y, u.y, du.y, disp.y, seed);
+    let pz = room_next_plane(FAMILY_Z, u.z, du.z, disp.z, seed);
+    var family = FAMILY_X;
+    var best = px;
+    if (py.t < best.t) { family = FAMILY_Y; best = py; }
+    if (pz.t < best.t) { family = FAMILY_Z; best = pz; }
+    var hit: RoomHit;
+    hit.family = family;
+    hit.t = best.t;
+    hit.plane = best.k;
+    var point = origin + best.t * dir;
+    let uh = u + best.t * du;
+    var room = vec3i(0);
+    for (var a = 0u; a < 3u; a++) {
+        if (a == family) {
+            room[a] = select(best.k, best.k - 1, du[a] > 0.0);
+        } else {
+            room[a] = room_index(a, uh[a], disp[a], seed);
+        }
+    }
+    if (best.t < BIG) {
+        point[family] = room_plane_pos(family, best.k, disp[family], seed) * size[family];
+    }
+    hit.point = point;
+    hit.room = room;
+    return hit;
+}
+
+// Texture coordinates on a plane of `family` from room-unit coordinates (repeat addressing).
+fn plane_uv(family: u32, u: vec3f) -> vec2f {
+    if (family == FAMILY_X) { return vec2f(u.z, -u.y); }
+    if (family == FAMILY_Y) { return vec2f(u.x, u.z); }
+    return vec2f(u.x, -u.y);
+}

@@ -1,0 +1,537 @@
+//! The interior-mapping techniques (`interior/...`) and the polygon baseline.
+
+use crate::textures::{self, FURNITURE_FRAMES, FURNITURE_LAYER, VARIANTS};
+use glam::{Mat4, Vec3};
+use gpu::cube::{CubeTarget, cube_face_view_proj};
+use gpu::wgpu::{self, util::DeviceExt};
+use gpu::{Context, Target, Vertex};
+use scene::technique::check_param;
+use scene::{
+    Frame, GpuScene, Material, Object, ObjectFilter, Param, RasterTarget, Roles, Scene, Technique,
+    TechniqueResult, View,
+};
+
+const TECHNIQUE_WGSL: &str = include_str!("shaders/technique.wgsl");
+/// Face size of the reflection cube map of `interior/exterior`.
+pub const ENV_MAP_SIZE: u32 = 64;
+/// Refractive index of the window glass (Fresnel weight of the reflection).
+pub const GLASS_IOR: f32 = 1.5;
+/// Animation rate of the furniture sprite (frames per second).
+pub const FURNITURE_FPS: f32 = 2.0;
+
+/// Which of the paper's versions a technique renders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// Ceilings, floors and walls with lighting, flat colours (figure 5.13 top left).
+    Basic,
+    /// Four textures: floor, ceiling, two wall orientations (figure 5.13 bottom left).
+    Textured,
+    /// Textured, with the window glass reflecting an environment cube map (5.2.3).
+    Exterior,
+    /// Textured plus an alpha-tested, animated furniture plane (5.2.4).
+    Furniture,
+    /// Per-room lights, texture atlas variation and displaced walls (5.4).
+    Varied,
+}
+
+impl Variant {
+    pub const ALL: [Variant; 5] = [Variant::Basic, Variant::Textured, Variant::Exterior, Variant::Furniture, Variant::Varied];
+    fn name(self) -> &'static str {
+        match self {
+            Variant::Basic => "basic",
+            Variant::Textured => "textured",
+            Variant::Exterior => "exterior",
+            Variant::Furniture => "furniture",
+            Variant::Varied => "varied",
+        }
+    }
+    fn code(self) -> f32 {
+        self as u32 as f32
+    }
+}
+
+/// `supports`: the scene has building objects with a room layout.
+pub fn has_buildings(scene: &Scene) -> bool {
+    scene.objects.iter().any(|o| o.roles.contains(Roles::BUILDING) && o.building.is_some())
+}
+
+/// Whether the building's mesh is a facade with real window holes (the `city` scene's real
+/// interiors): interior mapping then draws its closed bounding box instead.
+pub fn has_window_holes(o: &Object) -> bool {
+    o.name.contains("window holes")
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct BuildingGpu {
+    world_to_object: [[f32; 4]; 4],
+    grid_origin: [f32; 4],
+    room_size: [f32; 4],
+    displacement: [f32; 4],
+    hull_max: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SettingsGpu {
+    a: [f32; 4],
+    b: [f32; 4],
+}
+
+/// First index, index count and base vertex of a hull drawn from this technique's buffers.
+type HullRange = (u32, u32, i32);
+
+/// One interior-mapping variant, with or without a depth pre-pass.
+pub struct InteriorMapping {
+    pub variant: Variant,
+    pub prepass: bool,
+    pub room_scale: f32,
+    pub texture_resolution: u32,
+    pub light_probability: f32,
+    pub interior_light: f32,
+    pub furniture_depth: f32,
+    pub displacement: f32,
+    /// Room surfaces of box hulls lit only through the windows (exact); false: the scene's
+    /// shadow maps, as the polygon baseline.
+    pub room_shadows: bool,
+    state: Option<State>,
+}
+
+struct State {
+    pipeline: wgpu::RenderPipeline,
+    /// The same shading writing the room surface's depth (eye inside a hull).
+    pipeline_inside: wgpu::RenderPipeline,
+    /// (world-to-object, bounds min, bounds max) of every hull.
+    hull_boxes: Vec<(Mat4, Vec3, Vec3)>,
+    prepass: Option<wgpu::RenderPipeline>,
+    bind_group: wgpu::BindGroup,
+    settings: wgpu::Buffer,
+    hull_vertices: wgpu::Buffer,
+    hull_indices: wgpu::Buffer,
+    /// (object, Some(first index, count, base vertex) for an own bounding box, None: its mesh)
+    hulls: Vec<(usize, Option<HullRange>)>,
+    building_objects: Vec<usize>,
+    env: Option<CubeTarget>,
+}
+
+impl InteriorMapping {
+    pub fn new(variant: Variant, prepass: bool) -> Self {
+        let varied = variant == Variant::Varied;
+        Self {
+            variant,
+            prepass,
+            room_scale: 1.0,
+            texture_resolution: 64,
+            light_probability: 0.5,
+            interior_light: if varied { 0.3 } else { 0.0 },
+            furniture_depth: 0.4,
+            displacement: if varied { 0.3 } else { 0.0 },
+            room_shadows: true,
+            state: None,
+        }
+    }
+}
+
+impl Technique for InteriorMapping {
+    fn id(&self) -> String {
+        format!("interior/{}{}", self.variant.name(), if self.prepass { "-prepass" } else { "" })
+    }
+    fn description(&self) -> String {
+        let what = match self.variant {
+            Variant::Basic => "rooms by per-pixel ray cast against plane families, lit, untextured",
+            Variant::Textured => "rooms by per-pixel ray cast, four textures (floor, ceiling, two walls)",
+            Variant::Exterior => "textured rooms through windows blended with a reflection cube map",
+            Variant::Furniture => "textured rooms plus an alpha-tested animated furniture plane",
+            Variant::Varied => "per-room lights by probability, atlas variation, displaced walls",
+        };
+        format!("interior mapping: {what}{}", if self.prepass { " (depth pre-pass)" } else { "" })
+    }
+    fn params(&self) -> Vec<Param> {
+        let mut p = vec![
+            Param { name: "room_scale", default: 1.0, min: 0.05, max: 20.0, integer: false, help: "multiplies each building's room size" },
+            Param { name: "texture_resolution", default: 64.0, min: 16.0, max: 256.0, integer: true, help: "interior texture size (texels per side)" },
+            Param { name: "room_shadows", default: 1.0, min: 0.0, max: 1.0, integer: true, help: "1: rooms of box hulls lit only through their windows (exact); 0: the scene's shadow maps, like interior/polygons" },
+            Param { name: "interior_light", default: self.default_interior_light(), min: 0.0, max: 100.0, integer: false, help: "unshadowed room light: radiance = albedo * value (0 matches the reference)" },
+        ];
+        if self.variant == Variant::Varied {
+            p.push(Param { name: "light_probability", default: 0.5, min: 0.0, max: 1.0, integer: false, help: "probability that a room's light is on (c in 5.4.1)" });
+            p.push(Param { name: "displacement", default: 0.3, min: 0.0, max: crate::rooms::MAX_DISPLACEMENT as f64, integer: false, help: "largest wall displacement (rooms)" });
+        }
+        if self.variant == Variant::Furniture {
+            p.push(Param { name: "furniture_depth", default: 0.4, min: 0.0, max: 1.0, integer: false, help: "furniture plane depth behind the facade (rooms)" });
+        }
+        p
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id(), &self.params(), name, value)?;
+        let v = value as f32;
+        match name {
+            "room_scale" => self.room_scale = v,
+            "texture_resolution" => self.texture_resolution = value as u32,
+            "interior_light" => self.interior_light = v,
+            "room_shadows" => self.room_shadows = value == 1.0,
+            "light_probability" => self.light_probability = v,
+            "displacement" => self.displacement = v,
+            _ => self.furniture_depth = v,
+        }
+        Ok(())
+    }
+    fn supports(&self, scene: &Scene) -> bool {
+        has_buildings(scene)
+    }
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        let s = &scene.scene;
+        let time = scene.time();
+        let mut records = vec![<BuildingGpu as bytemuck::Zeroable>::zeroed(); s.objects.len().max(1)];
+        let (mut vertices, mut indices, mut hulls) = (Vec::<Vertex>::new(), Vec::<u32>::new(), Vec::new());
+        let mut hull_boxes = Vec::new();
+        let mut number = 0.0;
+        for (i, o) in s.objects.iter().enumerate() {
+            let Some(b) = o.building.filter(|_| o.roles.contains(Roles::BUILDING)) else { continue };
+            let (lo, hi) = o.mesh.bounds();
+            hull_boxes.push((o.world_at(time).inverse(), lo, hi));
+            records[i] = BuildingGpu {
+                world_to_object: o.world_at(time).inverse().to_cols_array_2d(),
+                grid_origin: lo.extend(number).to_array(),
+                room_size: (b.room_size * self.room_scale).extend(1.0).to_array(),
+                displacement: Vec3::new(self.displacement, 0.0, self.displacement)
+                    .extend(if has_window_holes(o) || o.mesh.triangle_count() == 12 { 1.0 } else { 0.0 })
+                    .to_array(),
+                hull_max: hi.extend(0.0).to_array(),
+            };
+            number += 1.0;
+            if has_window_holes(o) {
+                let mesh = scene::mesh::cuboid(lo, hi);
+                let range = (indices.len() as u32, mesh.indices.len() as u32, vertices.len() as i32);
+                indices.extend_from_slice(&mesh.indices);
+                vertices.extend(mesh.positions.iter().zip(&mesh.normals).zip(&mesh.uvs).map(|((p, n), uv)| Vertex {
+                    position: p.to_array(),
+                    normal: n.to_array(),
+                    uv: uv.to_array(),
+                }));
+                hulls.push((i, Some(range)));
+            } else {
+                hulls.push((i, None));
+            }
+        }
+        if hulls.is_empty() {
+            return Err(scene::TechniqueError::Unsupported(format!(
+                "{} needs building objects with a room layout; scene {} has none",
+                self.id(),
+                s.name
+            )));
+        }
+        vertices.push(Vertex::default());
+        indices.extend([0, 0, 0]);
+        let device = &ctx.device;
+        let buffer = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        let buildings = buffer("interior buildings", bytemuck::cast_slice(&records), wgpu::BufferUsages::STORAGE);
+        let settings = buffer(
+            "interior settings",
+            bytemuck::bytes_of(&SettingsGpu { a: [0.0; 4], b: [0.0; 4] }),
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
+        let hull_vertices = buffer("interior hulls", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX);
+        let hull_indices = buffer("interior hull indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
+
+        let size = self.texture_resolution;
+        ctx.check_size(size, size)?;
+        let layers = FURNITURE_LAYER + FURNITURE_FRAMES;
+        let texture = device.create_texture_with_data(
+            &ctx.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("interior textures"),
+                size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba8UnormSrgb,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            &textures::texture_layers(size),
+        );
+        debug_assert_eq!(VARIANTS * 4, FURNITURE_LAYER);
+        let texture_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("interior sampler"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let env_size = if self.variant == Variant::Exterior { ENV_MAP_SIZE } else { 1 };
+        let env = CubeTarget::new(ctx, env_size, wgpu::TextureFormat::Rgba16Float, "interior reflection map")?;
+        let layout = bind_group_layout(ctx);
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("interior mapping"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: buildings.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: settings.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&texture_view) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&env.cube_view) },
+                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&sampler) },
+            ],
+        });
+        let source = format!("{}\n{}\n{}", scene::SCENE_WGSL, crate::INTERIOR_WGSL, TECHNIQUE_WGSL);
+        let module = gpu::shader_with_prelude(ctx, "interior mapping", &source);
+        let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
+        let pipeline = hull_pipeline(ctx, &pipeline_layout, &module, Some("interior_fs"), !self.prepass);
+        let pipeline_inside = hull_pipeline(ctx, &pipeline_layout, &module, Some("interior_inside_fs"), !self.prepass);
+        let prepass = self.prepass.then(|| hull_pipeline(ctx, &pipeline_layout, &module, None, true));
+        self.state = Some(State {
+            pipeline,
+            pipeline_inside,
+            hull_boxes,
+            prepass,
+            bind_group,
+            settings,
+            hull_vertices,
+            hull_indices,
+            hulls,
+            building_objects: s.objects_with(Roles::BUILDING),
+            env: (self.variant == Variant::Exterior).then_some(env),
+        });
+        Ok(())
+    }
+    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
+        let state = self.state.as_ref().ok_or_else(|| scene::TechniqueError::Unsupported("prepare() runs before render()".into()))?;
+        let eye = view.camera.eye;
+        if let Some(env) = &state.env {
+            // The reflection map: the scene around the eye (buildings' hulls included as drawn by
+            // the shared pass), regenerated every frame.
+            frame.timer.begin(frame.encoder, "regenerate");
+            for face in 0..6 {
+                let view_proj = cube_face_view_proj(face, eye, 0.01, 2.0 * scene::BACKGROUND_DISTANCE);
+                let t = RasterTarget { color: &env.face_views[face], depth: &env.depth_face_views[face], format: env.format, clear: true };
+                scene.raster(frame, &t, view_proj, eye, &ObjectFilter::All, true);
+            }
+            frame.timer.end(frame.encoder, "regenerate");
+        }
+        let frame_index = ((view.time * FURNITURE_FPS).floor().max(0.0) as u32) % FURNITURE_FRAMES;
+        let settings = SettingsGpu {
+            a: [self.variant.code(), self.light_probability, self.interior_light, frame_index as f32],
+            b: [self.furniture_depth, GLASS_IOR, if self.room_shadows { 1.0 } else { 0.0 }, 0.0],
+        };
+        frame.gpu.queue.write_buffer(&state.settings, 0, bytemuck::bytes_of(&settings));
+
+        let view_proj = view.camera.view_proj(view.width, view.height);
+        let main = RasterTarget { color: &target.color_view, depth: &target.depth_view, format: gpu::HDR_FORMAT, clear: true };
+        scene.raster(frame, &main, view_proj, eye, &ObjectFilter::Except(state.building_objects.clone()), true);
+        let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
+        if let Some(prepass) = &state.prepass {
+            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("interior depth pre-pass"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &target.depth_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(prepass);
+            pass.set_bind_group(0, &camera, &[]);
+            pass.set_bind_group(1, scene.bind_group(), &[]);
+            pass.set_bind_group(2, &state.bind_group, &[]);
+            draw_hulls(&mut pass, state, scene);
+        }
+        let mut pass = scene::begin_scene_pass(frame.encoder, &RasterTarget { clear: false, ..main }, scene.scene.background, "interior mapping");
+        let inside = state.hull_boxes.iter().any(|(to_object, lo, hi)| {
+            let e = to_object.transform_point3(eye);
+            e.cmpgt(*lo).all() && e.cmplt(*hi).all()
+        });
+        pass.set_pipeline(if inside { &state.pipeline_inside } else { &state.pipeline });
+        pass.set_bind_group(0, &camera, &[]);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        pass.set_bind_group(2, &state.bind_group, &[]);
+        draw_hulls(&mut pass, state, scene);
+        Ok(())
+    }
+}
+
+impl InteriorMapping {
+    fn default_interior_light(&self) -> f64 {
+        if self.variant == Variant::Varied { 0.3 } else { 0.0 }
+    }
+}
+
+fn draw_hulls(pass: &mut wgpu::RenderPass<'_>, state: &State, scene: &GpuScene) {
+    let own: Vec<usize> = state.hulls.iter().filter(|h| h.1.is_none()).map(|h| h.0).collect();
+    if !own.is_empty() {
+        scene.draw_objects(pass, &ObjectFilter::Only(own));
+    }
+    pass.set_vertex_buffer(0, state.hull_vertices.slice(..));
+    pass.set_index_buffer(state.hull_indices.slice(..), wgpu::IndexFormat::Uint32);
+    for &(object, range) in &state.hulls {
+        if let Some((first, count, base)) = range {
+            let instance = object as u32;
+            pass.draw_indexed(first..first + count, base, instance..instance + 1);
+        }
+    }
+}
+
+fn hull_pipeline(
+    ctx: &Context,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: Option<&str>,
+    write_depth: bool,
+) -> wgpu::RenderPipeline {
+    let shade = fragment_entry.is_some();
+    let targets = [Some(wgpu::ColorTargetState { format: gpu::HDR_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL })];
+    ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(if shade { "interior mapping" } else { "interior depth pre-pass" }),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("scene_vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(Vertex::layout())],
+        },
+        fragment: fragment_entry.map(|entry| wgpu::FragmentState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: gpu::DEPTH_FORMAT,
+            depth_write_enabled: Some(write_depth),
+            depth_compare: Some(if write_depth { wgpu::CompareFunction::Less } else { wgpu::CompareFunction::LessEqual }),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+fn bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+    let f = wgpu::ShaderStages::FRAGMENT;
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: f, ty, count: None };
+    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("interior mapping"),
+        entries: &[
+            entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None }),
+            entry(1, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
+            entry(2, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2Array, multisampled: false }),
+            entry(3, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+            entry(4, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::Cube, multisampled: false }),
+            entry(5, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+        ],
+    })
+}
+
+/// The baseline: the same rooms as real geometry (a facade with window holes and planes
+/// spanning each box hull, as the paper's polygonised building), drawn by the shared raster
+/// pass. Box hulls that already have real interiors in the scene are kept as they are;
+/// curved hulls (cylinder, sphere) stay solid.
+pub struct PolygonInteriors {
+    pub room_scale: f32,
+    pub texture_resolution: u32,
+    state: Option<GpuScene>,
+}
+
+impl Default for PolygonInteriors {
+    fn default() -> Self {
+        Self { room_scale: 1.0, texture_resolution: 64, state: None }
+    }
+}
+
+/// The scene with real room geometry in every box building (what `interior/polygons` draws).
+pub fn polygon_scene(scene: &Scene, room_scale: f32, texture_resolution: u32) -> Scene {
+    let mut out = scene.clone();
+    let base = out.textures.len();
+    out.textures.extend(textures::scene_textures(texture_resolution));
+    let mut added = Vec::new();
+    for o in &mut out.objects {
+        let Some(b) = o.building else { continue };
+        if !o.name.contains("(box)") || has_window_holes(o) {
+            continue;
+        }
+        let (lo, hi) = o.mesh.bounds();
+        let room = b.room_size * room_scale;
+        o.mesh = crate::geometry::facade_with_windows(lo, hi, room);
+        o.name = o.name.replace("(box)", "(box, window holes)");
+        for (family, name, texture) in [(1u32, "floors", 0usize), (4, "ceilings", 1), (0, "walls x", 2), (2, "walls z", 3)] {
+            let material = Material::Diffuse { albedo: Vec3::ONE, texture: Some(base + texture) };
+            let mut planes = Object::new(
+                &format!("{} {name}", o.name),
+                crate::geometry::room_planes(lo, hi, room, family),
+                material,
+                o.transform,
+            )
+            .with_roles(Roles::BUILDING);
+            planes.motion = o.motion.clone();
+            added.push(planes);
+        }
+    }
+    out.objects.extend(added);
+    out
+}
+
+impl Technique for PolygonInteriors {
+    fn id(&self) -> String {
+        "interior/polygons".into()
+    }
+    fn description(&self) -> String {
+        "baseline: the same rooms as real geometry (facade with window holes, room planes) through the shared raster pass".into()
+    }
+    fn params(&self) -> Vec<Param> {
+        vec![
+            Param { name: "room_scale", default: 1.0, min: 0.05, max: 20.0, integer: false, help: "multiplies each building's room size" },
+            Param { name: "texture_resolution", default: 64.0, min: 16.0, max: 256.0, integer: true, help: "interior texture size (texels per side)" },
+        ]
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id(), &self.params(), name, value)?;
+        match name {
+            "room_scale" => self.room_scale = value as f32,
+            _ => self.texture_resolution = value as u32,
+        }
+        Ok(())
+    }
+    fn supports(&self, scene: &Scene) -> bool {
+        has_buildings(scene)
+    }
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        let modified = polygon_scene(&scene.scene, self.room_scale, self.texture_resolution);
+        self.state = Some(GpuScene::new(frame.gpu, &modified)?);
+        Ok(())
+    }
+    fn render(&mut self, frame: &mut Frame, _scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
+        let state = self.state.as_mut().ok_or_else(|| scene::TechniqueError::Unsupported("prepare() runs before render()".into()))?;
+        state.set_time(frame, view.time);
+        let view_proj: Mat4 = view.camera.view_proj(view.width, view.height);
+        let main = RasterTarget { color: &target.color_view, depth: &target.depth_view, format: gpu::HDR_FORMAT, clear: true };
+        state.raster(frame, &main, view_proj, view.camera.eye, &ObjectFilter::All, true);
+        Ok(())
+    }
+}
+
+/// Every variant: the five interior-mapping versions with and without a depth pre-pass, and
+/// the polygon baseline.
+pub fn all() -> Vec<Box<dyn Technique>> {
+    let mut out: Vec<Box<dyn Technique>> = Vec::new();
+    for v in Variant::ALL {
+        out.push(Box::new(InteriorMapping::new(v, false)));
+        out.push(Box::new(InteriorMapping::new(v, true)));
+    }
+    out.push(Box::new(PolygonInteriors::default()));
+    out
+}

@@ -1,0 +1,143 @@
+//! The interior textures: floors, ceilings, two wallpapers (the same function as the `city`
+//! scene's "interior ..." textures, so a technique at 64 texels samples exactly what the
+//! reference's room planes carry), tinted variants for the per-room atlas (section 5.4.2)
+//! and the animated furniture sprite (section 5.2.4).
+
+use scene::Texture;
+
+/// The surfaces of a room.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RoomSurface {
+    Floor,
+    Ceiling,
+    WallX,
+    WallZ,
+}
+
+/// sRGB colour of a room surface at texture coordinate (s, t) in [0, 1)^2 (t = 0 at the
+/// top row): planks, a ceiling with a lamp, striped wallpapers with a skirting board.
+/// `scene/src/city.rs` has the same function.
+pub fn room_texel(surface: RoomSurface, s: f32, t: f32) -> [u8; 3] {
+    let edge = s.min(1.0 - s).min(t.min(1.0 - t));
+    match surface {
+        RoomSurface::Floor => {
+            if edge < 0.03 {
+                [70, 50, 35]
+            } else if ((t * 8.0).floor() as i32) % 2 == 0 {
+                [150, 105, 60]
+            } else {
+                [130, 90, 52]
+            }
+        }
+        RoomSurface::Ceiling => {
+            if (s - 0.5).abs() < 0.1 && (t - 0.5).abs() < 0.1 {
+                [255, 250, 225]
+            } else if edge < 0.03 {
+                [160, 160, 150]
+            } else {
+                [225, 225, 215]
+            }
+        }
+        RoomSurface::WallX | RoomSurface::WallZ => {
+            let (base, stripe) = if surface == RoomSurface::WallX {
+                ([180, 190, 140], [155, 165, 118])
+            } else {
+                ([195, 150, 140], [170, 125, 118])
+            };
+            if t > 0.92 {
+                [90, 70, 50]
+            } else if edge < 0.02 {
+                [120, 120, 110]
+            } else if ((s * 6.0).floor() as i32) % 2 == 0 {
+                base
+            } else {
+                stripe
+            }
+        }
+    }
+}
+
+/// A room texture of `size` x `size` texels sampled at texel centres.
+pub fn room_texture(name: &str, surface: RoomSurface, size: u32) -> Texture {
+    let mut rgba8 = Vec::with_capacity((size * size * 4) as usize);
+    for j in 0..size {
+        for i in 0..size {
+            let c = room_texel(surface, (i as f32 + 0.5) / size as f32, (j as f32 + 0.5) / size as f32);
+            rgba8.extend_from_slice(&[c[0], c[1], c[2], 255]);
+        }
+    }
+    Texture { name: name.to_string(), width: size, height: size, rgba8 }
+}
+
+/// Number of tinted variants per surface in the atlas (variant 0 is the plain texture).
+pub const VARIANTS: u32 = 4;
+/// Number of animation frames of the furniture sprite.
+pub const FURNITURE_FRAMES: u32 = 4;
+/// Array layer of surface `s` (0 floor, 1 ceiling, 2 wall x, 3 wall z) in variant `v`.
+pub fn layer(surface: u32, variant: u32) -> u32 {
+    variant * 4 + surface
+}
+/// First array layer of the furniture frames.
+pub const FURNITURE_LAYER: u32 = VARIANTS * 4;
+
+const SURFACES: [RoomSurface; 4] = [RoomSurface::Floor, RoomSurface::Ceiling, RoomSurface::WallX, RoomSurface::WallZ];
+const TINTS: [[f32; 3]; 4] = [[1.0, 1.0, 1.0], [1.1, 0.85, 0.75], [0.75, 0.9, 1.15], [0.85, 1.1, 0.8]];
+
+/// RGBA8 (sRGB) texel of the furniture sprite frame `f`: a seated figure beside a table, the
+/// figure's arm moving from frame to frame; alpha 0 outside the figure.
+pub fn furniture_texel(frame: u32, s: f32, t: f32) -> [u8; 4] {
+    let head = ((s - 0.38).powi(2) + (t - 0.38).powi(2)).sqrt() < 0.07;
+    let body = (s - 0.38).abs() < 0.08 && t > 0.45 && t < 0.75;
+    let legs = (s - 0.38).abs() < 0.06 && (0.75..0.97).contains(&t);
+    let arm_y = 0.5 + 0.04 * frame as f32;
+    let arm = s > 0.38 && s < 0.58 && (t - arm_y).abs() < 0.025;
+    let table = s > 0.55 && s < 0.85 && ((t - 0.6).abs() < 0.025 || ((s - 0.6).abs() < 0.02 || (s - 0.8).abs() < 0.02) && t > 0.6 && t < 0.97);
+    if head {
+        [220, 180, 150, 255]
+    } else if body || arm {
+        [60, 80, 150, 255]
+    } else if legs {
+        [40, 40, 50, 255]
+    } else if table {
+        [110, 70, 40, 255]
+    } else {
+        [0, 0, 0, 0]
+    }
+}
+
+/// All layers (`layer(surface, variant)` then the furniture frames) at `size` x `size`, RGBA8
+/// sRGB, layer-major.
+pub fn texture_layers(size: u32) -> Vec<u8> {
+    let mut out = Vec::new();
+    let at = |i: u32| (i as f32 + 0.5) / size as f32;
+    for tint in TINTS.iter().take(VARIANTS as usize) {
+        for surface in SURFACES {
+            for j in 0..size {
+                for i in 0..size {
+                    let c = room_texel(surface, at(i), at(j));
+                    for k in 0..3 {
+                        out.push((c[k] as f32 * tint[k]).round().clamp(0.0, 255.0) as u8);
+                    }
+                    out.push(255);
+                }
+            }
+        }
+    }
+    for f in 0..FURNITURE_FRAMES {
+        for j in 0..size {
+            for i in 0..size {
+                out.extend_from_slice(&furniture_texel(f, at(i), at(j)));
+            }
+        }
+    }
+    out
+}
+
+/// The four plain room textures as scene textures (what the polygon baseline adds).
+pub fn scene_textures(size: u32) -> Vec<Texture> {
+    ["interior floor", "interior ceiling", "interior wall x", "interior wall z"]
+        .iter()
+        .zip(SURFACES)
+        .map(|(name, s)| room_texture(name, s, size))
+        .collect()
+}
