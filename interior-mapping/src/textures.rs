@@ -1,73 +1,11 @@
-//! The interior textures: floors, ceilings, two wallpapers (the same function as the `city`
-//! scene's "interior ..." textures, so a technique at 64 texels samples exactly what the
+//! The interior textures: floors, ceilings, two wallpapers (the `city` scene's own
+//! `scene::city::room_texel`, so a technique at 64 texels samples exactly what the
 //! reference's room planes carry), tinted variants for the per-room atlas (section 5.4.2)
 //! and the animated furniture sprite (section 5.2.4).
 
 use scene::Texture;
 
-/// The surfaces of a room.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RoomSurface {
-    Floor,
-    Ceiling,
-    WallX,
-    WallZ,
-}
-
-/// sRGB colour of a room surface at texture coordinate (s, t) in [0, 1)^2 (t = 0 at the
-/// top row): planks, a ceiling with a lamp, striped wallpapers with a skirting board.
-/// `scene/src/city.rs` has the same function.
-pub fn room_texel(surface: RoomSurface, s: f32, t: f32) -> [u8; 3] {
-    let edge = s.min(1.0 - s).min(t.min(1.0 - t));
-    match surface {
-        RoomSurface::Floor => {
-            if edge < 0.03 {
-                [70, 50, 35]
-            } else if ((t * 8.0).floor() as i32) % 2 == 0 {
-                [150, 105, 60]
-            } else {
-                [130, 90, 52]
-            }
-        }
-        RoomSurface::Ceiling => {
-            if (s - 0.5).abs() < 0.1 && (t - 0.5).abs() < 0.1 {
-                [255, 250, 225]
-            } else if edge < 0.03 {
-                [160, 160, 150]
-            } else {
-                [225, 225, 215]
-            }
-        }
-        RoomSurface::WallX | RoomSurface::WallZ => {
-            let (base, stripe) = if surface == RoomSurface::WallX {
-                ([180, 190, 140], [155, 165, 118])
-            } else {
-                ([195, 150, 140], [170, 125, 118])
-            };
-            if t > 0.92 {
-                [90, 70, 50]
-            } else if edge < 0.02 {
-                [120, 120, 110]
-            } else if ((s * 6.0).floor() as i32) % 2 == 0 {
-                base
-            } else {
-                stripe
-            }
-        }
-    }
-}
-
-/// A room texture of `size` x `size` texels sampled at texel centres.
-pub fn room_texture(name: &str, surface: RoomSurface, size: u32) -> Texture {
-    let mut rgba8 = Vec::with_capacity((size * size * 4) as usize);
-    for j in 0..size {
-        for i in 0..size {
-            let c = room_texel(surface, (i as f32 + 0.5) / size as f32, (j as f32 + 0.5) / size as f32);
-            rgba8.extend_from_slice(&[c[0], c[1], c[2], 255]);
-        }
-    }
-    Texture { name: name.to_string(), width: size, height: size, rgba8 }
-}
+pub use scene::city::{RoomSurface, room_texel, room_texture};
 
 /// Number of tinted variants per surface in the atlas (variant 0 is the plain texture).
 pub const VARIANTS: u32 = 4;

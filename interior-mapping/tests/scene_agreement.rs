@@ -1,6 +1,7 @@
-//! The `city` scene's real interiors (scene/src/city.rs, private to `scene`) and this crate's
-//! generators (`geometry`, `textures`) must agree exactly: the polygon baseline and the
-//! reference then see the same rooms interior mapping casts against.
+//! The `city` scene's real interiors and what this crate builds from a building's hull and room
+//! layout (`geometry`, `textures`: the scene's own generators, called with the technique's
+//! reading of the hull) must agree exactly: the polygon baseline and the reference then see
+//! the same rooms interior mapping casts against.
 
 use interior_mapping::{geometry, textures};
 

@@ -4,7 +4,7 @@
 
 pub mod builtin;
 mod bunny;
-mod city;
+pub mod city;
 pub mod bvh;
 pub mod gltf_io;
 mod gpu_scene;
