@@ -81,6 +81,8 @@ struct ObjectGpu {
 struct LightGpu {
     position: [f32; 4],
     intensity: [f32; 4],
+    shadow_view_proj: [[f32; 4]; 4],
+    shadow_params: [f32; 4],
 }
 
 #[repr(C)]
@@ -118,6 +120,9 @@ pub struct GpuScene {
     info_buffer: wgpu::Buffer,
     raster_info_buffer: wgpu::Buffer,
     shadow_face_views: Vec<wgpu::TextureView>,
+    /// Per light: the fitted 2D shadow map's projection, for lights outside the scene.
+    fitted: Vec<Option<FittedShadow>>,
+    fitted_views: Vec<wgpu::TextureView>,
     shadow_depth_views: Vec<wgpu::TextureView>,
     raster_pipelines: Vec<(wgpu::TextureFormat, wgpu::RenderPipeline)>,
     shadow_pipeline: wgpu::RenderPipeline,
@@ -145,17 +150,29 @@ impl GpuScene {
             contents: bytemuck::cast_slice(&object_records(scene, 0.0)),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
+        let fitted: Vec<Option<FittedShadow>> = {
+            let (center, radius) = scene_bounding_sphere(scene);
+            scene.lights.iter().map(|l| FittedShadow::for_light(l.position, center, radius)).collect()
+        };
         let mut lights: Vec<LightGpu> = scene
             .lights
             .iter()
-            .map(|l| LightGpu {
-                position: l.position.extend(1.0).to_array(),
+            .zip(&fitted)
+            .map(|(l, f)| LightGpu {
+                position: l.position.extend(if f.is_some() { 1.0 } else { 0.0 }).to_array(),
                 intensity: l.intensity.extend(0.0).to_array(),
+                shadow_view_proj: f.map_or(Mat4::IDENTITY, |f| f.view_proj).to_cols_array_2d(),
+                shadow_params: [f.map_or(1.0, |f| f.tan_half_fov), 0.0, 0.0, 0.0],
             })
             .collect();
         let light_count = lights.len() as u32;
         if lights.is_empty() {
-            lights.push(LightGpu { position: [0.0; 4], intensity: [0.0; 4] });
+            lights.push(LightGpu {
+                position: [0.0; 4],
+                intensity: [0.0; 4],
+                shadow_view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+                shadow_params: [1.0, 0.0, 0.0, 0.0],
+            });
         }
         let light_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("scene lights"),
@@ -210,6 +227,23 @@ impl GpuScene {
             dimension: Some(wgpu::TextureViewDimension::CubeArray),
             ..Default::default()
         });
+        // One 2D layer per light for lights outside the scene (1 texel when there are none).
+        let fitted_size = if fitted.iter().any(Option::is_some) { SHADOW_MAP_SIZE } else { 1 };
+        let fitted_shadow = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("fitted shadow maps"),
+            size: wgpu::Extent3d { width: fitted_size, height: fitted_size, depth_or_array_layers: lights.len() as u32 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let fitted_views = (0..lights.len() as u32).map(|l| layer_view(&fitted_shadow, l)).collect();
+        let fitted_array_view = fitted_shadow.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
 
         let camera_layout = camera_bind_group_layout(ctx);
         let scene_layout = scene_bind_group_layout(ctx);
@@ -249,6 +283,10 @@ impl GpuScene {
                         resource: wgpu::BindingResource::Sampler(&shadow_sampler),
                     },
                     wgpu::BindGroupEntry { binding: 6, resource: info.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 7,
+                        resource: wgpu::BindingResource::TextureView(&fitted_array_view),
+                    },
                 ],
             })
         };
@@ -289,6 +327,8 @@ impl GpuScene {
             raster_info_buffer,
             shadow_face_views,
             shadow_depth_views,
+            fitted,
+            fitted_views,
             raster_pipelines,
             shadow_pipeline,
             time: None,
@@ -340,14 +380,23 @@ impl GpuScene {
 
     fn render_shadows(&self, frame: &mut Frame) {
         for (l, light) in self.scene.lights.iter().enumerate() {
-            for face in 0..6 {
-                let view_proj = gpu::cube::cube_face_view_proj(face, light.position, 0.01, 2.0 * BACKGROUND_DISTANCE);
+            // A light outside the scene renders one 2D map fitted to it; others six cube faces.
+            let faces: Vec<(Mat4, &wgpu::TextureView)> = match &self.fitted[l] {
+                Some(f) => vec![(f.view_proj, &self.fitted_views[l])],
+                None => (0..6)
+                    .map(|face| {
+                        let vp = gpu::cube::cube_face_view_proj(face, light.position, 0.01, 2.0 * BACKGROUND_DISTANCE);
+                        (vp, &self.shadow_face_views[6 * l + face])
+                    })
+                    .collect(),
+            };
+            for (face, (view_proj, view)) in faces.into_iter().enumerate() {
                 let camera = self.camera_bind_group(frame.gpu, view_proj, light.position);
                 let writes = frame.timer.render_pass("shadow maps");
                 let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("shadow face"),
                     color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &self.shadow_face_views[6 * l + face],
+                        view,
                         depth_slice: None,
                         resolve_target: None,
                         ops: wgpu::Operations {
@@ -598,6 +647,7 @@ fn scene_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
             sampler(3, wgpu::SamplerBindingType::Filtering),
             texture(4, false, wgpu::TextureViewDimension::CubeArray),
             sampler(5, wgpu::SamplerBindingType::NonFiltering),
+            texture(7, false, wgpu::TextureViewDimension::D2Array),
             wgpu::BindGroupLayoutEntry {
                 binding: 6,
                 visibility: all,
@@ -695,4 +745,51 @@ fn upload_textures(ctx: &Context, scene: &Scene) -> Result<wgpu::TextureView, Sc
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     }))
+}
+
+/// A 2D shadow map for a light outside the scene: a perspective view from the light that just
+/// holds the scene's bounding sphere (a cube face would cover the scene with few texels).
+#[derive(Clone, Copy, Debug)]
+struct FittedShadow {
+    view_proj: Mat4,
+    tan_half_fov: f32,
+}
+
+impl FittedShadow {
+    /// `None` when the light is inside (or near) the bounding sphere: it keeps its cube map.
+    fn for_light(light: Vec3, center: Vec3, radius: f32) -> Option<Self> {
+        let d = light.distance(center);
+        if !(d > radius * 1.5) || radius <= 0.0 {
+            return None;
+        }
+        let half = (radius / d).asin() * 1.02;
+        let dir = (center - light) / d;
+        let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+        let view = glam::camera::rh::view::look_at_mat4(light, center, up);
+        let near = ((d - radius) * 0.9).max(0.01);
+        let proj = glam::camera::rh::proj::directx::perspective(2.0 * half, 1.0, near, (d + radius) * 1.1);
+        Some(Self { view_proj: proj * view, tan_half_fov: half.tan() })
+    }
+}
+
+/// Bounding sphere of every object over its motion (centre of the box of all world vertices
+/// at time 0, radius grown by the largest motion offset).
+fn scene_bounding_sphere(scene: &Scene) -> (Vec3, f32) {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    let mut travel: f32 = 0.0;
+    for o in &scene.objects {
+        let world = o.world_at(0.0);
+        for p in &o.mesh.positions {
+            let w = world.transform_point3(*p);
+            lo = lo.min(w);
+            hi = hi.max(w);
+        }
+        travel = o.motion.keys.iter().map(|(_, v)| v.length()).fold(travel, f32::max);
+    }
+    if !lo.is_finite() {
+        return (Vec3::ZERO, 0.0);
+    }
+    let center = (lo + hi) * 0.5;
+    (center, center.distance(hi) + travel)
 }

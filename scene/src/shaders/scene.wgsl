@@ -24,8 +24,12 @@ struct ObjectGpu {
 };
 
 struct LightGpu {
+    // w: shadow kind, 0 = cube map around the light, 1 = one 2D map fitted to the scene.
     position: vec4f,
     intensity: vec4f,
+    // Fitted 2D map: world -> clip of the light's view, and (tan of half the field of view).
+    shadow_view_proj: mat4x4f,
+    shadow_params: vec4f,
 };
 
 struct SceneInfo {
@@ -51,6 +55,7 @@ const BACKGROUND_DISTANCE: f32 = 60000.0;
 @group(1) @binding(4) var shadow_maps: texture_cube_array<f32>;
 @group(1) @binding(5) var shadow_sampler: sampler;
 @group(1) @binding(6) var<uniform> scene_info: SceneInfo;
+@group(1) @binding(7) var fitted_shadow_maps: texture_2d_array<f32>;
 
 struct SceneVertexIn {
     @location(0) position: vec3f,
@@ -108,16 +113,30 @@ fn surface_albedo(object: u32, uv: vec2f) -> vec3f {
     return o.albedo.rgb * t;
 }
 
-// Visibility of light `i` from p: the cube shadow map stores the distance to the nearest
-// surface per direction; p is lit when it is not farther than that (with a bias that grows
-// with distance and with the slope between the normal and the light direction).
+// Visibility of light `i` from p. The shadow map stores the distance from the light to the
+// nearest surface per direction: a cube map around a light inside the scene, or one 2D map
+// fitted to the scene's bounding sphere for a light outside it (a cube face would spend
+// almost all its texels on empty space). p is lit when it is not farther than the stored
+// distance, with a bias of the texel's footprint at that distance, grown with the slope.
 fn light_visibility(i: u32, p: vec3f, n: vec3f) -> f32 {
-    let to_p = p - lights[i].position.xyz;
+    let light = lights[i];
+    let to_p = p - light.position.xyz;
     let d = length(to_p);
-    let stored = textureSampleLevel(shadow_maps, shadow_sampler, to_p, i32(i), 0.0).r;
+    var stored: f32;
+    var texel_angle: f32;
+    if (light.position.w < 0.5) {
+        stored = textureSampleLevel(shadow_maps, shadow_sampler, to_p, i32(i), 0.0).r;
+        texel_angle = 2.0 / scene_info.shadow_size;
+    } else {
+        let clip = light.shadow_view_proj * vec4f(p, 1.0);
+        let ndc = clip.xy / clip.w;
+        if (clip.w <= 0.0 || any(abs(ndc) > vec2f(1.0))) { return 1.0; }
+        let uv = vec2f(0.5 * ndc.x + 0.5, 0.5 - 0.5 * ndc.y);
+        stored = textureSampleLevel(fitted_shadow_maps, shadow_sampler, uv, i32(i), 0.0).r;
+        texel_angle = 2.0 * light.shadow_params.x / scene_info.shadow_size;
+    }
     let cos_l = clamp(dot(n, -to_p / d), 0.05, 1.0);
-    let texel = 2.0 / scene_info.shadow_size;
-    let bias = d * texel * (1.5 + sqrt(1.0 - cos_l * cos_l) / cos_l) + 1e-4 * max(1.0, d);
+    let bias = d * texel_angle * (1.5 + sqrt(1.0 - cos_l * cos_l) / cos_l) + 1e-4 * max(1.0, d);
     return select(0.0, 1.0, d - bias <= stored);
 }
 
