@@ -136,8 +136,8 @@ struct CausticMaps {
 
 /// The distance cube of the split layout.
 struct SplitDistance {
-    face_views: Vec<wgpu::TextureView>,
-    cube_view: wgpu::TextureView,
+    /// Distance-only cube map (its depth cube is unused: the copy pass draws no geometry).
+    distances: CubeTarget,
     /// Bind groups of the copy pass, one per face of the packed map.
     copy_groups: Vec<wgpu::BindGroup>,
 }
@@ -406,7 +406,8 @@ impl Technique for Impostor {
             let res = self.settings.resolution;
             let env = CubeTarget::new(ctx, res, IMPOSTOR_FORMAT, "distance impostor")?;
             let split = (self.settings.split && self.uses_distance())
-                .then(|| split_distance(ctx, &env, &split_layout));
+                .then(|| split_distance(ctx, &env, &split_layout))
+                .transpose()?;
             let refractor = if self.settings.mode == Mode::DoubleRefraction
                 && matches!(o.material, Material::Glass { .. })
             {
@@ -661,38 +662,8 @@ fn split_distance(
     ctx: &Context,
     env: &CubeTarget,
     layout: &wgpu::BindGroupLayout,
-) -> SplitDistance {
-    let size = env.size;
-    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("impostor distances"),
-        size: wgpu::Extent3d {
-            width: size,
-            height: size,
-            depth_or_array_layers: 6,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: SPLIT_DISTANCE_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let face_views = (0..6)
-        .map(|layer| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: layer,
-                array_layer_count: Some(1),
-                ..Default::default()
-            })
-        })
-        .collect();
-    let cube_view = texture.create_view(&wgpu::TextureViewDescriptor {
-        dimension: Some(wgpu::TextureViewDimension::Cube),
-        ..Default::default()
-    });
+) -> Result<SplitDistance, gpu::GpuError> {
+    let distances = CubeTarget::new(ctx, env.size, SPLIT_DISTANCE_FORMAT, "impostor distances")?;
     let copy_groups = env
         .face_views
         .iter()
@@ -707,11 +678,10 @@ fn split_distance(
             })
         })
         .collect();
-    SplitDistance {
-        face_views,
-        cube_view,
+    Ok(SplitDistance {
+        distances,
         copy_groups,
-    }
+    })
 }
 
 fn copy_distances(frame: &mut Frame, pipeline: &wgpu::RenderPipeline, split: &SplitDistance) {
@@ -721,7 +691,7 @@ fn copy_distances(frame: &mut Frame, pipeline: &wgpu::RenderPipeline, split: &Sp
             .begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("impostor split copy"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &split.face_views[face],
+                    view: &split.distances.face_views[face],
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
@@ -773,7 +743,7 @@ fn impostor_groups(ctx: &Context, state: &State, settings: &Settings) -> Vec<wgp
         .iter()
         .map(|m| {
             let reference = m.reference.expect("regenerated before use");
-            let distance_view = m.split.as_ref().map_or(&m.env.cube_view, |s| &s.cube_view);
+            let distance_view = m.split.as_ref().map_or(&m.env.cube_view, |s| &s.distances.cube_view);
             let (refractor_view, refractor_center) = m
                 .refractor
                 .as_ref()
