@@ -79,19 +79,11 @@ impl CubeTarget {
             view_formats: &[],
         });
         let depth = crate::depth_texture(ctx, size, size, 6, label);
-        let layer_view = |texture: &wgpu::Texture, layer: u32| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: layer,
-                array_layer_count: Some(1),
-                ..Default::default()
-            })
-        };
         Ok(Self {
             size,
             format,
-            face_views: (0..6).map(|f| layer_view(&color, f)).collect(),
-            depth_face_views: (0..6).map(|f| layer_view(&depth, f)).collect(),
+            face_views: (0..6).map(|f| crate::layer_view(&color, f)).collect(),
+            depth_face_views: (0..6).map(|f| crate::layer_view(&depth, f)).collect(),
             cube_view: color.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::Cube),
                 ..Default::default()

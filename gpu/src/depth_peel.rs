@@ -132,15 +132,6 @@ impl DepthPeeler {
         let depth = crate::depth_texture(ctx, width, height, layers, "depth peel depth");
         // Layer 0 compares against nothing, but its bind group still needs a depth view.
         let unused_depth = crate::depth_texture(ctx, 1, 1, 1, "depth peel unused depth");
-        let layer_view = |texture: &wgpu::Texture, layer: u32| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                label: Some("depth peel layer"),
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: layer,
-                array_layer_count: Some(1),
-                ..Default::default()
-            })
-        };
         let array_view = |texture: &wgpu::Texture| {
             texture.create_view(&wgpu::TextureViewDescriptor {
                 label: Some("depth peel layers"),
@@ -148,8 +139,8 @@ impl DepthPeeler {
                 ..Default::default()
             })
         };
-        let color_layer_views: Vec<_> = (0..layers).map(|l| layer_view(&color, l)).collect();
-        let depth_layer_views: Vec<_> = (0..layers).map(|l| layer_view(&depth, l)).collect();
+        let color_layer_views: Vec<_> = (0..layers).map(|l| crate::layer_view(&color, l)).collect();
+        let depth_layer_views: Vec<_> = (0..layers).map(|l| crate::layer_view(&depth, l)).collect();
 
         let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("depth peel"),

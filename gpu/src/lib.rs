@@ -14,7 +14,7 @@ mod timer;
 pub use context::{AdapterSummary, Context};
 pub use depth_peel::DepthPeeler;
 pub use target::{
-    DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, depth_texture, map_buffer, read_buffer,
+    DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, depth_texture, layer_view, map_buffer, read_buffer,
     read_texture_bytes, read_texture_f32, read_texture_f32x4,
 };
 pub use timer::{GpuTimer, TimeStats, TimerKind};

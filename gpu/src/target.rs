@@ -98,6 +98,17 @@ pub fn depth_texture(
     })
 }
 
+/// A single-layer 2D view of array layer `layer`: how a layer of an array or cube texture
+/// is used as a render attachment.
+pub fn layer_view(texture: &wgpu::Texture, layer: u32) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        base_array_layer: layer,
+        array_layer_count: Some(1),
+        ..Default::default()
+    })
+}
+
 /// Reads one array layer of an `Rgba32Float` (or any 16-byte-texel) texture; handles the
 /// 256-byte row alignment of buffer copies.
 pub fn read_texture_f32x4(

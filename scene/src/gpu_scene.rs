@@ -213,16 +213,8 @@ impl GpuScene {
             view_formats: &[],
         });
         let shadow_depth = gpu::depth_texture(ctx, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, 6, "shadow depth");
-        let layer_view = |t: &wgpu::Texture, layer: u32| {
-            t.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: layer,
-                array_layer_count: Some(1),
-                ..Default::default()
-            })
-        };
-        let shadow_face_views = (0..shadow_layers).map(|l| layer_view(&shadow, l)).collect();
-        let shadow_depth_views = (0..6).map(|l| layer_view(&shadow_depth, l)).collect();
+        let shadow_face_views = (0..shadow_layers).map(|l| gpu::layer_view(&shadow, l)).collect();
+        let shadow_depth_views = (0..6).map(|l| gpu::layer_view(&shadow_depth, l)).collect();
         let shadow_cube_view = shadow.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::CubeArray),
             ..Default::default()
@@ -239,7 +231,7 @@ impl GpuScene {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
-        let fitted_views = (0..lights.len() as u32).map(|l| layer_view(&fitted_shadow, l)).collect();
+        let fitted_views = (0..lights.len() as u32).map(|l| gpu::layer_view(&fitted_shadow, l)).collect();
         let fitted_array_view = fitted_shadow.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
