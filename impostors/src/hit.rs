@@ -266,7 +266,8 @@ impl DistanceMap for BoxRoom {
 
 /// A cube distance map read back from the GPU: six faces of `size` x `size` texels in
 /// layer order +X,-X,+Y,-Y,+Z,-Z, looked up *nearest texel* through the prelude's
-/// `cube_dir_to_face_uv` (what a `Nearest` sampler does on the GPU).
+/// `cube_dir_to_face_uv` (what a `Nearest` sampler does on the GPU); [`Self::filtered`] looks
+/// it up bilinearly instead (what the technique's `Linear` sampler does).
 #[derive(Clone, Debug)]
 pub struct CubeDistanceMap {
     pub size: u32,
@@ -303,6 +304,83 @@ impl DistanceMap for CubeDistanceMap {
     }
 }
 
+/// The 2 x 2 texels and weights that a bilinear lookup blends, on the face the prelude's
+/// `cube_dir_to_face_uv` selects: Vulkan's texel-centre convention (`x = u size - 0.5`,
+/// columns `floor(x)` and `floor(x) + 1`, weight `frac(x)` on the second; rows likewise).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    pub face: usize,
+    /// First column and row of the footprint, before clamping: -1 when the lookup lies in the
+    /// outer half of a texel of column or row 0, in which case the footprint's other column
+    /// (or row) is `size`, past the face.
+    pub i0: i32,
+    pub j0: i32,
+    /// Weights of column `i0 + 1` and row `j0 + 1`, in [0, 1).
+    pub wu: f32,
+    pub wv: f32,
+}
+
+impl Footprint {
+    /// Whether the footprint reaches past the face (within half a texel of its edge). The GPU
+    /// (seamless cube sampling) reads the neighbouring face there; [`FilteredCube`] clamps to
+    /// the face's own edge texel instead.
+    pub fn crosses_face_edge(&self, size: u32) -> bool {
+        self.i0 < 0 || self.j0 < 0 || self.i0 + 1 >= size as i32 || self.j0 + 1 >= size as i32
+    }
+}
+
+impl CubeDistanceMap {
+    /// Bilinear footprint of a lookup of `dir` (see [`Footprint`]).
+    pub fn footprint(&self, dir: Vec3) -> Footprint {
+        let fuv = gpu::prelude::cube_dir_to_face_uv(dir);
+        let s = self.size as f32;
+        let x = fuv.y * s - 0.5;
+        let y = fuv.z * s - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        Footprint {
+            face: fuv.x as usize,
+            i0: x0 as i32,
+            j0: y0 as i32,
+            wu: x - x0,
+            wv: y - y0,
+        }
+    }
+
+    /// Texel (i, j) of face `face`, clamped to the face (clamp-to-edge within the face).
+    pub fn texel_clamped(&self, face: usize, i: i32, j: i32) -> f32 {
+        let last = self.size as i32 - 1;
+        let (i, j) = (i.clamp(0, last) as u32, j.clamp(0, last) as u32);
+        self.faces[face][(j * self.size + i) as usize]
+    }
+
+    /// Bilinearly filtered distance in direction `dir` (what a `Linear` sampler returns away
+    /// from face edges; at a face edge the footprint is clamped to the face, see
+    /// [`Footprint::crosses_face_edge`]).
+    pub fn bilinear(&self, dir: Vec3) -> f32 {
+        let fp = self.footprint(dir);
+        let t = |di: i32, dj: i32| self.texel_clamped(fp.face, fp.i0 + di, fp.j0 + dj);
+        let top = t(0, 0) * (1.0 - fp.wu) + t(1, 0) * fp.wu;
+        let bottom = t(0, 1) * (1.0 - fp.wu) + t(1, 1) * fp.wu;
+        top * (1.0 - fp.wv) + bottom * fp.wv
+    }
+
+    /// This map looked up with bilinear filtering (the technique's `Linear` sampler); the map
+    /// itself stays nearest-texel.
+    pub fn filtered(&self) -> FilteredCube<'_> {
+        FilteredCube(self)
+    }
+}
+
+/// A [`CubeDistanceMap`] looked up through [`CubeDistanceMap::bilinear`].
+#[derive(Clone, Copy, Debug)]
+pub struct FilteredCube<'a>(pub &'a CubeDistanceMap);
+
+impl DistanceMap for FilteredCube<'_> {
+    fn distance(&self, dir: Vec3) -> f32 {
+        self.0.bilinear(dir)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -325,6 +403,41 @@ mod tests {
         let h = hit(&room, x, r, Method::FalsePosition, 0);
         let exact = room.exact_t(room.reference + x, r);
         assert!((h.d - exact).abs() < 1e-5, "{} vs {exact}", h.d);
+    }
+
+    /// A 4 x 4 cube whose texel (f, i, j) holds `100 f + 10 j + i`.
+    fn ramp_cube() -> CubeDistanceMap {
+        CubeDistanceMap {
+            size: 4,
+            faces: (0..6)
+                .map(|f| {
+                    (0..16)
+                        .map(|k| (100 * f + 10 * (k / 4) + k % 4) as f32)
+                        .collect()
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn bilinear_reads_texel_centres_exactly_and_blends_between_them() {
+        let cube = ramp_cube();
+        let dir = |f, u: f32, v: f32| gpu::prelude::cube_face_uv_to_dir(f, u / 4.0, v / 4.0);
+        for f in 0..6u32 {
+            // Texel centre (1, 2): weight 0 on the neighbours.
+            let d = dir(f, 1.5, 2.5);
+            assert_eq!(cube.bilinear(d), cube.distance(d));
+            assert_eq!(cube.bilinear(d), (100 * f + 21) as f32);
+            // A quarter of the way from (1, 1) to (2, 2): the ramp is linear in i and j.
+            let b = cube.bilinear(dir(f, 1.75, 1.75));
+            assert!((b - (100 * f) as f32 - 11.0 - 2.75).abs() < 1e-4, "{b}");
+            // Within half a texel of the face edge the footprint clamps to the face.
+            let fp = cube.footprint(dir(f, 0.25, 1.5));
+            assert!(fp.crosses_face_edge(4) && fp.i0 == -1);
+            assert_eq!(cube.bilinear(dir(f, 0.25, 1.5)), (100 * f + 10) as f32);
+            assert!(!cube.footprint(dir(f, 0.5, 3.49)).crosses_face_edge(4));
+            assert!(cube.footprint(dir(f, 0.5, 3.51)).crosses_face_edge(4));
+        }
     }
 
     #[test]
