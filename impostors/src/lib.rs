@@ -11,7 +11,9 @@
 //!
 //! See `README.md` for the mapping of variants to the paper, departures and failure cases.
 
+pub mod caustics;
 pub mod hit;
+pub mod lightmap;
 pub mod technique;
 
 pub use technique::{HIT_WGSL, Impostor, Mode, Settings};

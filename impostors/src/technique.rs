@@ -12,6 +12,7 @@
 //! photons into a grid indexed by direction from the reference point (compute, atomics) and
 //! adds the resulting caustic radiance to the diffuse surfaces (README.md, "Caustics").
 
+use crate::caustics::{self, CausticPath, CausticSettings, Caustics, GeneratorMaps};
 use crate::hit::Method;
 use glam::Vec3;
 use gpu::cube::{CubeTarget, cube_face_view_proj};
@@ -27,10 +28,6 @@ use scene::{
 pub const HIT_WGSL: &str = include_str!("shaders/hit.wgsl");
 const LOCALIZED_WGSL: &str = include_str!("shaders/localized.wgsl");
 const SPLIT_WGSL: &str = include_str!("shaders/split.wgsl");
-const CAUSTIC_WGSL: &str = include_str!("shaders/caustic.wgsl");
-const SPLAT_WGSL: &str = include_str!("shaders/splat.wgsl");
-/// Format of the caustic map's two targets (photon landing point, photon power).
-const PHOTON_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// Format of the environment impostor (radiance + distance in alpha) and the refractor map.
 pub const IMPOSTOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -74,12 +71,9 @@ pub struct Settings {
     pub split: bool,
     /// Refinement steps of `Hit()` inside the refractor map (double refraction).
     pub refractor_iterations: u32,
-    /// Caustic maps from the lights, splatted onto the diffuse surfaces (section 5).
-    pub caustics: bool,
-    /// Caustic map size C (C x C photons per light and object).
-    pub caustic_resolution: u32,
-    /// Face size of the photon accumulation grid (indexed like the environment impostor).
-    pub caustic_grid: u32,
+    /// Caustic maps from the lights, turned into caustic radiance on the diffuse surfaces
+    /// (section 5), or none.
+    pub caustics: Option<CausticSettings>,
 }
 
 impl Default for Settings {
@@ -92,9 +86,7 @@ impl Default for Settings {
             regen_threshold: 0.0,
             split: false,
             refractor_iterations: 2,
-            caustics: false,
-            caustic_resolution: 128,
-            caustic_grid: 64,
+            caustics: None,
         }
     }
 }
@@ -108,30 +100,13 @@ pub struct Impostor {
 }
 
 struct State {
-    caustic: Option<CausticPipelines>,
+    caustic: Option<Caustics>,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     split_pipeline: wgpu::RenderPipeline,
     split_layout: wgpu::BindGroupLayout,
     sampler: wgpu::Sampler,
     maps: Vec<ObjectMaps>,
-}
-
-/// Pipelines and layouts of the caustic passes.
-struct CausticPipelines {
-    map_pipeline: wgpu::RenderPipeline,
-    apply_pipeline: wgpu::RenderPipeline,
-    splat_pipeline: wgpu::ComputePipeline,
-    group3_layout: wgpu::BindGroupLayout,
-    splat_layout: wgpu::BindGroupLayout,
-}
-
-/// One object's caustic resources: the caustic map's targets and the accumulation grid.
-struct CausticMaps {
-    landing: wgpu::Texture,
-    power: wgpu::Texture,
-    depth: wgpu::Texture,
-    grid: wgpu::Buffer,
 }
 
 /// The distance cube of the split layout.
@@ -148,7 +123,7 @@ struct ObjectMaps {
     env: CubeTarget,
     split: Option<SplitDistance>,
     refractor: Option<(CubeTarget, Vec3)>,
-    caustics: Option<CausticMaps>,
+    caustics: Option<GeneratorMaps>,
     /// Reference point of `env` (the object's centre when the map was last rendered).
     reference: Option<Vec3>,
     /// How many times `env` was (re)generated (for tests of `regen_threshold`).
@@ -170,6 +145,20 @@ impl Impostor {
         self.state.as_ref().map_or(0, |s| {
             s.maps.iter().map(|m| m.regenerations).max().unwrap_or(0)
         })
+    }
+
+    /// The caustic passes and each generator's caustic maps, once prepared (for tests).
+    pub fn caustics(&self) -> Option<(&Caustics, Vec<&GeneratorMaps>)> {
+        let state = self.state.as_ref()?;
+        let c = state.caustic.as_ref()?;
+        Some((
+            c,
+            state
+                .maps
+                .iter()
+                .filter_map(|m| m.caustics.as_ref())
+                .collect(),
+        ))
     }
 
     fn uses_distance(&self) -> bool {
@@ -233,12 +222,24 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
     )));
     v.push(Box::new(Impostor::new(
         "impostors/caustics",
-        "double-refraction plus caustics: photons from the lights through the object, landing \
-         points by Hit(), splatted by direction from the reference point (section 5)",
+        "double-refraction plus caustics as in the paper: photons from the lights through the \
+         object, landing points by Hit(), light-map address from a uv/chart cube, Gaussian \
+         quads blended into the receivers' light maps (section 5)",
         Settings {
             mode: Mode::DoubleRefraction,
             iterations: 4,
-            caustics: true,
+            caustics: Some(CausticSettings::new(CausticPath::LightMap)),
+            ..s.clone()
+        },
+    )));
+    v.push(Box::new(Impostor::new(
+        "impostors/caustics-compute",
+        "double-refraction plus caustics, modern scatter: the same photons added by a compute \
+         pass with atomics into a grid indexed by direction from the reference point",
+        Settings {
+            mode: Mode::DoubleRefraction,
+            iterations: 4,
+            caustics: Some(CausticSettings::new(CausticPath::Grid)),
             ..s
         },
     )));
@@ -309,23 +310,52 @@ impl Technique for Impostor {
                 "1: distances in a separate R16Float cube; 0: in the radiance map's alpha",
             ));
         }
-        if s.caustics {
+        if let Some(c) = &s.caustics {
             p.push(param(
                 "caustic_resolution",
-                s.caustic_resolution as f64,
+                c.resolution as f64,
                 4.0,
                 2048.0,
                 true,
                 "caustic map size (photons per side, per light and object)",
             ));
             p.push(param(
-                "caustic_grid",
-                s.caustic_grid as f64,
-                4.0,
-                1024.0,
+                "caustics_in_lookup",
+                c.in_lookup as u32 as f64,
+                0.0,
+                1.0,
                 true,
-                "face size of the photon accumulation grid",
+                "1: reflections and refractions show the caustics (paper fig. 11; the reference \
+                 has none there)",
             ));
+            match c.path {
+                CausticPath::Grid => p.push(param(
+                    "caustic_grid",
+                    c.grid as f64,
+                    4.0,
+                    1024.0,
+                    true,
+                    "face size of the photon accumulation grid",
+                )),
+                CausticPath::LightMap => {
+                    p.push(param(
+                        "lightmap_resolution",
+                        c.lightmap_resolution as f64,
+                        16.0,
+                        8192.0,
+                        true,
+                        "side of the receivers' light-map atlas (texels)",
+                    ));
+                    p.push(param(
+                        "splat_radius",
+                        c.splat_radius as f64,
+                        1.0,
+                        64.0,
+                        false,
+                        "radius of a photon's Gaussian quad in light-map texels (sigma = R / 2)",
+                    ));
+                }
+            }
         }
         if s.mode == Mode::DoubleRefraction {
             p.push(param(
@@ -348,16 +378,27 @@ impl Technique for Impostor {
             "iterations" => s.iterations = value as u32,
             "split" => s.split = value != 0.0,
             "refractor_iterations" => s.refractor_iterations = value as u32,
-            "caustic_resolution" => s.caustic_resolution = value as u32,
-            "caustic_grid" => s.caustic_grid = value as u32,
-            _ => unreachable!("check_param accepted an undeclared parameter"),
+            _ => {
+                let c = s
+                    .caustics
+                    .as_mut()
+                    .expect("caustic parameters exist with caustics");
+                match name {
+                    "caustic_resolution" => c.resolution = value as u32,
+                    "caustics_in_lookup" => c.in_lookup = value != 0.0,
+                    "caustic_grid" => c.grid = value as u32,
+                    "lightmap_resolution" => c.lightmap_resolution = value as u32,
+                    "splat_radius" => c.splat_radius = value as f32,
+                    _ => unreachable!("check_param accepted an undeclared parameter"),
+                }
+            }
         }
         // Maps and pipelines depend on the settings: prepare() rebuilds them.
         self.state = None;
         Ok(())
     }
     fn supports(&self, scene: &Scene) -> bool {
-        if self.settings.caustics && scene.lights.is_empty() {
+        if self.settings.caustics.is_some() && scene.lights.is_empty() {
             return false;
         }
         match self.settings.mode {
@@ -377,8 +418,28 @@ impl Technique for Impostor {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let source = format!("{}\n{}\n{}", scene::SCENE_WGSL, HIT_WGSL, LOCALIZED_WGSL);
-        let module = gpu::shader_with_prelude(ctx, &self.id, &source);
+        // The plain localized pass (and the refractor map) from a module without caustics;
+        // caustic variants draw with their own module, whose lookups add the caustics.
+        let source_with = |path| {
+            format!(
+                "{}\n{}\n{}\n{}",
+                scene::SCENE_WGSL,
+                HIT_WGSL,
+                LOCALIZED_WGSL,
+                caustics::lookup_wgsl(path)
+            )
+        };
+        let module = gpu::shader_with_prelude(ctx, &self.id, &source_with(None));
+        let caustic = match &self.settings.caustics {
+            Some(c) => Some(Caustics::new(
+                ctx,
+                scene,
+                &layout,
+                &source_with(Some(c.path)),
+                c,
+            )?),
+            None => None,
+        };
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
         let pipeline = scene::scene_pipeline(
             ctx,
@@ -426,13 +487,10 @@ impl Technique for Impostor {
             } else {
                 None
             };
-            let caustics = self.settings.caustics.then(|| {
-                caustic_maps(
-                    ctx,
-                    self.settings.caustic_resolution,
-                    self.settings.caustic_grid,
-                )
-            });
+            let caustics = match &caustic {
+                Some(c) => Some(c.generator_maps(ctx, res)?),
+                None => None,
+            };
             maps.push(ObjectMaps {
                 object,
                 env,
@@ -443,10 +501,6 @@ impl Technique for Impostor {
                 regenerations: 0,
             });
         }
-        let caustic = self
-            .settings
-            .caustics
-            .then(|| caustic_pipelines(ctx, scene, &layout));
         self.state = Some(State {
             caustic,
             layout,
@@ -494,7 +548,11 @@ impl Technique for Impostor {
                 if let Some(split) = &m.split {
                     copy_distances(frame, &state.split_pipeline, split);
                 }
-                m.reference = Some(scene.scene.objects[m.object].center_at(time));
+                let reference = scene.scene.objects[m.object].center_at(time);
+                if let (Some(c), Some(maps)) = (&state.caustic, &m.caustics) {
+                    c.render_receivers(frame, scene, maps, m.object, reference);
+                }
+                m.reference = Some(reference);
                 m.regenerations += 1;
             }
             frame.timer.end(frame.encoder, "regenerate");
@@ -511,46 +569,48 @@ impl Technique for Impostor {
             clear: true,
         };
         let specular: Vec<usize> = state.maps.iter().map(|m| m.object).collect();
-        // Caustics: photons from each light through each object, accumulated per object.
+        // Caustics: photons from each light through each object.
         let caustic_groups = match &state.caustic {
-            Some(pipelines) => {
+            Some(caustic) => {
+                let generators: Vec<_> = state
+                    .maps
+                    .iter()
+                    .zip(&groups)
+                    .map(|(m, group)| {
+                        let maps = m
+                            .caustics
+                            .as_ref()
+                            .expect("caustic maps are made in prepare");
+                        (
+                            m.object,
+                            m.reference.expect("regenerated above"),
+                            maps,
+                            group,
+                        )
+                    })
+                    .collect();
                 frame.timer.begin(frame.encoder, "caustics");
-                let g = render_caustics(frame, scene, state, pipelines, &groups, &settings);
+                let g = caustic.render(frame, scene, &generators);
                 frame.timer.end(frame.encoder, "caustics");
                 g
             }
             None => Vec::new(),
         };
-        scene.raster(
-            frame,
-            &main,
-            view_proj,
-            view.camera.eye,
-            &ObjectFilter::Except(specular.clone()),
-            false,
-        );
-        if let Some(pipelines) = &state.caustic {
-            let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
-            let mut pass = scene::begin_scene_pass(
-                frame.encoder,
-                &RasterTarget {
-                    clear: false,
-                    ..main
-                },
-                scene.scene.background,
-                "caustics apply",
+        let receivers = ObjectFilter::Except(specular.clone());
+        scene.raster(frame, &main, view_proj, view.camera.eye, &receivers, false);
+        let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
+        if let Some(caustic) = &state.caustic {
+            caustic.apply(
+                frame,
+                scene,
+                &main,
+                &camera,
+                &groups,
+                &caustic_groups,
+                &receivers,
             );
-            pass.set_pipeline(&pipelines.apply_pipeline);
-            pass.set_bind_group(0, &camera, &[]);
-            pass.set_bind_group(1, scene.bind_group(), &[]);
-            for (group, caustic_group) in groups.iter().zip(&caustic_groups) {
-                pass.set_bind_group(2, group, &[]);
-                pass.set_bind_group(3, caustic_group, &[]);
-                scene.draw_objects(&mut pass, &ObjectFilter::Except(specular.clone()));
-            }
         }
 
-        let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
         // The specular objects' pass, timed on its own as "lookup" (pass timestamps).
         let mut pass = frame
             .encoder
@@ -577,11 +637,17 @@ impl Technique for Impostor {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-        pass.set_pipeline(&state.pipeline);
+        match &state.caustic {
+            Some(c) => pass.set_pipeline(&c.localized_pipeline),
+            None => pass.set_pipeline(&state.pipeline),
+        }
         pass.set_bind_group(0, &camera, &[]);
         pass.set_bind_group(1, scene.bind_group(), &[]);
-        for (m, group) in state.maps.iter().zip(&groups) {
+        for (i, (m, group)) in state.maps.iter().zip(&groups).enumerate() {
             pass.set_bind_group(2, group, &[]);
+            if let Some(g3) = caustic_groups.get(i) {
+                pass.set_bind_group(3, g3, &[]);
+            }
             scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![m.object]));
         }
         Ok(())
@@ -743,7 +809,10 @@ fn impostor_groups(ctx: &Context, state: &State, settings: &Settings) -> Vec<wgp
         .iter()
         .map(|m| {
             let reference = m.reference.expect("regenerated before use");
-            let distance_view = m.split.as_ref().map_or(&m.env.cube_view, |s| &s.distances.cube_view);
+            let distance_view = m
+                .split
+                .as_ref()
+                .map_or(&m.env.cube_view, |s| &s.distances.cube_view);
             let (refractor_view, refractor_center) = m
                 .refractor
                 .as_ref()
@@ -795,431 +864,4 @@ fn impostor_groups(ctx: &Context, state: &State, settings: &Settings) -> Vec<wgp
             })
         })
         .collect()
-}
-
-/// The uniform block `CausticParams` of caustic.wgsl.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct CausticGpu {
-    light: [f32; 4],
-    intensity: [f32; 4],
-    axis: [f32; 4],
-    grid: u32,
-    scale: f32,
-    size: u32,
-    _pad: u32,
-}
-
-/// The uniform block `SplatParams` of splat.wgsl.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct SplatGpu {
-    reference: [f32; 4],
-    grid: u32,
-    scale: f32,
-    size: u32,
-    _pad: u32,
-}
-
-fn caustic_maps(ctx: &Context, size: u32, grid: u32) -> CausticMaps {
-    let target = |label| {
-        ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: size,
-                height: size,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: PHOTON_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        })
-    };
-    CausticMaps {
-        landing: target("caustic map: landing points"),
-        power: target("caustic map: photon power"),
-        depth: gpu::depth_texture(ctx, size, size, 1, "caustic map depth"),
-        grid: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("caustic grid"),
-            size: 6 * 3 * 4 * (grid as u64) * (grid as u64),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        }),
-    }
-}
-
-fn caustic_pipelines(
-    ctx: &Context,
-    scene: &GpuScene,
-    impostor_layout: &wgpu::BindGroupLayout,
-) -> CausticPipelines {
-    let device = &ctx.device;
-    let frag = wgpu::ShaderStages::FRAGMENT;
-    let uniform = |binding, visibility| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let storage = |binding, visibility, read_only| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let group3_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("caustics"),
-        entries: &[uniform(0, frag), storage(1, frag, true)],
-    });
-    let source = format!(
-        "{}\n{}\n{}\n{}",
-        scene::SCENE_WGSL,
-        HIT_WGSL,
-        LOCALIZED_WGSL,
-        CAUSTIC_WGSL
-    );
-    let module = gpu::shader_with_prelude(ctx, "impostors/caustics", &source);
-    let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, &group3_layout]);
-    let pipeline = |label: &str,
-                    entry: &str,
-                    targets: &[Option<wgpu::ColorTargetState>],
-                    depth_write: bool,
-                    compare| {
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("scene_vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(gpu::Vertex::layout())],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                targets,
-            }),
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: gpu::DEPTH_FORMAT,
-                depth_write_enabled: Some(depth_write),
-                depth_compare: Some(compare),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        })
-    };
-    let photon_target = Some(wgpu::ColorTargetState {
-        format: PHOTON_FORMAT,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    });
-    let map_pipeline = pipeline(
-        "caustic map",
-        "caustic_map_fs",
-        &[photon_target.clone(), photon_target],
-        true,
-        wgpu::CompareFunction::Less,
-    );
-    // Adds the caustic radiance to what the raster pass drew; alpha (distance) is kept.
-    let add = wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        },
-        alpha: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::Zero,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        },
-    };
-    let apply_pipeline = pipeline(
-        "caustics apply",
-        "caustic_apply_fs",
-        &[Some(wgpu::ColorTargetState {
-            format: gpu::HDR_FORMAT,
-            blend: Some(add),
-            write_mask: wgpu::ColorWrites::ALL,
-        })],
-        false,
-        wgpu::CompareFunction::LessEqual,
-    );
-
-    let comp = wgpu::ShaderStages::COMPUTE;
-    let photon_texture = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: comp,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    };
-    let splat_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("caustic splat"),
-        entries: &[
-            photon_texture(0),
-            photon_texture(1),
-            storage(2, comp, false),
-            uniform(3, comp),
-        ],
-    });
-    let splat_module = gpu::shader_with_prelude(ctx, "caustic splat", SPLAT_WGSL);
-    let splat_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("caustic splat"),
-        layout: Some(
-            &device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("caustic splat"),
-                bind_group_layouts: &[Some(&splat_layout)],
-                immediate_size: 0,
-            }),
-        ),
-        module: &splat_module,
-        entry_point: Some("splat_main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    CausticPipelines {
-        map_pipeline,
-        apply_pipeline,
-        splat_pipeline,
-        group3_layout,
-        splat_layout,
-    }
-}
-
-/// Renders each object's caustic maps (one per light), splats the photons into its grid and
-/// returns the `@group(3)` bind group of each object for the apply pass.
-fn render_caustics(
-    frame: &mut Frame,
-    scene: &GpuScene,
-    state: &State,
-    p: &CausticPipelines,
-    groups: &[wgpu::BindGroup],
-    settings: &Settings,
-) -> Vec<wgpu::BindGroup> {
-    let ctx = frame.gpu;
-    let time = scene.time();
-    let size = settings.caustic_resolution;
-    let mut apply_groups = Vec::new();
-    for (m, group) in state.maps.iter().zip(groups) {
-        let maps = m
-            .caustics
-            .as_ref()
-            .expect("caustic maps are made in prepare");
-        let o = &scene.scene.objects[m.object];
-        let center = o.center_at(time);
-        let radius = o.bounding_radius_at(time) * 1.05;
-        // The cones from each light that hold the object; their total flux bounds any texel's
-        // sum, which sets the fixed-point scale.
-        let cones: Vec<_> = scene
-            .scene
-            .lights
-            .iter()
-            .filter_map(|light| {
-                let to = center - light.position;
-                let dist = to.length();
-                (dist > radius).then(|| {
-                    let half = (radius / dist).asin();
-                    (light, to / dist, dist, half)
-                })
-            })
-            .collect();
-        let total: f32 = cones
-            .iter()
-            .map(|(l, _, _, half)| {
-                l.intensity.max_element() * 2.0 * std::f32::consts::PI * (1.0 - half.cos())
-            })
-            .sum();
-        let scale = if total > 0.0 { 1.5e9 / total } else { 1.0 };
-        frame.encoder.clear_buffer(&maps.grid, 0, None);
-        let reference = m.reference.expect("regenerated before use");
-        let mut apply_group = None;
-        for (light, axis, dist, half) in cones.iter().copied() {
-            let up = if axis.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
-            let view = glam::camera::rh::view::look_at_mat4(light.position, center, up);
-            let proj = glam::camera::rh::proj::directx::perspective(
-                2.0 * half,
-                1.0,
-                ((dist - radius) * 0.5).max(1e-3),
-                dist + 2.0 * radius,
-            );
-            let camera = scene.camera_bind_group(ctx, proj * view, light.position);
-            let pixel_area = (2.0 * half.tan() / size as f32).powi(2);
-            let uniform = CausticGpu {
-                light: light.position.extend(1.0).to_array(),
-                intensity: light.intensity.extend(0.0).to_array(),
-                axis: axis.extend(pixel_area).to_array(),
-                grid: settings.caustic_grid,
-                scale,
-                size,
-                _pad: 0,
-            };
-            let buffer = ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("caustic params"),
-                    contents: bytemuck::bytes_of(&uniform),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-            let group3 = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("caustics"),
-                layout: &p.group3_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: maps.grid.as_entire_binding(),
-                    },
-                ],
-            });
-            let landing_view = maps.landing.create_view(&Default::default());
-            let power_view = maps.power.create_view(&Default::default());
-            let depth_view = maps.depth.create_view(&Default::default());
-            {
-                let clear = |view| {
-                    Some(wgpu::RenderPassColorAttachment {
-                        view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })
-                };
-                let mut pass = frame
-                    .encoder
-                    .begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("caustic map"),
-                        color_attachments: &[clear(&landing_view), clear(&power_view)],
-                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: &depth_view,
-                            depth_ops: Some(wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(1.0),
-                                store: wgpu::StoreOp::Store,
-                            }),
-                            stencil_ops: None,
-                        }),
-                        timestamp_writes: None,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
-                pass.set_pipeline(&p.map_pipeline);
-                pass.set_bind_group(0, &camera, &[]);
-                pass.set_bind_group(1, scene.bind_group(), &[]);
-                pass.set_bind_group(2, group, &[]);
-                pass.set_bind_group(3, &group3, &[]);
-                scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![m.object]));
-            }
-            let splat_uniform = SplatGpu {
-                reference: reference.extend(0.0).to_array(),
-                grid: settings.caustic_grid,
-                scale,
-                size,
-                _pad: 0,
-            };
-            let splat_buffer = ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("splat params"),
-                    contents: bytemuck::bytes_of(&splat_uniform),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-            let splat_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("caustic splat"),
-                layout: &p.splat_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&landing_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&power_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: maps.grid.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: splat_buffer.as_entire_binding(),
-                    },
-                ],
-            });
-            {
-                let mut pass = frame
-                    .encoder
-                    .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("caustic splat"),
-                        timestamp_writes: None,
-                    });
-                pass.set_pipeline(&p.splat_pipeline);
-                pass.set_bind_group(0, &splat_group, &[]);
-                pass.dispatch_workgroups(size.div_ceil(8), size.div_ceil(8), 1);
-            }
-            apply_group.get_or_insert(group3);
-        }
-        // No light outside the object: an empty grid (cleared above) adds nothing.
-        let apply_group = apply_group.unwrap_or_else(|| {
-            let uniform = CausticGpu {
-                light: [0.0; 4],
-                intensity: [0.0; 4],
-                axis: [0.0, 0.0, 1.0, 0.0],
-                grid: settings.caustic_grid,
-                scale: 1.0,
-                size,
-                _pad: 0,
-            };
-            let buffer = ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("caustic params"),
-                    contents: bytemuck::bytes_of(&uniform),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("caustics"),
-                layout: &p.group3_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: maps.grid.as_entire_binding(),
-                    },
-                ],
-            })
-        });
-        apply_groups.push(apply_group);
-    }
-    apply_groups
 }

@@ -64,6 +64,7 @@ fn variant_ids_and_params() {
     expected.push("impostors/false-position-4-split".into());
     expected.push("impostors/double-refraction".into());
     expected.push("impostors/caustics".into());
+    expected.push("impostors/caustics-compute".into());
     assert_eq!(ids, expected);
     for mut t in impostors::techniques() {
         let names: Vec<&str> = t.params().iter().map(|p| p.name).collect();

@@ -1,18 +1,23 @@
 // Caustics with distance impostors (paper section 5), after prelude + scene.wgsl + hit.wgsl +
-// localized.wgsl.
+// localized.wgsl + chart.wgsl + lightmap.wgsl.
 //
-// 1. caustic_map_fs: the caustic generator is drawn from the light (camera.eye = light) into a
-//    small "caustic map"; each pixel is one photon: the light ray refracts (glass: in, then out
+// 1. The caustic generator is drawn from the light (camera.eye = light) into a small
+//    *caustic map*; each pixel is one photon: the light ray refracts (glass: in, then out
 //    through the refractor map) or reflects (metal) at x, and Hit() in the environment
-//    impostor gives the photon's landing point l' = o + |l'| l/|l| (the surface point the map
-//    shows in direction l). Target 0: (landing point, 1), target 1: (photon power, 0); pixels
-//    without the object keep w = 0.
-// 2. splat.wgsl (compute): photons are added into a per-face grid indexed by the direction of
-//    the landing point from the reference point o: the paper's "uvmap" is the environment map's
-//    own parameterisation here.
-// 3. caustic_apply_fs: diffuse surfaces add albedo / pi * E, E = photon power per area of the
-//    grid texel's footprint (tent-filtered over 3 x 3 texels), where the surface is what the
-//    reference point sees (else no caustic: a limitation of one map).
+//    impostor gives the direction l of the photon's landing point from the reference point.
+// 2. Two ways to turn photons into caustic radiance:
+//    - light maps (the paper): caustic_uv_fs stores the landing point's light-map address
+//      (atlas uv and chart, read through the *receiver cube*, this code's uvmap) and the
+//      photon power; splat_quads.wgsl adds a Gaussian quad per photon into the light-map
+//      atlas with additive blending; lightmap_apply_fs adds albedo / pi * E to the diffuse
+//      surfaces.
+//    - compute grid (modern): caustic_map_fs stores the landing point; splat.wgsl adds the
+//      photons with atomics into a per-face grid indexed by the landing point's direction
+//      from the reference point; caustic_apply_fs adds albedo / pi * E where the reference
+//      point sees the surface.
+// 3. Reflections and refractions see the caustics too (paper figure 11): env_lookup adds
+//    caustic_radiance_at(l), which reads the caustic at the surface the impostor shows in
+//    direction l (receiver cube: albedo, chart, texel area, cosine).
 
 struct CausticParams {
     // Light position (w unused) and RGB intensity (W/sr).
@@ -22,26 +27,37 @@ struct CausticParams {
     // at unit distance, (2 tan(fov/2) / C)^2.
     axis: vec4f,
     // Face size of the accumulation grid, fixed-point scale of the accumulated power (units
-    // per watt), caustic map size C, and the light count.
+    // per watt), caustic map size C, and 1 when reflections and refractions add caustics.
     grid: u32,
     scale: f32,
     size: u32,
-    _pad: u32,
+    in_lookup: u32,
+    // Light-map atlas side in texels (x); y, z, w unused here (splat_quads.wgsl).
+    lightmap: vec4f,
 };
 
 @group(3) @binding(0) var<uniform> caustic: CausticParams;
 @group(3) @binding(1) var<storage, read> caustic_grid: array<u32>;
+// Receiver cube as six layers: (chart or -1, object, 1 / texel area on the surface, cosine of
+// the surface to the reference point; 0 for non-diffuse surfaces), and the albedo.
+@group(3) @binding(4) var receiver_info: texture_2d_array<f32>;
+@group(3) @binding(5) var receiver_albedo: texture_2d_array<f32>;
+@group(3) @binding(6) var light_map: texture_2d<f32>;
+@group(3) @binding(7) var light_map_sampler: sampler;
 
-struct PhotonOut {
-    @location(0) landing: vec4f,
-    @location(1) power: vec4f,
+struct Photon {
+    // Direction of the landing point from the reference point, and its distance.
+    l: vec3f,
+    distance: f32,
+    power: vec3f,
+    alive: bool,
 };
 
-@fragment
-fn caustic_map_fs(in: SceneVertexOut) -> PhotonOut {
-    var out: PhotonOut;
-    out.landing = vec4f(0.0);
-    out.power = vec4f(0.0);
+// The photon through this caustic-map pixel: refraction or reflection at the generator's
+// surface, Hit() in the environment impostor, and the flux the pixel carries.
+fn trace_photon(in: SceneVertexOut) -> Photon {
+    var photon: Photon;
+    photon.alive = false;
     let light = caustic.light.xyz;
     let l_dir = normalize(in.world - light);
     let n = facing_normal(in.normal, in.world, light);
@@ -57,7 +73,7 @@ fn caustic_map_fs(in: SceneVertexOut) -> PhotonOut {
         let entering = dot(normalize(in.normal), l_dir) < 0.0;
         let eta_rel = select(1.0 / o.material.y, o.material.y, entering);
         let t = refract_dir(l_dir, n, 1.0 / eta_rel);
-        if (t.w < 0.5) { return out; }
+        if (t.w < 0.5) { return photon; }
         weight = vec3f(1.0 - fresnel_dielectric(cos_i, eta_rel));
         dir = t.xyz;
         origin = in.world - n * SURFACE_OFFSET;
@@ -76,7 +92,7 @@ fn caustic_map_fs(in: SceneVertexOut) -> PhotonOut {
                 dir = reflect_dir(dir, -chord.normal);
                 origin = chord.exit_point - chord.normal * SURFACE_OFFSET;
             }
-            if (!left) { return out; }
+            if (!left) { return photon; }
         }
     }
     let x = origin - params.reference.xyz;
@@ -84,39 +100,132 @@ fn caustic_map_fs(in: SceneVertexOut) -> PhotonOut {
                 params.iterations).xyz;
     if (dot(l, l) < 1e-12) { l = dir; }
     let shown = textureSampleLevel(env_distance, env_sampler, l, 0.0)[params.distance_channel];
-    if (shown >= 0.5 * BACKGROUND_DISTANCE) { return out; } // leaves the scene
-    let landing = params.reference.xyz + normalize(l) * shown;
+    if (shown >= 0.5 * BACKGROUND_DISTANCE) { return photon; } // leaves the scene
     // Flux through this pixel: I * solid angle, solid angle = area * cos^3 off the axis.
     let cos_axis = dot(l_dir, caustic.axis.xyz);
     let solid_angle = caustic.axis.w * cos_axis * cos_axis * cos_axis;
-    out.landing = vec4f(landing, 1.0);
-    out.power = vec4f(caustic.intensity.rgb * solid_angle * weight, 0.0);
+    photon.l = normalize(l);
+    photon.distance = shown;
+    photon.power = caustic.intensity.rgb * solid_angle * weight;
+    photon.alive = true;
+    return photon;
+}
+
+struct PhotonOut {
+    // Grid path: landing point, w = 1. Light-map path: atlas uv, chart, w = 1. w = 0: none.
+    address: vec4f,
+    // Photon power (W), w unused.
+    power: vec4f,
+};
+
+struct PhotonTargets {
+    @location(0) address: vec4f,
+    @location(1) power: vec4f,
+};
+
+// Grid path: the photon's landing point.
+@fragment
+fn caustic_map_fs(in: SceneVertexOut) -> PhotonTargets {
+    var out: PhotonTargets;
+    out.address = vec4f(0.0);
+    out.power = vec4f(0.0);
+    let photon = trace_photon(in);
+    if (!photon.alive) { return out; }
+    out.address = vec4f(params.reference.xyz + photon.l * photon.distance, 1.0);
+    out.power = vec4f(photon.power, 0.0);
     return out;
 }
 
+// The receiver-cube texel (nearest) in direction `l` from the reference point.
+fn receiver_texel(l: vec3f) -> vec3i {
+    let fuv = cube_dir_to_face_uv(l);
+    let size = i32(textureDimensions(receiver_info).x);
+    let i = clamp(i32(fuv.y * f32(size)), 0, size - 1);
+    let j = clamp(i32(fuv.z * f32(size)), 0, size - 1);
+    return vec3i(i, j, i32(fuv.x));
+}
+
+// Light-map path (the paper's caustic map): the light-map address of the landing point. The
+// receiver cube names the chart (the paper's texture id); the uv is computed from the landing
+// point itself, so it is not quantised to the cube's texels.
+@fragment
+fn caustic_uv_fs(in: SceneVertexOut) -> PhotonTargets {
+    var out: PhotonTargets;
+    out.address = vec4f(0.0);
+    out.power = vec4f(0.0);
+    let photon = trace_photon(in);
+    if (!photon.alive) { return out; }
+    let t = receiver_texel(photon.l);
+    let info = textureLoad(receiver_info, t.xy, t.z, 0);
+    let chart = i32(round(info.x));
+    if (chart < 0) { return out; } // landed on a surface without a light map
+    let landing = params.reference.xyz + photon.l * photon.distance;
+    let uv = chart_uv(charts[chart], world_to_local(u32(round(info.y)), landing));
+    out.address = vec4f(uv, f32(chart), 1.0);
+    out.power = vec4f(photon.power, 0.0);
+    return out;
+}
+
+// Receiver cube (rendered from the reference point with the environment impostor): what the
+// caustic lookups need to know about the surface seen in each direction.
+struct ReceiverTargets {
+    @location(0) info: vec4f,
+    @location(1) albedo: vec4f,
+};
+
+@fragment
+fn receiver_fs(in: SceneVertexOut) -> ReceiverTargets {
+    let chart = fragment_chart(in.object, in.world, in.normal);
+    var out: ReceiverTargets;
+    let to_surface = normalize(in.world - camera.eye.xyz);
+    let n = facing_normal(in.normal, in.world, camera.eye.xyz);
+    let diffuse = objects[in.object].material.x == MATERIAL_DIFFUSE;
+    out.info = vec4f(-1.0, f32(in.object), 0.0, 0.0);
+    if (diffuse) {
+        var inv_area = 0.0;
+        if (chart.index >= 0) {
+            inv_area = 1.0 / texel_area(charts[chart.index], in.object, chart.local_normal);
+        }
+        out.info = vec4f(f32(chart.index), f32(in.object), inv_area, abs(dot(n, to_surface)));
+    }
+    out.albedo = vec4f(surface_albedo(in.object, in.uv), 1.0);
+    return out;
+}
+
+// Light-map path: power per texel (W) of chart `c` at atlas `uv`, bilinear, kept inside the
+// chart's rectangle so no neighbour bleeds in.
+fn light_map_power(c: Chart, uv: vec2f) -> vec3f {
+    let half_texel = 0.5 / caustic.lightmap.x;
+    let inside = clamp(uv, c.rect.xy + half_texel, max(c.rect.zw - half_texel, c.rect.xy + half_texel));
+    return textureSampleLevel(light_map, light_map_sampler, inside, 0.0).rgb;
+}
+
+// Light-map path, direct view: diffuse surfaces add albedo / pi * E, E = power per texel /
+// the texel's area on the surface.
+@fragment
+fn lightmap_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    let chart = fragment_chart(in.object, in.world, in.normal);
+    if (chart.index < 0) { return vec4f(0.0); }
+    let c = charts[chart.index];
+    let irradiance = light_map_power(c, chart.uv) / texel_area(c, in.object, chart.local_normal);
+    return vec4f(surface_albedo(in.object, in.uv) / PI * irradiance, 0.0);
+}
+
 fn grid_power(face: u32, i: i32, j: i32) -> vec3f {
-    let g = i32(caustic.grid);
-    if (i < 0 || j < 0 || i >= g || j >= g) { return vec3f(0.0); }
     let base = 3u * ((face * caustic.grid + u32(j)) * caustic.grid + u32(i));
     return vec3f(f32(caustic_grid[base]), f32(caustic_grid[base + 1u]), f32(caustic_grid[base + 2u])) / caustic.scale;
 }
 
-@fragment
-fn caustic_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    let eye = camera.eye.xyz;
-    let d = in.world - params.reference.xyz;
+// Grid path: irradiance at the surface point d (relative to the reference point) whose normal
+// makes cosine cos_s with d: power tent-filtered over 3 x 3 texels (weights 1 2 1,
+// renormalised at the face's border), per area of the texel's footprint on the surface.
+fn grid_irradiance(d: vec3f, cos_s: f32) -> vec3f {
     let dist = length(d);
-    let seen = textureSampleLevel(env_distance, env_sampler, d, 0.0)[params.distance_channel];
-    // Only where the reference point sees this surface (the grid is indexed by its view).
-    if (dist < 1e-4 || abs(seen - dist) > 0.02 * dist + 0.01) { return vec4f(0.0); }
     let fuv = cube_dir_to_face_uv(d);
     let face = u32(fuv.x);
     let g = f32(caustic.grid);
-    let ci = fuv.y * g;
-    let cj = fuv.z * g;
-    let i0 = i32(floor(ci));
-    let j0 = i32(floor(cj));
-    // Tent filter over 3 x 3 texels (weights 1 2 1), renormalised at the face's border.
+    let i0 = i32(floor(fuv.y * g));
+    let j0 = i32(floor(fuv.z * g));
     var power = vec3f(0.0);
     var wsum = 0.0;
     for (var dj = -1; dj <= 1; dj++) {
@@ -135,10 +244,46 @@ fn caustic_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
     let sc = 2.0 * (f32(i0) + 0.5) / g - 1.0;
     let tc = 2.0 * (f32(j0) + 0.5) / g - 1.0;
     let texel_solid_angle = (4.0 / (g * g)) / pow(1.0 + sc * sc + tc * tc, 1.5);
+    let area = texel_solid_angle * dist * dist / max(cos_s, 0.05);
+    return power / area;
+}
+
+// Grid path, direct view: only where the reference point sees this surface (the grid is
+// indexed by its view).
+@fragment
+fn caustic_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    let d = in.world - params.reference.xyz;
+    let dist = length(d);
+    let seen = textureSampleLevel(env_distance, env_sampler, d, 0.0)[params.distance_channel];
+    if (dist < 1e-4 || abs(seen - dist) > 0.02 * dist + 0.01) { return vec4f(0.0); }
     let n = facing_normal(in.normal, in.world, params.reference.xyz);
-    let cos_s = max(abs(dot(n, d / dist)), 0.05);
-    let area = texel_solid_angle * dist * dist / cos_s;
-    let irradiance = power / area;
-    let albedo = surface_albedo(in.object, in.uv);
-    return vec4f(albedo / PI * irradiance, 0.0);
+    let irradiance = grid_irradiance(d, abs(dot(n, d / dist)));
+    return vec4f(surface_albedo(in.object, in.uv) / PI * irradiance, 0.0);
+}
+
+// Caustic radiance of the surface the impostor shows in direction l, for reflections and
+// refractions (light-map path).
+fn caustic_radiance_lightmap(l: vec3f) -> vec3f {
+    if (caustic.in_lookup == 0u) { return vec3f(0.0); }
+    let t = receiver_texel(l);
+    let info = textureLoad(receiver_info, t.xy, t.z, 0);
+    let chart = i32(round(info.x));
+    if (chart < 0 || info.w <= 0.0) { return vec3f(0.0); }
+    let shown = textureSampleLevel(env_distance, env_sampler, l, 0.0)[params.distance_channel];
+    let p = params.reference.xyz + normalize(l) * shown;
+    let c = charts[chart];
+    let uv = chart_uv(c, world_to_local(u32(round(info.y)), p));
+    let albedo = textureLoad(receiver_albedo, t.xy, t.z, 0).rgb;
+    return albedo / PI * light_map_power(c, uv) * info.z;
+}
+
+// The same for the grid path.
+fn caustic_radiance_grid(l: vec3f) -> vec3f {
+    if (caustic.in_lookup == 0u) { return vec3f(0.0); }
+    let t = receiver_texel(l);
+    let info = textureLoad(receiver_info, t.xy, t.z, 0);
+    if (info.w <= 0.0) { return vec3f(0.0); }
+    let shown = textureSampleLevel(env_distance, env_sampler, l, 0.0)[params.distance_channel];
+    let albedo = textureLoad(receiver_albedo, t.xy, t.z, 0).rgb;
+    return albedo / PI * grid_irradiance(normalize(l) * shown, info.w);
 }

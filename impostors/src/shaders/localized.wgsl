@@ -58,7 +58,8 @@ fn env_lookup(origin: vec3f, dir: vec3f) -> vec3f {
         // l at the reference point itself: any direction sees the same (ratio 0) - use R.
         if (dot(lookup, lookup) < 1e-12) { lookup = dir; }
     }
-    return textureSampleLevel(env_radiance, env_sampler, lookup, 0.0).rgb;
+    // Plus the caustic on the surface seen there (caustic variants; zero otherwise).
+    return textureSampleLevel(env_radiance, env_sampler, lookup, 0.0).rgb + caustic_radiance_at(lookup);
 }
 
 // One chord inside a refractor: from `pos` (world, inside) along `dir` to the exit point found

@@ -1,0 +1,1023 @@
+//! Caustics with distance impostors (paper section 5): caustic maps from the lights, photon
+//! landing points by `Hit()`, and two ways of turning them into caustic radiance.
+//!
+//! - [`CausticPath::LightMap`], the paper's: each photon stores the light-map address of its
+//!   landing point (chart and atlas uv, through the *receiver cube* that plays the paper's
+//!   uvmap); one Gaussian quad per caustic-map texel is drawn into the light-map atlas with
+//!   additive blending (the vertex shader reads the caustic map, the paper's vertex texture
+//!   fetch); the diffuse surfaces then add `albedo / pi * E` from their light map.
+//! - [`CausticPath::Grid`], a modern alternative: a compute pass adds the photons with atomics
+//!   into a per-face grid indexed by the landing point's direction from the reference point;
+//!   surfaces the reference point sees read it back.
+//!
+//! Both also put the caustics into reflections and refractions (paper figure 11): the
+//! localized lookup adds the caustic radiance of the surface the impostor shows.
+//! Shaders: `caustic.wgsl`, `chart.wgsl`, `lightmap.wgsl`, `splat.wgsl`, `splat_quads.wgsl`.
+
+use crate::lightmap::ChartAtlas;
+use glam::Vec3;
+use gpu::cube::{CubeTarget, cube_face_view_proj};
+use gpu::wgpu::{self, util::DeviceExt};
+use gpu::{Context, GpuError};
+use scene::{BACKGROUND_DISTANCE, Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
+
+pub const CHART_WGSL: &str = include_str!("shaders/chart.wgsl");
+pub const LIGHTMAP_WGSL: &str = include_str!("shaders/lightmap.wgsl");
+pub const CAUSTIC_WGSL: &str = include_str!("shaders/caustic.wgsl");
+const SPLAT_WGSL: &str = include_str!("shaders/splat.wgsl");
+const SPLAT_QUADS_WGSL: &str = include_str!("shaders/splat_quads.wgsl");
+
+/// Format of the caustic map's two targets (photon address, photon power).
+const PHOTON_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Light-map atlas: power per texel, summed by blending in 32-bit float (16-bit float would
+/// stop adding photons once a texel holds ~2000 of them: an 11-bit significand).
+const LIGHT_MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Receiver cube: chart, object, 1 / texel area, cosine.
+const RECEIVER_INFO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const RECEIVER_ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// How photons become caustic radiance.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CausticPath {
+    /// The paper's: Gaussian quads blended into light maps addressed by chart and uv.
+    LightMap,
+    /// Compute scatter with atomics into a grid indexed by direction from the reference point.
+    Grid,
+}
+
+/// Caustic parameters (the `caustic_*`, `lightmap_resolution`, `splat_radius` variant
+/// parameters).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CausticSettings {
+    pub path: CausticPath,
+    /// Caustic map size C: C x C photons per light and object.
+    pub resolution: u32,
+    /// Grid path: face size of the accumulation grid.
+    pub grid: u32,
+    /// Light-map path: atlas side in texels.
+    pub lightmap_resolution: u32,
+    /// Light-map path: radius of a photon's Gaussian quad in light-map texels (sigma = R / 2).
+    pub splat_radius: f32,
+    /// Reflections and refractions add the caustics they see (paper figure 11).
+    pub in_lookup: bool,
+}
+
+impl CausticSettings {
+    pub fn new(path: CausticPath) -> Self {
+        Self {
+            path,
+            resolution: 128,
+            grid: 64,
+            lightmap_resolution: 1024,
+            splat_radius: 3.0,
+            in_lookup: true,
+        }
+    }
+}
+
+/// The WGSL that `localized.wgsl`'s lookups call for the caustics they see.
+pub fn lookup_wgsl(path: Option<CausticPath>) -> String {
+    let body = match path {
+        None => "return vec3f(0.0);",
+        Some(CausticPath::LightMap) => "return caustic_radiance_lightmap(l);",
+        Some(CausticPath::Grid) => "return caustic_radiance_grid(l);",
+    };
+    let shaders = match path {
+        None => String::new(),
+        Some(_) => format!("{CHART_WGSL}\n{LIGHTMAP_WGSL}\n{CAUSTIC_WGSL}\n"),
+    };
+    format!("{shaders}fn caustic_radiance_at(l: vec3f) -> vec3f {{ {body} }}\n")
+}
+
+/// The uniform block `CausticParams` of caustic.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct CausticGpu {
+    light: [f32; 4],
+    intensity: [f32; 4],
+    axis: [f32; 4],
+    grid: u32,
+    scale: f32,
+    size: u32,
+    in_lookup: u32,
+    lightmap: [f32; 4],
+}
+
+/// The uniform block `SplatParams` of splat.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SplatGpu {
+    reference: [f32; 4],
+    grid: u32,
+    scale: f32,
+    size: u32,
+    _pad: u32,
+}
+
+/// The uniform block `SplatQuadParams` of splat_quads.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SplatQuadGpu {
+    atlas: [f32; 4],
+    size: u32,
+    _pad: [u32; 3],
+}
+
+/// Gaussian of a photon's quad: sigma = R / 2, cut at the disc of radius R; `(1 / (2
+/// sigma^2), 1 / integral over the disc)` in texel units, so a photon adds its whole power.
+pub fn splat_gaussian(radius: f32) -> (f32, f32) {
+    let sigma = 0.5 * radius;
+    let k = 1.0 / (2.0 * sigma * sigma);
+    let integral = std::f32::consts::PI / k * (1.0 - (-radius * radius * k).exp());
+    (k, 1.0 / integral)
+}
+
+/// Pipelines, layouts and the shared light-map resources of one caustic variant.
+pub struct Caustics {
+    settings: CausticSettings,
+    /// `@group(3)` of the caustic passes and of the localized pass.
+    group3_layout: wgpu::BindGroupLayout,
+    /// `@group(3)` of the receiver pass (charts and the uniform only).
+    receiver_layout: wgpu::BindGroupLayout,
+    /// Placeholder `@group(2)` of the receiver pass.
+    empty_group: wgpu::BindGroup,
+    map_pipeline: wgpu::RenderPipeline,
+    apply_pipeline: wgpu::RenderPipeline,
+    receiver_pipeline: wgpu::RenderPipeline,
+    /// The localized pass with caustics in its lookups.
+    pub localized_pipeline: wgpu::RenderPipeline,
+    splat: Splatter,
+    atlas: ChartAtlas,
+    charts: wgpu::Buffer,
+    chart_of: wgpu::Buffer,
+    light_map: wgpu::Texture,
+    light_map_view: wgpu::TextureView,
+    light_map_sampler: wgpu::Sampler,
+}
+
+enum Splatter {
+    Compute {
+        pipeline: wgpu::ComputePipeline,
+        layout: wgpu::BindGroupLayout,
+    },
+    Quads {
+        pipeline: wgpu::RenderPipeline,
+        layout: wgpu::BindGroupLayout,
+    },
+}
+
+/// One caustic generator's resources.
+pub struct GeneratorMaps {
+    address: wgpu::Texture,
+    power: wgpu::Texture,
+    depth: wgpu::Texture,
+    /// Grid path accumulation (4 bytes on the light-map path).
+    grid: wgpu::Buffer,
+    receiver_info: CubeTarget,
+    receiver_albedo: CubeTarget,
+}
+
+impl GeneratorMaps {
+    /// The caustic map's address target (grid: landing point; light map: uv, chart; w = 1
+    /// for a photon) and power target, as last rendered (for the last light).
+    pub fn caustic_map(&self) -> (&wgpu::Texture, &wgpu::Texture) {
+        (&self.address, &self.power)
+    }
+}
+
+/// Bind-group layout entries used below.
+fn entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty,
+        count: None,
+    }
+}
+fn uniform_ty() -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Uniform,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+fn storage_ty(read_only: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+fn texture_ty(dimension: wgpu::TextureViewDimension, filterable: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Texture {
+        sample_type: wgpu::TextureSampleType::Float { filterable },
+        view_dimension: dimension,
+        multisampled: false,
+    }
+}
+fn uniform_buffer<T: bytemuck::Pod>(ctx: &Context, label: &str, value: &T) -> wgpu::Buffer {
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::bytes_of(value),
+            usage: wgpu::BufferUsages::UNIFORM,
+        })
+}
+fn bind_group(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[(u32, wgpu::BindingResource<'_>)],
+) -> wgpu::BindGroup {
+    let entries: Vec<_> = resources
+        .iter()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: resource.clone(),
+        })
+        .collect();
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// A pipeline drawing scene objects with `scene_vs`, no culling.
+fn scene_objects_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry_point: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
+    ctx.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("scene_vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(gpu::Vertex::layout())],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                targets,
+            }),
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: gpu::DEPTH_FORMAT,
+                depth_write_enabled: Some(depth.0),
+                depth_compare: Some(depth.1),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        })
+}
+
+fn target(
+    format: wgpu::TextureFormat,
+    blend: Option<wgpu::BlendState>,
+) -> Option<wgpu::ColorTargetState> {
+    Some(wgpu::ColorTargetState {
+        format,
+        blend,
+        write_mask: wgpu::ColorWrites::ALL,
+    })
+}
+
+/// Adds rgb, keeps the destination's alpha (the distance in the HDR target).
+const ADD_RGB: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+impl Caustics {
+    /// Pipelines for `settings.path`; `impostor_layout` is the localized pass's `@group(2)`.
+    pub fn new(
+        ctx: &Context,
+        scene: &GpuScene,
+        impostor_layout: &wgpu::BindGroupLayout,
+        localized_source: &str,
+        settings: &CausticSettings,
+    ) -> Result<Self, GpuError> {
+        if settings.path == CausticPath::LightMap {
+            // Additive blending into 32-bit float texels.
+            ctx.require(wgpu::Features::FLOAT32_BLENDABLE)?;
+        }
+        let device = &ctx.device;
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let d2array = wgpu::TextureViewDimension::D2Array;
+        let group3_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caustics"),
+            entries: &[
+                entry(0, frag, uniform_ty()),
+                entry(1, frag, storage_ty(true)),
+                entry(2, frag, storage_ty(true)),
+                entry(3, frag, storage_ty(true)),
+                entry(4, frag, texture_ty(d2array, false)),
+                entry(5, frag, texture_ty(d2array, false)),
+                entry(6, frag, texture_ty(wgpu::TextureViewDimension::D2, true)),
+                entry(
+                    7,
+                    frag,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+            ],
+        });
+        let receiver_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caustic receivers"),
+            entries: &[
+                entry(0, frag, uniform_ty()),
+                entry(2, frag, storage_ty(true)),
+                entry(3, frag, storage_ty(true)),
+            ],
+        });
+        let empty_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("empty"),
+            entries: &[],
+        });
+        let empty_group = bind_group(ctx, "empty", &empty_layout, &[]);
+
+        let module = gpu::shader_with_prelude(ctx, "impostors caustics", localized_source);
+        let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, &group3_layout]);
+        let (map_entry, apply_entry) = match settings.path {
+            CausticPath::LightMap => ("caustic_uv_fs", "lightmap_apply_fs"),
+            CausticPath::Grid => ("caustic_map_fs", "caustic_apply_fs"),
+        };
+        let less = (true, wgpu::CompareFunction::Less);
+        let map_pipeline = scene_objects_pipeline(
+            ctx,
+            "caustic map",
+            &layout,
+            &module,
+            map_entry,
+            &[target(PHOTON_FORMAT, None), target(PHOTON_FORMAT, None)],
+            less,
+        );
+        let apply_pipeline = scene_objects_pipeline(
+            ctx,
+            "caustics apply",
+            &layout,
+            &module,
+            apply_entry,
+            &[target(gpu::HDR_FORMAT, Some(ADD_RGB))],
+            (false, wgpu::CompareFunction::LessEqual),
+        );
+        let localized_pipeline = scene_objects_pipeline(
+            ctx,
+            "localized lookup with caustics",
+            &layout,
+            &module,
+            "localized_fs",
+            &[target(gpu::HDR_FORMAT, None)],
+            less,
+        );
+        let receiver_pipeline = scene_objects_pipeline(
+            ctx,
+            "caustic receivers",
+            &scene.pipeline_layout_with(ctx, &[&empty_layout, &receiver_layout]),
+            &module,
+            "receiver_fs",
+            &[
+                target(RECEIVER_INFO_FORMAT, None),
+                target(RECEIVER_ALBEDO_FORMAT, None),
+            ],
+            less,
+        );
+        let splat = match settings.path {
+            CausticPath::Grid => splat_compute(ctx),
+            CausticPath::LightMap => splat_quads(ctx),
+        };
+
+        let atlas = ChartAtlas::new(&scene.scene, settings.lightmap_resolution);
+        let charts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light-map charts"),
+            contents: bytemuck::cast_slice(&atlas.gpu_charts()),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let chart_of = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light-map chart table"),
+            contents: bytemuck::cast_slice(&atlas.chart_of),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        // The grid path never writes the light map: a 1 x 1 stand-in.
+        let side = match settings.path {
+            CausticPath::LightMap => settings.lightmap_resolution,
+            CausticPath::Grid => 1,
+        };
+        let light_map = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("caustic light map"),
+            size: wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: LIGHT_MAP_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let light_map_view = light_map.create_view(&Default::default());
+        let light_map_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("light map"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        Ok(Self {
+            settings: settings.clone(),
+            group3_layout,
+            receiver_layout,
+            empty_group,
+            map_pipeline,
+            apply_pipeline,
+            receiver_pipeline,
+            localized_pipeline,
+            splat,
+            atlas,
+            charts,
+            chart_of,
+            light_map,
+            light_map_view,
+            light_map_sampler,
+        })
+    }
+
+    /// The light-map atlas (for tests and images).
+    pub fn light_map(&self) -> &wgpu::Texture {
+        &self.light_map
+    }
+
+    /// The chart atlas of the receivers.
+    pub fn atlas(&self) -> &ChartAtlas {
+        &self.atlas
+    }
+
+    /// Resources of one caustic generator whose impostor has face size `env_size`.
+    pub fn generator_maps(&self, ctx: &Context, env_size: u32) -> Result<GeneratorMaps, GpuError> {
+        let size = self.settings.resolution;
+        let photon_target = |label| {
+            ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size,
+                    height: size,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: PHOTON_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        let grid_bytes = match self.settings.path {
+            CausticPath::Grid => 6 * 3 * 4 * (self.settings.grid as u64).pow(2),
+            CausticPath::LightMap => 4,
+        };
+        Ok(GeneratorMaps {
+            address: photon_target("caustic map: photon address"),
+            power: photon_target("caustic map: photon power"),
+            depth: gpu::depth_texture(ctx, size, size, 1, "caustic map depth"),
+            grid: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("caustic grid"),
+                size: grid_bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            receiver_info: CubeTarget::new(
+                ctx,
+                env_size,
+                RECEIVER_INFO_FORMAT,
+                "caustic receivers",
+            )?,
+            receiver_albedo: CubeTarget::new(
+                ctx,
+                env_size,
+                RECEIVER_ALBEDO_FORMAT,
+                "receiver albedo",
+            )?,
+        })
+    }
+
+    fn params(&self, light: Option<(&PointLight, Vec3, f32)>, scale: f32) -> CausticGpu {
+        let (light_pos, intensity, axis) = match light {
+            Some((l, axis, pixel_area)) => (
+                l.position.extend(1.0),
+                l.intensity.extend(0.0),
+                axis.extend(pixel_area),
+            ),
+            None => (glam::Vec4::ZERO, glam::Vec4::ZERO, glam::Vec4::Z),
+        };
+        CausticGpu {
+            light: light_pos.to_array(),
+            intensity: intensity.to_array(),
+            axis: axis.to_array(),
+            grid: self.settings.grid,
+            scale,
+            size: self.settings.resolution,
+            in_lookup: self.settings.in_lookup as u32,
+            lightmap: [self.light_map.width() as f32, 0.0, 0.0, 0.0],
+        }
+    }
+
+    /// Renders what the reference point sees of the receivers (chart, object, texel area,
+    /// cosine, albedo): the paper's *uvmap*. Made with the environment impostor.
+    pub fn render_receivers(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        maps: &GeneratorMaps,
+        object: usize,
+        reference: Vec3,
+    ) {
+        let ctx = frame.gpu;
+        let uniform = uniform_buffer(ctx, "receiver params", &self.params(None, 1.0));
+        let group = bind_group(
+            ctx,
+            "caustic receivers",
+            &self.receiver_layout,
+            &[
+                (0, uniform.as_entire_binding()),
+                (2, self.charts.as_entire_binding()),
+                (3, self.chart_of.as_entire_binding()),
+            ],
+        );
+        for face in 0..6 {
+            let view_proj = cube_face_view_proj(face, reference, 0.01, 2.0 * BACKGROUND_DISTANCE);
+            let camera = scene.camera_bind_group(ctx, view_proj, reference);
+            let clear = |view, r| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r,
+                            g: 0.0,
+                            b: 0.0,
+                            a: 0.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            };
+            let mut pass = frame
+                .encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("caustic receivers"),
+                    color_attachments: &[
+                        clear(&maps.receiver_info.face_views[face], -1.0),
+                        clear(&maps.receiver_albedo.face_views[face], 0.0),
+                    ],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &maps.receiver_info.depth_face_views[face],
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+            pass.set_pipeline(&self.receiver_pipeline);
+            pass.set_bind_group(0, &camera, &[]);
+            pass.set_bind_group(1, scene.bind_group(), &[]);
+            pass.set_bind_group(2, &self.empty_group, &[]);
+            pass.set_bind_group(3, &group, &[]);
+            scene.draw_objects(&mut pass, &ObjectFilter::Except(vec![object]));
+        }
+    }
+
+    fn group3(
+        &self,
+        ctx: &Context,
+        maps: &GeneratorMaps,
+        uniform: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let array_view = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
+        };
+        let info = array_view(&maps.receiver_info.color);
+        let albedo = array_view(&maps.receiver_albedo.color);
+        bind_group(
+            ctx,
+            "caustics",
+            &self.group3_layout,
+            &[
+                (0, uniform.as_entire_binding()),
+                (1, maps.grid.as_entire_binding()),
+                (2, self.charts.as_entire_binding()),
+                (3, self.chart_of.as_entire_binding()),
+                (4, wgpu::BindingResource::TextureView(&info)),
+                (5, wgpu::BindingResource::TextureView(&albedo)),
+                (6, wgpu::BindingResource::TextureView(&self.light_map_view)),
+                (7, wgpu::BindingResource::Sampler(&self.light_map_sampler)),
+            ],
+        )
+    }
+
+    /// Renders the caustic maps of every generator from every light and splats the photons
+    /// (into the light map or the generators' grids). Returns each generator's `@group(3)`
+    /// for the apply and lookup passes.
+    pub fn render(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        generators: &[(usize, Vec3, &GeneratorMaps, &wgpu::BindGroup)],
+    ) -> Vec<wgpu::BindGroup> {
+        let ctx = frame.gpu;
+        let time = scene.time();
+        let size = self.settings.resolution;
+        if self.settings.path == CausticPath::LightMap {
+            clear_texture_pass(frame.encoder, &self.light_map_view);
+        }
+        let mut groups = Vec::new();
+        for &(object, reference, maps, impostor_group) in generators {
+            let o = &scene.scene.objects[object];
+            let center = o.center_at(time);
+            let radius = o.bounding_radius_at(time) * 1.05;
+            // The cones from each light that hold the object; their total flux bounds any grid
+            // texel's sum, which sets the grid's fixed-point scale.
+            let cones: Vec<_> = scene
+                .scene
+                .lights
+                .iter()
+                .filter_map(|light| {
+                    let to = center - light.position;
+                    let dist = to.length();
+                    (dist > radius).then(|| (light, to / dist, dist, (radius / dist).asin()))
+                })
+                .collect();
+            let total: f32 = cones
+                .iter()
+                .map(|(l, _, _, half)| {
+                    l.intensity.max_element() * 2.0 * std::f32::consts::PI * (1.0 - half.cos())
+                })
+                .sum();
+            let scale = if total > 0.0 { 1.5e9 / total } else { 1.0 };
+            if self.settings.path == CausticPath::Grid {
+                frame.encoder.clear_buffer(&maps.grid, 0, None);
+            }
+            let mut lookup_group = None;
+            for (light, axis, dist, half) in cones.iter().copied() {
+                let up = if axis.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
+                let view = glam::camera::rh::view::look_at_mat4(light.position, center, up);
+                let proj = glam::camera::rh::proj::directx::perspective(
+                    2.0 * half,
+                    1.0,
+                    ((dist - radius) * 0.5).max(1e-3),
+                    dist + 2.0 * radius,
+                );
+                let camera = scene.camera_bind_group(ctx, proj * view, light.position);
+                let pixel_area = (2.0 * half.tan() / size as f32).powi(2);
+                let uniform = uniform_buffer(
+                    ctx,
+                    "caustic params",
+                    &self.params(Some((light, axis, pixel_area)), scale),
+                );
+                let group3 = self.group3(ctx, maps, &uniform);
+                self.caustic_map_pass(frame, scene, maps, object, &camera, impostor_group, &group3);
+                self.splat(frame, maps, reference, scale);
+                lookup_group.get_or_insert(group3);
+            }
+            // No light outside the object: nothing splatted, the group still binds the maps.
+            groups.push(lookup_group.unwrap_or_else(|| {
+                let uniform = uniform_buffer(ctx, "caustic params", &self.params(None, 1.0));
+                self.group3(ctx, maps, &uniform)
+            }));
+        }
+        groups
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn caustic_map_pass(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        maps: &GeneratorMaps,
+        object: usize,
+        camera: &wgpu::BindGroup,
+        impostor_group: &wgpu::BindGroup,
+        group3: &wgpu::BindGroup,
+    ) {
+        let address = maps.address.create_view(&Default::default());
+        let power = maps.power.create_view(&Default::default());
+        let depth = maps.depth.create_view(&Default::default());
+        let clear = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = frame
+            .encoder
+            .begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("caustic map"),
+                color_attachments: &[clear(&address), clear(&power)],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+        pass.set_pipeline(&self.map_pipeline);
+        pass.set_bind_group(0, camera, &[]);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        pass.set_bind_group(2, impostor_group, &[]);
+        pass.set_bind_group(3, group3, &[]);
+        scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![object]));
+    }
+
+    /// Adds one caustic map's photons: Gaussian quads into the light map, or atomics into
+    /// the grid.
+    fn splat(&self, frame: &mut Frame, maps: &GeneratorMaps, reference: Vec3, scale: f32) {
+        let ctx = frame.gpu;
+        let size = self.settings.resolution;
+        let address = maps.address.create_view(&Default::default());
+        let power = maps.power.create_view(&Default::default());
+        match &self.splat {
+            Splatter::Compute { pipeline, layout } => {
+                let uniform = uniform_buffer(
+                    ctx,
+                    "splat params",
+                    &SplatGpu {
+                        reference: reference.extend(0.0).to_array(),
+                        grid: self.settings.grid,
+                        scale,
+                        size,
+                        _pad: 0,
+                    },
+                );
+                let group = bind_group(
+                    ctx,
+                    "caustic splat",
+                    layout,
+                    &[
+                        (0, wgpu::BindingResource::TextureView(&address)),
+                        (1, wgpu::BindingResource::TextureView(&power)),
+                        (2, maps.grid.as_entire_binding()),
+                        (3, uniform.as_entire_binding()),
+                    ],
+                );
+                let mut pass = frame
+                    .encoder
+                    .begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("caustic splat"),
+                        timestamp_writes: None,
+                    });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.dispatch_workgroups(size.div_ceil(8), size.div_ceil(8), 1);
+            }
+            Splatter::Quads { pipeline, layout } => {
+                let radius = self.settings.splat_radius;
+                let (k, norm) = splat_gaussian(radius);
+                let uniform = uniform_buffer(
+                    ctx,
+                    "splat quad params",
+                    &SplatQuadGpu {
+                        atlas: [self.light_map.width() as f32, radius, k, norm],
+                        size,
+                        _pad: [0; 3],
+                    },
+                );
+                let group = bind_group(
+                    ctx,
+                    "caustic splat quads",
+                    layout,
+                    &[
+                        (0, wgpu::BindingResource::TextureView(&address)),
+                        (1, wgpu::BindingResource::TextureView(&power)),
+                        (2, self.charts.as_entire_binding()),
+                        (3, uniform.as_entire_binding()),
+                    ],
+                );
+                let mut pass = frame
+                    .encoder
+                    .begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("caustic splat quads"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view: &self.light_map_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Load,
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: None,
+                        timestamp_writes: None,
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..6, 0..size * size);
+            }
+        }
+    }
+
+    /// Adds the caustic radiance to the diffuse surfaces already drawn into `target` (depth
+    /// `LessEqual`, additive, alpha kept). `groups` are [`Caustics::render`]'s.
+    #[allow(clippy::too_many_arguments)]
+    pub fn apply(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        target: &RasterTarget,
+        camera: &wgpu::BindGroup,
+        impostor_groups: &[wgpu::BindGroup],
+        groups: &[wgpu::BindGroup],
+        receivers: &ObjectFilter,
+    ) {
+        let mut pass = scene::begin_scene_pass(
+            frame.encoder,
+            &RasterTarget {
+                clear: false,
+                ..*target
+            },
+            scene.scene.background,
+            "caustics apply",
+        );
+        pass.set_pipeline(&self.apply_pipeline);
+        pass.set_bind_group(0, camera, &[]);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        match self.settings.path {
+            // One light map for every generator: one draw.
+            CausticPath::LightMap => {
+                if let (Some(g2), Some(g3)) = (impostor_groups.first(), groups.first()) {
+                    pass.set_bind_group(2, g2, &[]);
+                    pass.set_bind_group(3, g3, &[]);
+                    scene.draw_objects(&mut pass, receivers);
+                }
+            }
+            // One grid per generator, each seen from its own reference point.
+            CausticPath::Grid => {
+                for (g2, g3) in impostor_groups.iter().zip(groups) {
+                    pass.set_bind_group(2, g2, &[]);
+                    pass.set_bind_group(3, g3, &[]);
+                    scene.draw_objects(&mut pass, receivers);
+                }
+            }
+        }
+    }
+}
+
+fn clear_texture_pass(encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView) {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("clear light map"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+}
+
+fn splat_compute(ctx: &Context) -> Splatter {
+    let comp = wgpu::ShaderStages::COMPUTE;
+    let d2 = wgpu::TextureViewDimension::D2;
+    let layout = ctx
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caustic splat"),
+            entries: &[
+                entry(0, comp, texture_ty(d2, false)),
+                entry(1, comp, texture_ty(d2, false)),
+                entry(2, comp, storage_ty(false)),
+                entry(3, comp, uniform_ty()),
+            ],
+        });
+    let module = gpu::shader_with_prelude(ctx, "caustic splat", SPLAT_WGSL);
+    let pipeline = ctx
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("caustic splat"),
+            layout: Some(
+                &ctx.device
+                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("caustic splat"),
+                        bind_group_layouts: &[Some(&layout)],
+                        immediate_size: 0,
+                    }),
+            ),
+            module: &module,
+            entry_point: Some("splat_main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+    Splatter::Compute { pipeline, layout }
+}
+
+fn splat_quads(ctx: &Context) -> Splatter {
+    let vert = wgpu::ShaderStages::VERTEX;
+    let d2 = wgpu::TextureViewDimension::D2;
+    let layout = ctx
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caustic splat quads"),
+            entries: &[
+                entry(0, vert, texture_ty(d2, false)),
+                entry(1, vert, texture_ty(d2, false)),
+                entry(2, vert, storage_ty(true)),
+                entry(3, vert | wgpu::ShaderStages::FRAGMENT, uniform_ty()),
+            ],
+        });
+    let source = format!("{CHART_WGSL}\n{SPLAT_QUADS_WGSL}");
+    let module = gpu::shader_with_prelude(ctx, "caustic splat quads", &source);
+    let add = wgpu::BlendState {
+        color: wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        },
+        alpha: wgpu::BlendComponent::REPLACE,
+    };
+    let pipeline = ctx
+        .device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("caustic splat quads"),
+            layout: Some(
+                &ctx.device
+                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("caustic splat quads"),
+                        bind_group_layouts: &[Some(&layout)],
+                        immediate_size: 0,
+                    }),
+            ),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("splat_quad_vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("splat_quad_fs"),
+                compilation_options: Default::default(),
+                targets: &[target(LIGHT_MAP_FORMAT, Some(add))],
+            }),
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+    Splatter::Quads { pipeline, layout }
+}

@@ -1,0 +1,295 @@
+//! Light-map charts of the caustic receivers (paper section 5, "light maps").
+//!
+//! The paper splats photon hits into the *light maps* of the surfaces they land on, addressed
+//! by a texture id and `(u, v)` read from a *uvmap*. Our scenes carry no light-map
+//! parameterisation, so one is made here: every diffuse object is cut by the signed dominant
+//! axis of its triangles' normals (in object space) into at most six *charts*, each a
+//! parallel projection onto the two other axes. A chart is injective wherever no two of its
+//! triangles overlap along its axis — true for planes, boxes and the rooms of our scenes, not
+//! for general concave meshes (a known limit, see README.md). The charts are packed into one
+//! square atlas of equal cells; a chart keeps its aspect ratio (one texel size per chart) and
+//! a one-texel gutter inside its cell, so bilinear lookups never read a neighbour.
+//!
+//! The GPU side is `shaders/lightmap.wgsl` (`chart_uv`): same axis rule, same mapping.
+
+use glam::{Vec2, Vec3};
+use scene::{Material, Scene};
+
+/// No chart for this (object, axis): `chart_of` entry.
+pub const NO_CHART: i32 = -1;
+
+/// One chart: the triangles of `object` whose normal's dominant component is `axis` (0..6:
+/// +x, -x, +y, -y, +z, -z), projected onto the two other object-space axes `a`, `b`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chart {
+    pub object: usize,
+    pub axis: u32,
+    /// Object-space lower corner of the projected triangles on axes (a, b).
+    pub min: Vec2,
+    /// Object-space extent on (a, b).
+    pub extent: Vec2,
+    /// Atlas rectangle the chart may write and read, in atlas uv (u0, v0, u1, v1): the cell
+    /// less a one-texel gutter.
+    pub rect: [f32; 4],
+}
+
+impl Chart {
+    /// The two object-space axes of the projection.
+    pub fn plane_axes(&self) -> (usize, usize) {
+        projection_axes(self.axis)
+    }
+
+    /// Object-space length mapped onto the rectangle's longer edge.
+    pub fn side(&self) -> f32 {
+        self.extent.max_element().max(1e-9)
+    }
+
+    /// Object-space edge of one texel (texels are square: the chart keeps its aspect).
+    pub fn texel_size(&self, atlas_size: u32) -> f32 {
+        let [u0, v0, u1, v1] = self.rect;
+        self.side() / ((u1 - u0).max(v1 - v0) * atlas_size as f32)
+    }
+
+    /// Atlas uv of an object-space point of this chart (clamped into the rectangle). Same
+    /// formula as `chart_uv` in lightmap.wgsl.
+    pub fn uv(&self, local: Vec3) -> Vec2 {
+        let (a, b) = self.plane_axes();
+        let side = self.extent.max_element().max(1e-9);
+        let s = ((Vec2::new(local[a], local[b]) - self.min) / side).clamp(Vec2::ZERO, Vec2::ONE);
+        let [u0, v0, u1, v1] = self.rect;
+        Vec2::new(u0 + s.x * (u1 - u0), v0 + s.y * (v1 - v0))
+    }
+}
+
+/// The signed dominant axis of `n`: 0 +x, 1 -x, 2 +y, 3 -y, 4 +z, 5 -z (ties go to the lower
+/// axis, as in lightmap.wgsl).
+pub fn signed_axis(n: Vec3) -> u32 {
+    let a = n.abs();
+    let i = if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    2 * i + u32::from(n[i as usize] < 0.0)
+}
+
+fn projection_axes(axis: u32) -> (usize, usize) {
+    match axis / 2 {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    }
+}
+
+/// Every receiver's charts and the table `(object, axis) -> chart`.
+#[derive(Clone, Debug)]
+pub struct ChartAtlas {
+    /// Atlas side in texels.
+    pub size: u32,
+    pub charts: Vec<Chart>,
+    /// `chart_of[6 * object + axis]`: index into `charts`, or [`NO_CHART`].
+    pub chart_of: Vec<i32>,
+}
+
+impl ChartAtlas {
+    /// Charts for every diffuse object of `scene` in a `size` x `size` atlas.
+    pub fn new(scene: &Scene, size: u32) -> Self {
+        let mut charts = Vec::new();
+        let mut chart_of = vec![NO_CHART; 6 * scene.objects.len()];
+        for (object, o) in scene.objects.iter().enumerate() {
+            if !matches!(o.material, Material::Diffuse { .. }) {
+                continue;
+            }
+            let mut bounds: [Option<(Vec2, Vec2)>; 6] = [None; 6];
+            for tri in o.mesh.indices.chunks_exact(3) {
+                let p = [0, 1, 2].map(|k| o.mesh.positions[tri[k] as usize]);
+                let ng = (p[1] - p[0]).cross(p[2] - p[0]);
+                if ng.length_squared() < 1e-20 {
+                    continue;
+                }
+                // The authored normals say which side is the front; the geometric normal says
+                // which axis the triangle faces (same rule as the shader).
+                let shading: Vec3 = tri.iter().map(|&i| o.mesh.normals[i as usize]).sum();
+                let facing = if ng.dot(shading) < 0.0 { -ng } else { ng };
+                let axis = signed_axis(facing);
+                let (a, b) = projection_axes(axis);
+                for q in p {
+                    let q2 = Vec2::new(q[a], q[b]);
+                    let entry = bounds[axis as usize].get_or_insert((q2, q2));
+                    entry.0 = entry.0.min(q2);
+                    entry.1 = entry.1.max(q2);
+                }
+            }
+            for (axis, b) in bounds.iter().enumerate() {
+                if let Some((lo, hi)) = b {
+                    chart_of[6 * object + axis] = charts.len() as i32;
+                    charts.push(Chart {
+                        object,
+                        axis: axis as u32,
+                        min: *lo,
+                        extent: *hi - *lo,
+                        rect: [0.0; 4],
+                    });
+                }
+            }
+        }
+        // Equal square cells in a k x k grid; a chart uses the square of its larger extent.
+        let k = (charts.len() as f32).sqrt().ceil().max(1.0) as u32;
+        let cell = size / k;
+        for (i, c) in charts.iter_mut().enumerate() {
+            let (ci, cj) = (i as u32 % k, i as u32 / k);
+            let gutter = 1.0;
+            let (x0, y0) = ((ci * cell) as f32 + gutter, (cj * cell) as f32 + gutter);
+            let side = (cell as f32 - 2.0 * gutter).max(1.0);
+            let n = c.extent / c.extent.max_element().max(1e-9);
+            let s = size as f32;
+            c.rect = [x0 / s, y0 / s, (x0 + side * n.x) / s, (y0 + side * n.y) / s];
+        }
+        Self {
+            size,
+            charts,
+            chart_of,
+        }
+    }
+
+    /// Chart of `object`'s triangles facing `axis`, if any.
+    pub fn chart(&self, object: usize, axis: u32) -> Option<&Chart> {
+        let i = *self.chart_of.get(6 * object + axis as usize)?;
+        (i >= 0).then(|| &self.charts[i as usize])
+    }
+
+    /// The `Chart` array of lightmap.wgsl.
+    pub fn gpu_charts(&self) -> Vec<ChartGpu> {
+        let mut v: Vec<ChartGpu> = self
+            .charts
+            .iter()
+            .map(|c| {
+                let (a, b) = c.plane_axes();
+                ChartGpu {
+                    rect: c.rect,
+                    bounds: [c.min.x, c.min.y, c.side(), c.texel_size(self.size)],
+                    axes: [a as u32, b as u32, c.axis, c.object as u32],
+                }
+            })
+            .collect();
+        // Storage buffers may not be empty.
+        if v.is_empty() {
+            v.push(ChartGpu::zeroed());
+        }
+        v
+    }
+}
+
+/// `struct Chart` of lightmap.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ChartGpu {
+    pub rect: [f32; 4],
+    /// min a, min b, side (the larger extent), object-space texel edge.
+    pub bounds: [f32; 4],
+    /// axis a, axis b, signed axis, object.
+    pub axes: [u32; 4],
+}
+
+impl ChartGpu {
+    fn zeroed() -> Self {
+        bytemuck::Zeroable::zeroed()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn atlas(name: &str) -> (Scene, ChartAtlas) {
+        let scene = scene::load(name).unwrap();
+        let atlas = ChartAtlas::new(&scene, 1024);
+        (scene, atlas)
+    }
+
+    #[test]
+    fn signed_axis_picks_the_dominant_component() {
+        assert_eq!(signed_axis(Vec3::new(0.9, 0.1, -0.2)), 0);
+        assert_eq!(signed_axis(Vec3::new(-0.9, 0.1, -0.2)), 1);
+        assert_eq!(signed_axis(Vec3::new(0.0, 1.0, 0.0)), 2);
+        assert_eq!(signed_axis(Vec3::new(0.1, -1.0, 0.3)), 3);
+        assert_eq!(signed_axis(Vec3::new(0.1, 0.2, 0.5)), 4);
+        assert_eq!(signed_axis(Vec3::new(0.1, 0.2, -0.5)), 5);
+    }
+
+    #[test]
+    fn every_diffuse_triangle_lands_inside_its_own_chart() {
+        for name in ["cornell-sphere", "cornell-box", "refraction-bunny"] {
+            let (scene, atlas) = atlas(name);
+            assert!(!atlas.charts.is_empty(), "{name}: no charts");
+            for (object, o) in scene.objects.iter().enumerate() {
+                let diffuse = matches!(o.material, Material::Diffuse { .. });
+                for axis in 0..6 {
+                    assert!(
+                        diffuse || atlas.chart(object, axis).is_none(),
+                        "{name}: chart for a specular object"
+                    );
+                }
+                if !diffuse {
+                    continue;
+                }
+                for tri in o.mesh.indices.chunks_exact(3) {
+                    let p = [0, 1, 2].map(|k| o.mesh.positions[tri[k] as usize]);
+                    let ng = (p[1] - p[0]).cross(p[2] - p[0]);
+                    let shading: Vec3 = tri.iter().map(|&i| o.mesh.normals[i as usize]).sum();
+                    let facing = if ng.dot(shading) < 0.0 { -ng } else { ng };
+                    let chart = atlas.chart(object, signed_axis(facing)).expect("chart");
+                    let [u0, v0, u1, v1] = chart.rect;
+                    for q in p {
+                        // Unclamped position: inside the rectangle without the clamp's help.
+                        let (a, b) = chart.plane_axes();
+                        let side = chart.extent.max_element();
+                        let s = (Vec2::new(q[a], q[b]) - chart.min) / side;
+                        assert!(
+                            s.x >= -1e-5 && s.y >= -1e-5 && s.x <= 1.0 + 1e-5 && s.y <= 1.0 + 1e-5
+                        );
+                        let uv = chart.uv(q);
+                        assert!(uv.x >= u0 && uv.x <= u1 && uv.y >= v0 && uv.y <= v1);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn chart_rectangles_are_disjoint_and_keep_a_gutter() {
+        for name in ["cornell-sphere", "cornell-box", "city"] {
+            let (_, atlas) = atlas(name);
+            let texel = 1.0 / atlas.size as f32;
+            for (i, a) in atlas.charts.iter().enumerate() {
+                let [a0, b0, a1, b1] = a.rect;
+                assert!(a0 >= texel * 0.999 && b0 >= texel * 0.999 && a1 <= 1.0 && b1 <= 1.0);
+                assert!(a1 > a0 && b1 > b0, "{name}: empty chart {a:?}");
+                for b in &atlas.charts[i + 1..] {
+                    let [c0, d0, c1, d1] = b.rect;
+                    // Separated by at least the two gutters (2 texels) on one axis.
+                    let apart = c0 >= a1 + 1.99 * texel
+                        || a0 >= c1 + 1.99 * texel
+                        || d0 >= b1 + 1.99 * texel
+                        || b0 >= d1 + 1.99 * texel;
+                    assert!(apart, "{name}: charts overlap: {a:?} {b:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_chart_keeps_its_aspect_ratio() {
+        let (_, atlas) = atlas("cornell-box");
+        for c in &atlas.charts {
+            let [u0, v0, u1, v1] = c.rect;
+            let texel_a = c.extent.x / (u1 - u0);
+            let texel_b = c.extent.y / (v1 - v0);
+            if c.extent.min_element() > 1e-3 {
+                assert!((texel_a / texel_b - 1.0).abs() < 1e-3, "{c:?}");
+            }
+        }
+    }
+}
