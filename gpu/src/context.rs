@@ -57,7 +57,9 @@ impl Context {
         desc.flags = wgpu::InstanceFlags::from_env_or_default();
         let instance = wgpu::Instance::new(desc);
         let adapters = instance.enumerate_adapters(backends).await;
-        let wanted_name = std::env::var("WGPU_ADAPTER_NAME").ok().map(|s| s.to_lowercase());
+        let wanted_name = std::env::var("WGPU_ADAPTER_NAME")
+            .ok()
+            .map(|s| s.to_lowercase());
         let adapter = choose_adapter(adapters, wanted_name.as_deref())?;
 
         let info = adapter.get_info();
@@ -83,7 +85,13 @@ impl Context {
             driver: format!("{} {}", info.driver, info.driver_info),
             is_software: info.device_type == wgpu::DeviceType::Cpu,
         };
-        Ok(Self { instance, adapter, device, queue, summary })
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            summary,
+        })
     }
 
     /// The features the device was created with.
@@ -103,7 +111,10 @@ impl Context {
         if missing.is_empty() {
             Ok(())
         } else {
-            Err(GpuError::MissingFeatures(format!("{missing:?}"), self.summary.name.clone()))
+            Err(GpuError::MissingFeatures(
+                format!("{missing:?}"),
+                self.summary.name.clone(),
+            ))
         }
     }
 

@@ -2,9 +2,9 @@
 //! through a cube view), and the per-face view-projection matrices that agree texel for texel
 //! with the prelude's `cube_dir_to_face_uv`.
 
-use glam::{Mat4, Vec3};
 #[cfg(test)]
 use glam::Vec4;
+use glam::{Mat4, Vec3};
 
 /// (s, t, m) axes of each face: sc = s.d, tc = t.d, ma = m.d for d = p - centre, in layer
 /// order +X, -X, +Y, -Y, +Z, -Z (the Vulkan/D3D cube convention).
@@ -64,11 +64,19 @@ impl CubeTarget {
     ) -> Result<Self, crate::GpuError> {
         let max = ctx.device.limits().max_texture_dimension_2d;
         if size == 0 || size > max {
-            return Err(crate::GpuError::SizeOverLimit { width: size, height: size, max });
+            return Err(crate::GpuError::SizeOverLimit {
+                width: size,
+                height: size,
+                max,
+            });
         }
         let color = ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
-            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 },
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: 6,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,

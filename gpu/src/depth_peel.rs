@@ -119,7 +119,11 @@ impl DepthPeeler {
         let device = &ctx.device;
         let color = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("depth peel layers"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: layers },
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: layers,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -152,7 +156,7 @@ impl DepthPeeler {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
                         min_binding_size: wgpu::BufferSize::new(
-                            std::mem::size_of::<PeelUniforms>() as u64
+                            std::mem::size_of::<PeelUniforms>() as u64,
                         ),
                     },
                     count: None,
@@ -181,8 +185,11 @@ impl DepthPeeler {
         let unused_depth_view = unused_depth.create_view(&Default::default());
         let bind_groups = (0..layers)
             .map(|l| {
-                let previous =
-                    if l == 0 { &unused_depth_view } else { &depth_layer_views[l as usize - 1] };
+                let previous = if l == 0 {
+                    &unused_depth_view
+                } else {
+                    &depth_layer_views[l as usize - 1]
+                };
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("depth peel layer"),
                     layout: &bind_group_layout,
@@ -222,7 +229,10 @@ impl DepthPeeler {
                 compilation_options: Default::default(),
                 buffers: &[Some(Vertex::layout())],
             },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: crate::DEPTH_FORMAT,
                 depth_write_enabled: Some(true),

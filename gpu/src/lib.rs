@@ -2,8 +2,8 @@
 //! and read-back, cube-map targets, depth peeling, a full-screen pass, GPU timers, and the
 //! WGSL prelude (with its Rust twin in [`prelude`]) that every technique's shaders include.
 
-mod context;
 pub mod compute;
+mod context;
 pub mod cube;
 pub mod depth_peel;
 pub mod fullscreen;
@@ -73,8 +73,9 @@ impl Vertex {
 /// Compiles WGSL source prefixed with the shared prelude.
 pub fn shader_with_prelude(ctx: &Context, label: &str, source: &str) -> wgpu::ShaderModule {
     let full = format!("{}\n{}", prelude::PRELUDE_WGSL, source);
-    ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(full.into()),
-    })
+    ctx.device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(full.into()),
+        })
 }

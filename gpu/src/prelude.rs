@@ -71,7 +71,9 @@ pub fn refract_dir(i: Vec3, n: Vec3, eta: f32) -> Vec4 {
     if k < 0.0 {
         return reflect_dir(i, n).extend(0.0);
     }
-    (eta * i + (eta * cos_i - k.sqrt()) * n).normalize().extend(1.0)
+    (eta * i + (eta * cos_i - k.sqrt()) * n)
+        .normalize()
+        .extend(1.0)
 }
 
 /// The seeds' Fresnel approximation with refractive index `n` and extinction `k` per channel.
@@ -92,16 +94,29 @@ pub fn fresnel_dielectric(cos_i: f32, eta_rel: f32) -> f32 {
     if sin2_t >= 1.0 {
         return 1.0;
     }
-    fresnel_nk((1.0 - sin2_t).sqrt(), Vec3::splat(1.0 / eta_rel), Vec3::ZERO).x
+    fresnel_nk(
+        (1.0 - sin2_t).sqrt(),
+        Vec3::splat(1.0 / eta_rel),
+        Vec3::ZERO,
+    )
+    .x
 }
 
 /// Direction -> (face, u, v), faces +X,-X,+Y,-Y,+Z,-Z, v = 0 on texel row 0.
 pub fn cube_dir_to_face_uv(d: Vec3) -> Vec3 {
     let a = d.abs();
     let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
-        if d.x >= 0.0 { (0.0, -d.z, -d.y, a.x) } else { (1.0, d.z, -d.y, a.x) }
+        if d.x >= 0.0 {
+            (0.0, -d.z, -d.y, a.x)
+        } else {
+            (1.0, d.z, -d.y, a.x)
+        }
     } else if a.y >= a.z {
-        if d.y >= 0.0 { (2.0, d.x, d.z, a.y) } else { (3.0, d.x, -d.z, a.y) }
+        if d.y >= 0.0 {
+            (2.0, d.x, d.z, a.y)
+        } else {
+            (3.0, d.x, -d.z, a.y)
+        }
     } else if d.z >= 0.0 {
         (4.0, d.x, -d.y, a.z)
     } else {
@@ -125,7 +140,10 @@ pub fn cube_face_uv_to_dir(face: u32, u: f32, v: f32) -> Vec3 {
 }
 
 fn sign_not_neg(v: Vec2) -> Vec2 {
-    Vec2::new(if v.x >= 0.0 { 1.0 } else { -1.0 }, if v.y >= 0.0 { 1.0 } else { -1.0 })
+    Vec2::new(
+        if v.x >= 0.0 { 1.0 } else { -1.0 },
+        if v.y >= 0.0 { 1.0 } else { -1.0 },
+    )
 }
 
 /// Octahedral encoding of a unit vector into [-1,1]^2.

@@ -17,7 +17,11 @@ pub struct HdrImage {
 
 impl HdrImage {
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![[0.0; 4]; (width * height) as usize] }
+        Self {
+            width,
+            height,
+            pixels: vec![[0.0; 4]; (width * height) as usize],
+        }
     }
     pub fn get(&self, x: u32, y: u32) -> [f32; 4] {
         self.pixels[(y * self.width + x) as usize]
@@ -27,7 +31,10 @@ impl HdrImage {
     }
     /// Number of pixels with a NaN or infinite channel: always a defect to report.
     pub fn non_finite_count(&self) -> usize {
-        self.pixels.iter().filter(|p| p.iter().any(|c| !c.is_finite())).count()
+        self.pixels
+            .iter()
+            .filter(|p| p.iter().any(|c| !c.is_finite()))
+            .count()
     }
 }
 
@@ -46,7 +53,11 @@ impl Target {
         ctx.check_size(width, height)?;
         let color = ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("target colour"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -72,7 +83,11 @@ impl Target {
     /// Copies the colour attachment back to the CPU.
     pub fn read(&self, ctx: &crate::Context) -> Result<HdrImage, GpuError> {
         let texels = read_texture_f32x4(ctx, &self.color, 0)?;
-        Ok(HdrImage { width: self.width, height: self.height, pixels: texels })
+        Ok(HdrImage {
+            width: self.width,
+            height: self.height,
+            pixels: texels,
+        })
     }
 }
 
@@ -86,7 +101,11 @@ pub fn depth_texture(
 ) -> wgpu::Texture {
     ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: layers },
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: layers,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -157,7 +176,11 @@ pub fn read_texture_bytes(
         wgpu::TexelCopyTextureInfo {
             texture,
             mip_level: 0,
-            origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
             aspect,
         },
         wgpu::TexelCopyBufferInfo {
@@ -168,7 +191,11 @@ pub fn read_texture_bytes(
                 rows_per_image: Some(height),
             },
         },
-        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
     );
     ctx.queue.submit([encoder.finish()]);
     let data = map_buffer(ctx, &buffer)?;

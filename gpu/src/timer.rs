@@ -38,7 +38,11 @@ impl TimeStats {
         let mut sorted = samples.to_vec();
         sorted.sort_by(f64::total_cmp);
         let at = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
-        Self { median_ms: at(0.5), p95_ms: at(0.95), samples: sorted.len() }
+        Self {
+            median_ms: at(0.5),
+            p95_ms: at(0.95),
+            samples: sorted.len(),
+        }
     }
 }
 
@@ -88,7 +92,12 @@ impl GpuTimer {
                     .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS),
             }
         });
-        Self { queries, spans: Vec::new(), used: 0, wall_start: None }
+        Self {
+            queries,
+            spans: Vec::new(),
+            used: 0,
+            wall_start: None,
+        }
     }
 
     /// Whether encoder-level spans are GPU timestamps on this device.
@@ -106,7 +115,10 @@ impl GpuTimer {
         }
         let first = self.used;
         self.used += 2;
-        self.spans.push(Span { label: label.to_string(), first_query: first });
+        self.spans.push(Span {
+            label: label.to_string(),
+            first_query: first,
+        });
         Some((first, &q.set))
     }
 
@@ -186,7 +198,10 @@ impl GpuTimer {
             let bytes = crate::target::map_buffer(ctx, &staging)?;
             let ticks: &[u64] = bytemuck::cast_slice(&bytes);
             for span in &self.spans {
-                let (a, b) = (ticks[span.first_query as usize], ticks[span.first_query as usize + 1]);
+                let (a, b) = (
+                    ticks[span.first_query as usize],
+                    ticks[span.first_query as usize + 1],
+                );
                 add(&span.label, b.saturating_sub(a) as f64 * q.period_ns * 1e-6);
             }
         }

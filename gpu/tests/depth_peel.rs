@@ -35,7 +35,11 @@ fn uv_sphere(center: Vec3, radius: f32, vertices: &mut Vec<Vertex>, indices: &mu
         let theta = std::f32::consts::PI * stack as f32 / STACKS as f32;
         for slice in 0..=SLICES {
             let phi = std::f32::consts::TAU * slice as f32 / SLICES as f32;
-            let n = Vec3::new(theta.sin() * phi.sin(), theta.cos(), theta.sin() * phi.cos());
+            let n = Vec3::new(
+                theta.sin() * phi.sin(),
+                theta.cos(),
+                theta.sin() * phi.cos(),
+            );
             vertices.push(Vertex {
                 position: (center + radius * n).to_array(),
                 normal: n.to_array(),
@@ -55,7 +59,10 @@ fn uv_sphere(center: Vec3, radius: f32, vertices: &mut Vec<Vertex>, indices: &mu
 
 /// Largest distance of the mesh inside the sphere, for a unit radius.
 fn sagitta() -> f32 {
-    let (dt, dp) = (std::f32::consts::PI / STACKS as f32, std::f32::consts::TAU / SLICES as f32);
+    let (dt, dp) = (
+        std::f32::consts::PI / STACKS as f32,
+        std::f32::consts::TAU / SLICES as f32,
+    );
     1.0 - (0.5 * (dt * dt + dp * dp).sqrt()).cos()
 }
 
@@ -67,9 +74,17 @@ struct Camera {
 impl Camera {
     fn on_z_axis(z: f32) -> Self {
         let eye = Vec3::new(0.0, 0.0, z);
-        let proj = glam::camera::rh::proj::directx::perspective(FOV_Y_DEGREES.to_radians(), 1.0, 0.1, 20.0);
+        let proj = glam::camera::rh::proj::directx::perspective(
+            FOV_Y_DEGREES.to_radians(),
+            1.0,
+            0.1,
+            20.0,
+        );
         let view = glam::camera::rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y);
-        Self { eye, view_proj: proj * view }
+        Self {
+            eye,
+            view_proj: proj * view,
+        }
     }
 
     /// Unit direction of the ray through the centre of pixel (i, j), row 0 at the top.
@@ -95,16 +110,20 @@ fn peel(spheres: &[(Vec3, f32)], camera: &Camera, layers: u32) -> Peeled {
     for &(center, radius) in spheres {
         uv_sphere(center, radius, &mut vertices, &mut indices);
     }
-    let vertex_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("sphere vertices"),
-        contents: bytemuck::cast_slice(&vertices),
-        usage: wgpu::BufferUsages::VERTEX,
-    });
-    let index_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("sphere indices"),
-        contents: bytemuck::cast_slice(&indices),
-        usage: wgpu::BufferUsages::INDEX,
-    });
+    let vertex_buffer = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sphere vertices"),
+            contents: bytemuck::cast_slice(&vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+    let index_buffer = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sphere indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
     let peeler = DepthPeeler::new(ctx, SIZE, SIZE, layers).expect("peeler");
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     ctx.validated(|| {
@@ -122,8 +141,12 @@ fn peel(spheres: &[(Vec3, f32)], camera: &Camera, layers: u32) -> Peeled {
     .expect("peel");
     ctx.queue.submit([encoder.finish()]);
     Peeled {
-        layers: (0..layers).map(|l| peeler.read_layer(ctx, l).expect("read layer")).collect(),
-        depths: (0..layers).map(|l| peeler.read_depth(ctx, l).expect("read depth")).collect(),
+        layers: (0..layers)
+            .map(|l| peeler.read_layer(ctx, l).expect("read layer"))
+            .collect(),
+        depths: (0..layers)
+            .map(|l| peeler.read_depth(ctx, l).expect("read depth"))
+            .collect(),
     }
 }
 
@@ -142,10 +165,26 @@ fn unit_sphere_peels_into_front_back_and_empty() {
     // The centre pixel looks down the axis through mesh vertices at z = +1 and z = -1.
     let c = SIZE / 2;
     let (f, b) = (at(front, c, c), at(back, c, c));
-    assert!((f.w - 2.0).abs() < 1e-4, "front distance at the centre {} (want 2)", f.w);
-    assert!((b.w - 4.0).abs() < 1e-4, "back distance at the centre {} (want 4)", b.w);
-    assert!((f.truncate() - Vec3::Z).length() < 1e-3, "front normal {}", f.truncate());
-    assert!((b.truncate() - Vec3::NEG_Z).length() < 1e-3, "back normal {}", b.truncate());
+    assert!(
+        (f.w - 2.0).abs() < 1e-4,
+        "front distance at the centre {} (want 2)",
+        f.w
+    );
+    assert!(
+        (b.w - 4.0).abs() < 1e-4,
+        "back distance at the centre {} (want 4)",
+        b.w
+    );
+    assert!(
+        (f.truncate() - Vec3::Z).length() < 1e-3,
+        "front normal {}",
+        f.truncate()
+    );
+    assert!(
+        (b.truncate() - Vec3::NEG_Z).length() < 1e-3,
+        "back normal {}",
+        b.truncate()
+    );
     assert_eq!(at(empty, c, c), Vec4::ZERO, "layer 2 at the centre");
 
     let sag = sagitta();
@@ -155,7 +194,11 @@ fn unit_sphere_peels_into_front_back_and_empty() {
             let d = camera.ray(i, j);
             let t = gpu::prelude::ray_sphere(camera.eye, d, Vec3::ZERO, 1.0);
             let pixel = (j * SIZE + i) as usize;
-            assert_eq!(at(empty, i, j), Vec4::ZERO, "layer 2 must be empty at ({i}, {j})");
+            assert_eq!(
+                at(empty, i, j),
+                Vec4::ZERO,
+                "layer 2 must be empty at ({i}, {j})"
+            );
             assert_eq!(peeled.depths[2][pixel], 1.0, "layer 2 depth at ({i}, {j})");
             // Distance of the ray from the sphere centre, compared with the radius.
             let miss_distance = camera.eye.cross(d).length() - 1.0;
@@ -170,7 +213,9 @@ fn unit_sphere_peels_into_front_back_and_empty() {
                 continue; // near the silhouette
             }
             hits += 1;
-            for (layer, t_exact, outward, name) in [(front, t.x, -1.0, "front"), (back, t.y, 1.0, "back")] {
+            for (layer, t_exact, outward, name) in
+                [(front, t.x, -1.0, "front"), (back, t.y, 1.0, "back")]
+            {
                 let texel = at(layer, i, j);
                 let p_exact = camera.eye + t_exact * d;
                 let cos_incidence = p_exact.dot(d).abs();
@@ -182,15 +227,30 @@ fn unit_sphere_peels_into_front_back_and_empty() {
                 );
                 let n = texel.truncate();
                 let p = camera.eye + texel.w * d;
-                assert!((n.length() - 1.0).abs() < 1e-4, "{name} normal at ({i}, {j}) not unit: {n}");
-                assert!(n.dot(p.normalize()) > 1.0 - 1e-3, "{name} normal at ({i}, {j}) {n} is not radial at {p}");
-                assert!(outward * n.dot(d) > 0.0, "{name} normal at ({i}, {j}) {n} does not point outward");
+                assert!(
+                    (n.length() - 1.0).abs() < 1e-4,
+                    "{name} normal at ({i}, {j}) not unit: {n}"
+                );
+                assert!(
+                    n.dot(p.normalize()) > 1.0 - 1e-3,
+                    "{name} normal at ({i}, {j}) {n} is not radial at {p}"
+                );
+                assert!(
+                    outward * n.dot(d) > 0.0,
+                    "{name} normal at ({i}, {j}) {n} does not point outward"
+                );
             }
             let (zf, zb) = (peeled.depths[0][pixel], peeled.depths[1][pixel]);
-            assert!(0.0 < zf && zf < zb && zb < 1.0, "depths at ({i}, {j}): front {zf}, back {zb}");
+            assert!(
+                0.0 < zf && zf < zb && zb < 1.0,
+                "depths at ({i}, {j}): front {zf}, back {zb}"
+            );
         }
     }
-    assert!(hits > 1000 && misses > 100, "the image should show the sphere and its surroundings ({hits} hits, {misses} misses)");
+    assert!(
+        hits > 1000 && misses > 100,
+        "the image should show the sphere and its surroundings ({hits} hits, {misses} misses)"
+    );
 }
 
 /// Two spheres on the axis (radius 1 at the origin, 0.5 at z = -3) give four surfaces in
@@ -198,13 +258,30 @@ fn unit_sphere_peels_into_front_back_and_empty() {
 #[test]
 fn two_spheres_peel_in_order() {
     let camera = Camera::on_z_axis(3.0);
-    let peeled = peel(&[(Vec3::ZERO, 1.0), (Vec3::new(0.0, 0.0, -3.0), 0.5)], &camera, 5);
+    let peeled = peel(
+        &[(Vec3::ZERO, 1.0), (Vec3::new(0.0, 0.0, -3.0), 0.5)],
+        &camera,
+        5,
+    );
     let c = SIZE / 2;
-    let want = [(2.0, Vec3::Z), (4.0, Vec3::NEG_Z), (5.5, Vec3::Z), (6.5, Vec3::NEG_Z)];
+    let want = [
+        (2.0, Vec3::Z),
+        (4.0, Vec3::NEG_Z),
+        (5.5, Vec3::Z),
+        (6.5, Vec3::NEG_Z),
+    ];
     for (layer, (distance, normal)) in want.into_iter().enumerate() {
         let texel = at(&peeled.layers[layer], c, c);
-        assert!((texel.w - distance).abs() < 1e-4, "layer {layer}: distance {} (want {distance})", texel.w);
-        assert!((texel.truncate() - normal).length() < 1e-3, "layer {layer}: normal {}", texel.truncate());
+        assert!(
+            (texel.w - distance).abs() < 1e-4,
+            "layer {layer}: distance {} (want {distance})",
+            texel.w
+        );
+        assert!(
+            (texel.truncate() - normal).length() < 1e-3,
+            "layer {layer}: normal {}",
+            texel.truncate()
+        );
     }
     assert_eq!(at(&peeled.layers[4], c, c), Vec4::ZERO);
     assert_eq!(peeled.depths[4][(c * SIZE + c) as usize], 1.0);
@@ -214,10 +291,19 @@ fn two_spheres_peel_in_order() {
 #[test]
 fn bad_input_is_an_error() {
     let ctx = ctx();
-    assert!(matches!(DepthPeeler::new(ctx, 64, 64, 0), Err(GpuError::InvalidInput(_))));
-    assert!(matches!(DepthPeeler::new(ctx, 0, 64, 2), Err(GpuError::SizeOverLimit { .. })));
+    assert!(matches!(
+        DepthPeeler::new(ctx, 64, 64, 0),
+        Err(GpuError::InvalidInput(_))
+    ));
+    assert!(matches!(
+        DepthPeeler::new(ctx, 0, 64, 2),
+        Err(GpuError::SizeOverLimit { .. })
+    ));
     let max = ctx.device.limits().max_texture_dimension_2d;
-    assert!(matches!(DepthPeeler::new(ctx, max + 1, 16, 2), Err(GpuError::SizeOverLimit { .. })));
+    assert!(matches!(
+        DepthPeeler::new(ctx, max + 1, 16, 2),
+        Err(GpuError::SizeOverLimit { .. })
+    ));
 
     let peeler = DepthPeeler::new(ctx, 16, 16, 2).expect("peeler");
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -230,17 +316,52 @@ fn bad_input_is_an_error() {
     let camera = Camera::on_z_axis(3.0);
     let mut nan = camera.view_proj;
     nan.x_axis.x = f32::NAN;
-    let err = peeler.peel(ctx, &mut encoder, &buffer, &buffer, 3, nan, camera.eye).unwrap_err();
+    let err = peeler
+        .peel(ctx, &mut encoder, &buffer, &buffer, 3, nan, camera.eye)
+        .unwrap_err();
     assert!(err.to_string().contains("finite"), "{err}");
     let err = peeler
-        .peel(ctx, &mut encoder, &buffer, &buffer, 30, camera.view_proj, camera.eye)
+        .peel(
+            ctx,
+            &mut encoder,
+            &buffer,
+            &buffer,
+            30,
+            camera.view_proj,
+            camera.eye,
+        )
         .unwrap_err();
     assert!(err.to_string().contains("index buffer"), "{err}");
-    assert!(matches!(peeler.read_layer(ctx, 2), Err(GpuError::InvalidInput(_))));
+    assert!(matches!(
+        peeler.read_layer(ctx, 2),
+        Err(GpuError::InvalidInput(_))
+    ));
 
     // An empty mesh gives empty layers.
-    peeler.peel(ctx, &mut encoder, &buffer, &buffer, 0, camera.view_proj, camera.eye).expect("empty peel");
+    peeler
+        .peel(
+            ctx,
+            &mut encoder,
+            &buffer,
+            &buffer,
+            0,
+            camera.view_proj,
+            camera.eye,
+        )
+        .expect("empty peel");
     ctx.queue.submit([encoder.finish()]);
-    assert!(peeler.read_layer(ctx, 1).expect("read").iter().all(|t| *t == [0.0; 4]));
-    assert!(peeler.read_depth(ctx, 0).expect("read").iter().all(|z| *z == 1.0));
+    assert!(
+        peeler
+            .read_layer(ctx, 1)
+            .expect("read")
+            .iter()
+            .all(|t| *t == [0.0; 4])
+    );
+    assert!(
+        peeler
+            .read_depth(ctx, 0)
+            .expect("read")
+            .iter()
+            .all(|z| *z == 1.0)
+    );
 }

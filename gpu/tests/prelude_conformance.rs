@@ -37,7 +37,8 @@ const EPS: f64 = f32::EPSILON as f64;
 fn ctx() -> &'static gpu::Context {
     static CTX: OnceLock<gpu::Context> = OnceLock::new();
     CTX.get_or_init(|| {
-        gpu::Context::new().unwrap_or_else(|e| panic!("the prelude conformance test needs a GPU adapter: {e}"))
+        gpu::Context::new()
+            .unwrap_or_else(|e| panic!("the prelude conformance test needs a GPU adapter: {e}"))
     })
 }
 
@@ -284,7 +285,11 @@ fn check_ray_plane(prelude: &str) -> Vec<String> {
         (Vec3::NEG_X, Vec3::new(0.0, -0.28, 0.96)),
         (Vec3::Z, Vec3::new(-1.0, 0.0, 0.0)),
     ] {
-        cases.push(case(&[Vec4::new(0.3, -0.2, 0.7, 0.0), d.extend(0.0), n.extend(1.5)]));
+        cases.push(case(&[
+            Vec4::new(0.3, -0.2, 0.7, 0.0),
+            d.extend(0.0),
+            n.extend(1.5),
+        ]));
     }
     // Nearly parallel (tilts down to 1e-4 rad) and axis-aligned planes.
     for k in 0..64 {
@@ -292,10 +297,25 @@ fn check_ray_plane(prelude: &str) -> Vec<String> {
         let t = n.any_orthonormal_vector();
         let tilt = 10f32.powf(-1.0 - 3.0 * (k as f32 / 63.0));
         let d = (t + tilt * n).normalize();
-        cases.push(case(&[rng.vec3(-3.0, 3.0).extend(0.0), d.extend(0.0), n.extend(rng.range(-2.0, 2.0))]));
+        cases.push(case(&[
+            rng.vec3(-3.0, 3.0).extend(0.0),
+            d.extend(0.0),
+            n.extend(rng.range(-2.0, 2.0)),
+        ]));
     }
-    for axis in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::NEG_X, Vec3::NEG_Y, Vec3::NEG_Z] {
-        cases.push(case(&[Vec4::new(0.1, 0.2, 0.3, 0.0), axis.extend(0.0), axis.extend(2.0)]));
+    for axis in [
+        Vec3::X,
+        Vec3::Y,
+        Vec3::Z,
+        Vec3::NEG_X,
+        Vec3::NEG_Y,
+        Vec3::NEG_Z,
+    ] {
+        cases.push(case(&[
+            Vec4::new(0.1, 0.2, 0.3, 0.0),
+            axis.extend(0.0),
+            axis.extend(2.0),
+        ]));
     }
     for _ in 0..RANDOM_CASES {
         cases.push(case(&[
@@ -315,13 +335,20 @@ fn check_ray_plane(prelude: &str) -> Vec<String> {
             return Ok(()); // ill-conditioned parallel test: either answer
         }
         if denom == 0.0 {
-            return if got == -1.0 && want == -1.0 { Ok(()) } else { Err(format!("parallel: gpu {got} cpu {want}")) };
+            return if got == -1.0 && want == -1.0 {
+                Ok(())
+            } else {
+                Err(format!("parallel: gpu {got} cpu {want}"))
+            };
         }
-        let bound = 8.0 * EPS * (cc.abs() as f64 + nv.dot(o).abs() as f64 + want.abs() as f64) / denom.abs();
+        let bound = 8.0 * EPS * (cc.abs() as f64 + nv.dot(o).abs() as f64 + want.abs() as f64)
+            / denom.abs();
         if close(got, want, 1e-6 + bound as f32, 1e-4) {
             Ok(())
         } else {
-            Err(format!("o {o} d {d} n {nv} c {cc}: gpu {got} cpu {want} (bound {bound:e})"))
+            Err(format!(
+                "o {o} d {d} n {nv} c {cc}: gpu {got} cpu {want} (bound {bound:e})"
+            ))
         }
     })
 }
@@ -330,11 +357,31 @@ fn check_ray_sphere(prelude: &str) -> Vec<String> {
     let mut rng = Rng::new(2);
     let mut cases = Vec::new();
     // Tangent (discriminant exactly 0), through the centre, from inside, from the surface.
-    cases.push(case(&[Vec4::new(0.0, 1.0, -5.0, 0.0), Vec4::new(0.0, 0.0, 1.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 1.0)]));
-    cases.push(case(&[Vec4::new(0.0, 0.0, 5.0, 0.0), Vec4::new(0.0, 0.0, -1.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 1.0)]));
-    cases.push(case(&[Vec4::new(0.1, 0.2, 0.0, 0.0), Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 2.0)]));
-    cases.push(case(&[Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(-1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 1.0)]));
-    cases.push(case(&[Vec4::new(0.0, 3.0, 0.0, 0.0), Vec4::new(0.0, 1.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 1.0)]));
+    cases.push(case(&[
+        Vec4::new(0.0, 1.0, -5.0, 0.0),
+        Vec4::new(0.0, 0.0, 1.0, 0.0),
+        Vec4::new(0.0, 0.0, 0.0, 1.0),
+    ]));
+    cases.push(case(&[
+        Vec4::new(0.0, 0.0, 5.0, 0.0),
+        Vec4::new(0.0, 0.0, -1.0, 0.0),
+        Vec4::new(0.0, 0.0, 0.0, 1.0),
+    ]));
+    cases.push(case(&[
+        Vec4::new(0.1, 0.2, 0.0, 0.0),
+        Vec4::new(1.0, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, 0.0, 2.0),
+    ]));
+    cases.push(case(&[
+        Vec4::new(1.0, 0.0, 0.0, 0.0),
+        Vec4::new(-1.0, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, 0.0, 1.0),
+    ]));
+    cases.push(case(&[
+        Vec4::new(0.0, 3.0, 0.0, 0.0),
+        Vec4::new(0.0, 1.0, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, 0.0, 1.0),
+    ]));
     for k in 0..RANDOM_CASES {
         let o = rng.vec3(-4.0, 4.0);
         let center = rng.vec3(-1.0, 1.0);
@@ -343,7 +390,11 @@ fn check_ray_sphere(prelude: &str) -> Vec<String> {
         let d = if k % 2 == 0 {
             let aim = center + rng.unit_vec3() * r * rng.range(0.0, 1.3);
             let d = aim - o;
-            if d.length() < 1e-3 { rng.unit_vec3() } else { d.normalize() }
+            if d.length() < 1e-3 {
+                rng.unit_vec3()
+            } else {
+                d.normalize()
+            }
         } else {
             rng.unit_vec3()
         };
@@ -370,17 +421,25 @@ fn check_ray_sphere(prelude: &str) -> Vec<String> {
             return Ok(());
         }
         if want_hit != got_hit {
-            return Err(format!("o {o} d {d} sphere {s}: hit differs: gpu {got} cpu {want}"));
+            return Err(format!(
+                "o {o} d {d} sphere {s}: hit differs: gpu {got} cpu {want}"
+            ));
         }
         if !want_hit {
-            return if got == p::MISS { Ok(()) } else { Err(format!("miss is {got}, not MISS")) };
+            return if got == p::MISS {
+                Ok(())
+            } else {
+                Err(format!("miss is {got}, not MISS"))
+            };
         }
         let s_err = (disc_err / (2.0 * disc.sqrt())).min(disc_err.sqrt());
         let tol = (2.0 * s_err + 1e-5 * (1.0 + b.abs())) as f32;
         if close(got.x, want.x, tol, 1e-4) && close(got.y, want.y, tol, 1e-4) {
             Ok(())
         } else {
-            Err(format!("o {o} d {d} sphere {s}: gpu {got} cpu {want} (tol {tol:e})"))
+            Err(format!(
+                "o {o} d {d} sphere {s}: gpu {got} cpu {want} (tol {tol:e})"
+            ))
         }
     })
 }
@@ -408,13 +467,22 @@ fn check_ray_box(prelude: &str) -> Vec<String> {
         (Vec3::new(1.0, 0.5, 0.5), Vec3::new(0.0, 0.6, -0.8)),
     ];
     for (o, d) in axis_rays {
-        cases.push(case(&[o.extend(0.0), d.extend(0.0), unit_box.0.extend(0.0), unit_box.1.extend(0.0)]));
+        cases.push(case(&[
+            o.extend(0.0),
+            d.extend(0.0),
+            unit_box.0.extend(0.0),
+            unit_box.1.extend(0.0),
+        ]));
     }
     for k in 0..RANDOM_CASES {
         let lo = rng.vec3(-2.0, 0.0);
         let hi = lo + rng.vec3(0.1, 3.0);
         let o = rng.vec3(-5.0, 5.0);
-        let mut d = if k % 2 == 0 { ((lo + hi) * 0.5 + rng.vec3(-1.5, 1.5) - o).normalize() } else { rng.unit_vec3() };
+        let mut d = if k % 2 == 0 {
+            ((lo + hi) * 0.5 + rng.vec3(-1.5, 1.5) - o).normalize()
+        } else {
+            rng.unit_vec3()
+        };
         // A third of the components are zeroed (half of those as -0.0).
         for a in 0..3 {
             if rng.u32() % 3 == 0 {
@@ -432,10 +500,20 @@ fn check_ray_box(prelude: &str) -> Vec<String> {
                 o[a] = if rng.u32() % 2 == 0 { lo[a] } else { hi[a] };
             }
         }
-        cases.push(case(&[o.extend(0.0), d.extend(0.0), lo.extend(0.0), hi.extend(0.0)]));
+        cases.push(case(&[
+            o.extend(0.0),
+            d.extend(0.0),
+            lo.extend(0.0),
+            hi.extend(0.0),
+        ]));
     }
     compare(prelude, "k_ray_box", &cases, |c, out| {
-        let (o, d, lo, hi) = (arg(c, 0).truncate(), arg(c, 1).truncate(), arg(c, 2).truncate(), arg(c, 3).truncate());
+        let (o, d, lo, hi) = (
+            arg(c, 0).truncate(),
+            arg(c, 1).truncate(),
+            arg(c, 2).truncate(),
+            arg(c, 3).truncate(),
+        );
         let want = p::ray_box(o, d, lo, hi);
         let got = float4(out[0]).truncate().truncate();
         if got.is_nan() || want.is_nan() {
@@ -445,10 +523,20 @@ fn check_ray_box(prelude: &str) -> Vec<String> {
         let (want_hit, got_hit) = (want.x <= want.y, got.x <= got.y);
         if want_hit != got_hit {
             let hit = if want_hit { want } else { got };
-            return if degenerate(hit) { Ok(()) } else { Err(format!("o {o} d {d} box {lo}..{hi}: hit differs: gpu {got} cpu {want}")) };
+            return if degenerate(hit) {
+                Ok(())
+            } else {
+                Err(format!(
+                    "o {o} d {d} box {lo}..{hi}: hit differs: gpu {got} cpu {want}"
+                ))
+            };
         }
         if !want_hit {
-            return if got == p::MISS { Ok(()) } else { Err(format!("miss is {got}, not MISS")) };
+            return if got == p::MISS {
+                Ok(())
+            } else {
+                Err(format!("miss is {got}, not MISS"))
+            };
         }
         if close(got.x, want.x, 1e-5, 1e-5) && close(got.y, want.y, 1e-5, 1e-5) {
             Ok(())
@@ -461,17 +549,27 @@ fn check_ray_box(prelude: &str) -> Vec<String> {
 fn check_reflect_dir(prelude: &str) -> Vec<String> {
     let mut rng = Rng::new(4);
     let mut cases = vec![
-        case(&[Vec4::new(0.0, 0.0, -1.0, 0.0), Vec4::new(0.0, 0.0, 1.0, 0.0)]),
+        case(&[
+            Vec4::new(0.0, 0.0, -1.0, 0.0),
+            Vec4::new(0.0, 0.0, 1.0, 0.0),
+        ]),
         case(&[Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 1.0, 0.0, 0.0)]),
     ];
     for _ in 0..RANDOM_CASES {
-        cases.push(case(&[rng.unit_vec3().extend(0.0), rng.unit_vec3().extend(0.0)]));
+        cases.push(case(&[
+            rng.unit_vec3().extend(0.0),
+            rng.unit_vec3().extend(0.0),
+        ]));
     }
     compare(prelude, "k_reflect_dir", &cases, |c, out| {
         let (i, n) = (arg(c, 0).truncate(), arg(c, 1).truncate());
         let want = p::reflect_dir(i, n).extend(0.0);
         let got = float4(out[0]);
-        if close_v(got, want, 1e-5, 0.0) { Ok(()) } else { Err(format!("i {i} n {n}: gpu {got} cpu {want}")) }
+        if close_v(got, want, 1e-5, 0.0) {
+            Ok(())
+        } else {
+            Err(format!("i {i} n {n}: gpu {got} cpu {want}"))
+        }
     })
 }
 
@@ -500,7 +598,11 @@ fn check_refract_dir(prelude: &str) -> Vec<String> {
         if i.dot(n) > 0.0 {
             i = -i;
         }
-        let eta = if rng.u32() % 2 == 0 { rng.range(1.0, 2.5) } else { 1.0 / rng.range(1.0, 2.5) };
+        let eta = if rng.u32() % 2 == 0 {
+            rng.range(1.0, 2.5)
+        } else {
+            1.0 / rng.range(1.0, 2.5)
+        };
         cases.push(case(&[i.extend(0.0), n.extend(eta)]));
     }
     compare(prelude, "k_refract_dir", &cases, |c, out| {
@@ -513,13 +615,23 @@ fn check_refract_dir(prelude: &str) -> Vec<String> {
         if k.abs() < 1e-5 {
             // At the critical angle either branch is right; it must still be a unit vector.
             let unit = (got.truncate().length() - 1.0).abs() < 1e-4;
-            return if unit && (got.w == 0.0 || got.w == 1.0) { Ok(()) } else { Err(format!("critical: gpu {got}")) };
+            return if unit && (got.w == 0.0 || got.w == 1.0) {
+                Ok(())
+            } else {
+                Err(format!("critical: gpu {got}"))
+            };
         }
         if got.w != want.w {
-            return Err(format!("i {i} n {n} eta {eta}: TIR flag differs: gpu {got} cpu {want} (k {k:e})"));
+            return Err(format!(
+                "i {i} n {n} eta {eta}: TIR flag differs: gpu {got} cpu {want} (k {k:e})"
+            ));
         }
         let tol = 1e-5 + (4.0 * EPS / k.abs().sqrt()) as f32;
-        if close_v(got, want, tol, 0.0) { Ok(()) } else { Err(format!("i {i} n {n} eta {eta}: gpu {got} cpu {want}")) }
+        if close_v(got, want, tol, 0.0) {
+            Ok(())
+        } else {
+            Err(format!("i {i} n {n} eta {eta}: gpu {got} cpu {want}"))
+        }
     })
 }
 
@@ -531,7 +643,11 @@ fn check_fresnel_nk(prelude: &str) -> Vec<String> {
     let unit = (Vec3::ONE, Vec3::ZERO);
     for (n, k) in [gold, glass, unit] {
         for cos in [-1.0f32, -0.25, 0.0, 1e-4, 0.5, 1.0, 1.25, 2.0] {
-            cases.push(case(&[Vec4::new(cos, 0.0, 0.0, 0.0), n.extend(0.0), k.extend(0.0)]));
+            cases.push(case(&[
+                Vec4::new(cos, 0.0, 0.0, 0.0),
+                n.extend(0.0),
+                k.extend(0.0),
+            ]));
         }
     }
     for _ in 0..RANDOM_CASES {
@@ -545,7 +661,11 @@ fn check_fresnel_nk(prelude: &str) -> Vec<String> {
         let (cos, n, k) = (arg(c, 0).x, arg(c, 1).truncate(), arg(c, 2).truncate());
         let want = p::fresnel_nk(cos, n, k).extend(0.0);
         let got = float4(out[0]);
-        if close_v(got, want, 2e-5, 1e-4) { Ok(()) } else { Err(format!("cos {cos} n {n} k {k}: gpu {got} cpu {want}")) }
+        if close_v(got, want, 2e-5, 1e-4) {
+            Ok(())
+        } else {
+            Err(format!("cos {cos} n {n} k {k}: gpu {got} cpu {want}"))
+        }
     })
 }
 
@@ -565,7 +685,11 @@ fn check_fresnel_dielectric(prelude: &str) -> Vec<String> {
         }
     }
     for _ in 0..RANDOM_CASES {
-        let eta = if rng.u32() % 2 == 0 { rng.range(1.0, 3.0) } else { 1.0 / rng.range(1.0, 3.0) };
+        let eta = if rng.u32() % 2 == 0 {
+            rng.range(1.0, 3.0)
+        } else {
+            1.0 / rng.range(1.0, 3.0)
+        };
         cases.push(case(&[Vec4::new(rng.range(-0.25, 1.25), eta, 0.0, 0.0)]));
     }
     compare(prelude, "k_fresnel_dielectric", &cases, |c, out| {
@@ -581,7 +705,11 @@ fn check_fresnel_dielectric(prelude: &str) -> Vec<String> {
                 tol += 5.0 * (dx / (2.0 * x.sqrt())).min(dx.sqrt());
             }
         }
-        if close(got, want, tol as f32, 1e-4) { Ok(()) } else { Err(format!("cos {cos} eta {eta}: gpu {got} cpu {want}")) }
+        if close(got, want, tol as f32, 1e-4) {
+            Ok(())
+        } else {
+            Err(format!("cos {cos} eta {eta}: gpu {got} cpu {want}"))
+        }
     })
 }
 
@@ -590,8 +718,15 @@ fn check_cube_dir_to_face_uv(prelude: &str) -> Vec<String> {
     let mut cases = Vec::new();
     // Axes, face edges (two equal largest components) and corners (three), with signs and -0.0.
     let mut edge_dirs = vec![
-        Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z,
-        Vec3::new(-0.0, 1.0, -0.0), Vec3::new(1.0, -0.0, 0.0), Vec3::new(0.0, -0.0, -1.0),
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+        Vec3::new(-0.0, 1.0, -0.0),
+        Vec3::new(1.0, -0.0, 0.0),
+        Vec3::new(0.0, -0.0, -1.0),
     ];
     for sx in [-1.0f32, 1.0] {
         for sy in [-1.0f32, 1.0] {
@@ -630,19 +765,38 @@ fn check_cube_face_uv_to_dir(prelude: &str) -> Vec<String> {
     for face in 0..8u32 {
         for &u in &uv_edges {
             for &v in &uv_edges {
-                cases.push([[face, 0, 0, 0], bits(Vec4::new(u, v, 0.0, 0.0)), [0; 4], [0; 4]]);
+                cases.push([
+                    [face, 0, 0, 0],
+                    bits(Vec4::new(u, v, 0.0, 0.0)),
+                    [0; 4],
+                    [0; 4],
+                ]);
             }
         }
     }
     for _ in 0..RANDOM_CASES {
         let face = rng.u32() % 7; // 6 exercises the default arm
-        cases.push([[face, 0, 0, 0], bits(Vec4::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), 0.0, 0.0)), [0; 4], [0; 4]]);
+        cases.push([
+            [face, 0, 0, 0],
+            bits(Vec4::new(
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                0.0,
+                0.0,
+            )),
+            [0; 4],
+            [0; 4],
+        ]);
     }
     compare(prelude, "k_cube_face_uv_to_dir", &cases, |c, out| {
         let (face, uv) = (c[0][0], arg(c, 1));
         let want = p::cube_face_uv_to_dir(face, uv.x, uv.y).extend(0.0);
         let got = float4(out[0]);
-        if close_v(got, want, 1e-6, 0.0) { Ok(()) } else { Err(format!("face {face} uv {uv}: gpu {got} cpu {want}")) }
+        if close_v(got, want, 1e-6, 0.0) {
+            Ok(())
+        } else {
+            Err(format!("face {face} uv {uv}: gpu {got} cpu {want}"))
+        }
     })
 }
 
@@ -650,8 +804,15 @@ fn check_oct_encode(prelude: &str) -> Vec<String> {
     let mut rng = Rng::new(10);
     let mut cases = Vec::new();
     for d in [
-        Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z,
-        Vec3::new(0.6, 0.8, 0.0), Vec3::new(-0.6, 0.0, -0.8), Vec3::new(0.0, -0.0, -1.0),
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+        Vec3::new(0.6, 0.8, 0.0),
+        Vec3::new(-0.6, 0.0, -0.8),
+        Vec3::new(0.0, -0.0, -1.0),
         Vec3::new(-0.0, 0.6, -0.8),
     ] {
         cases.push(case(&[d.extend(0.0)]));
@@ -663,7 +824,11 @@ fn check_oct_encode(prelude: &str) -> Vec<String> {
         let d = arg(c, 0).truncate();
         let want = p::oct_encode(d).extend(0.0).extend(0.0);
         let got = float4(out[0]);
-        if close_v(got, want, 1e-5, 0.0) { Ok(()) } else { Err(format!("n {d}: gpu {got} cpu {want}")) }
+        if close_v(got, want, 1e-5, 0.0) {
+            Ok(())
+        } else {
+            Err(format!("n {d}: gpu {got} cpu {want}"))
+        }
     })
 }
 
@@ -676,29 +841,54 @@ fn check_oct_decode(prelude: &str) -> Vec<String> {
         }
     }
     for _ in 0..RANDOM_CASES {
-        cases.push(case(&[Vec4::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0, 0.0)]));
+        cases.push(case(&[Vec4::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            0.0,
+            0.0,
+        )]));
     }
     compare(prelude, "k_oct_decode", &cases, |c, out| {
         let e = arg(c, 0).truncate().truncate();
         let want = p::oct_decode(e).extend(0.0);
         let got = float4(out[0]);
-        if close_v(got, want, 1e-5, 0.0) { Ok(()) } else { Err(format!("e {e}: gpu {got} cpu {want}")) }
+        if close_v(got, want, 1e-5, 0.0) {
+            Ok(())
+        } else {
+            Err(format!("e {e}: gpu {got} cpu {want}"))
+        }
     })
 }
 
 fn hash_inputs() -> Vec<Case> {
     let mut rng = Rng::new(12);
-    let mut inputs: Vec<u32> = vec![0, 1, 2, 0x7fff_ffff, 0x8000_0000, u32::MAX, u32::MAX - 1, 12345];
+    let mut inputs: Vec<u32> = vec![
+        0,
+        1,
+        2,
+        0x7fff_ffff,
+        0x8000_0000,
+        u32::MAX,
+        u32::MAX - 1,
+        12345,
+    ];
     inputs.extend(0..256);
     inputs.extend((0..RANDOM_CASES).map(|_| rng.u32()));
-    inputs.into_iter().map(|x| [[x, 0, 0, 0], [0; 4], [0; 4], [0; 4]]).collect()
+    inputs
+        .into_iter()
+        .map(|x| [[x, 0, 0, 0], [0; 4], [0; 4], [0; 4]])
+        .collect()
 }
 
 fn check_pcg_hash(prelude: &str) -> Vec<String> {
     compare(prelude, "k_pcg_hash", &hash_inputs(), |c, out| {
         let (x, got) = (c[0][0], out[0][0]);
         let want = p::pcg_hash(x);
-        if got == want { Ok(()) } else { Err(format!("x {x}: gpu {got:#x} cpu {want:#x}")) }
+        if got == want {
+            Ok(())
+        } else {
+            Err(format!("x {x}: gpu {got:#x} cpu {want:#x}"))
+        }
     })
 }
 
@@ -724,12 +914,18 @@ fn check_luminance(prelude: &str) -> Vec<String> {
         case(&[Vec4::new(0.0, 0.0, 1.0, 0.0)]),
     ];
     for _ in 0..RANDOM_CASES {
-        cases.push(case(&[(rng.vec3(0.0, 1.0) * 10f32.powf(rng.range(-3.0, 3.0))).extend(0.0)]));
+        cases.push(case(&[(rng.vec3(0.0, 1.0)
+            * 10f32.powf(rng.range(-3.0, 3.0)))
+        .extend(0.0)]));
     }
     compare(prelude, "k_luminance", &cases, |c, out| {
         let rgb = arg(c, 0).truncate();
         let (got, want) = (float4(out[0]).x, p::luminance(rgb));
-        if close(got, want, 1e-6, 1e-5) { Ok(()) } else { Err(format!("rgb {rgb}: gpu {got} cpu {want}")) }
+        if close(got, want, 1e-6, 1e-5) {
+            Ok(())
+        } else {
+            Err(format!("rgb {rgb}: gpu {got} cpu {want}"))
+        }
     })
 }
 
@@ -769,17 +965,26 @@ fn fresnel_nk_conforms() {
 
 #[test]
 fn fresnel_dielectric_conforms() {
-    assert_conforms("fresnel_dielectric", check_fresnel_dielectric(p::PRELUDE_WGSL));
+    assert_conforms(
+        "fresnel_dielectric",
+        check_fresnel_dielectric(p::PRELUDE_WGSL),
+    );
 }
 
 #[test]
 fn cube_dir_to_face_uv_conforms() {
-    assert_conforms("cube_dir_to_face_uv", check_cube_dir_to_face_uv(p::PRELUDE_WGSL));
+    assert_conforms(
+        "cube_dir_to_face_uv",
+        check_cube_dir_to_face_uv(p::PRELUDE_WGSL),
+    );
 }
 
 #[test]
 fn cube_face_uv_to_dir_conforms() {
-    assert_conforms("cube_face_uv_to_dir", check_cube_face_uv_to_dir(p::PRELUDE_WGSL));
+    assert_conforms(
+        "cube_face_uv_to_dir",
+        check_cube_face_uv_to_dir(p::PRELUDE_WGSL),
+    );
 }
 
 #[test]
@@ -815,15 +1020,42 @@ fn mutated_prelude_constants_are_detected() {
     let mutations: [(&str, &str, &str, Check); 6] = [
         ("luminance", "0.7152", "0.7153", check_luminance),
         ("pcg_hash", "277803737u", "277803739u", check_pcg_hash),
-        ("fresnel_nk", "4.0 * n * m", "3.99 * n * m", check_fresnel_nk),
-        ("ray_sphere", "let c = dot(oc, oc) - radius * radius;", "let c = dot(oc, oc) - radius * radius * 1.001;", check_ray_sphere),
-        ("cube_dir_to_face_uv", "face = 4.0; sc = d.x; tc = -d.y;", "face = 4.0; sc = d.x; tc = d.y;", check_cube_dir_to_face_uv),
-        ("refract_dir", "(eta * cos_i - sqrt(k)) * n", "(eta * cos_i - sqrt(k) * 1.0001) * n", check_refract_dir),
+        (
+            "fresnel_nk",
+            "4.0 * n * m",
+            "3.99 * n * m",
+            check_fresnel_nk,
+        ),
+        (
+            "ray_sphere",
+            "let c = dot(oc, oc) - radius * radius;",
+            "let c = dot(oc, oc) - radius * radius * 1.001;",
+            check_ray_sphere,
+        ),
+        (
+            "cube_dir_to_face_uv",
+            "face = 4.0; sc = d.x; tc = -d.y;",
+            "face = 4.0; sc = d.x; tc = d.y;",
+            check_cube_dir_to_face_uv,
+        ),
+        (
+            "refract_dir",
+            "(eta * cos_i - sqrt(k)) * n",
+            "(eta * cos_i - sqrt(k) * 1.0001) * n",
+            check_refract_dir,
+        ),
     ];
     for (name, from, to, check) in mutations {
-        assert_eq!(p::PRELUDE_WGSL.matches(from).count(), 1, "mutation of {name}: `{from}` must occur once in the prelude");
+        assert_eq!(
+            p::PRELUDE_WGSL.matches(from).count(),
+            1,
+            "mutation of {name}: `{from}` must occur once in the prelude"
+        );
         let broken = p::PRELUDE_WGSL.replace(from, to);
         let failures = check(&broken);
-        assert!(!failures.is_empty(), "breaking {name} (`{from}` -> `{to}`) went unnoticed");
+        assert!(
+            !failures.is_empty(),
+            "breaking {name} (`{from}` -> `{to}`) went unnoticed"
+        );
     }
 }

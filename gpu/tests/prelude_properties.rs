@@ -84,10 +84,24 @@ fn box_surface_distance(p: DVec3, lo: DVec3, hi: DVec3) -> f64 {
 /// The checks shared by the two ray_box properties.
 fn check_ray_box(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Result<(), TestCaseError> {
     let t = ray_box(o, d, lo, hi);
-    prop_assert!(!t.is_nan(), "NaN {} from o {} d {} box {}..{}", t, o, d, lo, hi);
+    prop_assert!(
+        !t.is_nan(),
+        "NaN {} from o {} d {} box {}..{}",
+        t,
+        o,
+        d,
+        lo,
+        hi
+    );
     match ray_box_f64(o, d, lo, hi) {
-        Some((t0, t1)) if (t1 - t0) > 1e-4 => prop_assert!(t.x <= t.y, "missed, exact ({}, {})", t0, t1),
-        None => prop_assert!(t == MISS || (t.y - t.x) <= 1e-4, "hit {} but the exact test misses", t),
+        Some((t0, t1)) if (t1 - t0) > 1e-4 => {
+            prop_assert!(t.x <= t.y, "missed, exact ({}, {})", t0, t1)
+        }
+        None => prop_assert!(
+            t == MISS || (t.y - t.x) <= 1e-4,
+            "hit {} but the exact test misses",
+            t
+        ),
         _ => {}
     }
     if t.x <= t.y {

@@ -81,11 +81,19 @@ fn stem(dir: &Path, key: &str) -> PathBuf {
 
 /// The reference for this view, from `cache_dir` if present, else rendered and stored.
 /// Returns it and whether it came from the cache. A broken cache entry is re-rendered.
-pub fn reference(cache_dir: &Path, truth: &dyn GroundTruth, view: &RefView) -> Result<(Reference, bool)> {
+pub fn reference(
+    cache_dir: &Path,
+    truth: &dyn GroundTruth,
+    view: &RefView,
+) -> Result<(Reference, bool)> {
     let (width, height) = (view.size.width, view.size.height);
     let key = reference_key(truth, view);
     let stem = stem(cache_dir, &key);
-    let paths = (stem.with_extension("json"), stem.with_extension("exr"), stem.with_extension("ids"));
+    let paths = (
+        stem.with_extension("json"),
+        stem.with_extension("exr"),
+        stem.with_extension("ids"),
+    );
     if let Some(found) = load(&paths, &key, width, height) {
         return Ok((found, true));
     }
@@ -99,16 +107,31 @@ pub fn reference(cache_dir: &Path, truth: &dyn GroundTruth, view: &RefView) -> R
             && reference.mask.len() == n,
         "the reference renderer returned an image of the wrong size"
     );
-    std::fs::create_dir_all(cache_dir).with_context(|| format!("cannot create {}", cache_dir.display()))?;
+    std::fs::create_dir_all(cache_dir)
+        .with_context(|| format!("cannot create {}", cache_dir.display()))?;
     images::write_exr(&paths.1, &reference.image)?;
-    images::write_ids(&paths.2, width, height, &reference.object_ids, &reference.mask)?;
-    let entry = Entry { key, stats: reference.stats.clone() };
+    images::write_ids(
+        &paths.2,
+        width,
+        height,
+        &reference.object_ids,
+        &reference.mask,
+    )?;
+    let entry = Entry {
+        key,
+        stats: reference.stats.clone(),
+    };
     std::fs::write(&paths.0, serde_json::to_string_pretty(&entry)?)
         .with_context(|| format!("cannot write {}", paths.0.display()))?;
     Ok((reference, false))
 }
 
-fn load(paths: &(PathBuf, PathBuf, PathBuf), key: &str, width: u32, height: u32) -> Option<Reference> {
+fn load(
+    paths: &(PathBuf, PathBuf, PathBuf),
+    key: &str,
+    width: u32,
+    height: u32,
+) -> Option<Reference> {
     let entry: Entry = serde_json::from_str(&std::fs::read_to_string(&paths.0).ok()?).ok()?;
     if entry.key != key {
         return None;
@@ -118,5 +141,10 @@ fn load(paths: &(PathBuf, PathBuf, PathBuf), key: &str, width: u32, height: u32)
     if (image.width, image.height, w, h) != (width, height, width, height) {
         return None;
     }
-    Some(Reference { image, object_ids, mask, stats: entry.stats })
+    Some(Reference {
+        image,
+        object_ids,
+        mask,
+        stats: entry.stats,
+    })
 }

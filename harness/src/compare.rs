@@ -18,7 +18,9 @@
 use crate::cache::{self, RefView};
 use crate::report::{self, AdapterJson, ResultRow, Skipped};
 use crate::run::{self, TechniqueRun};
-use crate::{Env, Frames, Reference, ReferenceStats, Size, backend, file_name, images, scene_dir_name};
+use crate::{
+    Env, Frames, Reference, ReferenceStats, Size, backend, file_name, images, scene_dir_name,
+};
 use anyhow::{Context as _, Result, anyhow};
 use scene::{GpuScene, Scene, Technique};
 use std::path::{Path, PathBuf};
@@ -99,14 +101,22 @@ pub(crate) fn measure(
             let run = TechniqueRun {
                 image: r.image.clone(),
                 timer: "cpu".into(),
-                frame: gpu::TimeStats { median_ms: ms, p95_ms: ms, samples: 1 },
+                frame: gpu::TimeStats {
+                    median_ms: ms,
+                    p95_ms: ms,
+                    samples: 1,
+                },
                 prepare_ms: 0.0,
                 prepare_wall_ms: 0.0,
                 spans_ms: Default::default(),
             };
             let (m, map) = scene::metrics::compare(&run.image, &r.image, Some(&r.mask));
             let row = row.with_run(&run).with_metrics(&m);
-            return Outcome { row, run: Some(run), flip: Some(map) };
+            return Outcome {
+                row,
+                run: Some(run),
+                flip: Some(map),
+            };
         }
     }
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
@@ -114,19 +124,44 @@ pub(crate) fn measure(
     }));
     let run = match result {
         Ok(Ok(run)) => run,
-        Ok(Err(e)) => return Outcome { row: row.with_error(format!("{e:#}")), run: None, flip: None },
-        Err(p) => return Outcome { row: row.with_error(panic_message(p)), run: None, flip: None },
+        Ok(Err(e)) => {
+            return Outcome {
+                row: row.with_error(format!("{e:#}")),
+                run: None,
+                flip: None,
+            };
+        }
+        Err(p) => {
+            return Outcome {
+                row: row.with_error(panic_message(p)),
+                run: None,
+                flip: None,
+            };
+        }
     };
     let mut row = row.with_run(&run);
     let mut flip = None;
     if let Some(r) = reference {
-        let view = scene::View { camera: gpu_scene.scene.camera, time: 0.0, width: size.width, height: size.height };
+        let view = scene::View {
+            camera: gpu_scene.scene.camera,
+            time: 0.0,
+            width: size.width,
+            height: size.height,
+        };
         let truth = technique.ground_truth(&gpu_scene.scene, &view, &r.image);
-        let (m, map) = scene::metrics::compare(&run.image, truth.as_ref().unwrap_or(&r.image), Some(&r.mask));
+        let (m, map) = scene::metrics::compare(
+            &run.image,
+            truth.as_ref().unwrap_or(&r.image),
+            Some(&r.mask),
+        );
         row = row.with_metrics(&m);
         flip = Some(map);
     }
-    Outcome { row, run: Some(run), flip }
+    Outcome {
+        row,
+        run: Some(run),
+        flip,
+    }
 }
 
 /// Writes a technique's images: `<stem>.png`, `<stem>.exr` and `<stem>.flip.png`.
@@ -136,19 +171,39 @@ pub(crate) fn write_outcome_images(dir: &Path, stem: &str, outcome: &Outcome) ->
         images::write_exr(&dir.join(format!("{stem}.exr")), &run.image)?;
     }
     if let Some(map) = &outcome.flip {
-        images::write_png_rgb8(&dir.join(format!("{stem}.flip.png")), map.width, map.height, &map.to_magma_rgb8())?;
+        images::write_png_rgb8(
+            &dir.join(format!("{stem}.flip.png")),
+            map.width,
+            map.height,
+            &map.to_magma_rgb8(),
+        )?;
     }
     Ok(())
 }
 
 /// Loads every scene spec first, so a bad one fails before any GPU work.
 pub(crate) fn load_scenes(specs: &[String]) -> Result<Vec<(String, Scene)>> {
-    specs.iter().map(|s| crate::load_scene(s).map(|scene| (s.clone(), scene))).collect()
+    specs
+        .iter()
+        .map(|s| crate::load_scene(s).map(|scene| (s.clone(), scene)))
+        .collect()
 }
 
 /// The reference of a scene's default view at time 0, through the cache.
-pub(crate) fn scene_reference(env: &Env, out: &Path, spec: &str, scene: &Scene, size: Size) -> Result<(Reference, bool)> {
-    let view = RefView { spec, scene, camera: scene.camera, time: 0.0, size };
+pub(crate) fn scene_reference(
+    env: &Env,
+    out: &Path,
+    spec: &str,
+    scene: &Scene,
+    size: Size,
+) -> Result<(Reference, bool)> {
+    let view = RefView {
+        spec,
+        scene,
+        camera: scene.camera,
+        time: 0.0,
+        size,
+    };
     cache::reference(&out.join(".cache"), env.ground_truth, &view)
 }
 
@@ -156,10 +211,15 @@ pub(crate) fn scene_reference(env: &Env, out: &Path, spec: &str, scene: &Scene, 
 pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
     let all_ids: Vec<String> = (env.techniques)().iter().map(|t| t.id()).collect();
     let selected = crate::select_techniques(&all_ids, opts.techniques.as_deref())?;
-    let specs = if opts.scenes.is_empty() { crate::builtin_scene_names() } else { opts.scenes.clone() };
+    let specs = if opts.scenes.is_empty() {
+        crate::builtin_scene_names()
+    } else {
+        opts.scenes.clone()
+    };
     let scenes = load_scenes(&specs)?;
     env.ctx.check_size(opts.size.width, opts.size.height)?;
-    std::fs::create_dir_all(&opts.out).with_context(|| format!("cannot create {}", opts.out.display()))?;
+    std::fs::create_dir_all(&opts.out)
+        .with_context(|| format!("cannot create {}", opts.out.display()))?;
 
     let adapter = AdapterJson::of(env.ctx);
     let adapter_name = env.ctx.summary.name.clone();
@@ -209,11 +269,17 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
         };
         bar.inc(1);
 
-        let mut techniques: Vec<Box<dyn Technique>> =
-            (env.techniques)().into_iter().filter(|t| selected.contains(&t.id())).collect();
+        let techniques: Vec<Box<dyn Technique>> = (env.techniques)()
+            .into_iter()
+            .filter(|t| selected.contains(&t.id()))
+            .collect();
         let mut gpu_scene: Option<GpuScene> = None;
         let mut upload_error: Option<String> = None;
-        for technique in techniques.iter_mut() {
+        // Each technique is dropped (pipelines, maps) as soon as its row is measured: a
+        // driver's shader cache then holds only the running technique's shaders. On lavapipe,
+        // keeping every technique's pipelines alive made later techniques up to 10x slower
+        // (llvmpipe evicts and recompiles shader variants once its cache is full).
+        for mut technique in techniques {
             let id = technique.id();
             let row = ResultRow::new(spec, &id, opts.size, &adapter_name);
             if !technique.supports(scene) {
@@ -227,7 +293,11 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
             }
             if let Err(e) = env.ctx.require(technique.required_features()) {
                 say(&bar, format!("skipped: {spec} / {id}: {e}"));
-                report.skipped.push(Skipped { scene: spec.clone(), technique: id, reason: e.to_string() });
+                report.skipped.push(Skipped {
+                    scene: spec.clone(),
+                    technique: id,
+                    reason: e.to_string(),
+                });
                 bar.inc(1);
                 continue;
             }
@@ -244,20 +314,32 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                 }
             }
             let Some(gs) = gpu_scene.as_mut() else {
-                report.rows.push(row.with_error(upload_error.clone().unwrap_or_default()));
+                report
+                    .rows
+                    .push(row.with_error(upload_error.clone().unwrap_or_default()));
                 bar.inc(1);
                 continue;
             };
             let mut on_frame = |step: &str| bar.set_message(format!("{spec} / {id}: {step}"));
-            let outcome =
-                measure(env, technique.as_mut(), gs, reference.as_ref(), opts.frames, row, &mut on_frame);
+            let outcome = measure(
+                env,
+                technique.as_mut(),
+                gs,
+                reference.as_ref(),
+                opts.frames,
+                row,
+                &mut on_frame,
+            );
             write_outcome_images(&dir, &file_name(&id), &outcome)?;
             if let Some(err) = &outcome.row.error {
                 let msg = format!("{spec} / {id}: {err}");
                 say(&bar, format!("error: {msg}"));
                 report.errors.push(msg);
             } else if let Some(n) = outcome.row.nan_pixels.filter(|&n| n > 0) {
-                say(&bar, format!("warning: {spec} / {id}: {n} NaN or infinite pixels"));
+                say(
+                    &bar,
+                    format!("warning: {spec} / {id}: {n} NaN or infinite pixels"),
+                );
             }
             report.rows.push(outcome.row);
             bar.inc(1);
@@ -266,11 +348,15 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
     bar.finish_and_clear();
 
     report.markdown = report::to_markdown(&report.rows, false);
-    write_text(&opts.out.join("results.csv"), &report::to_csv(&report.rows, false))?;
+    write_text(
+        &opts.out.join("results.csv"),
+        &report::to_csv(&report.rows, false),
+    )?;
     write_text(&opts.out.join("results.md"), &report.markdown)?;
     write_text(
         &opts.out.join("results.json"),
-        &serde_json::to_string_pretty(&report).map_err(|e| anyhow!("cannot encode results: {e}"))?,
+        &serde_json::to_string_pretty(&report)
+            .map_err(|e| anyhow!("cannot encode results: {e}"))?,
     )?;
     Ok(report)
 }

@@ -22,7 +22,12 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
 
 /// Writes an HDR image as PNG: sRGB of the clamped value (what FLIP compares).
 pub fn write_png(path: &Path, image: &HdrImage) -> Result<()> {
-    write_png_rgb8(path, image.width, image.height, &scene::metrics::to_srgb8(image))
+    write_png_rgb8(
+        path,
+        image.width,
+        image.height,
+        &scene::metrics::to_srgb8(image),
+    )
 }
 
 /// Writes an HDR image as EXR: linear RGBA f32, lossless.
@@ -51,10 +56,18 @@ pub fn read_exr(path: &Path) -> Result<HdrImage> {
 
 /// Writes an image as PNG or EXR by the file's extension.
 pub fn write_by_extension(path: &Path, image: &HdrImage) -> Result<()> {
-    match path.extension().and_then(|e| e.to_str()).map(str::to_lowercase).as_deref() {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_lowercase)
+        .as_deref()
+    {
         Some("png") => write_png(path, image),
         Some("exr") => write_exr(path, image),
-        _ => bail!("cannot tell the image format of {}: use a .png or .exr name", path.display()),
+        _ => bail!(
+            "cannot tell the image format of {}: use a .png or .exr name",
+            path.display()
+        ),
     }
 }
 
@@ -88,7 +101,10 @@ pub fn read_ids(path: &Path) -> Result<(u32, u32, Vec<i32>, Vec<bool>)> {
     if bytes.len() != 16 + n * 5 {
         return Err(bad());
     }
-    let ids = bytes[16..16 + 4 * n].chunks_exact(4).map(|c| i32::from_le_bytes(c.try_into().unwrap())).collect();
+    let ids = bytes[16..16 + 4 * n]
+        .chunks_exact(4)
+        .map(|c| i32::from_le_bytes(c.try_into().unwrap()))
+        .collect();
     let mask = bytes[16 + 4 * n..].iter().map(|&b| b != 0).collect();
     Ok((w, h, ids, mask))
 }

@@ -78,8 +78,14 @@ pub trait GroundTruth {
     /// Identifies the renderer and its options; part of the cache key, so changing options
     /// never reuses a stale image.
     fn key(&self) -> String;
-    fn render(&self, scene: &Scene, camera: &Camera, time: f32, width: u32, height: u32)
-    -> Result<Reference>;
+    fn render(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        time: f32,
+        width: u32,
+        height: u32,
+    ) -> Result<Reference>;
 }
 
 /// The CPU reference renderer (`scene::reference`) with its options.
@@ -90,9 +96,19 @@ pub struct CpuReference {
 
 impl GroundTruth for CpuReference {
     fn key(&self) -> String {
-        format!("cpu-reference {}", backend::reference_options_key(&self.options))
+        format!(
+            "cpu-reference {}",
+            backend::reference_options_key(&self.options)
+        )
     }
-    fn render(&self, scene: &Scene, camera: &Camera, time: f32, w: u32, h: u32) -> Result<Reference> {
+    fn render(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        time: f32,
+        w: u32,
+        h: u32,
+    ) -> Result<Reference> {
         backend::render_reference(scene, camera, time, w, h, &self.options)
     }
 }
@@ -109,7 +125,12 @@ pub struct Env<'a> {
 impl<'a> Env<'a> {
     /// The standard environment: [`registry`] and the given CPU reference.
     pub fn standard(ctx: &'a gpu::Context, reference: &'a CpuReference) -> Self {
-        Env { ctx, techniques: &registry, ground_truth: reference, progress: true }
+        Env {
+            ctx,
+            techniques: &registry,
+            ground_truth: reference,
+            progress: true,
+        }
     }
 }
 
@@ -145,7 +166,10 @@ impl FromStr for Size {
         if w == 0 || h == 0 {
             return Err(format!("size {s} has a zero side"));
         }
-        Ok(Size { width: w, height: h })
+        Ok(Size {
+            width: w,
+            height: h,
+        })
     }
 }
 
@@ -160,7 +184,10 @@ pub struct Frames {
 
 impl Default for Frames {
     fn default() -> Self {
-        Frames { timed: 16, warmup: 3 }
+        Frames {
+            timed: 16,
+            warmup: 3,
+        }
     }
 }
 
@@ -192,7 +219,9 @@ pub fn is_scene_path(spec: &str) -> bool {
 /// The folder name of a scene's images: the file name for a glTF path, the spec otherwise.
 pub fn scene_dir_name(spec: &str) -> String {
     if is_scene_path(spec) {
-        let name = std::path::Path::new(spec).file_name().map(|n| n.to_string_lossy().into_owned());
+        let name = std::path::Path::new(spec)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned());
         return file_name(&name.unwrap_or_else(|| spec.to_string()));
     }
     file_name(spec)
@@ -217,7 +246,10 @@ pub fn split_scene_list(list: &str) -> Vec<String> {
 
 /// The built-in scene specs (default parameters), in declaration order.
 pub fn builtin_scene_names() -> Vec<String> {
-    scene::builtin::builtin_scenes().iter().map(|s| s.name.to_string()).collect()
+    scene::builtin::builtin_scenes()
+        .iter()
+        .map(|s| s.name.to_string())
+        .collect()
 }
 
 /// Loads a scene spec (built-in or .gltf/.glb path) with a one-line error.
@@ -230,7 +262,9 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
 /// (`impostors` or `impostors/`) for all its variants. Unknown names are an error that lists
 /// the known ids. `None` selects every technique.
 pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Result<Vec<String>> {
-    let Some(wanted) = wanted else { return Ok(all_ids.to_vec()) };
+    let Some(wanted) = wanted else {
+        return Ok(all_ids.to_vec());
+    };
     let mut out: Vec<String> = Vec::new();
     for name in wanted {
         let family = name.trim_end_matches('/');
@@ -239,7 +273,11 @@ pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Resul
             .filter(|id| *id == name || id.split('/').next() == Some(family) && !family.is_empty())
             .collect();
         if matches.is_empty() {
-            let known = if all_ids.is_empty() { "none registered".to_string() } else { all_ids.join(", ") };
+            let known = if all_ids.is_empty() {
+                "none registered".to_string()
+            } else {
+                all_ids.join(", ")
+            };
             bail!("unknown technique \"{name}\" (techniques: {known})");
         }
         for id in matches {
@@ -285,8 +323,14 @@ mod tests {
 
     #[test]
     fn file_names_are_safe() {
-        assert_eq!(file_name("impostors/false-position"), "impostors__false-position");
-        assert_eq!(file_name("cornell-sphere:material=mirror"), "cornell-sphere_material=mirror");
+        assert_eq!(
+            file_name("impostors/false-position"),
+            "impostors__false-position"
+        );
+        assert_eq!(
+            file_name("cornell-sphere:material=mirror"),
+            "cornell-sphere_material=mirror"
+        );
         assert_eq!(file_name("a b/c"), "a_b__c");
         assert_eq!(file_name("../x"), "_..__x");
         assert_eq!(file_name(""), "_");
@@ -299,7 +343,10 @@ mod tests {
             vec!["city:buildings=64,rooms_per_building=8", "cornell-sphere"]
         );
         assert_eq!(split_scene_list("a, b,,c"), vec!["a", "b", "c"]);
-        assert_eq!(split_scene_list("x.glb,cornell-box:material=gold"), vec!["x.glb", "cornell-box:material=gold"]);
+        assert_eq!(
+            split_scene_list("x.glb,cornell-box:material=gold"),
+            vec!["x.glb", "cornell-box:material=gold"]
+        );
     }
 
     #[test]
@@ -309,12 +356,24 @@ mod tests {
             .map(|s| s.to_string())
             .collect();
         let pick = |w: &[&str]| {
-            select_techniques(&ids, Some(&w.iter().map(|s| s.to_string()).collect::<Vec<_>>()))
+            select_techniques(
+                &ids,
+                Some(&w.iter().map(|s| s.to_string()).collect::<Vec<_>>()),
+            )
         };
-        assert_eq!(pick(&["impostors"]).unwrap(), vec!["impostors/classic", "impostors/false-position"]);
-        assert_eq!(pick(&["impostors/classic", "reference"]).unwrap(), vec!["impostors/classic", "reference"]);
+        assert_eq!(
+            pick(&["impostors"]).unwrap(),
+            vec!["impostors/classic", "impostors/false-position"]
+        );
+        assert_eq!(
+            pick(&["impostors/classic", "reference"]).unwrap(),
+            vec!["impostors/classic", "reference"]
+        );
         let err = pick(&["nope"]).unwrap_err().to_string();
-        assert!(err.contains("unknown technique \"nope\"") && err.contains("reference"), "{err}");
+        assert!(
+            err.contains("unknown technique \"nope\"") && err.contains("reference"),
+            "{err}"
+        );
         assert_eq!(select_techniques(&ids, None).unwrap().len(), 3);
     }
 }

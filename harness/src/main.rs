@@ -10,7 +10,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "harness", version, about = "Runs every technique on the same scenes against the same ground truth; writes tables, images and plots.")]
+#[command(
+    name = "harness",
+    version,
+    about = "Runs every technique on the same scenes against the same ground truth; writes tables, images and plots."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -28,7 +32,10 @@ struct FrameArgs {
 
 impl FrameArgs {
     fn frames(self) -> Frames {
-        Frames { timed: self.frames, warmup: self.warmup }
+        Frames {
+            timed: self.frames,
+            warmup: self.warmup,
+        }
     }
 }
 
@@ -135,7 +142,11 @@ enum Command {
 
 /// An error as one line.
 fn one_line(text: &str) -> String {
-    text.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" ")
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 fn main() -> ExitCode {
@@ -174,8 +185,18 @@ fn context() -> Result<gpu::Context> {
 fn run(cli: Cli) -> Result<ExitCode> {
     match cli.command {
         Command::List { params } => list(params),
-        Command::Compare { out, scenes, techniques, size, frames, reference, strict } => {
-            let scenes = scenes.map(|s| harness::split_scene_list(&s)).unwrap_or_default();
+        Command::Compare {
+            out,
+            scenes,
+            techniques,
+            size,
+            frames,
+            reference,
+            strict,
+        } => {
+            let scenes = scenes
+                .map(|s| harness::split_scene_list(&s))
+                .unwrap_or_default();
             // Check names and scenes before creating the GPU context (seconds on a software
             // adapter); the runner checks them again.
             let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
@@ -186,9 +207,18 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let ctx = context()?;
             let reference = reference.reference();
             let env = Env::standard(&ctx, &reference);
-            let opts = CompareOptions { out: out.clone(), scenes, techniques, size, frames: frames.frames() };
+            let opts = CompareOptions {
+                out: out.clone(),
+                scenes,
+                techniques,
+                size,
+                frames: frames.frames(),
+            };
             let report = harness::compare::run(&env, &opts)?;
-            println!("adapter: {} (timer: {})", ctx.summary, report.adapter.timer_kind);
+            println!(
+                "adapter: {} (timer: {})",
+                ctx.summary, report.adapter.timer_kind
+            );
             println!();
             print!("{}", report.markdown);
             println!();
@@ -197,7 +227,10 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 out.display()
             );
             if !report.errors.is_empty() {
-                eprintln!("{} error(s), printed above and listed in results.json", report.errors.len());
+                eprintln!(
+                    "{} error(s), printed above and listed in results.json",
+                    report.errors.len()
+                );
             }
             let nan = report.rows.iter().any(|r| r.nan_pixels.unwrap_or(0) > 0);
             if strict && (!report.errors.is_empty() || nan) {
@@ -206,7 +239,15 @@ fn run(cli: Cli) -> Result<ExitCode> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Sweep { scene, technique, param, out, size, frames, reference } => {
+        Command::Sweep {
+            scene,
+            technique,
+            param,
+            out,
+            size,
+            frames,
+            reference,
+        } => {
             let (param, values) = harness::sweep::parse_param_arg(&param)?;
             let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
             harness::select_techniques(&all_ids, Some(std::slice::from_ref(&technique)))?;
@@ -214,23 +255,47 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let ctx = context()?;
             let reference = reference.reference();
             let env = Env::standard(&ctx, &reference);
-            let opts = SweepOptions { out: out.clone(), scene, technique, param, values, size, frames: frames.frames() };
+            let opts = SweepOptions {
+                out: out.clone(),
+                scene,
+                technique,
+                param,
+                values,
+                size,
+                frames: frames.frames(),
+            };
             let report = harness::sweep::run(&env, &opts)?;
-            println!("adapter: {} (timer: {})", ctx.summary, report.adapter.timer_kind);
+            println!(
+                "adapter: {} (timer: {})",
+                ctx.summary, report.adapter.timer_kind
+            );
             println!();
             print!("{}", report.markdown);
             println!();
-            println!("wrote {0}/sweep.csv, {0}/sweep.json, {0}/sweep.png and {0}/images/", out.display());
+            println!(
+                "wrote {0}/sweep.csv, {0}/sweep.json, {0}/sweep.png and {0}/images/",
+                out.display()
+            );
             if !report.errors.is_empty() {
-                eprintln!("{} error(s), printed above and listed in sweep.json", report.errors.len());
+                eprintln!(
+                    "{} error(s), printed above and listed in sweep.json",
+                    report.errors.len()
+                );
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Render { scene, technique, out, size, reference } => {
-            render(&scene, &technique, &out, size, &reference.reference())
-        }
+        Command::Render {
+            scene,
+            technique,
+            out,
+            size,
+            reference,
+        } => render(&scene, &technique, &out, size, &reference.reference()),
         Command::ExportScene { scene, out } => {
-            if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb")) {
+            if !out
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
+            {
                 bail!("{} must end in .glb", out.display());
             }
             let model = harness::load_scene(&scene)?;
@@ -250,7 +315,11 @@ fn list(params: bool) -> Result<ExitCode> {
                 println!("      {:<20} default {:<10} {}", p.name, p.default, p.help);
             }
         } else if !s.params.is_empty() {
-            let names: Vec<String> = s.params.iter().map(|p| format!("{}={}", p.name, p.default)).collect();
+            let names: Vec<String> = s
+                .params
+                .iter()
+                .map(|p| format!("{}={}", p.name, p.default))
+                .collect();
             println!("      params: {}", names.join(", "));
         }
     }
@@ -282,9 +351,15 @@ fn render(
     size: Size,
     reference: &harness::CpuReference,
 ) -> Result<ExitCode> {
-    let ext = out.extension().and_then(|e| e.to_str()).map(str::to_lowercase);
+    let ext = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_lowercase);
     if !matches!(ext.as_deref(), Some("png" | "exr")) {
-        bail!("cannot tell the image format of {}: use a .png or .exr name", out.display());
+        bail!(
+            "cannot tell the image format of {}: use a .png or .exr name",
+            out.display()
+        );
     }
     let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
     let use_ground_truth = technique == "reference" && !all_ids.iter().any(|id| id == "reference");
@@ -294,15 +369,25 @@ fn render(
         let ids = harness::select_techniques(&all_ids, Some(&[technique.to_string()]))?;
         match ids.as_slice() {
             [id] => id.clone(),
-            _ => bail!("\"{technique}\" names several techniques ({}); give one id", ids.join(", ")),
+            _ => bail!(
+                "\"{technique}\" names several techniques ({}); give one id",
+                ids.join(", ")
+            ),
         }
     };
     let scene = harness::load_scene(spec)?;
     let ctx = context()?;
     ctx.check_size(size.width, size.height)?;
     let image = if use_ground_truth {
-        harness::backend::render_reference(&scene, &scene.camera, 0.0, size.width, size.height, &reference.options)?
-            .image
+        harness::backend::render_reference(
+            &scene,
+            &scene.camera,
+            0.0,
+            size.width,
+            size.height,
+            &reference.options,
+        )?
+        .image
     } else {
         let mut t = harness::registry()
             .into_iter()
@@ -311,14 +396,18 @@ fn render(
         if !t.supports(&scene) {
             bail!("technique {id} does not support scene {spec}");
         }
-        ctx.require(t.required_features()).with_context(|| format!("technique {id}"))?;
+        ctx.require(t.required_features())
+            .with_context(|| format!("technique {id}"))?;
         let mut gpu_scene = harness::backend::upload_scene(&ctx, &scene)?;
         let run = harness::run::run_technique(
             &ctx,
             t.as_mut(),
             &mut gpu_scene,
             size,
-            Frames { timed: 0, warmup: 0 },
+            Frames {
+                timed: 0,
+                warmup: 0,
+            },
             &mut |_| {},
         )?;
         run.image

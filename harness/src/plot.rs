@@ -36,7 +36,8 @@ pub fn fonts_available() -> bool {
         return false;
     }
     // Should the font loader panic (it unwraps in places), treat that as no font.
-    std::panic::catch_unwind(|| ("sans-serif", 14).into_font().box_size("0.25 ms").is_ok()).unwrap_or(false)
+    std::panic::catch_unwind(|| ("sans-serif", 14).into_font().box_size("0.25 ms").is_ok())
+        .unwrap_or(false)
 }
 
 /// Draws the sweep plot. X is the numeric value when every value is a number, else the values
@@ -46,10 +47,16 @@ pub fn sweep_plot(path: &Path, title: &str, param: &str, points: &[PlotPoint]) -
     if fonts_available() {
         match draw(path, title, param, points, true) {
             Ok(()) => return Ok(PlotText::Drawn),
-            Err(e) => eprintln!("warning: cannot draw text in {} ({e:#}); writing it without text", path.display()),
+            Err(e) => eprintln!(
+                "warning: cannot draw text in {} ({e:#}); writing it without text",
+                path.display()
+            ),
         }
     } else if std::env::var_os("HARNESS_PLOT_NO_TEXT").is_none() {
-        eprintln!("warning: no usable font found; {} is written without text", path.display());
+        eprintln!(
+            "warning: no usable font found; {} is written without text",
+            path.display()
+        );
     }
     draw(path, title, param, points, false)?;
     Ok(PlotText::Omitted)
@@ -65,10 +72,17 @@ fn finite(v: Option<f64>) -> Option<f64> {
 }
 
 fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool) -> Result<()> {
-    let numeric: Option<Vec<f64>> = points.iter().map(|p| p.value.parse::<f64>().ok().filter(|v| v.is_finite())).collect();
+    let numeric: Option<Vec<f64>> = points
+        .iter()
+        .map(|p| p.value.parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect();
     let categorical = numeric.is_none();
     let xs: Vec<f64> = numeric.unwrap_or_else(|| (0..points.len()).map(|i| i as f64).collect());
-    let (mut x0, mut x1) = xs.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+    let (mut x0, mut x1) = xs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
     if !x0.is_finite() {
         (x0, x1) = (0.0, 1.0);
     }
@@ -77,10 +91,17 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
     let labels: Vec<String> = points.iter().map(|p| p.value.clone()).collect();
     let category = |x: &f64| -> String {
         let i = x.round();
-        if (x - i).abs() < 1e-6 && i >= 0.0 { labels.get(i as usize).cloned().unwrap_or_default() } else { String::new() }
+        if (x - i).abs() < 1e-6 && i >= 0.0 {
+            labels.get(i as usize).cloned().unwrap_or_default()
+        } else {
+            String::new()
+        }
     };
     let xy = |f: fn(&PlotPoint) -> Option<f64>| -> Vec<(f64, f64)> {
-        xs.iter().zip(points).filter_map(|(&x, p)| finite(f(p)).map(|y| (x, y))).collect()
+        xs.iter()
+            .zip(points)
+            .filter_map(|(&x, p)| finite(f(p)).map(|y| (x, y)))
+            .collect()
     };
     let flip = xy(|p| p.flip_mean);
     let rmse = xy(|p| p.rmse);
@@ -89,7 +110,11 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
 
     let root = BitMapBackend::new(path, (960, 720)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
-    let root = if text { root.titled(title, ("sans-serif", 22)).map_err(err)? } else { root };
+    let root = if text {
+        root.titled(title, ("sans-serif", 22)).map_err(err)?
+    } else {
+        root
+    };
     let (top, bottom) = root.split_vertically(root.dim_in_pixel().1 / 2);
     let flip_colour = RGBColor(200, 40, 40);
     let rmse_colour = RGBColor(40, 80, 200);
@@ -109,7 +134,8 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
         if text {
             mesh.x_desc(param).y_desc("FLIP mean");
             if categorical {
-                mesh.x_label_formatter(&category).x_labels(labels.len().max(2));
+                mesh.x_label_formatter(&category)
+                    .x_labels(labels.len().max(2));
             }
         } else {
             mesh.x_labels(0).y_labels(0);
@@ -125,21 +151,34 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
         }
         secondary.draw().map_err(err)?;
     }
-    let flip_series = chart.draw_series(LineSeries::new(flip.clone(), flip_colour.stroke_width(2))).map_err(err)?;
+    let flip_series = chart
+        .draw_series(LineSeries::new(flip.clone(), flip_colour.stroke_width(2)))
+        .map_err(err)?;
     if text {
         flip_series.label("FLIP mean (left)").legend(move |(x, y)| {
             PathElement::new(vec![(x, y), (x + 20, y)], flip_colour.stroke_width(2))
         });
     }
-    chart.draw_series(flip.iter().map(|&p| Circle::new(p, 4, flip_colour.filled()))).map_err(err)?;
-    let rmse_series =
-        chart.draw_secondary_series(LineSeries::new(rmse.clone(), rmse_colour.stroke_width(2))).map_err(err)?;
+    chart
+        .draw_series(
+            flip.iter()
+                .map(|&p| Circle::new(p, 4, flip_colour.filled())),
+        )
+        .map_err(err)?;
+    let rmse_series = chart
+        .draw_secondary_series(LineSeries::new(rmse.clone(), rmse_colour.stroke_width(2)))
+        .map_err(err)?;
     if text {
         rmse_series.label("RMSE (right)").legend(move |(x, y)| {
             PathElement::new(vec![(x, y), (x + 20, y)], rmse_colour.stroke_width(2))
         });
     }
-    chart.draw_secondary_series(rmse.iter().map(|&p| Circle::new(p, 4, rmse_colour.filled()))).map_err(err)?;
+    chart
+        .draw_secondary_series(
+            rmse.iter()
+                .map(|&p| Circle::new(p, 4, rmse_colour.filled())),
+        )
+        .map_err(err)?;
     if text {
         chart
             .configure_series_labels()
@@ -163,15 +202,23 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
         if text {
             mesh.x_desc(param).y_desc("frame ms (median)");
             if categorical {
-                mesh.x_label_formatter(&category).x_labels(labels.len().max(2));
+                mesh.x_label_formatter(&category)
+                    .x_labels(labels.len().max(2));
             }
         } else {
             mesh.x_labels(0).y_labels(0);
         }
         mesh.draw().map_err(err)?;
     }
-    chart.draw_series(LineSeries::new(time.clone(), time_colour.stroke_width(2))).map_err(err)?;
-    chart.draw_series(time.iter().map(|&p| Circle::new(p, 4, time_colour.filled()))).map_err(err)?;
+    chart
+        .draw_series(LineSeries::new(time.clone(), time_colour.stroke_width(2)))
+        .map_err(err)?;
+    chart
+        .draw_series(
+            time.iter()
+                .map(|&p| Circle::new(p, 4, time_colour.filled())),
+        )
+        .map_err(err)?;
     root.present().map_err(err)?;
     Ok(())
 }

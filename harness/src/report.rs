@@ -223,7 +223,9 @@ pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
             md_num(r.flip_mean, 4),
             md_num(r.flip_mean_masked, 4),
             md_num(r.flip_over_0_1_pct, 2),
-            r.nan_pixels.map(|n| n.to_string()).unwrap_or_else(|| "-".into()),
+            r.nan_pixels
+                .map(|n| n.to_string())
+                .unwrap_or_else(|| "-".into()),
             md_cell(r.error.as_deref().unwrap_or("")),
         ]);
         let _ = writeln!(out, "| {} |", cells.join(" | "));
@@ -272,7 +274,12 @@ mod tests {
 
     #[test]
     fn csv_and_markdown_write_missing_and_infinite_values_sensibly() {
-        let mut row = ResultRow::new("cornell-sphere:material=a,b", "x/y", crate::Size::new(4, 2), "llvmpipe");
+        let mut row = ResultRow::new(
+            "cornell-sphere:material=a,b",
+            "x/y",
+            crate::Size::new(4, 2),
+            "llvmpipe",
+        );
         row.psnr_db = Some(f64::INFINITY);
         row.rmse = Some(0.0);
         row.flip_mean_masked = Some(f64::NAN);

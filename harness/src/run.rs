@@ -63,7 +63,9 @@ impl Sample {
     }
 
     fn extra(&self) -> impl Iterator<Item = &(String, f64)> {
-        self.spans.iter().filter(|(l, _)| !HARNESS_LABELS.contains(&l.as_str()))
+        self.spans
+            .iter()
+            .filter(|(l, _)| !HARNESS_LABELS.contains(&l.as_str()))
     }
 }
 
@@ -76,19 +78,27 @@ fn record(
     f: impl FnOnce(&mut Frame) -> TechniqueResult<()>,
 ) -> Result<Sample> {
     let result = ctx.validated(|| -> Result<Sample> {
-        let mut encoder = ctx.device.create_command_encoder(&gpu::wgpu::CommandEncoderDescriptor {
-            label: Some(label),
-        });
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&gpu::wgpu::CommandEncoderDescriptor { label: Some(label) });
         timer.begin(&mut encoder, label);
         let start = Instant::now();
         {
-            let mut frame = Frame { gpu: ctx, encoder: &mut encoder, timer: &mut *timer };
+            let mut frame = Frame {
+                gpu: ctx,
+                encoder: &mut encoder,
+                timer: &mut *timer,
+            };
             f(&mut frame)?;
         }
         let call_ms = start.elapsed().as_secs_f64() * 1e3;
         timer.end(&mut encoder, label);
         let spans = timer.submit_and_collect(ctx, encoder)?;
-        Ok(Sample { spans, call_ms, total_ms: start.elapsed().as_secs_f64() * 1e3 })
+        Ok(Sample {
+            spans,
+            call_ms,
+            total_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
     });
     match result {
         Ok(inner) => inner,
@@ -97,7 +107,12 @@ fn record(
 }
 
 /// Moves the shared scene to `time` in a submission of its own.
-fn update_scene(ctx: &Context, timer: &mut GpuTimer, scene: &mut GpuScene, time: f32) -> Result<()> {
+fn update_scene(
+    ctx: &Context,
+    timer: &mut GpuTimer,
+    scene: &mut GpuScene,
+    time: f32,
+) -> Result<()> {
     record(ctx, timer, "scene_update", |frame| {
         backend::set_scene_time(scene, frame, time);
         Ok(())
@@ -123,19 +138,30 @@ pub fn run_technique(
     let duration = scene.scene.camera_path.duration().max(0.0);
     let path_camera = |t: f32| scene.scene.camera_at(t);
     let mut views: Vec<(View, bool)> = Vec::new(); // (view, timed)
-    let view = |camera, time| View { camera, time, width: size.width, height: size.height };
+    let view = |camera, time| View {
+        camera,
+        time,
+        width: size.width,
+        height: size.height,
+    };
     for _ in 0..frames.warmup {
         views.push((view(path_camera(0.0), 0.0), false));
     }
     for i in 0..frames.timed {
-        let t = if frames.timed == 0 { 0.0 } else { i as f32 * duration / frames.timed as f32 };
+        let t = if frames.timed == 0 {
+            0.0
+        } else {
+            i as f32 * duration / frames.timed as f32
+        };
         views.push((view(path_camera(t), t), true));
     }
 
     on_frame("prepare");
     update_scene(ctx, &mut timer, scene, 0.0)?;
-    let prep = record(ctx, &mut timer, "prepare", |frame| technique.prepare(frame, scene))
-        .map_err(|e| e.context("prepare"))?;
+    let prep = record(ctx, &mut timer, "prepare", |frame| {
+        technique.prepare(frame, scene)
+    })
+    .map_err(|e| e.context("prepare"))?;
     let mut spans_ms = BTreeMap::new();
     for (label, ms) in prep.extra() {
         *spans_ms.entry(format!("prepare.{label}_ms")).or_insert(0.0) += ms;
@@ -191,6 +217,8 @@ fn render_frame(
 ) -> Result<Sample> {
     update_scene(ctx, timer, scene, view.time)?;
     let scene = &*scene;
-    record(ctx, timer, "frame", |frame| technique.render(frame, scene, view, target))
-        .map_err(|e| e.context(format!("frame at time {}", view.time)))
+    record(ctx, timer, "frame", |frame| {
+        technique.render(frame, scene, view, target)
+    })
+    .map_err(|e| e.context(format!("frame at time {}", view.time)))
 }

@@ -61,8 +61,12 @@ pub fn parse_param_arg(arg: &str) -> Result<(String, Vec<String>)> {
     let (name, values) = arg
         .split_once('=')
         .ok_or_else(|| anyhow!("--param \"{arg}\" is not NAME=v1,v2,..."))?;
-    let values: Vec<String> =
-        values.split(',').map(str::trim).filter(|v| !v.is_empty()).map(String::from).collect();
+    let values: Vec<String> = values
+        .split(',')
+        .map(str::trim)
+        .filter(|v| !v.is_empty())
+        .map(String::from)
+        .collect();
     if name.trim().is_empty() || values.is_empty() {
         bail!("--param \"{arg}\" is not NAME=v1,v2,...");
     }
@@ -71,7 +75,10 @@ pub fn parse_param_arg(arg: &str) -> Result<(String, Vec<String>)> {
 
 /// A fresh instance of technique `id`.
 fn instance(env: &Env, id: &str) -> Result<Box<dyn Technique>> {
-    (env.techniques)().into_iter().find(|t| t.id() == id).ok_or_else(|| anyhow!("technique {id} vanished"))
+    (env.techniques)()
+        .into_iter()
+        .find(|t| t.id() == id)
+        .ok_or_else(|| anyhow!("technique {id} vanished"))
 }
 
 /// The built-in scene spec with `name=value` set.
@@ -87,7 +94,11 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
     let all_ids: Vec<String> = (env.techniques)().iter().map(|t| t.id()).collect();
     let ids = crate::select_techniques(&all_ids, Some(std::slice::from_ref(&opts.technique)))?;
     let [id] = ids.as_slice() else {
-        bail!("\"{}\" names several techniques ({}); give one id", opts.technique, ids.join(", "));
+        bail!(
+            "\"{}\" names several techniques ({}); give one id",
+            opts.technique,
+            ids.join(", ")
+        );
     };
     let base_scene = crate::load_scene(&opts.scene)?;
     let probe = instance(env, id)?;
@@ -108,9 +119,17 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             let tp: Vec<&str> = probe.params().iter().map(|p| p.name).collect();
             bail!(
                 "neither technique {id} (parameters: {}) nor scene {} (parameters: {}) has a parameter \"{}\"",
-                if tp.is_empty() { "none".into() } else { tp.join(", ") },
+                if tp.is_empty() {
+                    "none".into()
+                } else {
+                    tp.join(", ")
+                },
                 opts.scene,
-                if scene_params.is_empty() { "none".into() } else { scene_params.join(", ") },
+                if scene_params.is_empty() {
+                    "none".into()
+                } else {
+                    scene_params.join(", ")
+                },
                 opts.param
             );
         }
@@ -123,7 +142,9 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
     for value in &opts.values {
         match owner {
             ParamOwner::Technique => {
-                let v: f64 = value.parse().map_err(|_| anyhow!("{}={value} is not a number", opts.param))?;
+                let v: f64 = value
+                    .parse()
+                    .map_err(|_| anyhow!("{}={value} is not a number", opts.param))?;
                 instance(env, id)?.set_param(&opts.param, v)?;
             }
             ParamOwner::Scene => {
@@ -133,9 +154,12 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             }
         }
     }
-    env.ctx.require(probe.required_features()).with_context(|| format!("technique {id}"))?;
+    env.ctx
+        .require(probe.required_features())
+        .with_context(|| format!("technique {id}"))?;
     env.ctx.check_size(opts.size.width, opts.size.height)?;
-    std::fs::create_dir_all(&opts.out).with_context(|| format!("cannot create {}", opts.out.display()))?;
+    std::fs::create_dir_all(&opts.out)
+        .with_context(|| format!("cannot create {}", opts.out.display()))?;
     let image_dir = opts.out.join("images");
 
     let adapter_name = env.ctx.summary.name.clone();
@@ -160,7 +184,8 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         // Reference and upload: once for a technique parameter, per value for a scene one.
         if owner == ParamOwner::Scene || shared.is_none() {
             bar.set_message(format!("{suffix}: reference"));
-            let reference = match compare::scene_reference(env, &opts.out, &spec, &scene, opts.size) {
+            let reference = match compare::scene_reference(env, &opts.out, &spec, &scene, opts.size)
+            {
                 Ok((r, _)) => {
                     let stem = match owner {
                         ParamOwner::Scene => format!("reference__{}", file_name(&suffix)),
@@ -188,22 +213,44 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             };
             shared = Some((reference, gpu_scene));
         }
-        let Some((reference, gpu_scene)) = shared.as_mut() else { bail!("no scene prepared") };
+        let Some((reference, gpu_scene)) = shared.as_mut() else {
+            bail!("no scene prepared")
+        };
 
         let mut technique = instance(env, id)?;
         let outcome = if !technique.supports(&scene) {
-            Outcome { row: row.with_error("the technique does not support this scene"), run: None, flip: None }
+            Outcome {
+                row: row.with_error("the technique does not support this scene"),
+                run: None,
+                flip: None,
+            }
         } else if let Some(gs) = gpu_scene.as_mut() {
             if owner == ParamOwner::Technique {
                 let v: f64 = value.parse().unwrap_or(f64::NAN);
                 technique.set_param(&opts.param, v)?;
             }
             let mut on_frame = |step: &str| bar.set_message(format!("{suffix}: {step}"));
-            compare::measure(env, technique.as_mut(), gs, reference.as_ref(), opts.frames, row, &mut on_frame)
+            compare::measure(
+                env,
+                technique.as_mut(),
+                gs,
+                reference.as_ref(),
+                opts.frames,
+                row,
+                &mut on_frame,
+            )
         } else {
-            Outcome { row: row.with_error("scene upload failed"), run: None, flip: None }
+            Outcome {
+                row: row.with_error("scene upload failed"),
+                run: None,
+                flip: None,
+            }
         };
-        compare::write_outcome_images(&image_dir, &format!("{}__{}", file_name(id), file_name(&suffix)), &outcome)?;
+        compare::write_outcome_images(
+            &image_dir,
+            &format!("{}__{}", file_name(id), file_name(&suffix)),
+            &outcome,
+        )?;
         if let Some(err) = &outcome.row.error {
             let msg = format!("{suffix}: {err}");
             say(format!("error: {msg}"));
@@ -240,9 +287,15 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         errors,
         plot_has_text: text == PlotText::Drawn,
     };
-    write_text(&opts.out.join("sweep.csv"), &report::to_csv(&report.rows, true))?;
+    write_text(
+        &opts.out.join("sweep.csv"),
+        &report::to_csv(&report.rows, true),
+    )?;
     write_text(&opts.out.join("sweep.md"), &report.markdown)?;
-    write_text(&opts.out.join("sweep.json"), &serde_json::to_string_pretty(&report)?)?;
+    write_text(
+        &opts.out.join("sweep.json"),
+        &serde_json::to_string_pretty(&report)?,
+    )?;
     Ok(report)
 }
 
@@ -252,7 +305,13 @@ mod tests {
 
     #[test]
     fn param_arguments_parse() {
-        assert_eq!(parse_param_arg("iterations=1,2, 4").unwrap(), ("iterations".into(), vec!["1".into(), "2".into(), "4".into()]));
+        assert_eq!(
+            parse_param_arg("iterations=1,2, 4").unwrap(),
+            (
+                "iterations".into(),
+                vec!["1".into(), "2".into(), "4".into()]
+            )
+        );
         assert!(parse_param_arg("iterations").is_err());
         assert!(parse_param_arg("iterations=").is_err());
         assert!(parse_param_arg("=1").is_err());
@@ -260,9 +319,17 @@ mod tests {
 
     #[test]
     fn scene_specs_are_rebuilt_with_the_value() {
-        assert_eq!(scene_spec_with("cornell-sphere", "material", "gold").unwrap(), "cornell-sphere:material=gold");
         assert_eq!(
-            scene_spec_with("cornell-sphere:sphere_x=0.2,material=mirror", "material", "gold").unwrap(),
+            scene_spec_with("cornell-sphere", "material", "gold").unwrap(),
+            "cornell-sphere:material=gold"
+        );
+        assert_eq!(
+            scene_spec_with(
+                "cornell-sphere:sphere_x=0.2,material=mirror",
+                "material",
+                "gold"
+            )
+            .unwrap(),
             "cornell-sphere:material=gold,sphere_x=0.2"
         );
     }

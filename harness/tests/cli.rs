@@ -22,7 +22,10 @@ fn tmp(name: &str) -> PathBuf {
 fn fails(args: &[&str]) -> String {
     let out = harness(args);
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!out.status.success(), "{args:?} succeeded; stderr: {stderr}");
+    assert!(
+        !out.status.success(),
+        "{args:?} succeeded; stderr: {stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
     let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
     assert_eq!(lines.len(), 1, "{args:?}: expected one line, got: {stderr}");
@@ -37,16 +40,43 @@ fn out_dir() -> String {
 #[test]
 fn unknown_scene() {
     let e = fails(&["compare", "--out", &out_dir(), "--scenes", "no-such-scene"]);
-    assert!(e.contains("unknown scene \"no-such-scene\"") && e.contains("cornell-sphere"), "{e}");
-    let e = fails(&["sweep", "--scene", "nope", "--technique", "x", "--param", "a=1", "--out", &out_dir()]);
+    assert!(
+        e.contains("unknown scene \"no-such-scene\"") && e.contains("cornell-sphere"),
+        "{e}"
+    );
+    let e = fails(&[
+        "sweep",
+        "--scene",
+        "nope",
+        "--technique",
+        "x",
+        "--param",
+        "a=1",
+        "--out",
+        &out_dir(),
+    ]);
     assert!(e.contains("unknown"), "{e}");
 }
 
 #[test]
 fn unknown_technique() {
-    let e = fails(&["compare", "--out", &out_dir(), "--techniques", "no/such-technique"]);
+    let e = fails(&[
+        "compare",
+        "--out",
+        &out_dir(),
+        "--techniques",
+        "no/such-technique",
+    ]);
     assert!(e.contains("unknown technique \"no/such-technique\""), "{e}");
-    let e = fails(&["render", "--scene", "cornell-sphere", "--technique", "nope", "--out", &tmp("x.png").display().to_string()]);
+    let e = fails(&[
+        "render",
+        "--scene",
+        "cornell-sphere",
+        "--technique",
+        "nope",
+        "--out",
+        &tmp("x.png").display().to_string(),
+    ]);
     assert!(e.contains("unknown technique"), "{e}");
 }
 
@@ -55,7 +85,12 @@ fn missing_glb() {
     let missing = tmp("does-not-exist.glb").display().to_string();
     let e = fails(&["compare", "--out", &out_dir(), "--scenes", &missing]);
     assert!(e.contains("does-not-exist.glb"), "{e}");
-    let e = fails(&["export-scene", &missing, "--out", &tmp("x.glb").display().to_string()]);
+    let e = fails(&[
+        "export-scene",
+        &missing,
+        "--out",
+        &tmp("x.glb").display().to_string(),
+    ]);
     assert!(e.contains("does-not-exist.glb"), "{e}");
 }
 
@@ -63,16 +98,34 @@ fn missing_glb() {
 fn malformed_gltf() {
     let bad = tmp("garbage.gltf");
     std::fs::write(&bad, b"{ this is not glTF \x00\x01").unwrap();
-    let e = fails(&["compare", "--out", &out_dir(), "--scenes", &bad.display().to_string()]);
+    let e = fails(&[
+        "compare",
+        "--out",
+        &out_dir(),
+        "--scenes",
+        &bad.display().to_string(),
+    ]);
     assert!(e.contains("garbage.gltf"), "{e}");
     let bad = tmp("garbage.glb");
     std::fs::write(&bad, b"glTF\x02\x00\x00\x00garbage").unwrap();
-    fails(&["compare", "--out", &out_dir(), "--scenes", &bad.display().to_string()]);
+    fails(&[
+        "compare",
+        "--out",
+        &out_dir(),
+        "--scenes",
+        &bad.display().to_string(),
+    ]);
 }
 
 #[test]
 fn nan_in_a_scene_parameter() {
-    let e = fails(&["compare", "--out", &out_dir(), "--scenes", "cornell-sphere:sphere_x=nan"]);
+    let e = fails(&[
+        "compare",
+        "--out",
+        &out_dir(),
+        "--scenes",
+        "cornell-sphere:sphere_x=nan",
+    ]);
     assert!(e.contains("sphere_x=nan is not a finite number"), "{e}");
 }
 
@@ -95,7 +148,13 @@ fn non_finite_transform_in_gltf() {
     // 1e39 does not fit an f32: the node's translation is infinite.
     let bad = tmp("infinite-node.gltf");
     std::fs::write(&bad, triangle_gltf("[1e39, 0, -3]")).unwrap();
-    let e = fails(&["compare", "--out", &out_dir(), "--scenes", &bad.display().to_string()]);
+    let e = fails(&[
+        "compare",
+        "--out",
+        &out_dir(),
+        "--scenes",
+        &bad.display().to_string(),
+    ]);
     assert!(e.contains("non-finite"), "{e}");
     // The same file with a finite translation loads (the test above fails for the right reason).
     let good = tmp("finite-node.gltf");
@@ -107,7 +166,17 @@ fn non_finite_transform_in_gltf() {
 fn unparsable_size() {
     let e = fails(&["compare", "--out", &out_dir(), "--size", "abc"]);
     assert!(e.contains("\"abc\" is not a size"), "{e}");
-    fails(&["render", "--scene", "cornell-sphere", "--technique", "reference", "--out", "x.png", "--size", "0x4"]);
+    fails(&[
+        "render",
+        "--scene",
+        "cornell-sphere",
+        "--technique",
+        "reference",
+        "--out",
+        "x.png",
+        "--size",
+        "0x4",
+    ]);
 }
 
 #[test]
@@ -129,9 +198,27 @@ fn size_over_the_adapter_limit() {
 
 #[test]
 fn other_bad_arguments() {
-    let e = fails(&["render", "--scene", "cornell-sphere", "--technique", "reference", "--out", "x.jpg"]);
+    let e = fails(&[
+        "render",
+        "--scene",
+        "cornell-sphere",
+        "--technique",
+        "reference",
+        "--out",
+        "x.jpg",
+    ]);
     assert!(e.contains(".png or .exr"), "{e}");
-    let e = fails(&["sweep", "--scene", "cornell-sphere", "--technique", "x", "--param", "novalue", "--out", &out_dir()]);
+    let e = fails(&[
+        "sweep",
+        "--scene",
+        "cornell-sphere",
+        "--technique",
+        "x",
+        "--param",
+        "novalue",
+        "--out",
+        &out_dir(),
+    ]);
     assert!(e.contains("NAME=v1,v2"), "{e}");
     let e = fails(&["export-scene", "cornell-sphere", "--out", "x.gltf"]);
     assert!(e.contains(".glb"), "{e}");
@@ -145,7 +232,16 @@ fn list_shows_scenes_and_parameters() {
     let out = harness(&["list", "--params"]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    for s in ["cornell-sphere", "cornell-box", "refraction-bunny", "city", "smoke", "material", "rooms_per_building", "Techniques"] {
+    for s in [
+        "cornell-sphere",
+        "cornell-box",
+        "refraction-bunny",
+        "city",
+        "smoke",
+        "material",
+        "rooms_per_building",
+        "Techniques",
+    ] {
         assert!(text.contains(s), "missing {s} in:\n{text}");
     }
     assert!(harness(&["list"]).status.success());
@@ -178,7 +274,10 @@ fn compare_with_the_registered_techniques_at_32x32() {
     assert!(stdout.contains("| scene | technique |"), "{stdout}");
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let registered = harness::registry();
-    let supported = registered.iter().filter(|t| t.supports(&scene::load("cornell-sphere").unwrap())).count();
+    let supported = registered
+        .iter()
+        .filter(|t| t.supports(&scene::load("cornell-sphere").unwrap()))
+        .count();
     assert_eq!(csv.lines().count(), 1 + supported, "{csv}");
     for line in csv.lines().skip(1) {
         assert!(line.ends_with(','), "a row has an error: {line}");
@@ -190,8 +289,17 @@ fn compare_with_the_registered_techniques_at_32x32() {
 #[test]
 fn export_render_and_reimport() {
     let glb = tmp("exported.glb");
-    let run = harness(&["export-scene", "cornell-sphere:material=gold", "--out", &glb.display().to_string()]);
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let run = harness(&[
+        "export-scene",
+        "cornell-sphere:material=gold",
+        "--out",
+        &glb.display().to_string(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let png = tmp("from-glb.png");
     let run = harness(&[
         "render",
@@ -206,7 +314,11 @@ fn export_render_and_reimport() {
         "--out",
         &png.display().to_string(),
     ]);
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let img = image::open(&png).unwrap();
     assert_eq!((img.width(), img.height()), (16, 12));
 }

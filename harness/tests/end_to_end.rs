@@ -7,7 +7,9 @@ use gpu::{Context, HdrImage, Target};
 use harness::compare::CompareOptions;
 use harness::sweep::SweepOptions;
 use harness::{Env, Frames, GroundTruth, Reference, ReferenceStats, Size};
-use scene::{Camera, Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View};
+use scene::{
+    Camera, Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
+};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -24,7 +26,10 @@ fn out_dir(name: &str) -> PathBuf {
 }
 
 const SIZE: Size = Size::new(32, 32);
-const FRAMES: Frames = Frames { timed: 3, warmup: 1 };
+const FRAMES: Frames = Frames {
+    timed: 3,
+    warmup: 1,
+};
 
 /// Clears the target to `level` in every colour channel.
 struct Constant {
@@ -40,7 +45,14 @@ impl Technique for Constant {
         "clears to a constant".into()
     }
     fn params(&self) -> Vec<Param> {
-        vec![Param { name: "level", default: 0.25, min: 0.0, max: 4.0, integer: false, help: "the constant" }]
+        vec![Param {
+            name: "level",
+            default: 0.25,
+            min: 0.0,
+            max: 4.0,
+            integer: false,
+            help: "the constant",
+        }]
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         scene::technique::check_param(&self.id(), &self.params(), name, value)?;
@@ -53,25 +65,38 @@ impl Technique for Constant {
     fn prepare(&mut self, _: &mut Frame, _: &GpuScene) -> TechniqueResult<()> {
         Ok(())
     }
-    fn render(&mut self, frame: &mut Frame, _: &GpuScene, _: &View, target: &Target) -> TechniqueResult<()> {
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        _: &GpuScene,
+        _: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
         let l = self.level;
         let timestamps = frame.timer.render_pass("clear");
-        let _pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("clear"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &target.color_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color { r: l, g: l, b: l, a: 1.0 }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timestamps,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let _pass = frame
+            .encoder
+            .begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("clear"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target.color_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: l,
+                            g: l,
+                            b: l,
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: timestamps,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
         Ok(())
     }
 }
@@ -92,12 +117,26 @@ impl Technique for NanImage {
     fn prepare(&mut self, _: &mut Frame, _: &GpuScene) -> TechniqueResult<()> {
         Ok(())
     }
-    fn render(&mut self, frame: &mut Frame, _: &GpuScene, _: &View, target: &Target) -> TechniqueResult<()> {
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        _: &GpuScene,
+        _: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
         let texels = vec![[f32::NAN, 0.0, 0.0, 1.0]; (target.width * target.height) as usize];
         frame.gpu.queue.write_texture(
             target.color.as_image_copy(),
-            &texels.iter().flatten().flat_map(|c| c.to_le_bytes()).collect::<Vec<u8>>(),
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(16 * target.width), rows_per_image: None },
+            &texels
+                .iter()
+                .flatten()
+                .flat_map(|c| c.to_le_bytes())
+                .collect::<Vec<u8>>(),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(16 * target.width),
+                rows_per_image: None,
+            },
             target.color.size(),
         );
         Ok(())
@@ -117,7 +156,11 @@ impl Technique for Broken {
         "broken on purpose".into()
     }
     fn required_features(&self) -> wgpu::Features {
-        if self.id == "test/needs-ray-query" { wgpu::Features::EXPERIMENTAL_RAY_QUERY } else { wgpu::Features::empty() }
+        if self.id == "test/needs-ray-query" {
+            wgpu::Features::EXPERIMENTAL_RAY_QUERY
+        } else {
+            wgpu::Features::empty()
+        }
     }
     fn supports(&self, _: &Scene) -> bool {
         self.id != "test/unsupported"
@@ -135,12 +178,19 @@ impl Technique for Broken {
 
 fn techniques() -> Vec<Box<dyn Technique>> {
     vec![
-        Box::new(Constant { id: "test/constant", level: 0.25 }),
+        Box::new(Constant {
+            id: "test/constant",
+            level: 0.25,
+        }),
         Box::new(NanImage),
         Box::new(Broken { id: "test/fails" }),
         Box::new(Broken { id: "test/panics" }),
-        Box::new(Broken { id: "test/needs-ray-query" }),
-        Box::new(Broken { id: "test/unsupported" }),
+        Box::new(Broken {
+            id: "test/needs-ray-query",
+        }),
+        Box::new(Broken {
+            id: "test/unsupported",
+        }),
     ]
 }
 
@@ -156,13 +206,19 @@ impl GroundTruth for HalfGrey {
     fn render(&self, _: &Scene, _: &Camera, _: f32, w: u32, h: u32) -> anyhow::Result<Reference> {
         self.renders.fetch_add(1, Ordering::SeqCst);
         let mut image = HdrImage::new(w, h);
-        image.pixels.iter_mut().for_each(|p| *p = [0.5, 0.5, 0.5, 1.0]);
+        image
+            .pixels
+            .iter_mut()
+            .for_each(|p| *p = [0.5, 0.5, 0.5, 1.0]);
         let mask = (0..w * h).map(|i| i % w < w / 2).collect();
         Ok(Reference {
             image,
             object_ids: vec![0; (w * h) as usize],
             mask,
-            stats: ReferenceStats { camera_rays: (w * h) as u64, ..Default::default() },
+            stats: ReferenceStats {
+                camera_rays: (w * h) as u64,
+                ..Default::default()
+            },
         })
     }
 }
@@ -173,8 +229,15 @@ fn exists(dir: &Path, rel: &str) -> bool {
 
 #[test]
 fn compare_writes_tables_images_and_caches_the_reference() {
-    let truth = HalfGrey { renders: AtomicUsize::new(0) };
-    let env = Env { ctx: ctx(), techniques: &techniques, ground_truth: &truth, progress: false };
+    let truth = HalfGrey {
+        renders: AtomicUsize::new(0),
+    };
+    let env = Env {
+        ctx: ctx(),
+        techniques: &techniques,
+        ground_truth: &truth,
+        progress: false,
+    };
     let out = out_dir("compare");
     let opts = CompareOptions {
         out: out.clone(),
@@ -184,7 +247,13 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         frames: FRAMES,
     };
     let report = harness::compare::run(&env, &opts).unwrap();
-    let row = |id: &str| report.rows.iter().find(|r| r.technique == id).unwrap_or_else(|| panic!("no row {id}"));
+    let row = |id: &str| {
+        report
+            .rows
+            .iter()
+            .find(|r| r.technique == id)
+            .unwrap_or_else(|| panic!("no row {id}"))
+    };
 
     let c = row("test/constant");
     assert_eq!(c.error, None);
@@ -194,18 +263,44 @@ fn compare_writes_tables_images_and_caches_the_reference() {
     assert_eq!(c.masked_pixels, Some(32 * 16));
     assert_eq!(c.nan_pixels, Some(0));
     assert_eq!(c.frames, 3);
-    assert!(c.frame_ms_median.unwrap() >= 0.0 && c.frame_ms_p95.unwrap() >= c.frame_ms_median.unwrap());
-    assert!(["gpu-timestamp", "wall"].contains(&c.timer.as_str()), "{}", c.timer);
+    assert!(
+        c.frame_ms_median.unwrap() >= 0.0 && c.frame_ms_p95.unwrap() >= c.frame_ms_median.unwrap()
+    );
+    assert!(
+        ["gpu-timestamp", "wall"].contains(&c.timer.as_str()),
+        "{}",
+        c.timer
+    );
     if c.timer == "gpu-timestamp" {
         assert!(c.spans_ms.contains_key("clear_ms"), "{:?}", c.spans_ms);
     }
     assert_eq!(row("test/nan").nan_pixels, Some(32 * 32));
-    assert!(row("test/fails").error.as_deref().unwrap().contains("test technique fails"));
-    assert!(row("test/panics").error.as_deref().unwrap().contains("panicked: test technique panics"));
+    assert!(
+        row("test/fails")
+            .error
+            .as_deref()
+            .unwrap()
+            .contains("test technique fails")
+    );
+    assert!(
+        row("test/panics")
+            .error
+            .as_deref()
+            .unwrap()
+            .contains("panicked: test technique panics")
+    );
     assert_eq!(report.rows.len(), 4, "skipped techniques have no rows");
-    let skipped: Vec<&str> = report.skipped.iter().map(|s| s.technique.as_str()).collect();
+    let skipped: Vec<&str> = report
+        .skipped
+        .iter()
+        .map(|s| s.technique.as_str())
+        .collect();
     assert_eq!(skipped, ["test/needs-ray-query", "test/unsupported"]);
-    assert!(report.skipped[0].reason.contains("lacks required features"), "{}", report.skipped[0].reason);
+    assert!(
+        report.skipped[0].reason.contains("lacks required features"),
+        "{}",
+        report.skipped[0].reason
+    );
     assert_eq!(report.errors.len(), 2);
 
     for f in [
@@ -221,18 +316,23 @@ fn compare_writes_tables_images_and_caches_the_reference() {
     ] {
         assert!(exists(&out, f), "missing {f}");
     }
-    let exr = harness::images::read_exr(&out.join("images/cornell-sphere/test__constant.exr")).unwrap();
+    let exr =
+        harness::images::read_exr(&out.join("images/cornell-sphere/test__constant.exr")).unwrap();
     assert!(exr.pixels.iter().all(|p| p[..3] == [0.25; 3]));
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     assert!(csv.starts_with("scene,technique,width,height,frames,frame_ms_median,frame_ms_p95,prepare_ms,timer,rmse,psnr_db,flip_mean,flip_mean_masked,flip_over_0_1_pct,nan_pixels,"));
     assert_eq!(csv.lines().count(), 5);
-    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(json["skipped"].as_array().unwrap().len(), 2);
     assert_eq!(json["references"][0]["cached"], false);
     assert_eq!(truth.renders.load(Ordering::SeqCst), 1);
 
     // Second run: the reference comes from the cache.
-    let opts = CompareOptions { techniques: Some(vec!["test/constant".into()]), ..opts };
+    let opts = CompareOptions {
+        techniques: Some(vec!["test/constant".into()]),
+        ..opts
+    };
     let again = harness::compare::run(&env, &opts).unwrap();
     assert_eq!(truth.renders.load(Ordering::SeqCst), 1);
     assert!(again.references[0].cached);
@@ -243,8 +343,15 @@ fn compare_writes_tables_images_and_caches_the_reference() {
 
 #[test]
 fn sweep_over_a_technique_and_a_scene_parameter() {
-    let truth = HalfGrey { renders: AtomicUsize::new(0) };
-    let env = Env { ctx: ctx(), techniques: &techniques, ground_truth: &truth, progress: false };
+    let truth = HalfGrey {
+        renders: AtomicUsize::new(0),
+    };
+    let env = Env {
+        ctx: ctx(),
+        techniques: &techniques,
+        ground_truth: &truth,
+        progress: false,
+    };
     let out = out_dir("sweep");
     let opts = SweepOptions {
         out: out.clone(),
@@ -257,13 +364,27 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
     };
     let report = harness::sweep::run(&env, &opts).unwrap();
     let rmse: Vec<f64> = report.rows.iter().map(|r| r.rmse.unwrap()).collect();
-    assert!((rmse[0] - 0.25).abs() < 1e-6 && rmse[1] == 0.0 && (rmse[2] - 0.5).abs() < 1e-6, "{rmse:?}");
+    assert!(
+        (rmse[0] - 0.25).abs() < 1e-6 && rmse[1] == 0.0 && (rmse[2] - 0.5).abs() < 1e-6,
+        "{rmse:?}"
+    );
     assert_eq!(report.rows[1].psnr_db, Some(f64::INFINITY));
-    assert_eq!(truth.renders.load(Ordering::SeqCst), 1, "one reference for a technique parameter");
+    assert_eq!(
+        truth.renders.load(Ordering::SeqCst),
+        1,
+        "one reference for a technique parameter"
+    );
     let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
     assert!(csv.starts_with("scene,technique,param,value,width"));
-    assert!(csv.contains("cornell-sphere,test/constant,level,0.5,32,32,3,") && csv.contains(",inf,"), "{csv}");
-    assert!(exists(&out, "sweep.png") && exists(&out, "sweep.json") && exists(&out, "images/reference.png"));
+    assert!(
+        csv.contains("cornell-sphere,test/constant,level,0.5,32,32,3,") && csv.contains(",inf,"),
+        "{csv}"
+    );
+    assert!(
+        exists(&out, "sweep.png")
+            && exists(&out, "sweep.json")
+            && exists(&out, "images/reference.png")
+    );
     assert!(exists(&out, "images/test__constant__level=0.5.flip.png"));
 
     // A scene parameter: the spec is rebuilt per value, one reference each.
@@ -275,7 +396,13 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
     };
     let report = harness::sweep::run(&env, &opts).unwrap();
     let scenes: Vec<&str> = report.rows.iter().map(|r| r.scene.as_str()).collect();
-    assert_eq!(scenes, ["cornell-sphere:material=mirror", "cornell-sphere:material=gold"]);
+    assert_eq!(
+        scenes,
+        [
+            "cornell-sphere:material=mirror",
+            "cornell-sphere:material=gold"
+        ]
+    );
     assert_eq!(truth.renders.load(Ordering::SeqCst), 3);
     assert!(exists(&out, "images/reference__material=gold.png"));
 

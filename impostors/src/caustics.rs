@@ -58,7 +58,9 @@ pub struct CausticSettings {
     pub lightmap_resolution: u32,
     /// Light-map path: radius of a photon's Gaussian quad in light-map texels (sigma = R / 2).
     pub splat_radius: f32,
-    /// Reflections and refractions add the caustics they see (paper figure 11).
+    /// Reflections and refractions add the caustics they see (paper figure 11). Off by
+    /// default: the reference has no caustics seen through specular chains, so turning it
+    /// on adds error there (README.md, "Caustics").
     pub in_lookup: bool,
 }
 
@@ -70,7 +72,7 @@ impl CausticSettings {
             grid: 64,
             lightmap_resolution: 1024,
             splat_radius: 3.0,
-            in_lookup: true,
+            in_lookup: false,
         }
     }
 }

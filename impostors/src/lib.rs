@@ -8,6 +8,8 @@
 //! - [`technique`]: the [`Impostor`] technique and its variants ([`techniques`]): classic,
 //!   localized (initial guess, secant, false position; packed or split distances), double
 //!   refraction through a refractor map, caustics.
+//! - [`caustics`]: caustic maps and the two splat paths (the paper's light maps, a compute
+//!   scatter); [`lightmap`]: the receivers' light-map charts.
 //!
 //! See `README.md` for the mapping of variants to the paper, departures and failure cases.
 
@@ -20,7 +22,8 @@ pub use technique::{HIT_WGSL, Impostor, Mode, Settings};
 
 /// All technique variants of this crate: `impostors/classic`, `impostors/initial-guess`,
 /// `impostors/secant-{1..8}`, `impostors/false-position-{1..8}`,
-/// `impostors/false-position-4-split`, `impostors/double-refraction`, `impostors/caustics`.
+/// `impostors/false-position-4-split`, `impostors/double-refraction`, `impostors/caustics`,
+/// `impostors/caustics-compute`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     technique::variants()
 }

@@ -402,7 +402,9 @@ impl Technique for Impostor {
             return false;
         }
         match self.settings.mode {
-            Mode::DoubleRefraction => scene
+            // Caustic variants also cast caustics from metals (double refraction is only
+            // what their glass does).
+            Mode::DoubleRefraction if self.settings.caustics.is_none() => scene
                 .objects
                 .iter()
                 .any(|o| matches!(o.material, Material::Glass { .. })),
