@@ -3,9 +3,11 @@
 //! Writes, under the output folder:
 //!
 //! - `results.csv`, `results.json`, `results.md` (see [`crate::report`]);
-//! - `images/<scene>/<technique>.png` and `.exr` (the error frame: default view, time 0),
-//!   `images/<scene>/<technique>.flip.png` (FLIP error map, magma colour map),
-//!   `images/<scene>/reference.png` and `.exr`;
+//! - `images/<scene>/<technique>.png` and `.exr` (the first error frame: default view, time
+//!   0), `images/<scene>/<technique>.flip.png` (FLIP error map, magma colour map),
+//!   `images/<scene>/reference.png` and `.exr`; the later error frames along the camera path
+//!   as `<technique>.t<time>.png`, `<technique>.t<time>.flip.png` and `reference.t<time>.png`
+//!   (`.t1.00`, see [`crate::time_suffix`]);
 //! - `.cache/` with the references (see [`crate::cache`]).
 //!
 //! `<scene>` and `<technique>` are made file names by [`crate::file_name`] (`/` becomes `__`).
@@ -16,10 +18,11 @@
 //! that scene have timings but no error figures, and the reason is in `results.json`.
 
 use crate::cache::{self, RefView};
-use crate::report::{self, AdapterJson, ResultRow, Skipped};
-use crate::run::{self, TechniqueRun};
+use crate::report::{self, AdapterJson, ErrorAt, ResultRow, Skipped};
+use crate::run::{self, ErrorFrame, TechniqueRun};
 use crate::{
     Env, Frames, Reference, ReferenceStats, Size, backend, file_name, images, scene_dir_name,
+    time_suffix,
 };
 use anyhow::{Context as _, Result, anyhow};
 use scene::{GpuScene, Scene, Technique};
@@ -37,10 +40,11 @@ pub struct CompareOptions {
     pub frames: Frames,
 }
 
-/// How a scene's reference went.
+/// How a scene's reference at one error-frame time went.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct ReferenceInfo {
     pub scene: String,
+    pub time: f32,
     pub cached: bool,
     pub stats: Option<ReferenceStats>,
     pub masked_pixels: usize,
@@ -54,6 +58,9 @@ pub struct CompareReport {
     pub size: String,
     pub frames: u32,
     pub warmup: u32,
+    /// Error frames asked for per row (fewer on a scene whose path is shorter: see each
+    /// row's `error_times`).
+    pub error_frames: u32,
     pub rows: Vec<ResultRow>,
     pub skipped: Vec<Skipped>,
     pub references: Vec<ReferenceInfo>,
@@ -73,20 +80,28 @@ pub(crate) fn panic_message(payload: Box<dyn std::any::Any + Send>) -> String {
     format!("panicked: {}", text.lines().next().unwrap_or(""))
 }
 
+/// The reference at one error-frame time.
+pub(crate) struct TimedReference {
+    pub time: f32,
+    pub reference: Reference,
+}
+
 /// The result of one technique on one scene, as the runners share it.
 pub(crate) struct Outcome {
     pub row: ResultRow,
     pub run: Option<TechniqueRun>,
-    pub flip: Option<scene::metrics::FlipMap>,
+    /// FLIP maps of the error frames, in their order (empty without a reference).
+    pub flips: Vec<scene::metrics::FlipMap>,
 }
 
-/// Runs one technique on an uploaded scene at the row's size, measures it against
-/// `reference`, and fills the row. Errors and panics end up in the row.
+/// Runs one technique on an uploaded scene at the row's size, measures each error frame
+/// against the reference at its time, and fills the row. Errors and panics end up in the row.
+/// `references` holds the scene's references at `frames.error_times` (empty: none).
 pub(crate) fn measure(
     env: &Env,
     technique: &mut dyn Technique,
     gpu_scene: &mut GpuScene,
-    reference: Option<&Reference>,
+    references: &[TimedReference],
     frames: Frames,
     row: ResultRow,
     on_frame: &mut dyn FnMut(&str),
@@ -94,89 +109,144 @@ pub(crate) fn measure(
     let size = Size::new(row.width, row.height);
     // The `reference` technique is the ground truth itself: instead of rendering it again for
     // every warm-up and timed frame (seconds each on the CPU), its row reuses the (cached)
-    // ground-truth image and reports the CPU time that image took as one frame.
-    if technique.id() == "reference" {
-        if let Some(r) = reference {
-            let ms = r.stats.seconds * 1e3;
-            let run = TechniqueRun {
-                image: r.image.clone(),
-                timer: "cpu".into(),
-                frame: gpu::TimeStats {
-                    median_ms: ms,
-                    p95_ms: ms,
-                    samples: 1,
-                },
-                prepare_ms: 0.0,
-                prepare_wall_ms: 0.0,
-                spans_ms: Default::default(),
-            };
-            let (m, map) = scene::metrics::compare(&run.image, &r.image, Some(&r.mask));
-            let row = row.with_run(&run).with_metrics(&m);
-            return Outcome {
-                row,
-                run: Some(run),
-                flip: Some(map),
-            };
-        }
+    // ground-truth images and reports the CPU time the first took as one frame.
+    if technique.id() == "reference" && !references.is_empty() {
+        let ms = references[0].reference.stats.seconds * 1e3;
+        let run = TechniqueRun {
+            error_frames: references
+                .iter()
+                .map(|r| ErrorFrame {
+                    time: r.time,
+                    image: r.reference.image.clone(),
+                })
+                .collect(),
+            timer: "cpu".into(),
+            frame: gpu::TimeStats {
+                median_ms: ms,
+                p95_ms: ms,
+                samples: 1,
+            },
+            prepare_ms: 0.0,
+            prepare_wall_ms: 0.0,
+            spans_ms: Default::default(),
+        };
+        return score(technique, &gpu_scene.scene, references, row, run);
     }
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         run::run_technique(env.ctx, technique, gpu_scene, size, frames, on_frame)
     }));
     let run = match result {
-        Ok(Ok(run)) => run,
-        Ok(Err(e)) => {
-            return Outcome {
-                row: row.with_error(format!("{e:#}")),
-                run: None,
-                flip: None,
-            };
-        }
-        Err(p) => {
-            return Outcome {
-                row: row.with_error(panic_message(p)),
-                run: None,
-                flip: None,
-            };
-        }
+        Ok(Ok(run)) => Ok(run),
+        Ok(Err(e)) => Err(format!("{e:#}")),
+        Err(p) => Err(panic_message(p)),
     };
-    let mut row = row.with_run(&run);
-    let mut flip = None;
-    if let Some(r) = reference {
-        let view = scene::View {
-            camera: gpu_scene.scene.camera,
-            time: 0.0,
-            width: size.width,
-            height: size.height,
-        };
-        let truth = technique.ground_truth(&gpu_scene.scene, &view, &r.image);
-        let (m, map) = scene::metrics::compare(
-            &run.image,
-            truth.as_ref().unwrap_or(&r.image),
-            Some(&r.mask),
-        );
-        row = row.with_metrics(&m);
-        flip = Some(map);
-    }
-    Outcome {
-        row,
-        run: Some(run),
-        flip,
+    match run {
+        Ok(run) => score(technique, &gpu_scene.scene, references, row, run),
+        Err(message) => Outcome {
+            row: row.with_error(message),
+            run: None,
+            flips: Vec::new(),
+        },
     }
 }
 
-/// Writes a technique's images: `<stem>.png`, `<stem>.exr` and `<stem>.flip.png`.
-pub(crate) fn write_outcome_images(dir: &Path, stem: &str, outcome: &Outcome) -> Result<()> {
-    if let Some(run) = &outcome.run {
-        images::write_png(&dir.join(format!("{stem}.png")), &run.image)?;
-        images::write_exr(&dir.join(format!("{stem}.exr")), &run.image)?;
+/// Fills the row with the run's times and, where references exist, each error frame's
+/// figures against the reference at its time (through the technique's `ground_truth` hook).
+fn score(
+    technique: &dyn Technique,
+    scene: &Scene,
+    references: &[TimedReference],
+    row: ResultRow,
+    run: TechniqueRun,
+) -> Outcome {
+    let mut row = row.with_run(&run);
+    if references.is_empty() {
+        return Outcome {
+            row,
+            run: Some(run),
+            flips: Vec::new(),
+        };
     }
-    if let Some(map) = &outcome.flip {
-        images::write_png_rgb8(
-            &dir.join(format!("{stem}.flip.png")),
-            map.width,
-            map.height,
-            &map.to_magma_rgb8(),
-        )?;
+    let mut errors = Vec::new();
+    let mut flips = Vec::new();
+    for frame in &run.error_frames {
+        let Some(r) = references.iter().find(|r| r.time == frame.time) else {
+            return Outcome {
+                row: row.with_error(format!("no reference at time {}", frame.time)),
+                run: Some(run),
+                flips,
+            };
+        };
+        let view = scene::View {
+            camera: scene.camera_at(frame.time),
+            time: frame.time,
+            width: row.width,
+            height: row.height,
+        };
+        let reference = &r.reference;
+        let truth = technique.ground_truth(scene, &view, &reference.image);
+        let (m, map) = scene::metrics::compare(
+            &frame.image,
+            truth.as_ref().unwrap_or(&reference.image),
+            Some(&reference.mask),
+        );
+        errors.push(ErrorAt::new(frame.time, &m));
+        flips.push(map);
+    }
+    row = row.with_errors_along(errors);
+    Outcome {
+        row,
+        run: Some(run),
+        flips,
+    }
+}
+
+/// The file stem of an error frame's images: `stem` at the first time, `stem.t<time>` after.
+fn frame_stem(stem: &str, index: usize, time: f32) -> String {
+    match index {
+        0 => stem.to_string(),
+        _ => format!("{stem}{}", time_suffix(time)),
+    }
+}
+
+/// Writes a technique's images: `<stem>.png`, `<stem>.exr` and `<stem>.flip.png` of the first
+/// error frame, `<stem>.t<time>.png` and `<stem>.t<time>.flip.png` of the later ones.
+pub(crate) fn write_outcome_images(dir: &Path, stem: &str, outcome: &Outcome) -> Result<()> {
+    let frames = outcome
+        .run
+        .as_ref()
+        .map_or(&[][..], |r| &r.error_frames[..]);
+    for (i, frame) in frames.iter().enumerate() {
+        let name = frame_stem(stem, i, frame.time);
+        images::write_png(&dir.join(format!("{name}.png")), &frame.image)?;
+        if i == 0 {
+            images::write_exr(&dir.join(format!("{name}.exr")), &frame.image)?;
+        }
+        if let Some(map) = outcome.flips.get(i) {
+            images::write_png_rgb8(
+                &dir.join(format!("{name}.flip.png")),
+                map.width,
+                map.height,
+                &map.to_magma_rgb8(),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Writes the references' images: `<stem>.png` and `.exr` at the first time,
+/// `<stem>.t<time>.png` after.
+pub(crate) fn write_reference_images(
+    dir: &Path,
+    stem: &str,
+    references: &[TimedReference],
+) -> Result<()> {
+    for (i, r) in references.iter().enumerate() {
+        let name = frame_stem(stem, i, r.time);
+        images::write_png(&dir.join(format!("{name}.png")), &r.reference.image)?;
+        if i == 0 {
+            images::write_exr(&dir.join(format!("{name}.exr")), &r.reference.image)?;
+        }
     }
     Ok(())
 }
@@ -189,22 +259,44 @@ pub(crate) fn load_scenes(specs: &[String]) -> Result<Vec<(String, Scene)>> {
         .collect()
 }
 
-/// The reference of a scene's default view at time 0, through the cache.
+/// The reference of a scene's camera-path view at `time`, through the cache.
 pub(crate) fn scene_reference(
     env: &Env,
     out: &Path,
     spec: &str,
     scene: &Scene,
     size: Size,
+    time: f32,
 ) -> Result<(Reference, bool)> {
     let view = RefView {
         spec,
         scene,
-        camera: scene.camera,
-        time: 0.0,
+        camera: scene.camera_at(time),
+        time,
         size,
     };
     cache::reference(&out.join(".cache"), env.ground_truth, &view)
+        .with_context(|| format!("reference at time {time}"))
+}
+
+/// The references at every error-frame time of `frames` on the scene's camera path, each with
+/// whether it came from the cache.
+pub(crate) fn path_references(
+    env: &Env,
+    out: &Path,
+    spec: &str,
+    scene: &Scene,
+    size: Size,
+    frames: Frames,
+) -> Result<Vec<(TimedReference, bool)>> {
+    frames
+        .error_times(scene.camera_path.duration())
+        .into_iter()
+        .map(|time| {
+            let (reference, cached) = scene_reference(env, out, spec, scene, size, time)?;
+            Ok((TimedReference { time, reference }, cached))
+        })
+        .collect()
 }
 
 /// Runs the comparison (see the module documentation) and writes every file.
@@ -228,6 +320,7 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
         size: opts.size.to_string(),
         frames: opts.frames.timed,
         warmup: opts.frames.warmup,
+        error_frames: opts.frames.errors,
         rows: Vec::new(),
         skipped: Vec::new(),
         references: Vec::new(),
@@ -240,18 +333,22 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
     for (spec, scene) in &scenes {
         let dir = opts.out.join("images").join(scene_dir_name(spec));
         bar.set_message(format!("{spec}: reference"));
-        let reference = match scene_reference(env, &opts.out, spec, scene, opts.size) {
-            Ok((r, cached)) => {
-                images::write_png(&dir.join("reference.png"), &r.image)?;
-                images::write_exr(&dir.join("reference.exr"), &r.image)?;
-                report.references.push(ReferenceInfo {
-                    scene: spec.clone(),
-                    cached,
-                    stats: Some(r.stats.clone()),
-                    masked_pixels: r.mask.iter().filter(|&&m| m).count(),
-                    error: None,
-                });
-                Some(r)
+        let references = match path_references(env, &opts.out, spec, scene, opts.size, opts.frames)
+        {
+            Ok(timed) => {
+                for (r, cached) in &timed {
+                    report.references.push(ReferenceInfo {
+                        scene: spec.clone(),
+                        time: r.time,
+                        cached: *cached,
+                        stats: Some(r.reference.stats.clone()),
+                        masked_pixels: r.reference.mask.iter().filter(|&&m| m).count(),
+                        error: None,
+                    });
+                }
+                let timed: Vec<TimedReference> = timed.into_iter().map(|(r, _)| r).collect();
+                write_reference_images(&dir, "reference", &timed)?;
+                timed
             }
             Err(e) => {
                 let msg = format!("{spec} / reference: {e:#}");
@@ -259,12 +356,13 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                 report.errors.push(msg);
                 report.references.push(ReferenceInfo {
                     scene: spec.clone(),
+                    time: 0.0,
                     cached: false,
                     stats: None,
                     masked_pixels: 0,
                     error: Some(format!("{e:#}")),
                 });
-                None
+                Vec::new()
             }
         };
         bar.inc(1);
@@ -325,7 +423,7 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                 env,
                 technique.as_mut(),
                 gs,
-                reference.as_ref(),
+                &references,
                 opts.frames,
                 row,
                 &mut on_frame,

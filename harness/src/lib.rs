@@ -180,6 +180,9 @@ pub struct Frames {
     pub timed: u32,
     /// Untimed frames first (at time 0).
     pub warmup: u32,
+    /// Error frames: read back and measured against the reference at this many times spread
+    /// evenly over the camera path, start and end included (see [`Frames::error_times`]).
+    pub errors: u32,
 }
 
 impl Default for Frames {
@@ -187,8 +190,39 @@ impl Default for Frames {
         Frames {
             timed: 16,
             warmup: 3,
+            errors: 3,
         }
     }
+}
+
+impl Frames {
+    /// Most error frames a run may ask for (each needs a CPU reference).
+    pub const MAX_ERRORS: u32 = 64;
+
+    /// The times of the error frames on a camera path of `duration` seconds: `errors` times
+    /// from 0 to `duration` evenly spaced (3: start, middle, end), duplicates removed, so a
+    /// scene without motion (duration 0) or `errors` <= 1 measures time 0 only.
+    pub fn error_times(&self, duration: f32) -> Vec<f32> {
+        let n = self.errors.clamp(1, Self::MAX_ERRORS);
+        let duration = if duration.is_finite() {
+            duration.max(0.0)
+        } else {
+            0.0
+        };
+        let mut times: Vec<f32> = (0..n)
+            .map(|i| match n {
+                1 => 0.0,
+                _ => duration * i as f32 / (n - 1) as f32,
+            })
+            .collect();
+        times.dedup();
+        times
+    }
+}
+
+/// The file-name suffix of the images of an error frame after the first: `.t1.00`.
+pub fn time_suffix(time: f32) -> String {
+    format!(".t{time:.2}")
 }
 
 /// A technique id or scene spec as a file name: `/` becomes `__`, and every character other
@@ -319,6 +353,25 @@ mod tests {
         assert!("10x".parse::<Size>().is_err());
         assert!("-1x4".parse::<Size>().is_err());
         assert!("99999999999x4".parse::<Size>().is_err());
+    }
+
+    #[test]
+    fn error_times_span_the_path() {
+        let frames = |errors| Frames {
+            errors,
+            ..Frames::default()
+        };
+        assert_eq!(frames(3).error_times(2.0), vec![0.0, 1.0, 2.0]);
+        assert_eq!(frames(5).error_times(2.0), vec![0.0, 0.5, 1.0, 1.5, 2.0]);
+        assert_eq!(frames(1).error_times(2.0), vec![0.0]);
+        assert_eq!(frames(0).error_times(2.0), vec![0.0]);
+        assert_eq!(frames(3).error_times(0.0), vec![0.0]);
+        assert_eq!(frames(3).error_times(f32::NAN), vec![0.0]);
+        assert_eq!(
+            frames(1000).error_times(1.0).len(),
+            Frames::MAX_ERRORS as usize
+        );
+        assert_eq!(time_suffix(1.0), ".t1.00");
     }
 
     #[test]

@@ -28,6 +28,11 @@ struct FrameArgs {
     /// Untimed warm-up frames before them.
     #[arg(long, default_value_t = 3, value_name = "N")]
     warmup: u32,
+    /// Error frames: times spread evenly over the camera path, start and end included, at
+    /// which the image is measured against a reference of its own (1: time 0 only).
+    #[arg(long, default_value_t = 3, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=Frames::MAX_ERRORS as i64))]
+    error_frames: u32,
 }
 
 impl FrameArgs {
@@ -35,6 +40,7 @@ impl FrameArgs {
         Frames {
             timed: self.frames,
             warmup: self.warmup,
+            errors: self.error_frames,
         }
     }
 }
@@ -407,10 +413,11 @@ fn render(
             Frames {
                 timed: 0,
                 warmup: 0,
+                errors: 1,
             },
             &mut |_| {},
         )?;
-        run.image
+        run.image().clone()
     };
     images::write_by_extension(out, &image)?;
     let bad = image.non_finite_count();

@@ -1,6 +1,13 @@
 //! Result rows and their three forms: CSV (every figure at full precision), JSON (the same plus
 //! extra timer spans, skipped techniques and reference statistics) and a markdown table.
 //!
+//! Error figures are measured at several times along the camera path (the run's error
+//! frames, [`crate::Frames::error_times`]): `rmse`, `flip_mean`, `flip_mean_masked` and
+//! `flip_over_0_1_pct` are means over those times, `*_worst` the largest value at any of them,
+//! `worst_time` the time of the largest masked FLIP (FLIP where no time has a mask), `psnr_db`
+//! is that of the mean RMSE, `nan_pixels` the largest count in one frame and `masked_pixels`
+//! the mask's size at time 0. JSON also has every time's figures (`errors_at`).
+//!
 //! Missing figures (a technique that failed, no reference) are empty CSV cells and JSON
 //! `null`. PSNR of identical images is infinite: `inf` in CSV and markdown, `null` in JSON
 //! (then `rmse` is 0). `flip_mean_masked` is empty/`null` when the reference mask is empty.
@@ -39,11 +46,62 @@ pub struct ResultRow {
     pub flip_over_0_1_pct: Option<f64>,
     pub nan_pixels: Option<usize>,
     pub masked_pixels: Option<usize>,
+    pub rmse_worst: Option<f64>,
+    pub flip_mean_worst: Option<f64>,
+    pub flip_mean_masked_worst: Option<f64>,
+    /// Time of the worst error frame (largest masked FLIP, else largest FLIP).
+    pub worst_time: Option<f64>,
+    /// The times of the error frames.
+    pub error_times: Vec<f32>,
+    /// The figures of each error frame.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub errors_at: Vec<ErrorAt>,
     /// Extra named timer spans a technique recorded, median per frame (`regenerate_ms`), and
     /// those recorded during prepare (`prepare.build_ms`).
     pub spans_ms: BTreeMap<String, f64>,
     pub adapter: String,
     pub error: Option<String>,
+}
+
+/// The error figures of one error frame.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct ErrorAt {
+    pub time: f32,
+    pub rmse: f64,
+    pub psnr_db: f64,
+    pub flip_mean: f64,
+    pub flip_mean_masked: f64,
+    pub flip_over_0_1_pct: f64,
+    pub nan_pixels: usize,
+    pub masked_pixels: usize,
+}
+
+impl ErrorAt {
+    pub fn new(time: f32, m: &Metrics) -> Self {
+        ErrorAt {
+            time,
+            rmse: m.rmse,
+            psnr_db: m.psnr_db,
+            flip_mean: m.flip_mean,
+            flip_mean_masked: m.flip_mean_masked,
+            flip_over_0_1_pct: m.flip_over_0_1_pct,
+            nan_pixels: m.nan_pixels,
+            masked_pixels: m.masked_pixels,
+        }
+    }
+}
+
+/// Mean of the non-NaN values (NaN when there are none).
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values
+        .filter(|v| !v.is_nan())
+        .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 { f64::NAN } else { sum / n as f64 }
+}
+
+/// Largest non-NaN value (NaN when there are none).
+fn worst(values: impl Iterator<Item = f64>) -> f64 {
+    values.filter(|v| !v.is_nan()).fold(f64::NAN, f64::max)
 }
 
 impl ResultRow {
@@ -72,14 +130,43 @@ impl ResultRow {
         self
     }
 
-    pub fn with_metrics(mut self, m: &Metrics) -> Self {
-        self.rmse = Some(m.rmse);
-        self.psnr_db = Some(m.psnr_db);
-        self.flip_mean = Some(m.flip_mean);
-        self.flip_mean_masked = Some(m.flip_mean_masked);
-        self.flip_over_0_1_pct = Some(m.flip_over_0_1_pct);
-        self.nan_pixels = Some(m.nan_pixels);
-        self.masked_pixels = Some(m.masked_pixels);
+    /// The figures of one error frame at time 0.
+    pub fn with_metrics(self, m: &Metrics) -> Self {
+        self.with_errors_along(vec![ErrorAt::new(0.0, m)])
+    }
+
+    /// Means and worst values over the error frames (see the module documentation).
+    pub fn with_errors_along(mut self, at: Vec<ErrorAt>) -> Self {
+        let Some(first) = at.first() else {
+            return self;
+        };
+        let rmse = mean(at.iter().map(|e| e.rmse));
+        self.rmse = Some(rmse);
+        self.psnr_db = Some(if rmse > 0.0 {
+            20.0 * (1.0 / rmse).log10()
+        } else {
+            f64::INFINITY
+        });
+        self.flip_mean = Some(mean(at.iter().map(|e| e.flip_mean)));
+        self.flip_mean_masked = Some(mean(at.iter().map(|e| e.flip_mean_masked)));
+        self.flip_over_0_1_pct = Some(mean(at.iter().map(|e| e.flip_over_0_1_pct)));
+        self.nan_pixels = at.iter().map(|e| e.nan_pixels).max();
+        self.masked_pixels = Some(first.masked_pixels);
+        self.rmse_worst = Some(worst(at.iter().map(|e| e.rmse)));
+        self.flip_mean_worst = Some(worst(at.iter().map(|e| e.flip_mean)));
+        self.flip_mean_masked_worst = Some(worst(at.iter().map(|e| e.flip_mean_masked)));
+        let key = |e: &ErrorAt| match e.flip_mean_masked.is_nan() {
+            true => e.flip_mean,
+            false => e.flip_mean_masked,
+        };
+        let masked = at.iter().any(|e| !e.flip_mean_masked.is_nan());
+        self.worst_time = at
+            .iter()
+            .filter(|e| !masked || !e.flip_mean_masked.is_nan())
+            .max_by(|a, b| key(a).total_cmp(&key(b)))
+            .map(|e| e.time as f64);
+        self.error_times = at.iter().map(|e| e.time).collect();
+        self.errors_at = at;
         self
     }
 
@@ -107,6 +194,11 @@ pub const CSV_COLUMNS: &[&str] = &[
     "flip_over_0_1_pct",
     "nan_pixels",
     "masked_pixels",
+    "rmse_worst",
+    "flip_mean_worst",
+    "flip_mean_masked_worst",
+    "worst_time",
+    "error_times",
     "adapter",
     "error",
 ];
@@ -163,6 +255,11 @@ pub fn to_csv(rows: &[ResultRow], with_param: bool) -> String {
             csv_num(r.flip_over_0_1_pct),
             csv_int(r.nan_pixels),
             csv_int(r.masked_pixels),
+            csv_num(r.rmse_worst),
+            csv_num(r.flip_mean_worst),
+            csv_num(r.flip_mean_masked_worst),
+            csv_num(r.worst_time),
+            csv_field(&times_list(&r.error_times)),
             csv_field(&r.adapter),
             csv_field(r.error.as_deref().unwrap_or("")),
         ]);
@@ -172,12 +269,34 @@ pub fn to_csv(rows: &[ResultRow], with_param: bool) -> String {
     out
 }
 
+/// Error-frame times as one field: `0;1;2`.
+fn times_list(times: &[f32]) -> String {
+    times
+        .iter()
+        .map(|t| t.to_string())
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
 fn md_num(v: Option<f64>, decimals: usize) -> String {
     match v {
         Some(v) if v.is_nan() => "-".into(),
         Some(v) if v.is_infinite() => if v > 0.0 { "inf" } else { "-inf" }.into(),
         Some(v) => format!("{v:.decimals$}"),
         None => "-".into(),
+    }
+}
+
+/// The worst masked FLIP with its time (`0.0123 (t 1)`); the worst FLIP when nothing is
+/// masked.
+fn md_worst(r: &ResultRow) -> String {
+    let value = match r.flip_mean_masked_worst {
+        Some(v) if !v.is_nan() => Some(v),
+        _ => r.flip_mean_worst,
+    };
+    match (value, r.worst_time) {
+        (Some(v), Some(t)) if !v.is_nan() => format!("{v:.4} (t {t})"),
+        _ => "-".into(),
     }
 }
 
@@ -201,6 +320,7 @@ pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
         "PSNR dB",
         "FLIP",
         "FLIP masked",
+        "FLIP masked worst (t)",
         "FLIP>0.1 %",
         "NaN px",
         "error",
@@ -222,6 +342,7 @@ pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
             md_num(r.psnr_db, 2),
             md_num(r.flip_mean, 4),
             md_num(r.flip_mean_masked, 4),
+            md_worst(r),
             md_num(r.flip_over_0_1_pct, 2),
             r.nan_pixels
                 .map(|n| n.to_string())
@@ -289,7 +410,7 @@ mod tests {
         assert_eq!(lines[0], CSV_COLUMNS.join(","));
         assert_eq!(
             lines[1],
-            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,llvmpipe,\"said \"\"no\"\"\""
+            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,,,,,,llvmpipe,\"said \"\"no\"\"\""
         );
         let swept = to_csv(std::slice::from_ref(&row), true);
         assert!(swept.starts_with("scene,technique,param,value,width"));
@@ -299,5 +420,45 @@ mod tests {
         assert!(json["psnr_db"].is_null() && json["flip_mean_masked"].is_null());
         assert_eq!(json["rmse"], 0.0);
         assert!(json.get("param").is_none());
+    }
+
+    #[test]
+    fn errors_along_the_path_give_means_and_the_worst_time() {
+        let at = |time, rmse, flip, masked| ErrorAt {
+            time,
+            rmse,
+            psnr_db: 0.0,
+            flip_mean: flip,
+            flip_mean_masked: masked,
+            flip_over_0_1_pct: 10.0 * flip,
+            nan_pixels: (time * 2.0) as usize,
+            masked_pixels: 7,
+        };
+        let row = ResultRow::new("s", "t", crate::Size::new(4, 4), "a").with_errors_along(vec![
+            at(0.0, 0.1, 0.02, 0.01),
+            at(1.0, 0.4, 0.01, 0.07),
+            at(2.0, 0.1, 0.03, f64::NAN),
+        ]);
+        assert!((row.rmse.unwrap() - 0.2).abs() < 1e-12);
+        assert!((row.psnr_db.unwrap() - 20.0 * 5f64.log10()).abs() < 1e-9);
+        assert!((row.flip_mean.unwrap() - 0.02).abs() < 1e-12);
+        assert!((row.flip_mean_masked.unwrap() - 0.04).abs() < 1e-12);
+        assert_eq!(row.rmse_worst, Some(0.4));
+        assert_eq!(row.flip_mean_worst, Some(0.03));
+        assert_eq!(row.flip_mean_masked_worst, Some(0.07));
+        assert_eq!(row.worst_time, Some(1.0));
+        assert_eq!(row.nan_pixels, Some(4));
+        assert_eq!(row.error_times, vec![0.0, 1.0, 2.0]);
+        let md = to_markdown(std::slice::from_ref(&row), false);
+        assert!(md.contains("| 0.0700 (t 1) |"), "{md}");
+        let csv = to_csv(std::slice::from_ref(&row), false);
+        assert!(csv.contains(",0.4,0.03,0.07,1,0;1;2,a,"), "{csv}");
+        // Without a mask the worst time is the largest whole-image FLIP's.
+        let row = ResultRow::new("s", "t", crate::Size::new(4, 4), "a").with_errors_along(vec![
+            at(0.0, 0.1, 0.02, f64::NAN),
+            at(1.0, 0.4, 0.05, f64::NAN),
+        ]);
+        assert_eq!(row.worst_time, Some(1.0));
+        assert!(to_markdown(&[row], false).contains("| 0.0500 (t 1) |"));
     }
 }

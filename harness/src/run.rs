@@ -13,10 +13,14 @@
 //! submission of its own (objects' transforms and shadow maps: the same work for every
 //! technique), so it is not part of any technique's time.
 //!
-//! Order: prepare (scene at time 0); the error frame on the scene's default view
-//! (`scene.camera`) at time 0, which is read back; `warmup` untimed frames on the camera path
-//! at time 0; `timed` frames at `time = i * duration / timed` on the camera path (moving objects
-//! move too). A GPU validation error in any of these is the technique's error.
+//! Order: prepare (scene at time 0); the error frames, one at each of
+//! [`Frames::error_times`] (start, middle and end of the camera path by default) with the
+//! path's camera and the scene moved to that time, each read back; `warmup` untimed frames on
+//! the camera path at time 0; `timed` frames at `time = i * duration / timed` on the camera
+//! path (moving objects move too). The error frames run in time order in one sequence, as an
+//! application would render them, so a technique that keeps state from frame to frame (maps
+//! made at prepare, amortized regeneration) is measured with that state. A GPU validation
+//! error in any of these is the technique's error.
 
 use crate::{Frames, Size, backend};
 use anyhow::{Result, anyhow};
@@ -25,11 +29,18 @@ use scene::{Frame, GpuScene, Technique, TechniqueResult, Timing, View};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
+/// One error frame: the image of the camera path's view at `time`, read back.
+#[derive(Clone, Debug)]
+pub struct ErrorFrame {
+    pub time: f32,
+    pub image: HdrImage,
+}
+
 /// What a run measured.
 #[derive(Clone, Debug)]
 pub struct TechniqueRun {
-    /// The error frame (default view, time 0), read back.
-    pub image: HdrImage,
+    /// The error frames in time order; the first is at time 0.
+    pub error_frames: Vec<ErrorFrame>,
     /// "gpu-timestamp", "wall" or "cpu".
     pub timer: String,
     pub frame: TimeStats,
@@ -38,6 +49,13 @@ pub struct TechniqueRun {
     pub prepare_wall_ms: f64,
     /// Extra named spans: `<label>_ms` (median per timed frame) and `prepare.<label>_ms`.
     pub spans_ms: BTreeMap<String, f64>,
+}
+
+impl TechniqueRun {
+    /// The error frame at time 0 (the default view).
+    pub fn image(&self) -> &HdrImage {
+        &self.error_frames[0].image
+    }
 }
 
 /// Spans a timer can return that are not a technique's own.
@@ -134,16 +152,20 @@ pub fn run_technique(
     let mut timer = GpuTimer::new(ctx, 64);
     let kind = timer.kind();
     let timing = technique.timing();
-    let default_camera = scene.scene.camera;
     let duration = scene.scene.camera_path.duration().max(0.0);
     let path_camera = |t: f32| scene.scene.camera_at(t);
-    let mut views: Vec<(View, bool)> = Vec::new(); // (view, timed)
     let view = |camera, time| View {
         camera,
         time,
         width: size.width,
         height: size.height,
     };
+    let mut views: Vec<(View, bool)> = Vec::new(); // (view, timed)
+    let error_views: Vec<View> = frames
+        .error_times(duration)
+        .into_iter()
+        .map(|t| view(path_camera(t), t))
+        .collect();
     for _ in 0..frames.warmup {
         views.push((view(path_camera(0.0), 0.0), false));
     }
@@ -167,10 +189,15 @@ pub fn run_technique(
         *spans_ms.entry(format!("prepare.{label}_ms")).or_insert(0.0) += ms;
     }
 
-    on_frame("error frame");
-    let error_view = view(default_camera, 0.0);
-    render_frame(ctx, &mut timer, technique, scene, &error_view, &target)?;
-    let image = target.read(ctx)?;
+    let mut error_frames = Vec::new();
+    for error_view in &error_views {
+        on_frame(&format!("error frame at time {}", error_view.time));
+        render_frame(ctx, &mut timer, technique, scene, error_view, &target)?;
+        error_frames.push(ErrorFrame {
+            time: error_view.time,
+            image: target.read(ctx)?,
+        });
+    }
 
     let mut times = Vec::new();
     let mut extra: BTreeMap<String, Vec<f64>> = BTreeMap::new();
@@ -195,7 +222,7 @@ pub fn run_technique(
         spans_ms.insert(label, TimeStats::from_samples(&samples).median_ms);
     }
     Ok(TechniqueRun {
-        image,
+        error_frames,
         timer: match timing {
             Timing::Cpu => "cpu".to_string(),
             Timing::Gpu => kind.label().to_string(),

@@ -13,7 +13,7 @@
 use crate::compare::{self, Outcome, write_text};
 use crate::plot::{self, PlotPoint, PlotText};
 use crate::report::{self, AdapterJson, ResultRow};
-use crate::{Env, Frames, Size, backend, file_name, images};
+use crate::{Env, Frames, Size, backend, file_name};
 use anyhow::{Context as _, Result, anyhow, bail};
 use scene::Technique;
 use std::collections::BTreeMap;
@@ -167,7 +167,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
     let mut errors = Vec::new();
     let bar = crate::progress_bar(env.progress, opts.values.len() as u64);
     let say = |line: String| bar.suspend(|| eprintln!("{line}"));
-    let mut shared: Option<(Option<crate::Reference>, Option<scene::GpuScene>)> = None;
+    let mut shared: Option<(Vec<compare::TimedReference>, Option<scene::GpuScene>)> = None;
     for value in &opts.values {
         let (spec, scene) = match owner {
             ParamOwner::Scene => scenes
@@ -184,22 +184,28 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         // Reference and upload: once for a technique parameter, per value for a scene one.
         if owner == ParamOwner::Scene || shared.is_none() {
             bar.set_message(format!("{suffix}: reference"));
-            let reference = match compare::scene_reference(env, &opts.out, &spec, &scene, opts.size)
-            {
-                Ok((r, _)) => {
+            let references = match compare::path_references(
+                env,
+                &opts.out,
+                &spec,
+                &scene,
+                opts.size,
+                opts.frames,
+            ) {
+                Ok(timed) => {
                     let stem = match owner {
                         ParamOwner::Scene => format!("reference__{}", file_name(&suffix)),
                         ParamOwner::Technique => "reference".into(),
                     };
-                    images::write_png(&image_dir.join(format!("{stem}.png")), &r.image)?;
-                    images::write_exr(&image_dir.join(format!("{stem}.exr")), &r.image)?;
-                    Some(r)
+                    let timed: Vec<_> = timed.into_iter().map(|(r, _)| r).collect();
+                    compare::write_reference_images(&image_dir, &stem, &timed)?;
+                    timed
                 }
                 Err(e) => {
                     let msg = format!("{spec} / reference: {e:#}");
                     say(format!("error: {msg}"));
                     errors.push(msg);
-                    None
+                    Vec::new()
                 }
             };
             let gpu_scene = match backend::upload_scene(env.ctx, &scene) {
@@ -211,9 +217,9 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
                     None
                 }
             };
-            shared = Some((reference, gpu_scene));
+            shared = Some((references, gpu_scene));
         }
-        let Some((reference, gpu_scene)) = shared.as_mut() else {
+        let Some((references, gpu_scene)) = shared.as_mut() else {
             bail!("no scene prepared")
         };
 
@@ -222,7 +228,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             Outcome {
                 row: row.with_error("the technique does not support this scene"),
                 run: None,
-                flip: None,
+                flips: Vec::new(),
             }
         } else if let Some(gs) = gpu_scene.as_mut() {
             if owner == ParamOwner::Technique {
@@ -234,7 +240,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
                 env,
                 technique.as_mut(),
                 gs,
-                reference.as_ref(),
+                references,
                 opts.frames,
                 row,
                 &mut on_frame,
@@ -243,7 +249,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             Outcome {
                 row: row.with_error("scene upload failed"),
                 run: None,
-                flip: None,
+                flips: Vec::new(),
             }
         };
         compare::write_outcome_images(

@@ -26,15 +26,19 @@ fn out_dir(name: &str) -> PathBuf {
 }
 
 const SIZE: Size = Size::new(32, 32);
+/// cornell-sphere's camera path lasts 2 s: error frames at times 0, 1 and 2.
 const FRAMES: Frames = Frames {
     timed: 3,
     warmup: 1,
+    errors: 3,
 };
 
 /// Clears the target to `level` in every colour channel.
 struct Constant {
     id: &'static str,
     level: f64,
+    /// Change of the level per second of scene time (a technique whose error moves).
+    drift: f64,
 }
 
 impl Technique for Constant {
@@ -69,10 +73,10 @@ impl Technique for Constant {
         &mut self,
         frame: &mut Frame,
         _: &GpuScene,
-        _: &View,
+        view: &View,
         target: &Target,
     ) -> TechniqueResult<()> {
-        let l = self.level;
+        let l = self.level + self.drift * view.time as f64;
         let timestamps = frame.timer.render_pass("clear");
         let _pass = frame
             .encoder
@@ -181,6 +185,12 @@ fn techniques() -> Vec<Box<dyn Technique>> {
         Box::new(Constant {
             id: "test/constant",
             level: 0.25,
+            drift: 0.0,
+        }),
+        Box::new(Constant {
+            id: "test/drifts",
+            level: 0.5,
+            drift: -0.125,
         }),
         Box::new(NanImage),
         Box::new(Broken { id: "test/fails" }),
@@ -289,7 +299,18 @@ fn compare_writes_tables_images_and_caches_the_reference() {
             .unwrap()
             .contains("panicked: test technique panics")
     );
-    assert_eq!(report.rows.len(), 4, "skipped techniques have no rows");
+    // Error along the camera path: 0.5, 0.375 and 0.25 at times 0, 1 and 2 against 0.5.
+    let d = row("test/drifts");
+    assert_eq!(d.error_times, vec![0.0, 1.0, 2.0]);
+    assert!((d.rmse.unwrap() - 0.125).abs() < 1e-6, "{:?}", d.rmse);
+    assert!((d.rmse_worst.unwrap() - 0.25).abs() < 1e-6);
+    assert_eq!(d.worst_time, Some(2.0));
+    assert!(d.flip_mean_masked_worst.unwrap() > d.flip_mean_masked.unwrap());
+    assert!(
+        (c.rmse_worst.unwrap() - c.rmse.unwrap()).abs() < 1e-9,
+        "a constant error is its own worst"
+    );
+    assert_eq!(report.rows.len(), 5, "skipped techniques have no rows");
     let skipped: Vec<&str> = report
         .skipped
         .iter()
@@ -313,6 +334,10 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         "images/cornell-sphere/test__constant.exr",
         "images/cornell-sphere/test__constant.flip.png",
         "images/cornell-sphere/test__nan.png",
+        "images/cornell-sphere/reference.t1.00.png",
+        "images/cornell-sphere/reference.t2.00.png",
+        "images/cornell-sphere/test__drifts.t2.00.png",
+        "images/cornell-sphere/test__drifts.t2.00.flip.png",
     ] {
         assert!(exists(&out, f), "missing {f}");
     }
@@ -321,12 +346,24 @@ fn compare_writes_tables_images_and_caches_the_reference() {
     assert!(exr.pixels.iter().all(|p| p[..3] == [0.25; 3]));
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     assert!(csv.starts_with("scene,technique,width,height,frames,frame_ms_median,frame_ms_p95,prepare_ms,timer,rmse,psnr_db,flip_mean,flip_mean_masked,flip_over_0_1_pct,nan_pixels,"));
-    assert_eq!(csv.lines().count(), 5);
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .contains(",rmse_worst,flip_mean_worst,flip_mean_masked_worst,worst_time,error_times,")
+    );
+    assert_eq!(csv.lines().count(), 6);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(json["skipped"].as_array().unwrap().len(), 2);
     assert_eq!(json["references"][0]["cached"], false);
-    assert_eq!(truth.renders.load(Ordering::SeqCst), 1);
+    assert_eq!(json["references"].as_array().unwrap().len(), 3);
+    assert_eq!(json["rows"][1]["errors_at"][2]["time"], 2.0);
+    assert_eq!(
+        truth.renders.load(Ordering::SeqCst),
+        3,
+        "one reference per time"
+    );
 
     // Second run: the reference comes from the cache.
     let opts = CompareOptions {
@@ -334,7 +371,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         ..opts
     };
     let again = harness::compare::run(&env, &opts).unwrap();
-    assert_eq!(truth.renders.load(Ordering::SeqCst), 1);
+    assert_eq!(truth.renders.load(Ordering::SeqCst), 3);
     assert!(again.references[0].cached);
     assert_eq!(again.rows.len(), 1);
     assert_eq!(again.rows[0].rmse, c.rmse);
@@ -371,8 +408,8 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
     assert_eq!(report.rows[1].psnr_db, Some(f64::INFINITY));
     assert_eq!(
         truth.renders.load(Ordering::SeqCst),
-        1,
-        "one reference for a technique parameter"
+        3,
+        "one reference per error time for a technique parameter"
     );
     let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
     assert!(csv.starts_with("scene,technique,param,value,width"));
@@ -403,8 +440,9 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
             "cornell-sphere:material=gold"
         ]
     );
-    assert_eq!(truth.renders.load(Ordering::SeqCst), 3);
+    assert_eq!(truth.renders.load(Ordering::SeqCst), 9);
     assert!(exists(&out, "images/reference__material=gold.png"));
+    assert!(exists(&out, "images/reference__material=gold.t1.00.png"));
 
     // Bad parameters fail before any GPU work, with one sentence.
     let bad = |param: &str, values: &[&str]| {
