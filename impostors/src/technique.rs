@@ -122,7 +122,10 @@ struct ObjectMaps {
     object: usize,
     env: CubeTarget,
     split: Option<SplitDistance>,
-    refractor: Option<(CubeTarget, Vec3)>,
+    /// The object's own surface (outward normal + distance) seen from its centre, rendered
+    /// once in prepare. `Motion` only translates objects, so the map stays valid as the object
+    /// moves: it is searched from the object's *current* centre (see `impostor_groups`).
+    refractor: Option<CubeTarget>,
     caustics: Option<GeneratorMaps>,
     /// Reference point of `env` (the object's centre when the map was last rendered).
     reference: Option<Vec3>,
@@ -485,7 +488,7 @@ impl Technique for Impostor {
                     IMPOSTOR_FORMAT,
                 );
                 render_refractor_map(frame, scene, &refractor_pipeline, &cube, object, center);
-                Some((cube, center))
+                Some(cube)
             } else {
                 None
             };
@@ -560,7 +563,7 @@ impl Technique for Impostor {
             frame.timer.end(frame.encoder, "regenerate");
         }
         let _ = &state.split_layout;
-        let groups = impostor_groups(frame.gpu, state, &settings);
+        let groups = impostor_groups(frame.gpu, scene, state, &settings);
 
         let ctx = frame.gpu;
         let view_proj = view.camera.view_proj(view.width, view.height);
@@ -804,8 +807,16 @@ fn render_refractor_map(
     }
 }
 
-/// The `@group(2)` bind group of each object's maps for this frame.
-fn impostor_groups(ctx: &Context, state: &State, settings: &Settings) -> Vec<wgpu::BindGroup> {
+/// The `@group(2)` bind group of each object's maps for this frame. The refractor map is
+/// searched from the object's centre *now*: double refraction and the caustic photons follow
+/// a moving refractor in every frame, not where it stood when prepare rendered the map.
+fn impostor_groups(
+    ctx: &Context,
+    scene: &GpuScene,
+    state: &State,
+    settings: &Settings,
+) -> Vec<wgpu::BindGroup> {
+    let time = scene.time();
     state
         .maps
         .iter()
@@ -815,12 +826,11 @@ fn impostor_groups(ctx: &Context, state: &State, settings: &Settings) -> Vec<wgp
                 .split
                 .as_ref()
                 .map_or(&m.env.cube_view, |s| &s.distances.cube_view);
-            let (refractor_view, refractor_center) = m
+            let refractor_view = m
                 .refractor
                 .as_ref()
-                .map_or((&m.env.cube_view, reference), |(c, center)| {
-                    (&c.cube_view, *center)
-                });
+                .map_or(&m.env.cube_view, |c| &c.cube_view);
+            let refractor_center = scene.scene.objects[m.object].center_at(time);
             let uniform = ParamsGpu {
                 reference: reference.extend(0.0).to_array(),
                 refractor_center: refractor_center.extend(0.0).to_array(),

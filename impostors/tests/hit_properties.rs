@@ -24,7 +24,7 @@
 //!   iterations and <= 1e-4 m after 32. The convergence is linear, not superlinear: with a
 //!   convex g the retained overshoot (or the point at infinity) never changes, the classic
 //!   regula falsi stagnation, and its rate tends to 1 for grazing rays near corners (a
-//!   boundary-seeking search, `explore.rs`, found 0.49 m left after 32 iterations without
+//!   boundary-seeking search, `examples/explore_hit.rs`, found 0.49 m left after 32 iterations without
 //!   the incidence condition).
 //! - `error_vs_iterations_table`: 50k uniform rays of that regime, all incidences; the table
 //!   README.md quotes (p50 / p90 / p99 / max error, share within 0.1 mm). Secant: 99.98% of
@@ -33,7 +33,7 @@
 //! - `secant_divergence_exhibit`: with the ray origin far from the reference point (anywhere
 //!   in the room) the secant can step to a negative ray parameter; the clamp then pins it at
 //!   0 (both samples equal, the step is skipped) and it never recovers, while false position
-//!   converges on the same ray. Seen in ~0.1% of such rays (114 of ~100k, `explore.rs`); the
+//!   converges on the same ray. Seen in ~0.1% of such rays (114 of ~100k, `examples/explore_hit.rs`); the
 //!   same search also finds secant steps to |d| ~ 1e3 m when the reference point is within
 //!   millimetres of a wall, and secant errors of 0.8-7 m after 8 iterations for reference
 //!   points in the corners of the 0.3 m-shrunk room.
@@ -183,26 +183,85 @@ fn secant_divergence_exhibit() {
     );
 }
 
-/// The initial guess is already exact when `r` and the hit are on the same wall and `p'`
-/// is too (the paper: "even the initial guesses are usually accurate"); one iteration is
-/// exact once two samples share the hit wall.
+/// The wall (axis, on the max side) that a point on the room's boundary lies on.
+fn wall_of(q: Vec3) -> (usize, bool) {
+    let gap = |a: usize, side: bool| (q[a] - if side { ROOM_MAX[a] } else { ROOM_MIN[a] }).abs();
+    (0..3)
+        .flat_map(|a| [(a, false), (a, true)])
+        .min_by(|&(a, s), &(b, t)| gap(a, s).total_cmp(&gap(b, t)))
+        .unwrap()
+}
+
+/// The wall the distance map shows in the direction of `y` (relative to the reference point).
+fn map_wall(room: &BoxRoom, y: Vec3) -> (usize, bool) {
+    use impostors::hit::DistanceMap;
+    let dir = y.normalize();
+    wall_of(room.reference + dir * room.distance(dir))
+}
+
+/// On a planar wall the ratio `g(d) = |y| / dist(y)` is linear in `d` (module docs), so a
+/// chord through two samples that the map shows on the wall the ray hits lands on the root:
+/// - the initial guess `d_l` (chord through `p'` and `r`, eq. 4) is exact when `r` and `p'`
+///   both lie on the hit wall (the paper: "even the initial guesses are usually accurate");
+/// - one secant step (chord through `p'` and `l'`) is exact when `p'` and `l'` lie on it,
+///   even where `r` lies on another wall and the guess is off.
+///
+/// Deterministic rays of the objects' regime (reference points 0.3 m inside the walls,
+/// origins within 0.3 m) are classified by the walls of `r`, `p'` and `l'`; each case must
+/// occur often, and the one-step case must include rays whose guess is wrong by > 1 cm, or
+/// the test would not show what one iteration adds.
 #[test]
 fn planar_wall_is_exact_after_the_guess_or_one_step() {
-    let room = room(Vec3::new(0.0, 1.0, 0.0));
-    // Near the reference point, toward the middle of the back wall.
-    for (x, r) in [
-        (Vec3::new(0.1, 0.1, 0.0), Vec3::new(0.05, -0.1, -1.0)),
-        (Vec3::new(-0.2, 0.0, 0.1), Vec3::new(0.2, 0.3, -1.0)),
-    ] {
-        let r = r.normalize();
+    let h = |k: u32| gpu::prelude::hash_to_unit(k);
+    let (mut guess_cases, mut step_cases, mut step_cases_guess_off) = (0, 0, 0);
+    for k in 0..20_000u32 {
+        let s = |j: u32| h(k * 16 + j);
+        let room = room(point([s(0), s(1), s(2)], 0.3));
+        let x = (Vec3::new(s(3), s(4), s(5)) * 2.0 - 1.0).clamp_length_max(1.0) * 0.3;
+        let r = (Vec3::new(s(6), s(7), s(8)) * 2.0 - 1.0).normalize_or_zero();
+        if r == Vec3::ZERO {
+            continue;
+        }
         let exact = room.exact_t(room.reference + x, r);
-        let h0 = hit(&room, x, r, Method::FalsePosition, 0);
-        assert!(
-            (h0.d - exact).abs() < 1e-5,
-            "initial guess {} vs {exact}",
-            h0.d
-        );
+        let hit_wall = wall_of(room.reference + x + r * exact);
+        let mut trace = Trace::default();
+        hit_traced(&room, x, r, Method::Secant, 1, Some(&mut trace));
+        let d_p = trace.perpendicular.unwrap().d;
+        let (guess, step) = (trace.d[0], trace.d[1]);
+        let on_hit_wall = |d: f32| map_wall(&room, x + r * d) == hit_wall;
+        let tolerance = 1e-4 * (1.0 + exact);
+        if map_wall(&room, r) == hit_wall && on_hit_wall(d_p) {
+            guess_cases += 1;
+            assert!(
+                (guess - exact).abs() < tolerance,
+                "ray {k}: r and p' on the hit wall, initial guess {guess} vs exact {exact}"
+            );
+        } else if on_hit_wall(d_p) && on_hit_wall(guess) {
+            step_cases += 1;
+            step_cases_guess_off += usize::from((guess - exact).abs() > 0.01);
+            assert!(
+                (step - exact).abs() < tolerance,
+                "ray {k}: p' and l' on the hit wall, one secant step {step} vs exact {exact} \
+                 (guess {guess})"
+            );
+        }
     }
+    println!(
+        "guess exact: {guess_cases} rays; one step exact: {step_cases} rays, \
+         {step_cases_guess_off} of them with the guess > 1 cm off"
+    );
+    assert!(
+        guess_cases > 1000,
+        "only {guess_cases} rays with r and p' on the hit wall"
+    );
+    assert!(
+        step_cases > 100,
+        "only {step_cases} rays with p' and l' on the hit wall"
+    );
+    assert!(
+        step_cases_guess_off > 50,
+        "only {step_cases_guess_off} one-step rays had a bad guess"
+    );
 }
 
 /// Error against the exact hit versus iterations over 50k deterministic rays of the objects'

@@ -13,7 +13,14 @@
 //!   (paper figure 5): false-position-8 below classic on cornell-sphere and cornell-box.
 //! - `error_vs_iterations`: cornell-sphere mirror / glass-1.5 / cornell-box mirror, masked
 //!   FLIP and RMSE for initial-guess and 1, 2, 4, 8 iterations of each method; no NaN pixel
-//!   anywhere; false-position-8 no worse than initial-guess + 0.01 (masked FLIP).
+//!   anywhere; on cornell-box (concave: iterations matter) false-position-8 at least 0.004
+//!   below the initial guess and every iterated variant at least 0.002 below it; on the
+//!   cornell-sphere mirror one false-position step at least 0.001 below the guess and more
+//!   steps within 0.001 of one; on glass (single interface) every variant within 0.002 of the
+//!   guess.
+//! - `moving_refractor_is_right_at_every_time`: glass-1.5, prepared at time 0, rendered at
+//!   times 0.5 and 1 (the sphere moved 0.25 and 0.5 m): double-refraction and caustics within
+//!   0.01 masked FLIP of their time-0 error against the reference at that time.
 //! - `split_layout_matches_packed`: false-position-4 and false-position-4-split give the same
 //!   image (both read the same f16 distances; max abs difference <= 1e-3).
 
@@ -64,16 +71,25 @@ fn evaluate(spec: &str, ids: &[&str]) -> Vec<Row> {
     evaluate_stale(spec, ids, &[0.0])
 }
 
-/// Renders frames at `times` (the map regenerated only at the first unless the technique's
-/// threshold asks; `regen_threshold` is set to 10 m when more than one time is given) and
-/// compares the last with the reference at the last time.
+/// Renders frames at `times` with the environment map made only at the first
+/// (`regen_threshold` is set to 10 m when more than one time is given) and compares the last
+/// with the reference at the last time.
 fn evaluate_stale(spec: &str, ids: &[&str], times: &[f32]) -> Vec<Row> {
+    evaluate_frames(spec, ids, times, times.len() > 1)
+}
+
+/// As [`evaluate_stale`], but each technique keeps its own regeneration threshold.
+fn evaluate_stale_regenerating(spec: &str, ids: &[&str], times: &[f32]) -> Vec<Row> {
+    evaluate_frames(spec, ids, times, false)
+}
+
+fn evaluate_frames(spec: &str, ids: &[&str], times: &[f32], keep_first_map: bool) -> Vec<Row> {
     let scene = scene::load(spec).unwrap();
     let reference = reference_at(spec, *times.last().unwrap());
     let mut rows = Vec::new();
     for id in ids {
         let mut t = common::technique(id);
-        if times.len() > 1 {
+        if keep_first_map {
             t.set_param("regen_threshold", 10.0).unwrap();
         }
         let image = {
@@ -102,9 +118,11 @@ fn evaluate_stale(spec: &str, ids: &[&str], times: &[f32]) -> Vec<Row> {
     let mut strip: Vec<&HdrImage> = vec![&reference.image];
     strip.extend(rows.iter().map(|r| &r.image));
     let name = format!(
-        "images-{}-t{}.png",
+        "images-{}-t{}-at{}{}.png",
         spec.replace([':', '=', ','], "_"),
-        times.len()
+        times.len(),
+        times.last().unwrap(),
+        if keep_first_map { "-stale" } else { "" }
     );
     println!(
         "  strip: {}",
@@ -288,12 +306,59 @@ fn error_vs_iterations() {
         "cornell-box:material=mirror",
     ] {
         let rows = evaluate(spec, &ids);
-        let guess = get(&rows, "impostors/initial-guess").flip_mean_masked;
-        let fp8 = get(&rows, "impostors/false-position-8").flip_mean_masked;
-        assert!(
-            fp8 <= guess + 0.01,
-            "{spec}: false-position-8 {fp8} vs initial guess {guess}"
-        );
+        let masked = |id: &str| get(&rows, id).flip_mean_masked;
+        let guess = masked("impostors/initial-guess");
+        let iterated = ids
+            .iter()
+            .filter(|id| id.contains("secant") || id.contains("position"));
+        match spec {
+            // The concave room, where the tall box hides parts of the walls from the sphere's
+            // centre and the guess misses near the corners: iterations must pay. Measured
+            // (96 x 96): guess 0.0515, false-position-8 0.0450, every iterated variant at
+            // least 0.0037 below the guess (secant-4 0.0478).
+            "cornell-box:material=mirror" => {
+                let fp8 = masked("impostors/false-position-8");
+                assert!(
+                    fp8 <= guess - 0.004,
+                    "{spec}: false-position-8 {fp8} vs guess {guess}"
+                );
+                for id in iterated {
+                    assert!(
+                        masked(id) < guess - 0.002,
+                        "{spec}: {id} {} vs guess {guess}",
+                        masked(id)
+                    );
+                }
+            }
+            // The convex room: the guess is good and one step is nearly enough (paper).
+            // Measured: guess 0.0110, false-position-1 0.0084, 8 iterations 0.0085.
+            "cornell-sphere:material=mirror" => {
+                let fp1 = masked("impostors/false-position-1");
+                assert!(
+                    fp1 <= guess - 0.001,
+                    "{spec}: false-position-1 {fp1} vs guess {guess}"
+                );
+                for id in iterated {
+                    assert!(
+                        masked(id) <= fp1 + 0.001,
+                        "{spec}: {id} {} vs one step {fp1}",
+                        masked(id)
+                    );
+                }
+            }
+            // Single-interface refraction: the search is not what limits the error (the ray
+            // goes on straight inside the sphere), so iterations change nothing. Measured:
+            // guess 0.1668, every iterated variant 0.1662-0.1663.
+            _ => {
+                for id in iterated {
+                    assert!(
+                        (masked(id) - guess).abs() <= 0.002,
+                        "{spec}: {id} {} vs guess {guess}",
+                        masked(id)
+                    );
+                }
+            }
+        }
     }
 }
 
@@ -368,6 +433,32 @@ fn caustics_reduce_the_error_outside_the_sphere() {
             assert!(
                 added > 0.5 * expected && added < 2.0 * expected,
                 "{id} on {spec}: caustic energy {added} vs reference {expected}"
+            );
+        }
+    }
+}
+
+/// A moving refractor must be right in every frame (issue: the refractor map was searched
+/// from the object's centre at prepare time, so after time 0 double refraction looked up the
+/// sphere 0.5 m from where it stood). Prepared at time 0 and rendered along the sphere's
+/// motion (it moves 0.5 m along -x by time 1 and back by time 2), every frame's masked error
+/// against the reference *at that time* must stay at the time-0 level. Double refraction
+/// regenerates its environment map by its threshold; the refractor map is never re-rendered.
+#[test]
+fn moving_refractor_is_right_at_every_time() {
+    let spec = "cornell-sphere:material=glass-1.5";
+    let ids = ["impostors/double-refraction", "impostors/caustics"];
+    let at_start = evaluate_stale(spec, &ids, &[0.0]);
+    for t in [0.5f32, 1.0] {
+        let moved = evaluate_stale_regenerating(spec, &ids, &[0.0, t]);
+        for id in ids {
+            let start = get(&at_start, id).flip_mean_masked;
+            let now = get(&moved, id).flip_mean_masked;
+            // Measured (96 x 96): double-refraction 0.0130 at t = 0, 0.0128 at t = 1;
+            // with the stale centre it was 0.13 at t = 1. Bound: time-0 error + 0.01.
+            assert!(
+                now <= start + 0.01,
+                "{id} at time {t}: masked FLIP {now:.4} vs {start:.4} at time 0"
             );
         }
     }

@@ -1,6 +1,13 @@
-//! Searches behind the worst cases quoted in `hit_properties.rs` and README.md (ignored:
-//! run with `cargo test -p impostors --test explore -- --ignored --nocapture`; `MARGIN`, `XR`
-//! and `CMIN` environment variables narrow the sampled regime).
+//! Searches behind the worst cases quoted in `tests/hit_properties.rs` and README.md: an
+//! exploration program, not a test (it asserts nothing; the claims it found are asserted in
+//! `hit_properties.rs`).
+//!
+//! ```sh
+//! cargo run -p impostors --example explore_hit -- [box-room|worst|secant-divergence|regime-worst]
+//! ```
+//!
+//! With no argument it runs all four. `MARGIN`, `XR` and `CMIN` environment variables narrow
+//! the sampled regime.
 
 use glam::Vec3;
 use impostors::hit::*;
@@ -9,8 +16,6 @@ fn rnd(k: u32) -> f32 {
     gpu::prelude::hash_to_unit(k)
 }
 
-#[test]
-#[ignore]
 fn explore_box_room() {
     let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
     let margin: f32 = std::env::var("MARGIN")
@@ -67,8 +72,6 @@ fn explore_box_room() {
     }
 }
 
-#[test]
-#[ignore]
 fn explore_worst() {
     let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
     let mut worst = (0.0f32, 0u32);
@@ -113,8 +116,6 @@ fn explore_worst() {
     println!("{t:?}");
 }
 
-#[test]
-#[ignore]
 fn explore_secant_divergence() {
     let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
     let mut found = 0;
@@ -153,8 +154,6 @@ fn explore_secant_divergence() {
     println!("found {found}");
 }
 
-#[test]
-#[ignore]
 fn explore_regime_worst() {
     let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
     let pick = |u: f32, w: f32| {
@@ -213,5 +212,31 @@ fn explore_regime_worst() {
             worst_s = worst_s.max(e);
         }
         println!("iters {iters}: FP worst {worst:.3e}  secant(min(it,8)) worst {worst_s:.3e}");
+    }
+}
+
+fn main() {
+    let searches: [(&str, fn()); 4] = [
+        ("box-room", explore_box_room),
+        ("worst", explore_worst),
+        ("secant-divergence", explore_secant_divergence),
+        ("regime-worst", explore_regime_worst),
+    ];
+    let wanted = std::env::args().nth(1);
+    let mut ran = false;
+    for (name, search) in searches {
+        if wanted.as_deref().is_none_or(|w| w == name) {
+            println!("== {name}");
+            search();
+            ran = true;
+        }
+    }
+    if !ran {
+        let names: Vec<&str> = searches.iter().map(|(n, _)| *n).collect();
+        eprintln!(
+            "unknown search {:?}; one of {names:?}",
+            wanted.unwrap_or_default()
+        );
+        std::process::exit(2);
     }
 }
