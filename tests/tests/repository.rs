@@ -1,0 +1,171 @@
+//! Checks of the repository's own files, not of the code: generated bulk must not be
+//! committed, and documentation must not be written twice.
+//!
+//! Both guard against a failure that happened (commit 5a43bf4): an edit meant to insert one
+//! 704-character bullet into `impostors/README.md` inserted it before every character of the
+//! file (the pattern of a string replace with an empty search string, `text.replace("", block)`),
+//! growing a 38 kB README to 27 MB. A text file over 1 MB, or a README paragraph that occurs
+//! twice, fails here with the file and the paragraph named.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Largest text file the repository may hold.
+const MAX_TEXT_BYTES: u64 = 1 << 20;
+/// Folders that hold build output, caches and results, never sources.
+const SKIPPED_DIRS: &[&str] = &[".git", "target", "out", ".gl"];
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("tests/ has a parent")
+        .to_path_buf()
+}
+
+/// Every file under `dir`, build and result folders left out.
+fn files_under(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        let name = entry.file_name();
+        let Ok(kind) = entry.file_type() else {
+            continue;
+        };
+        if kind.is_dir() && !SKIPPED_DIRS.contains(&name.to_string_lossy().as_ref()) {
+            files_under(&path, out);
+        } else if kind.is_file() {
+            out.push(path);
+        }
+    }
+}
+
+/// A file is text when its first 8 kB hold no NUL byte (PNG, EXR and GLB files all do).
+fn is_text(path: &Path) -> bool {
+    use std::io::Read;
+    let mut head = [0u8; 8192];
+    let Ok(mut file) = std::fs::File::open(path) else {
+        return false;
+    };
+    let n = file.read(&mut head).unwrap_or(0);
+    !head[..n].contains(&0)
+}
+
+/// Paragraphs (blocks between blank lines) of at least this many characters may occur once.
+const MIN_REPEATED_PARAGRAPH_CHARS: usize = 80;
+/// Lines of at least this many characters may occur twice (a figure quoted in a table and in
+/// the text), not more.
+const MIN_REPEATED_LINE_CHARS: usize = 60;
+
+/// Text written more than once: paragraphs of at least 80 characters that occur twice or
+/// more, and lines of at least 60 characters (table rules aside) that occur three times or
+/// more, each with its count (first 100 characters).
+fn repeated_text(text: &str) -> Vec<(String, usize)> {
+    let mut paragraphs: HashMap<&str, usize> = HashMap::new();
+    for paragraph in text.split("\n\n").map(str::trim) {
+        if paragraph.len() >= MIN_REPEATED_PARAGRAPH_CHARS {
+            *paragraphs.entry(paragraph).or_default() += 1;
+        }
+    }
+    let mut lines: HashMap<&str, usize> = HashMap::new();
+    for line in text.lines().map(str::trim) {
+        let rule = line.chars().all(|c| "|:- ".contains(c));
+        if line.len() >= MIN_REPEATED_LINE_CHARS && !rule {
+            *lines.entry(line).or_default() += 1;
+        }
+    }
+    let mut repeated: Vec<(String, usize)> = paragraphs
+        .into_iter()
+        .filter(|&(_, n)| n > 1)
+        .chain(lines.into_iter().filter(|&(_, n)| n > 2))
+        .map(|(p, n)| (p.chars().take(100).collect(), n))
+        .collect();
+    repeated.sort();
+    repeated
+}
+
+#[test]
+fn no_text_file_is_over_one_megabyte() {
+    let root = workspace_root();
+    let mut files = Vec::new();
+    files_under(&root, &mut files);
+    assert!(
+        files.len() > 50,
+        "found only {} files under {}",
+        files.len(),
+        root.display()
+    );
+    let big: Vec<String> = files
+        .iter()
+        .filter(|p| std::fs::metadata(p).is_ok_and(|m| m.len() > MAX_TEXT_BYTES) && is_text(p))
+        .map(|p| {
+            format!(
+                "{} ({} bytes)",
+                p.strip_prefix(&root).unwrap_or(p).display(),
+                std::fs::metadata(p).map_or(0, |m| m.len())
+            )
+        })
+        .collect();
+    assert!(
+        big.is_empty(),
+        "text files over 1 MB (generated bulk or a broken edit?): {big:?}"
+    );
+}
+
+#[test]
+fn no_readme_repeats_a_paragraph() {
+    let root = workspace_root();
+    let mut files = Vec::new();
+    files_under(&root, &mut files);
+    let docs: Vec<&PathBuf> = files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    assert!(
+        docs.iter().any(|p| p.ends_with("impostors/README.md")),
+        "no README found"
+    );
+    for doc in docs {
+        let text = std::fs::read_to_string(doc).unwrap_or_default();
+        let repeated = repeated_text(&text);
+        assert!(
+            repeated.is_empty(),
+            "{} repeats paragraphs (count, start): {repeated:?}",
+            doc.display()
+        );
+    }
+}
+
+/// The checks themselves catch the failure they exist for.
+#[test]
+fn the_checks_catch_a_block_inserted_before_every_character() {
+    let block = "- **Caustics** only exist on the two caustic variants. Every other variant\n  \
+                 misses the reference's caustic under the glass sphere: whole-image RMSE.\n\n";
+    let readme = "# A crate\n\nSome text.\n";
+    let broken = readme.chars().fold(block.to_string(), |mut s, c| {
+        s.push(c);
+        s.push_str(block);
+        s
+    });
+    let repeated = repeated_text(&broken);
+    assert!(
+        repeated
+            .iter()
+            .any(|(line, n)| line.starts_with("misses the reference") && *n == readme.len() + 1),
+        "{repeated:?}"
+    );
+    assert!(repeated_text(readme).is_empty());
+    assert!(
+        repeated_text(&format!("{block}{block}")).len() == 1,
+        "a paragraph written twice"
+    );
+    let dir = std::env::temp_dir().join(format!("repo-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let big = dir.join("big.md");
+    std::fs::write(&big, "x".repeat(MAX_TEXT_BYTES as usize + 1)).unwrap();
+    let png = dir.join("image.png");
+    std::fs::write(&png, [0x89, b'P', b'N', b'G', 0, 0, 0, 0]).unwrap();
+    assert!(is_text(&big) && !is_text(&png));
+    let _ = std::fs::remove_dir_all(&dir);
+}
