@@ -14,6 +14,7 @@
 //!   upload).
 
 pub mod backend;
+pub mod bench;
 pub mod cache;
 pub mod compare;
 pub mod images;

@@ -46,7 +46,7 @@ impl FrameArgs {
 }
 
 /// Options of the CPU reference renderer (part of the reference cache key).
-#[derive(Args, Clone, Copy)]
+#[derive(Args, Clone, Copy, Default)]
 struct RefArgs {
     /// Reference: specular interactions followed per path [default: the renderer's, 8].
     #[arg(long, value_name = "N")]
@@ -122,6 +122,38 @@ enum Command {
         frames: FrameArgs,
         #[command(flatten)]
         reference: RefArgs,
+    },
+    /// Cost of two or more techniques as ratios to the first, measured in one interleaved run
+    /// with the spread over rounds: bench.{json,md} under --out when given.
+    Bench {
+        #[arg(long, value_name = "SCENE")]
+        scene: String,
+        /// A technique, `id` or `id:name=value[:name=value]`; repeat it, the first is the
+        /// baseline.
+        #[arg(long = "technique", value_name = "SPEC", required = true)]
+        techniques: Vec<String>,
+        /// The span compared: `frame`, or a span the techniques record (`lookup`, `slices`).
+        #[arg(long, default_value = "frame", value_name = "LABEL")]
+        span: String,
+        #[arg(long, default_value = "256x256", value_name = "WxH")]
+        size: Size,
+        /// Scene time of the measured view.
+        #[arg(long, default_value_t = 0.0, value_name = "T")]
+        time: f32,
+        /// Interleaved rounds (the spread is over rounds).
+        #[arg(long, default_value_t = 8, value_name = "N",
+              value_parser = clap::value_parser!(u32).range(2..=10_000))]
+        rounds: u32,
+        /// Frames per technique per round.
+        #[arg(long, default_value_t = 8, value_name = "N",
+              value_parser = clap::value_parser!(u32).range(1..=10_000))]
+        frames: u32,
+        /// Untimed frames per technique before the first round.
+        #[arg(long, default_value_t = 3, value_name = "N",
+              value_parser = clap::value_parser!(u32).range(0..=10_000))]
+        warmup: u32,
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
     },
     /// Renders one image of a scene's default view at time 0 (.png or .exr by extension).
     /// `--technique reference` renders the ground truth.
@@ -287,6 +319,48 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     "{} error(s), printed above and listed in sweep.json",
                     report.errors.len()
                 );
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Bench {
+            scene,
+            techniques,
+            span,
+            size,
+            time,
+            rounds,
+            frames,
+            warmup,
+            out,
+        } => {
+            if !time.is_finite() {
+                bail!("--time must be a finite number of seconds");
+            }
+            harness::load_scene(&scene)?;
+            let ctx = context()?;
+            let reference = RefArgs::default().reference();
+            let env = Env::standard(&ctx, &reference);
+            let opts = harness::bench::BenchOptions {
+                scene,
+                techniques,
+                span,
+                size,
+                time,
+                rounds,
+                frames,
+                warmup,
+                out: out.clone(),
+            };
+            let report = harness::bench::run(&env, &opts)?;
+            println!(
+                "adapter: {} (timer: {})",
+                ctx.summary, report.adapter.timer_kind
+            );
+            println!();
+            print!("{}", report.markdown);
+            if let Some(out) = out {
+                println!();
+                println!("wrote {0}/bench.json and {0}/bench.md", out.display());
             }
             Ok(ExitCode::SUCCESS)
         }

@@ -61,8 +61,8 @@ impl TechniqueRun {
 /// Spans a timer can return that are not a technique's own.
 const HARNESS_LABELS: &[&str] = &["frame", "prepare", "wall", "scene_update"];
 
-struct Sample {
-    spans: Vec<(String, f64)>,
+pub(crate) struct Sample {
+    pub(crate) spans: Vec<(String, f64)>,
     /// Wall clock of the technique's call alone.
     call_ms: f64,
     /// Wall clock of the call plus submission and wait.
@@ -71,7 +71,7 @@ struct Sample {
 
 impl Sample {
     /// The figure for `label` under this timer kind (see the module documentation).
-    fn time(&self, label: &str, timing: Timing, kind: TimerKind) -> f64 {
+    pub(crate) fn time(&self, label: &str, timing: Timing, kind: TimerKind) -> f64 {
         let span = |l: &str| self.spans.iter().find(|(s, _)| s == l).map(|(_, v)| *v);
         match (timing, kind) {
             (Timing::Cpu, _) => self.call_ms,
@@ -80,7 +80,7 @@ impl Sample {
         }
     }
 
-    fn extra(&self) -> impl Iterator<Item = &(String, f64)> {
+    pub(crate) fn extra(&self) -> impl Iterator<Item = &(String, f64)> {
         self.spans
             .iter()
             .filter(|(l, _)| !HARNESS_LABELS.contains(&l.as_str()))
@@ -125,7 +125,7 @@ fn record(
 }
 
 /// Moves the shared scene to `time` in a submission of its own.
-fn update_scene(
+pub(crate) fn update_scene(
     ctx: &Context,
     timer: &mut GpuTimer,
     scene: &mut GpuScene,
@@ -180,10 +180,7 @@ pub fn run_technique(
 
     on_frame("prepare");
     update_scene(ctx, &mut timer, scene, 0.0)?;
-    let prep = record(ctx, &mut timer, "prepare", |frame| {
-        technique.prepare(frame, scene)
-    })
-    .map_err(|e| e.context("prepare"))?;
+    let prep = prepare(ctx, &mut timer, technique, scene)?;
     let mut spans_ms = BTreeMap::new();
     for (label, ms) in prep.extra() {
         *spans_ms.entry(format!("prepare.{label}_ms")).or_insert(0.0) += ms;
@@ -234,7 +231,21 @@ pub fn run_technique(
     })
 }
 
-fn render_frame(
+/// The technique's `prepare`, timed under the label "prepare".
+pub(crate) fn prepare(
+    ctx: &Context,
+    timer: &mut GpuTimer,
+    technique: &mut dyn Technique,
+    scene: &GpuScene,
+) -> Result<Sample> {
+    record(ctx, timer, "prepare", |frame| {
+        technique.prepare(frame, scene)
+    })
+    .map_err(|e| e.context("prepare"))
+}
+
+/// Moves the scene to the view's time and renders one timed frame.
+pub(crate) fn render_frame(
     ctx: &Context,
     timer: &mut GpuTimer,
     technique: &mut dyn Technique,

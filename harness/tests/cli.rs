@@ -224,6 +224,28 @@ fn other_bad_arguments() {
     assert!(e.contains(".glb"), "{e}");
     let e = fails(&["compare"]);
     assert!(e.contains("--out"), "{e}");
+    let e = fails(&["compare", "--out", &out_dir(), "--error-frames", "0"]);
+    assert!(e.contains("--error-frames"), "{e}");
+    let e = fails(&[
+        "bench",
+        "--scene",
+        "cornell-sphere",
+        "--technique",
+        "raster",
+    ]);
+    assert!(e.contains("at least two techniques"), "{e}");
+    let bench = [
+        "bench",
+        "--scene",
+        "cornell-sphere",
+        "--technique",
+        "raster",
+        "--technique",
+    ];
+    let e = fails(&[&bench[..], &["envmap/classic", "--rounds", "1"]].concat());
+    assert!(e.contains("--rounds"), "{e}");
+    let e = fails(&[&bench[..], &["raster:bogus"]].concat());
+    assert!(e.contains("not name=value"), "{e}");
     fails(&["no-such-command"]);
 }
 

@@ -459,3 +459,60 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
     assert!(bad("material", &["plastic"]).contains("unknown material"));
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn bench_interleaves_and_states_ratios_with_their_spread() {
+    let truth = HalfGrey {
+        renders: AtomicUsize::new(0),
+    };
+    let env = Env {
+        ctx: ctx(),
+        techniques: &techniques,
+        ground_truth: &truth,
+        progress: false,
+    };
+    let out = out_dir("bench");
+    let opts = harness::bench::BenchOptions {
+        scene: "cornell-sphere".into(),
+        techniques: vec!["test/constant".into(), "test/constant:level=0.5".into()],
+        span: "frame".into(),
+        size: SIZE,
+        time: 1.0,
+        rounds: 3,
+        frames: 2,
+        warmup: 1,
+        out: Some(out.clone()),
+    };
+    let report = harness::bench::run(&env, &opts).unwrap();
+    assert_eq!(report.rows.len(), 2);
+    assert_eq!(report.rows[0].verdict, "baseline");
+    assert_eq!(report.rows[0].round_medians_ms.len(), 3);
+    assert!((report.rows[0].ratio_median - 1.0).abs() < 1e-12);
+    let r = &report.rows[1];
+    assert!(r.ratio_min <= r.ratio_median && r.ratio_median <= r.ratio_max && r.ratio_min > 0.0);
+    assert_eq!(
+        truth.renders.load(Ordering::SeqCst),
+        0,
+        "bench renders no reference"
+    );
+    assert!(exists(&out, "bench.json") && exists(&out, "bench.md"));
+    assert!(report.markdown.contains("| test/constant:level=0.5 |"));
+
+    let bad = |techniques: &[&str], span: &str| {
+        let o = harness::bench::BenchOptions {
+            techniques: techniques.iter().map(|t| t.to_string()).collect(),
+            span: span.into(),
+            out: None,
+            ..opts.clone()
+        };
+        format!("{:#}", harness::bench::run(&env, &o).unwrap_err())
+    };
+    assert!(bad(&["test/constant"], "frame").contains("at least two techniques"));
+    assert!(bad(&["test/constant", "nope"], "frame").contains("unknown technique \"nope\""));
+    assert!(
+        bad(&["test/constant", "test/constant:level=9"], "frame").contains("outside its range")
+    );
+    assert!(bad(&["test/constant", "test/unsupported"], "frame").contains("does not support"));
+    assert!(bad(&["test/constant", "test/nan"], "no-such-span").contains("no technique recorded"));
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -1,0 +1,332 @@
+//! `harness bench`: the cost of two or more techniques (or one technique with different
+//! parameters) as ratios measured in one interleaved run, with the spread that says whether
+//! the difference is bigger than the machine's noise.
+//!
+//! Timings on a shared or software adapter drift: lavapipe renders on the same CPU cores as
+//! everything else, so a figure from one run and a figure from another do not compare. Here
+//! every technique is prepared once on the same uploaded scene, warmed up, and then measured in
+//! `rounds` rounds; in each round every technique renders `frames` frames of the same view (the
+//! camera path's view at `time`), the order rotating from round to round so that neither
+//! position nor drift favours one. Per round, each technique's median of the chosen span is
+//! divided by the baseline's (the first technique's) median in the same round: the result is
+//! the median of those per-round ratios and their range over the rounds. A ratio whose whole
+//! range lies on one side of 1 is a difference the run can tell apart from its noise
+//! (`verdict`: "faster"/"slower"); otherwise it is "within the spread".
+//!
+//! All techniques stay alive together for the run: keep the list short on lavapipe, whose
+//! shader cache is bounded (`impostors/README.md`, "The lavapipe timing outlier").
+//!
+//! Writes `bench.json` and `bench.md` under `--out` when given.
+
+use crate::compare::write_text;
+use crate::run::{Sample, render_frame, update_scene};
+use crate::{Env, Size, backend};
+use anyhow::{Context as _, Result, anyhow, bail};
+use gpu::{GpuTimer, Target};
+use scene::{Technique, View};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// What to time.
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    pub scene: String,
+    /// Technique specs, the first the baseline: `id` or `id:name=value[:name=value...]`.
+    pub techniques: Vec<String>,
+    /// The span compared: `frame` (the whole frame) or a span a technique records (`lookup`).
+    pub span: String,
+    pub size: Size,
+    /// Scene time of the measured view (the camera path's camera at that time).
+    pub time: f32,
+    pub rounds: u32,
+    /// Frames per technique per round.
+    pub frames: u32,
+    /// Untimed frames per technique before the first round.
+    pub warmup: u32,
+    pub out: Option<PathBuf>,
+}
+
+/// One technique's timings.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct BenchRow {
+    pub technique: String,
+    /// Median of the span over every timed frame (ms).
+    pub median_ms: f64,
+    /// Median of the span in each round (ms).
+    pub round_medians_ms: Vec<f64>,
+    /// Median, smallest and largest per-round ratio to the baseline.
+    pub ratio_median: f64,
+    pub ratio_min: f64,
+    pub ratio_max: f64,
+    /// "baseline", "faster", "slower" or "within the spread".
+    pub verdict: String,
+    /// Median of every other span the technique recorded (ms).
+    pub spans_ms: BTreeMap<String, f64>,
+}
+
+/// A bench run (also written to `bench.json`).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct BenchReport {
+    pub adapter: crate::report::AdapterJson,
+    pub scene: String,
+    pub span: String,
+    pub size: String,
+    pub time: f32,
+    pub rounds: u32,
+    pub frames: u32,
+    pub rows: Vec<BenchRow>,
+    #[serde(skip)]
+    pub markdown: String,
+}
+
+/// `id:name=value:name=value` as the id and its parameters.
+pub fn parse_technique_spec(spec: &str) -> Result<(String, Vec<(String, f64)>)> {
+    let mut parts = spec.split(':');
+    let id = parts.next().unwrap_or_default().trim().to_string();
+    let params = parts
+        .map(|p| {
+            let (name, value) = p.split_once('=').ok_or_else(|| {
+                anyhow!("technique parameter \"{p}\" in \"{spec}\" is not name=value")
+            })?;
+            let value: f64 = value.trim().parse().map_err(|_| {
+                anyhow!("technique parameter {name} in \"{spec}\": \"{value}\" is not a number")
+            })?;
+            Ok((name.trim().to_string(), value))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((id, params))
+}
+
+/// A fresh instance of the technique of `spec` with its parameters set.
+fn instance(env: &Env, spec: &str) -> Result<Box<dyn Technique>> {
+    let (id, params) = parse_technique_spec(spec)?;
+    let mut technique = (env.techniques)()
+        .into_iter()
+        .find(|t| t.id() == id)
+        .ok_or_else(|| anyhow!("unknown technique \"{id}\" (see `harness list`)"))?;
+    for (name, value) in params {
+        technique
+            .set_param(&name, value)
+            .with_context(|| format!("technique {spec}"))?;
+    }
+    Ok(technique)
+}
+
+fn median(values: &[f64]) -> f64 {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
+}
+
+/// The span's time in one sample: its GPU span when recorded, else the frame's time.
+fn span_ms(sample: &Sample, span: &str, technique: &dyn Technique, timer: &GpuTimer) -> f64 {
+    if span == "frame" {
+        return sample.time("frame", technique.timing(), timer.kind());
+    }
+    sample
+        .spans
+        .iter()
+        .find(|(label, _)| label == span)
+        .map_or(f64::NAN, |(_, ms)| *ms)
+}
+
+/// Whether a range of ratios tells the technique apart from the baseline.
+fn verdict(min: f64, max: f64) -> &'static str {
+    if max < 1.0 {
+        "faster"
+    } else if min > 1.0 {
+        "slower"
+    } else {
+        "within the spread"
+    }
+}
+
+/// Runs the benchmark (see the module documentation).
+pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
+    if opts.techniques.len() < 2 {
+        bail!("bench needs at least two techniques (the first is the baseline)");
+    }
+    if opts.rounds < 2 || opts.frames == 0 {
+        bail!("bench needs at least 2 rounds of at least 1 frame to state a spread");
+    }
+    let scene = crate::load_scene(&opts.scene)?;
+    env.ctx.check_size(opts.size.width, opts.size.height)?;
+    let mut techniques = opts
+        .techniques
+        .iter()
+        .map(|spec| instance(env, spec))
+        .collect::<Result<Vec<_>>>()?;
+    for (t, spec) in techniques.iter().zip(&opts.techniques) {
+        if !t.supports(&scene) {
+            bail!("technique {spec} does not support scene {}", opts.scene);
+        }
+        env.ctx
+            .require(t.required_features())
+            .with_context(|| format!("technique {spec}"))?;
+    }
+    let mut gpu_scene = backend::upload_scene(env.ctx, &scene)?;
+    let target = Target::new(env.ctx, opts.size.width, opts.size.height)?;
+    let mut timer = GpuTimer::new(env.ctx, 64);
+    let view = View {
+        camera: scene.camera_at(opts.time),
+        time: opts.time,
+        width: opts.size.width,
+        height: opts.size.height,
+    };
+
+    for (t, spec) in techniques.iter_mut().zip(&opts.techniques) {
+        update_scene(env.ctx, &mut timer, &mut gpu_scene, opts.time)?;
+        crate::run::prepare(env.ctx, &mut timer, t.as_mut(), &gpu_scene)
+            .with_context(|| format!("{spec}: prepare"))?;
+        for _ in 0..opts.warmup {
+            render_frame(
+                env.ctx,
+                &mut timer,
+                t.as_mut(),
+                &mut gpu_scene,
+                &view,
+                &target,
+            )
+            .with_context(|| format!("{spec}: warm-up"))?;
+        }
+    }
+
+    let n = techniques.len();
+    // samples[technique][round]: the span's time of each frame.
+    let mut samples: Vec<Vec<Vec<f64>>> = vec![vec![Vec::new(); opts.rounds as usize]; n];
+    let mut extra: Vec<BTreeMap<String, Vec<f64>>> = vec![BTreeMap::new(); n];
+    for round in 0..opts.rounds as usize {
+        for k in 0..n {
+            let i = (k + round) % n; // rotate the order
+            let t = techniques[i].as_mut();
+            for _ in 0..opts.frames {
+                let sample = render_frame(env.ctx, &mut timer, t, &mut gpu_scene, &view, &target)
+                    .with_context(|| format!("{}: frame", opts.techniques[i]))?;
+                samples[i][round].push(span_ms(&sample, &opts.span, t, &timer));
+                for (label, ms) in sample.extra() {
+                    extra[i].entry(label.clone()).or_default().push(*ms);
+                }
+            }
+        }
+    }
+    if samples.iter().flatten().flatten().all(|v| v.is_nan()) {
+        bail!("no technique recorded a span \"{}\"", opts.span);
+    }
+
+    let round_medians: Vec<Vec<f64>> = samples
+        .iter()
+        .map(|rounds| rounds.iter().map(|s| median(s)).collect())
+        .collect();
+    let rows = (0..n)
+        .map(|i| {
+            let ratios: Vec<f64> = round_medians[i]
+                .iter()
+                .zip(&round_medians[0])
+                .map(|(a, b)| a / b)
+                .collect();
+            let (min, max) = ratios
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
+                    (lo.min(r), hi.max(r))
+                });
+            let all: Vec<f64> = samples[i].iter().flatten().copied().collect();
+            BenchRow {
+                technique: opts.techniques[i].clone(),
+                median_ms: median(&all),
+                round_medians_ms: round_medians[i].clone(),
+                ratio_median: median(&ratios),
+                ratio_min: min,
+                ratio_max: max,
+                verdict: if i == 0 {
+                    "baseline"
+                } else {
+                    verdict(min, max)
+                }
+                .to_string(),
+                spans_ms: extra[i]
+                    .iter()
+                    .map(|(l, v)| (format!("{l}_ms"), median(v)))
+                    .collect(),
+            }
+        })
+        .collect::<Vec<_>>();
+    let mut report = BenchReport {
+        adapter: crate::report::AdapterJson::of(env.ctx),
+        scene: opts.scene.clone(),
+        span: opts.span.clone(),
+        size: opts.size.to_string(),
+        time: opts.time,
+        rounds: opts.rounds,
+        frames: opts.frames,
+        rows,
+        markdown: String::new(),
+    };
+    report.markdown = to_markdown(&report);
+    if let Some(out) = &opts.out {
+        std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+        write_text(&out.join("bench.md"), &report.markdown)?;
+        let json = serde_json::to_string_pretty(&report)
+            .map_err(|e| anyhow!("cannot encode the bench report: {e}"))?;
+        write_text(&out.join("bench.json"), &json)?;
+    }
+    Ok(report)
+}
+
+/// The markdown table: one row per technique, ratios to the first.
+pub fn to_markdown(report: &BenchReport) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{} at {}, time {}, span `{}`: {} interleaved rounds of {} frames per technique",
+        report.scene, report.size, report.time, report.span, report.rounds, report.frames
+    );
+    let _ = writeln!(out);
+    let _ = writeln!(
+        out,
+        "| technique | median ms | ratio to the first (median of rounds) | range over rounds | verdict |"
+    );
+    let _ = writeln!(out, "| --- | --- | --- | --- | --- |");
+    for r in &report.rows {
+        let _ = writeln!(
+            out,
+            "| {} | {:.3} | {:.3} | {:.3}-{:.3} | {} |",
+            r.technique, r.median_ms, r.ratio_median, r.ratio_min, r.ratio_max, r.verdict
+        );
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn technique_specs_parse() {
+        let (id, params) = parse_technique_spec("volumes/billboard:depth_prepass=1:x=0.5").unwrap();
+        assert_eq!(id, "volumes/billboard");
+        assert_eq!(
+            params,
+            vec![("depth_prepass".into(), 1.0), ("x".into(), 0.5)]
+        );
+        assert_eq!(
+            parse_technique_spec("raster").unwrap(),
+            ("raster".into(), vec![])
+        );
+        assert!(parse_technique_spec("a:b").is_err());
+        assert!(parse_technique_spec("a:b=x").is_err());
+    }
+
+    #[test]
+    fn verdicts_need_the_whole_range_on_one_side() {
+        assert_eq!(verdict(0.7, 0.9), "faster");
+        assert_eq!(verdict(1.1, 1.4), "slower");
+        assert_eq!(verdict(0.9, 1.1), "within the spread");
+        assert_eq!(median(&[3.0, 1.0, 2.0, f64::NAN]), 2.0);
+        assert_eq!(median(&[1.0, 2.0]), 1.5);
+    }
+}
