@@ -9,9 +9,13 @@
 //! camera path's view at `time`), the order rotating from round to round so that neither
 //! position nor drift favours one. Per round, each technique's median of the chosen span is
 //! divided by the baseline's (the first technique's) median in the same round: the result is
-//! the median of those per-round ratios and their range over the rounds. A ratio whose whole
-//! range lies on one side of 1 is a difference the run can tell apart from its noise
-//! (`verdict`: "faster"/"slower"); otherwise it is "within the spread".
+//! the median of those per-round ratios and their range over the rounds. Whether the run can
+//! tell a difference from its noise is a two-sided sign test over the rounds: the rounds in
+//! which the technique was faster than the baseline against those in which it was slower.
+//! With p < 0.05 the verdict is "faster"/"slower" (for 12 rounds: at least 10 of 12 on one
+//! side); otherwise "not distinguishable". The sign test needs no assumption about how the
+//! noise is distributed, and one disturbed round (a build starting on the machine) cannot
+//! decide it.
 //!
 //! All techniques stay alive together for the run: keep the list short on lavapipe, whose
 //! shader cache is bounded (`impostors/README.md`, "The lavapipe timing outlier").
@@ -59,7 +63,12 @@ pub struct BenchRow {
     pub ratio_median: f64,
     pub ratio_min: f64,
     pub ratio_max: f64,
-    /// "baseline", "faster", "slower" or "within the spread".
+    /// Rounds in which the technique was faster (ratio < 1) and slower (ratio > 1).
+    pub rounds_faster: u32,
+    pub rounds_slower: u32,
+    /// Two-sided sign-test p-value of those counts.
+    pub sign_test_p: f64,
+    /// "baseline", "faster", "slower" (sign test p < 0.05) or "not distinguishable".
     pub verdict: String,
     /// Median of every other span the technique recorded (ms).
     pub spans_ms: BTreeMap<String, f64>,
@@ -135,14 +144,32 @@ fn span_ms(sample: &Sample, span: &str, technique: &dyn Technique, timer: &GpuTi
         .map_or(f64::NAN, |(_, ms)| *ms)
 }
 
-/// Whether a range of ratios tells the technique apart from the baseline.
-fn verdict(min: f64, max: f64) -> &'static str {
-    if max < 1.0 {
-        "faster"
-    } else if min > 1.0 {
-        "slower"
-    } else {
-        "within the spread"
+/// Significance level of the sign test.
+const SIGN_TEST_ALPHA: f64 = 0.05;
+
+/// Two-sided sign test: the probability, with no difference, of a split at least as uneven as
+/// `a` against `b` (ties left out).
+fn sign_test_p(a: u32, b: u32) -> f64 {
+    let n = a + b;
+    if n == 0 {
+        return 1.0;
+    }
+    // P(X <= min(a, b)) for X ~ Binomial(n, 1/2), doubled.
+    let mut term = 0.5f64.powi(n as i32); // C(n, 0) / 2^n
+    let mut tail = 0.0;
+    for i in 0..=a.min(b) {
+        tail += term;
+        term *= (n - i) as f64 / (i + 1) as f64;
+    }
+    (2.0 * tail).min(1.0)
+}
+
+/// The verdict of per-round ratios to the baseline.
+fn verdict(faster: u32, slower: u32) -> &'static str {
+    match sign_test_p(faster, slower) < SIGN_TEST_ALPHA {
+        true if faster > slower => "faster",
+        true => "slower",
+        false => "not distinguishable",
     }
 }
 
@@ -234,6 +261,8 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
                     (lo.min(r), hi.max(r))
                 });
+            let faster = ratios.iter().filter(|&&r| r < 1.0).count() as u32;
+            let slower = ratios.iter().filter(|&&r| r > 1.0).count() as u32;
             let all: Vec<f64> = samples[i].iter().flatten().copied().collect();
             BenchRow {
                 technique: opts.techniques[i].clone(),
@@ -242,10 +271,13 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
                 ratio_median: median(&ratios),
                 ratio_min: min,
                 ratio_max: max,
+                rounds_faster: faster,
+                rounds_slower: slower,
+                sign_test_p: sign_test_p(faster, slower),
                 verdict: if i == 0 {
                     "baseline"
                 } else {
-                    verdict(min, max)
+                    verdict(faster, slower)
                 }
                 .to_string(),
                 spans_ms: extra[i]
@@ -288,13 +320,20 @@ pub fn to_markdown(report: &BenchReport) -> String {
     let _ = writeln!(out);
     let _ = writeln!(
         out,
-        "| technique | median ms | ratio to the first (median of rounds) | range over rounds | verdict |"
+        "| technique | median ms | ratio to the first (median of rounds) | range over rounds | rounds faster / slower | sign test p | verdict |"
     );
-    let _ = writeln!(out, "| --- | --- | --- | --- | --- |");
-    for r in &report.rows {
+    let _ = writeln!(out, "| --- | --- | --- | --- | --- | --- | --- |");
+    for (i, r) in report.rows.iter().enumerate() {
+        let (rounds, p) = match i {
+            0 => ("-".to_string(), "-".to_string()),
+            _ => (
+                format!("{} / {}", r.rounds_faster, r.rounds_slower),
+                format!("{:.3}", r.sign_test_p),
+            ),
+        };
         let _ = writeln!(
             out,
-            "| {} | {:.3} | {:.3} | {:.3}-{:.3} | {} |",
+            "| {} | {:.3} | {:.3} | {:.3}-{:.3} | {rounds} | {p} | {} |",
             r.technique, r.median_ms, r.ratio_median, r.ratio_min, r.ratio_max, r.verdict
         );
     }
@@ -322,10 +361,21 @@ mod tests {
     }
 
     #[test]
-    fn verdicts_need_the_whole_range_on_one_side() {
-        assert_eq!(verdict(0.7, 0.9), "faster");
-        assert_eq!(verdict(1.1, 1.4), "slower");
-        assert_eq!(verdict(0.9, 1.1), "within the spread");
+    fn verdicts_follow_the_sign_test() {
+        // 12 rounds: 10 of 12 on one side is p = 0.039, 9 of 12 is p = 0.146.
+        assert!((sign_test_p(10, 2) - 0.0386).abs() < 1e-4);
+        assert!((sign_test_p(9, 3) - 0.1460).abs() < 1e-4);
+        assert_eq!(sign_test_p(6, 6), 1.0);
+        assert_eq!(sign_test_p(0, 0), 1.0);
+        assert!((sign_test_p(0, 5) - 0.0625).abs() < 1e-12);
+        assert_eq!(verdict(10, 2), "faster");
+        assert_eq!(verdict(1, 11), "slower");
+        assert_eq!(verdict(9, 3), "not distinguishable");
+        assert_eq!(
+            verdict(0, 5),
+            "not distinguishable",
+            "5 rounds can never decide"
+        );
         assert_eq!(median(&[3.0, 1.0, 2.0, f64::NAN]), 2.0);
         assert_eq!(median(&[1.0, 2.0]), 1.5);
     }
