@@ -8,6 +8,7 @@ pub mod city;
 pub mod bvh;
 pub mod gltf_io;
 mod gpu_scene;
+pub mod media;
 pub mod mesh;
 pub mod metrics;
 mod model;

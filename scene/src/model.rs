@@ -324,16 +324,51 @@ fn sample_keys<T: Copy>(keys: &[(f32, T)], time: f32, lerp: impl Fn(&T, &T, f32)
     keys.last().map(|k| k.1)
 }
 
-/// A soft volume (participating medium of uniform density) bounded by a sphere.
+/// How a volume's extinction varies inside its bounding sphere: a smooth radial falloff
+/// modulated by a deterministic 3D noise (the thesis's smoke with a diffuse texture, figure
+/// 6.22). [`crate::media`] evaluates it; every technique is measured against that.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DensityProfile {
+    /// Exponent `k` of the radial falloff `(1 - (r/R)^2)^k`: 0 is a uniform ball, 1 falls to
+    /// zero at the sphere with a kink, 2 and more fall smoothly (zero slope at the sphere).
+    pub falloff: f32,
+    /// Relative amplitude `a` of the noise, in [0, 1]: the falloff is multiplied by
+    /// `1 + a n(q)` with `n` in [-1, 1], so 0 is no texture and the density stays >= 0.
+    pub noise: f32,
+    /// Noise lattice cells per radius: the texture's features are about `R / frequency`.
+    pub noise_frequency: f32,
+}
+
+impl DensityProfile {
+    /// A uniform ball: the medium the thesis's techniques assume.
+    pub const UNIFORM: DensityProfile = DensityProfile { falloff: 0.0, noise: 0.0, noise_frequency: 1.0 };
+}
+
+impl Default for DensityProfile {
+    fn default() -> Self {
+        Self::UNIFORM
+    }
+}
+
+/// A soft volume: a participating medium (emission-absorption) bounded by a sphere.
+///
+/// Its extinction coefficient at a point `r` metres from the centre is
+/// `density * (1 - (r/R)^2)^k * (1 + a n(q))` per metre ([`DensityProfile`], `q` the point in
+/// the volume's own frame, so the texture moves with it) and zero outside the sphere. The
+/// medium emits `color` per unit optical depth: along a path of transmittance `T` it adds
+/// `color (1 - T)` over what lies behind it, so an infinitely thick medium shows `color`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Volume {
     pub name: String,
     pub center: Vec3,
     pub radius: f32,
-    /// Linear RGB colour of the medium (what it adds, scaled by opacity).
+    /// Linear RGB radiance of the medium where it is opaque (what it adds, scaled by 1 - T).
     pub color: Vec3,
-    /// Opacity reached over one metre of path (the path-length-to-opacity scale).
+    /// Extinction coefficient `sigma` at the centre, per metre (before the noise): a uniform
+    /// ball of radius R seen through its centre has transmittance `exp(-2 R density)`.
     pub density: f32,
+    /// How the extinction varies inside the sphere.
+    pub profile: DensityProfile,
     /// True for members of a particle cloud, false for a single large volume.
     pub particle: bool,
     pub motion: Motion,
@@ -413,6 +448,9 @@ impl Scene {
                 return bad(format!("light \"{}\" is not finite", l.name));
             }
         }
+        for v in &self.volumes {
+            v.validate()?;
+        }
         let c = &self.camera;
         if !c.eye.is_finite() || !c.target.is_finite() || c.eye == c.target {
             return bad("the camera is not finite or looks at its own eye".into());
@@ -421,5 +459,34 @@ impl Scene {
             return bad(format!("camera field of view {} is not in (0, 180)", c.fov_y_deg));
         }
         Ok(())
+    }
+}
+
+impl Volume {
+    /// The numbers a renderer needs are finite and in range: radius > 0, density >= 0,
+    /// falloff >= 0, noise in [0, 1], noise frequency > 0.
+    pub fn validate(&self) -> Result<(), crate::SceneError> {
+        let p = &self.profile;
+        let ok = self.center.is_finite()
+            && self.color.is_finite()
+            && self.radius.is_finite()
+            && self.radius > 0.0
+            && self.density.is_finite()
+            && self.density >= 0.0
+            && p.falloff.is_finite()
+            && p.falloff >= 0.0
+            && (0.0..=1.0).contains(&p.noise)
+            && p.noise_frequency.is_finite()
+            && p.noise_frequency > 0.0
+            && self.motion.keys.iter().all(|(t, v)| t.is_finite() && v.is_finite());
+        if ok {
+            Ok(())
+        } else {
+            Err(crate::SceneError::Invalid(format!(
+                "volume \"{}\" needs a finite centre and colour, radius > 0, density >= 0, \
+                 falloff >= 0, noise in [0, 1] and noise frequency > 0",
+                self.name
+            )))
+        }
     }
 }
