@@ -7,8 +7,9 @@
 //!   `shaders/path_length.wgsl` is its twin.
 //! - [`technique`]: the variants (the 17 of the thesis's figure 6.23 plus particle-system
 //!   versions) behind `scene::Technique`.
-//! - [`ground_truth`]: the exact uniform media composited over a volume-free image, on the
-//!   CPU, with the opacity function of the variant under test.
+//! - [`ground_truth`]: what the variants are measured against: the scene's reference with its
+//!   participating media (`scene::media`), and, as a second figure for tests, each variant's
+//!   own model (uniform spheres with its opacity function).
 //!
 //! See `README.md` for how each variant maps to the thesis and where it departs from it.
 
@@ -16,9 +17,9 @@ pub mod ground_truth;
 pub mod path_length;
 pub mod technique;
 
-pub use ground_truth::{TruthSpec, VolumeSet};
+pub use ground_truth::TruthSpec;
 pub use path_length::{OpacityFn, Primitive};
-pub use technique::{Method, Variant, VolumeTechnique};
+pub use technique::{Method, Variant, VolumeSet, VolumeTechnique};
 
 /// All technique variants of this crate: the 17 of the thesis's figure 6.23 in its order,
 /// then the particle-system versions.
@@ -67,7 +68,7 @@ mod tests {
         assert!(all.contains(&"volumes/particles-billboard".to_string()));
         assert!(all.contains(&"volumes/particles-raytraced-sphere-log".to_string()));
         for id in &all {
-            assert!(ground_truth::spec_for(id).is_some(), "{id} has a ground truth");
+            assert!(ground_truth::spec_for(id).is_some(), "{id} has a variant model");
         }
     }
 }

@@ -18,8 +18,7 @@
 //! context does not request it); the Rgba16Float buffer of steps 2-5 is the thesis's "floating
 //! point colour buffer" (16 bits were enough, 6.3.2).
 
-use crate::ground_truth::VolumeSet;
-use crate::path_length::{OpacityFn, PATH_LENGTH_WGSL, Primitive, THICKNESS_TEXTURE_SIZE, thickness_texels};
+use crate::path_length::{OpacityFn, PATH_LENGTH_WGSL, Primitive, THICKNESS_TEXTURE_SIZE, bake_thickness};
 use glam::Vec3;
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target};
@@ -39,6 +38,50 @@ pub const FLOAT_BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16
 pub const BYTE_BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// The depth pre-pass's distance texture: "a 16 bit floating point texture" (6.3.3).
 pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+/// Which volumes of a scene a variant draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum VolumeSet {
+    /// The large volumes (`particle == false`): the thesis's "simple, large particle" that its
+    /// 17 tests analyse.
+    Single,
+    /// Every volume (the particle-system versions).
+    All,
+}
+
+impl VolumeSet {
+    pub fn includes(self, v: &Volume) -> bool {
+        match self {
+            VolumeSet::Single => !v.particle,
+            VolumeSet::All => true,
+        }
+    }
+}
+
+/// Optical depth of a volume's chord through its centre, without its noise texture:
+/// `density R integral_{-1}^{1} (1 - x^2)^k dx` (midpoint rule, 256 steps: exact to 1e-5 for
+/// the profiles in use).
+pub fn centre_optical_depth(v: &Volume) -> f32 {
+    let n = 256;
+    let shape: f32 = (0..n)
+        .map(|i| {
+            let x = -1.0 + (i as f32 + 0.5) * 2.0 / n as f32;
+            let p = scene::DensityProfile { noise: 0.0, ..v.profile };
+            p.shape(Vec3::new(x, 0.0, 0.0)) * 2.0 / n as f32
+        })
+        .sum();
+    v.density * v.radius * shape
+}
+
+/// The opacity reached over one metre (the scale of the thesis's opacity functions) that
+/// makes `opacity` give a volume's true centre opacity `1 - exp(-tau_c)` over its diameter,
+/// tau_c = [`centre_optical_depth`]. This is how a variant reads the scene's density field
+/// (an artist matching the smoke's look at its centre); away from the centre each opacity
+/// function departs from Beer-Lambert in its own way, which is part of its error.
+pub fn opacity_scale(v: &Volume, opacity: OpacityFn) -> f32 {
+    let alpha = 1.0 - (-centre_optical_depth(v)).exp();
+    opacity.scale_for(alpha, 2.0 * v.radius)
+}
 
 /// How a variant renders a volume.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -188,9 +231,13 @@ struct VolumeGpu {
 /// A volume placed for one frame, with its camera-facing billboard axes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlacedVolume {
+    /// Index of the volume in `Scene::volumes`.
+    pub index: usize,
     pub center: Vec3,
     pub radius: f32,
     pub color: Vec3,
+    /// [`opacity_scale`] with the logarithmic function; [`VolumeTechnique`] recomputes it
+    /// for its own function.
     pub density: f32,
     /// Unit billboard axes: right and up in the plane, normal toward the eye.
     pub right: Vec3,
@@ -211,8 +258,9 @@ pub fn placed_volumes(volumes: &[Volume], set: VolumeSet, camera: &Camera, time:
     let cam_up = cam_right.cross(forward);
     let mut out: Vec<PlacedVolume> = volumes
         .iter()
-        .filter(|v| set.includes(v))
-        .map(|v| {
+        .enumerate()
+        .filter(|(_, v)| set.includes(v))
+        .map(|(index, v)| {
             let center = v.center + v.motion.offset(time);
             let to_eye = camera.eye - center;
             let distance = to_eye.length();
@@ -223,7 +271,8 @@ pub fn placed_volumes(volumes: &[Volume], set: VolumeSet, camera: &Camera, time:
             }
             let right = right.normalize();
             let up = normal.cross(right);
-            PlacedVolume { center, radius: v.radius, color: v.color, density: v.density, right, up, normal, distance }
+            let density = opacity_scale(v, OpacityFn::Log);
+            PlacedVolume { index, center, radius: v.radius, color: v.color, density, right, up, normal, distance }
         })
         .collect();
     out.sort_by(|a, b| b.distance.total_cmp(&a.distance));
@@ -249,7 +298,16 @@ pub struct VolumeTechnique {
     buffers: Option<FrameBuffers>,
 }
 
+/// The thickness texture baked from one volume of the scene (see [`bake_thickness`]).
+struct Baked {
+    /// Index in `Scene::volumes` of the volume it was baked from.
+    volume: usize,
+    /// The opacity scale that turns the texture back into that volume's opacity.
+    scale: f32,
+}
+
 struct Resources {
+    baked: Option<Baked>,
     /// The `free_depth` the volume pipeline was specialised for.
     free_depth: bool,
     volume_layout: wgpu::BindGroupLayout,
@@ -290,6 +348,11 @@ impl VolumeTechnique {
 
     pub fn variant(&self) -> Variant {
         self.variant
+    }
+
+    /// Billboard, slices and the thickness-texture primitive read the thickness texture.
+    fn uses_texture(&self) -> bool {
+        !matches!(self.variant.method, Method::Raytraced(p) if p != Primitive::Texture)
     }
 
     fn is_raytraced(&self) -> bool {
@@ -433,13 +496,6 @@ impl Technique for VolumeTechnique {
         scene.volumes.iter().any(|v| self.variant.set.includes(v))
     }
 
-    /// The exact volume: the reference with this variant's volumes composited as real media
-    /// with its opacity function (see `ground_truth`).
-    fn ground_truth(&self, scene: &Scene, view: &scene::View, reference: &gpu::HdrImage) -> Option<gpu::HdrImage> {
-        let spec = crate::ground_truth::spec_for(&self.id())?;
-        Some(crate::ground_truth::render(scene, &view.camera, view.time, reference, spec))
-    }
-
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         self.buffers = None;
@@ -531,7 +587,7 @@ impl Technique for VolumeTechnique {
                 eye: camera.eye.extend(1.0).to_array(),
                 viewport: [target.width as f32, target.height as f32, 0.0, 0.0],
             };
-            let records: Vec<VolumeGpu> = placed.iter().map(|v| self.volume_record(v)).collect();
+            let records: Vec<VolumeGpu> = placed.iter().map(|v| self.volume_record(v, &scene.scene.volumes)).collect();
             let globals_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("volumes globals"),
                 contents: bytemuck::bytes_of(&globals),
@@ -609,6 +665,24 @@ fn scale_param() -> Param {
     }
 }
 
+impl VolumeTechnique {
+    /// The thickness texture: baked from the first volume of the variant's set as seen from
+    /// the scene's default camera at time 0 (the artist's view), or the plain sphere profile
+    /// when the set is empty.
+    fn bake(&self, scene: &Scene) -> (Vec<u8>, Option<Baked>) {
+        if !self.uses_texture() {
+            return (crate::path_length::thickness_texels(), None);
+        }
+        let placed = placed_volumes(&scene.volumes, self.variant.set, &scene.camera, 0.0);
+        let Some(first) = placed.iter().min_by_key(|p| p.index) else {
+            return (crate::path_length::thickness_texels(), None);
+        };
+        let volume = &scene.volumes[first.index];
+        let (texels, scale) = bake_thickness(volume, [first.right, first.up, first.normal], self.variant.opacity);
+        (texels, Some(Baked { volume: first.index, scale }))
+    }
+}
+
 /// Beyond this ratio of eye distance to radius a fitted billboard covers the silhouette;
 /// closer, the ray-traced pass draws a screen-filling quad.
 const FIT_MIN_DISTANCE: f32 = 1.05;
@@ -616,11 +690,16 @@ const FIT_MIN_DISTANCE: f32 = 1.05;
 impl VolumeTechnique {
     /// The GPU record of a placed volume: billboard half size (metres) and whether to draw a
     /// screen-filling quad instead.
-    fn volume_record(&self, v: &PlacedVolume) -> VolumeGpu {
+    fn volume_record(&self, v: &PlacedVolume, volumes: &[Volume]) -> VolumeGpu {
         let (half_size, screen) = billboard_extent(v, self.billboard_scale, self.fit_silhouette && self.is_raytraced());
+        let baked = self.gpu.as_ref().and_then(|r| r.baked.as_ref()).filter(|b| b.volume == v.index);
+        let scale = match baked {
+            Some(b) if self.uses_texture() => b.scale,
+            _ => volumes.get(v.index).map_or(v.density, |s| opacity_scale(s, self.variant.opacity)),
+        };
         VolumeGpu {
             center: v.center.extend(v.radius).to_array(),
-            right: v.right.extend(v.density).to_array(),
+            right: v.right.extend(scale).to_array(),
             up: v.up.extend(half_size).to_array(),
             normal: v.normal.extend(if screen { 1.0 } else { 0.0 }).to_array(),
             color: v.color.extend(1.0).to_array(),
@@ -829,6 +908,7 @@ impl VolumeTechnique {
 
         // The thickness texture (the alpha of the billboard texture) and its sampler.
         let size = THICKNESS_TEXTURE_SIZE;
+        let (texels, baked) = self.bake(&scene.scene);
         let thickness = device.create_texture_with_data(
             &ctx.queue,
             &wgpu::TextureDescriptor {
@@ -842,7 +922,7 @@ impl VolumeTechnique {
                 view_formats: &[],
             },
             wgpu::util::TextureDataOrder::LayerMajor,
-            &thickness_texels(),
+            &texels,
         );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("volumes thickness sampler"),
@@ -867,6 +947,7 @@ impl VolumeTechnique {
         let dummy_depth_view =
             gpu::depth_texture(ctx, 1, 1, 1, "volumes unused depth").create_view(&Default::default());
         Resources {
+            baked,
             free_depth: self.free_depth,
             volume_layout,
             copy_layout,
