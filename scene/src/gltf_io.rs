@@ -137,8 +137,8 @@
 //! importer structurally (every JSON value removed or replaced) and with bit flips.
 
 use crate::{
-    Building, Camera, CameraPath, DensityProfile, Material, Mesh, Motion, Object, PointLight, Roles, Scene,
-    SceneError, Texture, Volume,
+    Building, Camera, CameraPath, DensityProfile, Material, Mesh, Motion, Object, PointLight,
+    Roles, Scene, SceneError, Texture, Volume,
 };
 use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -946,7 +946,10 @@ impl Importer<'_> {
                         radius: v.radius as f32,
                         color: vec3(v.color),
                         density: v.density as f32,
-                        profile: v.profile.as_ref().map_or(DensityProfile::UNIFORM, |p| p.profile()),
+                        profile: v
+                            .profile
+                            .as_ref()
+                            .map_or(DensityProfile::UNIFORM, |p| p.profile()),
                         particle: v.particle,
                         motion: motion_from(&v.motion),
                     })

@@ -100,8 +100,16 @@ impl DensityProfile {
         if !(r2 < 1.0) {
             return 0.0;
         }
-        let falloff = if self.falloff > 0.0 { (1.0 - r2).powf(self.falloff) } else { 1.0 };
-        let texture = if self.noise > 0.0 { 1.0 + self.noise * noise(q * self.noise_frequency) } else { 1.0 };
+        let falloff = if self.falloff > 0.0 {
+            (1.0 - r2).powf(self.falloff)
+        } else {
+            1.0
+        };
+        let texture = if self.noise > 0.0 {
+            1.0 + self.noise * noise(q * self.noise_frequency)
+        } else {
+            1.0
+        };
         (falloff * texture).max(0.0)
     }
 }
@@ -147,7 +155,10 @@ pub struct Segment {
 }
 
 impl Segment {
-    pub const EMPTY: Segment = Segment { emitted: Vec3::ZERO, transmittance: 1.0 };
+    pub const EMPTY: Segment = Segment {
+        emitted: Vec3::ZERO,
+        transmittance: 1.0,
+    };
 
     /// `emitted + T behind`.
     pub fn over(&self, behind: Vec3) -> Vec3 {
@@ -230,7 +241,12 @@ impl Media {
                     last.members.push(i);
                     last.min_radius = last.min_radius.min(self.volumes[i].radius);
                 }
-                _ => out.push(Interval { start: a, end: b, members: vec![i], min_radius: self.volumes[i].radius }),
+                _ => out.push(Interval {
+                    start: a,
+                    end: b,
+                    members: vec![i],
+                    min_radius: self.volumes[i].radius,
+                }),
             }
         }
         out
@@ -264,7 +280,11 @@ impl Media {
 
     /// Transmittance alone (what a segment lets through), `t` in `[0, t_max]`.
     pub fn transmittance(&self, origin: Vec3, dir: Vec3, t_max: f32) -> f32 {
-        if self.is_empty() { 1.0 } else { self.march(origin, dir, t_max).transmittance }
+        if self.is_empty() {
+            1.0
+        } else {
+            self.march(origin, dir, t_max).transmittance
+        }
     }
 
     /// `behind` seen through the media in front of it: `march(..).over(behind)`.
@@ -305,7 +325,13 @@ mod tests {
     fn chord_rays(v: &Volume) -> Vec<(Vec3, Vec3, f32)> {
         [0.0f32, 0.2, 0.5, 0.8, 0.95, 0.999]
             .iter()
-            .map(|f| (v.center + Vec3::new(f * v.radius, 0.0, -5.0), Vec3::Z, f * v.radius))
+            .map(|f| {
+                (
+                    v.center + Vec3::new(f * v.radius, 0.0, -5.0),
+                    Vec3::Z,
+                    f * v.radius,
+                )
+            })
             .collect()
     }
 
@@ -318,10 +344,18 @@ mod tests {
                 let seg = media.march(o, d, f32::INFINITY);
                 let chord = 2.0 * (v.radius * v.radius - b * b).sqrt();
                 let want = (-density * chord).exp();
-                assert!((seg.transmittance - want).abs() < 1e-3, "b {b}: {} vs {want}", seg.transmittance);
+                assert!(
+                    (seg.transmittance - want).abs() < 1e-3,
+                    "b {b}: {} vs {want}",
+                    seg.transmittance
+                );
                 // Emission of a uniform colour: c (1 - T).
                 let e = v.color * (1.0 - want);
-                assert!((seg.emitted - e).abs().max_element() < 1e-3, "{:?} vs {e:?}", seg.emitted);
+                assert!(
+                    (seg.emitted - e).abs().max_element() < 1e-3,
+                    "{:?} vs {e:?}",
+                    seg.emitted
+                );
             }
         }
     }
@@ -329,13 +363,20 @@ mod tests {
     #[test]
     fn smooth_falloffs_match_their_closed_forms() {
         for k in [1.0f32, 2.0] {
-            let profile = DensityProfile { falloff: k, ..DensityProfile::UNIFORM };
+            let profile = DensityProfile {
+                falloff: k,
+                ..DensityProfile::UNIFORM
+            };
             let v = ball(1.7, profile);
             let media = Media::from_volumes(std::slice::from_ref(&v), 0.0);
             for (o, d, b) in chord_rays(&v) {
                 let tau = chord_optical_depth(v.density, v.radius, &profile, b).unwrap();
                 let t = media.transmittance(o, d, f32::INFINITY);
-                assert!((t - (-tau).exp()).abs() < 1e-3, "k {k} b {b}: {t} vs {}", (-tau).exp());
+                assert!(
+                    (t - (-tau).exp()).abs() < 1e-3,
+                    "k {k} b {b}: {t} vs {}",
+                    (-tau).exp()
+                );
             }
         }
     }
@@ -357,14 +398,22 @@ mod tests {
 
     #[test]
     fn textured_medium_converges_and_repeats() {
-        let profile = DensityProfile { falloff: 1.0, noise: 0.6, noise_frequency: 2.0 };
+        let profile = DensityProfile {
+            falloff: 1.0,
+            noise: 0.6,
+            noise_frequency: 2.0,
+        };
         let v = ball(1.2, profile);
         let media = Media::from_volumes(std::slice::from_ref(&v), 0.0);
         for (o, d, _) in chord_rays(&v) {
             let coarse = media.march(o, d, f32::INFINITY);
             // The same integral with 4x the steps (smaller radius bound).
             let fine = fine_march(&v, o, d);
-            assert!((coarse.transmittance - fine).abs() < 1e-3, "{} vs {fine}", coarse.transmittance);
+            assert!(
+                (coarse.transmittance - fine).abs() < 1e-3,
+                "{} vs {fine}",
+                coarse.transmittance
+            );
             assert_eq!(coarse, media.march(o, d, f32::INFINITY), "deterministic");
         }
     }
@@ -373,7 +422,9 @@ mod tests {
         let t = ray_sphere(o, d, v.center, v.radius);
         let n = 4 * 2 * STEPS_PER_RADIUS as u32;
         let dt = (t.y - t.x) / n as f32;
-        let tau: f32 = (0..n).map(|i| v.extinction_at(o + d * (t.x + (i as f32 + 0.5) * dt), 0.0) * dt).sum();
+        let tau: f32 = (0..n)
+            .map(|i| v.extinction_at(o + d * (t.x + (i as f32 + 0.5) * dt), 0.0) * dt)
+            .sum();
         (-tau).exp()
     }
 
@@ -382,7 +433,11 @@ mod tests {
         let mut lo: f32 = 1.0;
         let mut hi: f32 = -1.0;
         for i in 0..4000 {
-            let q = Vec3::new(i as f32 * 0.137, (i as f32 * 0.071).sin() * 3.0, i as f32 * -0.053);
+            let q = Vec3::new(
+                i as f32 * 0.137,
+                (i as f32 * 0.071).sin() * 3.0,
+                i as f32 * -0.053,
+            );
             let n = noise(q);
             assert!((-1.0..=1.0).contains(&n), "{n}");
             lo = lo.min(n);

@@ -807,7 +807,8 @@ impl<'a> Eye<'a> {
         let correction = (s.ns.dot(w_i).max(0.0) / cos_i_g).min(MAX_SHADING_CORRECTION);
         let importance = 1.0 / (self.pixel_area * cos_camera * cos_camera * cos_camera);
         let seen = self.media.transmittance(self.camera.eye, -w_c, d2.sqrt());
-        let value = power * albedo * FRAC_1_PI * (correction * cos_surface / d2 * importance * seen);
+        let value =
+            power * albedo * FRAC_1_PI * (correction * cos_surface / d2 * importance * seen);
         Some(((y * self.width + x) as usize, value))
     }
 }

@@ -63,7 +63,9 @@ fn uniform_ball_pixels_match_beer_lambert() {
     for y in 0..size {
         for x in 0..size {
             let i = (y * size + x) as usize;
-            let d = scene.camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, size, size);
+            let d = scene
+                .camera
+                .ray_dir(x as f32 + 0.5, y as f32 + 0.5, size, size);
             let t = ray_sphere(scene.camera.eye, d, ball.center, ball.radius);
             let chord = if t.x <= t.y { t.y - t.x } else { 0.0 };
             let tr = (-ball.density * chord).exp();
@@ -71,7 +73,11 @@ fn uniform_ball_pixels_match_beer_lambert() {
             let err = (rgb(&r, i) - want).abs().max_element();
             assert!(err < 1e-3, "pixel {x},{y}: {:?} vs {want:?}", rgb(&r, i));
             inside += (chord > 0.0) as u32;
-            assert_eq!(r.mask[i], chord > 0.0 || (t.x <= t.y && t.y > 0.0), "mask {x},{y}");
+            assert_eq!(
+                r.mask[i],
+                chord > 0.0 || (t.x <= t.y && t.y > 0.0),
+                "mask {x},{y}"
+            );
         }
     }
     assert!(inside > 300, "{inside}");
@@ -87,7 +93,12 @@ fn surfaces_occlude_media_in_front_and_cut_them_inside() {
     let wall = |x0: f32, z: f32| {
         Object::new(
             "wall",
-            quad(Vec3::new(x0, -3.0, z), Vec3::X * 3.0, Vec3::Y * 6.0, Vec2::ONE),
+            quad(
+                Vec3::new(x0, -3.0, z),
+                Vec3::X * 3.0,
+                Vec3::Y * 6.0,
+                Vec2::ONE,
+            ),
             black.clone(),
             Mat4::IDENTITY,
         )
@@ -99,19 +110,29 @@ fn surfaces_occlude_media_in_front_and_cut_them_inside() {
     for y in 0..size {
         for x in 0..size {
             let i = (y * size + x) as usize;
-            let d = scene.camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, size, size);
+            let d = scene
+                .camera
+                .ray_dir(x as f32 + 0.5, y as f32 + 0.5, size, size);
             let t_wall = (eye.z - if d.x < 0.0 { 2.0 } else { 0.0 }) / -d.z;
             if (eye + d * t_wall).x.abs() < 0.05 {
                 continue; // the seam between the walls
             }
             let t = ray_sphere(eye, d, ball.center, ball.radius);
-            let len = if t.x <= t.y { (t.y.min(t_wall) - t.x).max(0.0) } else { 0.0 };
+            let len = if t.x <= t.y {
+                (t.y.min(t_wall) - t.x).max(0.0)
+            } else {
+                0.0
+            };
             let tr = (-ball.density * len).exp();
             let want = ball.color * (1.0 - tr);
             let err = (rgb(&r, i) - want).abs().max_element();
             assert!(err < 1e-3, "pixel {x},{y}: {:?} vs {want:?}", rgb(&r, i));
             if d.x < -0.01 {
-                assert_eq!(rgb(&r, i), Vec3::ZERO, "wall in front of the ball at {x},{y}");
+                assert_eq!(
+                    rgb(&r, i),
+                    Vec3::ZERO,
+                    "wall in front of the ball at {x},{y}"
+                );
             }
         }
     }
@@ -150,13 +171,18 @@ fn smoke_reference_shows_semi_transparent_smoke() {
         }
     }
     let (mean_diff, mean_alpha) = (diff_sum / n as f32, alpha_sum / n as f32);
-    println!("smoke: {n} pixels, mean |difference| {mean_diff:.3}, opacity mean {mean_alpha:.3} max {max_alpha:.3}");
+    println!(
+        "smoke: {n} pixels, mean |difference| {mean_diff:.3}, opacity mean {mean_alpha:.3} max {max_alpha:.3}"
+    );
     // Measured at 64x48 with the built-in densities: 125 pixels, mean difference 0.422,
     // opacity mean 0.535, max 0.640 (closed form without the texture: 0.67 at the centre).
     // A reference without media gives a difference of 0; a saturated one an opacity of 1.
     assert!(n > 80, "{n}");
     assert!(mean_diff > 0.25, "the smoke is visible: {mean_diff}");
-    assert!((0.35..0.75).contains(&mean_alpha), "semi-transparent: {mean_alpha}");
+    assert!(
+        (0.35..0.75).contains(&mean_alpha),
+        "semi-transparent: {mean_alpha}"
+    );
     assert!(max_alpha < 0.9, "not saturated: {max_alpha}");
 }
 

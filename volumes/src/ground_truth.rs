@@ -29,13 +29,22 @@ use scene::{Camera, Scene};
 /// Per pixel (row 0 at the top), the distance along the primary ray through the pixel centre
 /// to the first surface of the scene at `time`, `f32::INFINITY` where it sees none. These are
 /// the reference's primary hits.
-pub fn primary_distances(scene: &Scene, camera: &Camera, time: f32, width: u32, height: u32) -> Vec<f32> {
+pub fn primary_distances(
+    scene: &Scene,
+    camera: &Camera,
+    time: f32,
+    width: u32,
+    height: u32,
+) -> Vec<f32> {
     let bvh = SceneBvh::build(scene, time);
     let mut out = Vec::with_capacity((width * height) as usize);
     for y in 0..height {
         for x in 0..width {
             let dir = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, width, height);
-            out.push(bvh.closest_hit(camera.eye, dir, f32::INFINITY).map_or(f32::INFINITY, |h| h.t));
+            out.push(
+                bvh.closest_hit(camera.eye, dir, f32::INFINITY)
+                    .map_or(f32::INFINITY, |h| h.t),
+            );
         }
     }
     out
@@ -72,9 +81,15 @@ pub fn with_reference_media(
     base: &HdrImage,
     distances: &[f32],
 ) -> HdrImage {
-    assert_eq!(distances.len(), base.pixels.len(), "with_reference_media: one distance per pixel");
+    assert_eq!(
+        distances.len(),
+        base.pixels.len(),
+        "with_reference_media: one distance per pixel"
+    );
     let media = Media::new(scene, time);
-    per_pixel(camera, base, |i, dir, behind| media.composite(camera.eye, dir, distances[i], behind))
+    per_pixel(camera, base, |i, dir, behind| {
+        media.composite(camera.eye, dir, distances[i], behind)
+    })
 }
 
 /// Per pixel: whether the primary ray crosses a volume of `set` in front of its first
@@ -94,7 +109,11 @@ pub fn volume_mask(
         for x in 0..width {
             let dir = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, width, height);
             let t_scene = distances[(y * width + x) as usize];
-            out.push(spheres.iter().any(|s| sphere_path_length(camera.eye, dir, s.center, s.radius, t_scene) > 0.0));
+            out.push(
+                spheres.iter().any(|s| {
+                    sphere_path_length(camera.eye, dir, s.center, s.radius, t_scene) > 0.0
+                }),
+            );
         }
     }
     out
@@ -109,7 +128,13 @@ pub struct TruthSpec {
 
 /// The variant-model specification of a technique id of this crate (`None` for other ids).
 pub fn spec_for(technique_id: &str) -> Option<TruthSpec> {
-    all_variants().into_iter().find(|v| v.id() == technique_id).map(|v| TruthSpec { opacity: v.opacity, set: v.set })
+    all_variants()
+        .into_iter()
+        .find(|v| v.id() == technique_id)
+        .map(|v| TruthSpec {
+            opacity: v.opacity,
+            set: v.set,
+        })
 }
 
 /// A volume of the variant model: a uniform sphere with the variant's opacity scale.
@@ -148,12 +173,32 @@ pub fn variant_model(
     distances: &[f32],
     spec: TruthSpec,
 ) -> HdrImage {
-    assert_eq!(distances.len(), base.pixels.len(), "variant_model: one distance per pixel");
+    assert_eq!(
+        distances.len(),
+        base.pixels.len(),
+        "variant_model: one distance per pixel"
+    );
     let spheres = spheres(scene, spec.set, time, spec.opacity);
-    per_pixel(camera, base, |i, dir, behind| layers(&spheres, camera.eye, dir, distances[i], behind, spec.opacity))
+    per_pixel(camera, base, |i, dir, behind| {
+        layers(
+            &spheres,
+            camera.eye,
+            dir,
+            distances[i],
+            behind,
+            spec.opacity,
+        )
+    })
 }
 
-fn layers(spheres: &[Sphere], eye: Vec3, dir: Vec3, t_scene: f32, behind: Vec3, opacity: OpacityFn) -> Vec3 {
+fn layers(
+    spheres: &[Sphere],
+    eye: Vec3,
+    dir: Vec3,
+    t_scene: f32,
+    behind: Vec3,
+    opacity: OpacityFn,
+) -> Vec3 {
     // (midpoint of the visible segment, opacity, colour)
     let mut layers: Vec<(f32, f32, Vec3)> = Vec::new();
     for s in spheres {
@@ -166,5 +211,7 @@ fn layers(spheres: &[Sphere], eye: Vec3, dir: Vec3, t_scene: f32, behind: Vec3, 
         layers.push((mid, opacity.opacity(len, s.scale), s.color));
     }
     layers.sort_by(|a, b| b.0.total_cmp(&a.0));
-    layers.iter().fold(behind, |c, &(_, a, colour)| c * (1.0 - a) + colour * a)
+    layers
+        .iter()
+        .fold(behind, |c, &(_, a, colour)| c * (1.0 - a) + colour * a)
 }

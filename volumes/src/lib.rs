@@ -36,7 +36,10 @@ mod tests {
 
     #[test]
     fn ids_are_the_thesis_tests() {
-        let ids: Vec<String> = technique::thesis_variants().iter().map(|v| v.id()).collect();
+        let ids: Vec<String> = technique::thesis_variants()
+            .iter()
+            .map(|v| v.id())
+            .collect();
         let expected = [
             "volumes/billboard",
             "volumes/slices-5",
@@ -68,7 +71,10 @@ mod tests {
         assert!(all.contains(&"volumes/particles-billboard".to_string()));
         assert!(all.contains(&"volumes/particles-raytraced-sphere-log".to_string()));
         for id in &all {
-            assert!(ground_truth::spec_for(id).is_some(), "{id} has a variant model");
+            assert!(
+                ground_truth::spec_for(id).is_some(),
+                "{id} has a variant model"
+            );
         }
     }
 }

@@ -71,7 +71,11 @@ impl OpacityFn {
     /// 0 for a non-positive length.
     pub fn scale_for(self, alpha: f32, len: f32) -> f32 {
         let g = self.shape(len);
-        if g > 0.0 && alpha.is_finite() { alpha.max(0.0) / g } else { 0.0 }
+        if g > 0.0 && alpha.is_finite() {
+            alpha.max(0.0) / g
+        } else {
+            0.0
+        }
     }
     /// The path length at which this function with `scale` reaches `alpha` (the inverse of
     /// [`OpacityFn::opacity`] below saturation); 0 for a zero scale.
@@ -148,7 +152,15 @@ pub fn sphere_path_length(o: Vec3, d: Vec3, center: Vec3, radius: f32, t_scene: 
 /// Where the ray meets the billboard plane through `center` (unit `normal`, unit in-plane
 /// axes `right`, `up`): `(u, v, t_plane)` with `(u, v)` in units of `radius`. A ray parallel to
 /// the plane gives `t_plane = -1`.
-pub fn billboard_coords(o: Vec3, d: Vec3, center: Vec3, right: Vec3, up: Vec3, normal: Vec3, radius: f32) -> Vec3 {
+pub fn billboard_coords(
+    o: Vec3,
+    d: Vec3,
+    center: Vec3,
+    right: Vec3,
+    up: Vec3,
+    normal: Vec3,
+    radius: f32,
+) -> Vec3 {
     let t = ray_plane(o, d, normal, normal.dot(center));
     let p = o + t * d - center;
     Vec3::new(p.dot(right) / radius, p.dot(up) / radius, t)
@@ -201,7 +213,14 @@ pub fn billboard_path_length(t_plane: f32, half_len: f32, t_scene: f32) -> f32 {
 /// the front face up to this one composite to the opacity of the path from the front face to
 /// the far side of this slab: `1 - (1 - a_far) / (1 - a_near)`. A slab outside the volume
 /// gives 0; one behind an already opaque front gives 1 (hidden whenever it is drawn).
-pub fn slice_alpha(kind: u32, density: f32, half_len: f32, slab_near: f32, slab_far: f32, obliquity: f32) -> f32 {
+pub fn slice_alpha(
+    kind: u32,
+    density: f32,
+    half_len: f32,
+    slab_near: f32,
+    slab_far: f32,
+    obliquity: f32,
+) -> f32 {
     let h = half_len.max(0.0);
     let l_near = (slab_near + h).clamp(0.0, 2.0 * h) * obliquity;
     let l_far = (slab_far + h).clamp(0.0, 2.0 * h) * obliquity;
@@ -274,7 +293,11 @@ const BAKE_STEPS: u32 = 48;
 /// `opacity` reaches it, `L = opacity.length_for(alpha, scale)`. `scale` (returned) is chosen
 /// so that the densest column has `h = 1`: nothing is clipped by the 8-bit range, and a
 /// billboard with this texture and this scale shows `alpha(uv)` exactly (up to 8 bits).
-pub fn bake_thickness(volume: &scene::Volume, basis: [Vec3; 3], opacity: OpacityFn) -> (Vec<u8>, f32) {
+pub fn bake_thickness(
+    volume: &scene::Volume,
+    basis: [Vec3; 3],
+    opacity: OpacityFn,
+) -> (Vec<u8>, f32) {
     let [right, up, normal] = basis;
     let (c, r) = (volume.center + volume.motion.offset(0.0), volume.radius);
     let n = THICKNESS_TEXTURE_SIZE;
@@ -286,7 +309,9 @@ pub fn bake_thickness(volume: &scene::Volume, basis: [Vec3; 3], opacity: Opacity
             let p0 = c + r * (uv.x * right + uv.y * up);
             let dt = 2.0 * half / BAKE_STEPS as f32;
             let tau: f32 = (0..BAKE_STEPS)
-                .map(|k| volume.extinction_at(p0 + normal * (-half + (k as f32 + 0.5) * dt), 0.0) * dt)
+                .map(|k| {
+                    volume.extinction_at(p0 + normal * (-half + (k as f32 + 0.5) * dt), 0.0) * dt
+                })
                 .sum();
             alphas.push(1.0 - (-tau).exp());
         }

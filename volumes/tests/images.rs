@@ -30,7 +30,9 @@ const H: u32 = 72;
 
 fn ctx() -> &'static gpu::Context {
     static CTX: OnceLock<gpu::Context> = OnceLock::new();
-    CTX.get_or_init(|| gpu::Context::new().unwrap_or_else(|e| panic!("the image tests need a GPU adapter: {e}")))
+    CTX.get_or_init(|| {
+        gpu::Context::new().unwrap_or_else(|e| panic!("the image tests need a GPU adapter: {e}"))
+    })
 }
 
 fn smoke() -> Scene {
@@ -70,7 +72,12 @@ impl Bench {
         let gpu_scene = GpuScene::new(ctx, &scene).expect("upload");
         let target = Target::new(ctx, W, H).expect("target");
         let timer = GpuTimer::new(ctx, 16);
-        let view = View { camera, time, width: W, height: H };
+        let view = View {
+            camera,
+            time,
+            width: W,
+            height: H,
+        };
         let empty = HdrImage::new(W, H);
         let mut bench = Bench {
             scene,
@@ -91,7 +98,13 @@ impl Bench {
             .base
             .pixels
             .iter()
-            .map(|p| if p[3] >= 0.5 * scene::BACKGROUND_DISTANCE { f32::INFINITY } else { p[3] })
+            .map(|p| {
+                if p[3] >= 0.5 * scene::BACKGROUND_DISTANCE {
+                    f32::INFINITY
+                } else {
+                    p[3]
+                }
+            })
             .collect();
         let (s, c) = (&bench.scene, &bench.view.camera);
         bench.truth = ground_truth::with_reference_media(s, c, time, &bench.base, &bench.distances);
@@ -103,7 +116,11 @@ impl Bench {
         let ctx = ctx();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
-            let mut frame = Frame { gpu: ctx, encoder: &mut encoder, timer: &mut self.timer };
+            let mut frame = Frame {
+                gpu: ctx,
+                encoder: &mut encoder,
+                timer: &mut self.timer,
+            };
             self.gpu_scene.set_time(&mut frame, self.view.time);
             technique
                 .prepare(&mut frame, &self.gpu_scene)
@@ -118,12 +135,19 @@ impl Bench {
 
     fn error(&self, image: &HdrImage, truth: &HdrImage) -> Error {
         let (m, _) = scene::metrics::compare(image, truth, Some(&self.mask));
-        Error { rmse: m.rmse, flip_masked: m.flip_mean_masked, non_finite: m.nan_pixels }
+        Error {
+            rmse: m.rmse,
+            flip_masked: m.flip_mean_masked,
+            non_finite: m.nan_pixels,
+        }
     }
 
     /// Renders technique `id` with `params`.
     fn image(&mut self, id: &str, params: &[(&str, f64)]) -> HdrImage {
-        let variant = all_variants().into_iter().find(|v| v.id() == id).unwrap_or_else(|| panic!("no variant {id}"));
+        let variant = all_variants()
+            .into_iter()
+            .find(|v| v.id() == id)
+            .unwrap_or_else(|| panic!("no variant {id}"));
         let mut technique = VolumeTechnique::new(variant);
         for (k, v) in params {
             technique.set_param(k, *v).unwrap();
@@ -158,14 +182,14 @@ impl Bench {
 /// 0.163, 0.716 on `smoke`): there the bound sits between the measured value and nothing's.
 fn bound(id: &str) -> (f64, f64) {
     match id.trim_start_matches("volumes/") {
-        "billboard" => (0.043, 0.30),                  // 0.0290, 0.197
-        "raytraced-constant" => (0.105, 0.62),         // 0.0986, 0.518
-        "raytraced-linear" => (0.032, 0.28),           // 0.0215, 0.189
-        "raytraced-sphere-log" => (0.09, 0.60),        // 0.0603, 0.416
-        "raytraced-sphere-linear" => (0.055, 0.44),    // 0.0369, 0.294
-        "raytraced-sphere-sqrt" => (0.10, 0.62),       // 0.0699, 0.453
-        "raytraced-thickness" => (0.015, 0.18),        // 0.0099, 0.119
-        "particles-billboard" => (0.058, 0.33),        // 0.0388, 0.216
+        "billboard" => (0.043, 0.30),               // 0.0290, 0.197
+        "raytraced-constant" => (0.105, 0.62),      // 0.0986, 0.518
+        "raytraced-linear" => (0.032, 0.28),        // 0.0215, 0.189
+        "raytraced-sphere-log" => (0.09, 0.60),     // 0.0603, 0.416
+        "raytraced-sphere-linear" => (0.055, 0.44), // 0.0369, 0.294
+        "raytraced-sphere-sqrt" => (0.10, 0.62),    // 0.0699, 0.453
+        "raytraced-thickness" => (0.015, 0.18),     // 0.0099, 0.119
+        "particles-billboard" => (0.058, 0.33),     // 0.0388, 0.216
         "particles-slices-9" | "particles-slices-9-float" => (0.041, 0.26), // 0.0271, 0.173
         "particles-raytraced-sphere-log" => (0.14, 0.62), // 0.0945, 0.431
         "particles-raytraced-thickness" => (0.041, 0.27), // 0.0276, 0.178
@@ -185,25 +209,46 @@ const BEATS_NOTHING: f64 = 0.95;
 fn every_variant_against_the_reference() {
     let mut single = Bench::new(single_smoke(), single_smoke().camera, 0.0);
     let mut all = Bench::new(smoke(), smoke().camera, 0.0);
-    let nothing = [(VolumeSet::Single, single.nothing()), (VolumeSet::All, all.nothing())];
-    println!("nothing drawn: single {:?}, all {:?}", nothing[0].1, nothing[1].1);
+    let nothing = [
+        (VolumeSet::Single, single.nothing()),
+        (VolumeSet::All, all.nothing()),
+    ];
+    println!(
+        "nothing drawn: single {:?}, all {:?}",
+        nothing[0].1, nothing[1].1
+    );
     let mut rmse: BTreeMap<String, f64> = BTreeMap::new();
     let mut failures = Vec::new();
     for variant in all_variants() {
         let id = variant.id();
-        let bench = if variant.set == VolumeSet::Single { &mut single } else { &mut all };
+        let bench = if variant.set == VolumeSet::Single {
+            &mut single
+        } else {
+            &mut all
+        };
         let (e, _) = bench.measure(&id, &[]);
         let none = nothing.iter().find(|(s, _)| *s == variant.set).unwrap().1;
-        println!("{id}: RMSE {:.5}, masked FLIP {:.4} ({:.2} of nothing)", e.rmse, e.flip_masked, e.rmse / none.rmse);
+        println!(
+            "{id}: RMSE {:.5}, masked FLIP {:.4} ({:.2} of nothing)",
+            e.rmse,
+            e.flip_masked,
+            e.rmse / none.rmse
+        );
         let (max_rmse, max_flip) = bound(&id);
         if e.non_finite != 0 {
             failures.push(format!("{id}: {} non-finite pixels", e.non_finite));
         }
         if !(e.rmse <= max_rmse && e.flip_masked <= max_flip) {
-            failures.push(format!("{id}: RMSE {:.5} (bound {max_rmse}), FLIP {:.4} (bound {max_flip})", e.rmse, e.flip_masked));
+            failures.push(format!(
+                "{id}: RMSE {:.5} (bound {max_rmse}), FLIP {:.4} (bound {max_flip})",
+                e.rmse, e.flip_masked
+            ));
         }
         if !(e.rmse < BEATS_NOTHING * none.rmse) {
-            failures.push(format!("{id}: RMSE {:.5} is not below {BEATS_NOTHING} x nothing's {:.5}", e.rmse, none.rmse));
+            failures.push(format!(
+                "{id}: RMSE {:.5} is not below {BEATS_NOTHING} x nothing's {:.5}",
+                e.rmse, none.rmse
+            ));
         }
         rmse.insert(id.trim_start_matches("volumes/").to_string(), e.rmse);
     }
@@ -213,10 +258,23 @@ fn every_variant_against_the_reference() {
 
 /// The thesis's claims (6.4.1, 6.4.3) as they hold against the true, textured medium.
 fn check_claims(rmse: &BTreeMap<String, f64>) {
-    let less = |a: &str, b: &str| assert!(rmse[a] < rmse[b], "{a} {} must beat {b} {}", rmse[a], rmse[b]);
+    let less = |a: &str, b: &str| {
+        assert!(
+            rmse[a] < rmse[b],
+            "{a} {} must beat {b} {}",
+            rmse[a],
+            rmse[b]
+        )
+    };
     // 6.4.1: "of the volume primitives the one using the thickness texture appears to be the
     // best choice" (measured 0.0099 against 0.021-0.099 for the untextured primitives).
-    for other in ["raytraced-constant", "raytraced-linear", "raytraced-sphere-log", "raytraced-sphere-linear", "raytraced-sphere-sqrt"] {
+    for other in [
+        "raytraced-constant",
+        "raytraced-linear",
+        "raytraced-sphere-log",
+        "raytraced-sphere-linear",
+        "raytraced-sphere-sqrt",
+    ] {
         less("raytraced-thickness", other);
     }
     // Any volume with the texture beats the plain billboard's hard edges (6.4.1).
@@ -227,7 +285,10 @@ fn check_claims(rmse: &BTreeMap<String, f64>) {
     less("raytraced-thickness", "billboard");
     // 6.3.2, figure 6.15: 79 slices round visibly in an 8-bit buffer, not in a float one.
     less("slices-79-float", "slices-79");
-    less("particles-raytraced-thickness", "particles-raytraced-sphere-log");
+    less(
+        "particles-raytraced-thickness",
+        "particles-raytraced-sphere-log",
+    );
     less("particles-raytraced-thickness", "particles-billboard");
 }
 
@@ -237,7 +298,11 @@ fn check_claims(rmse: &BTreeMap<String, f64>) {
 fn sphere_matches_its_own_model() {
     let mut single = Bench::new(single_smoke(), single_smoke().camera, 0.0);
     let mut all = Bench::new(smoke(), smoke().camera, 0.0);
-    for id in ["volumes/raytraced-sphere-log", "volumes/raytraced-sphere-linear", "volumes/raytraced-sphere-sqrt"] {
+    for id in [
+        "volumes/raytraced-sphere-log",
+        "volumes/raytraced-sphere-linear",
+        "volumes/raytraced-sphere-sqrt",
+    ] {
         let e = single.measure_model(id, &[]);
         assert!(e.rmse <= 0.002 && e.flip_masked <= 0.02, "{id}: {e:?}");
     }
@@ -284,8 +349,14 @@ fn eight_bit_slices_band() {
         deviation.insert(n, (sum / count as f64).sqrt());
     }
     println!("8-bit vs float RMS deviation in 8-bit steps: {deviation:?}");
-    assert!(deviation[&79] > 1.5 * deviation[&5], "rounding must grow with the slice count: {deviation:?}");
-    assert!(deviation[&79] > 1.0, "79 slices at 8 bits must be off by more than one step: {deviation:?}");
+    assert!(
+        deviation[&79] > 1.5 * deviation[&5],
+        "rounding must grow with the slice count: {deviation:?}"
+    );
+    assert!(
+        deviation[&79] > 1.0,
+        "79 slices at 8 bits must be off by more than one step: {deviation:?}"
+    );
 }
 
 /// The eye inside the large volume (and exactly at its centre): every variant stays finite.
@@ -296,7 +367,11 @@ fn camera_inside_the_volume_is_finite() {
     let scene = single_smoke();
     let v = scene.volumes.iter().find(|v| !v.particle).unwrap().clone();
     for eye in [v.center + Vec3::new(0.3, 0.15, 0.45), v.center] {
-        let camera = Camera { eye, target: eye + Vec3::new(0.2, -0.3, -1.0), ..scene.camera };
+        let camera = Camera {
+            eye,
+            target: eye + Vec3::new(0.2, -0.3, -1.0),
+            ..scene.camera
+        };
         let mut bench = Bench::new(scene.clone(), camera, 0.0);
         for variant in all_variants() {
             let id = variant.id();
@@ -325,13 +400,24 @@ fn fitted_billboards_fix_the_close_camera() {
         v.center + Vec3::new(0.0, 0.2, 1.0).normalize() * v.radius * 1.2,
     ];
     for eye in eyes {
-        let camera = Camera { eye, target: eye + Vec3::new(0.2, -0.3, -1.0), ..scene.camera };
+        let camera = Camera {
+            eye,
+            target: eye + Vec3::new(0.2, -0.3, -1.0),
+            ..scene.camera
+        };
         let mut bench = Bench::new(scene.clone(), camera, 0.0);
-        for id in ["volumes/raytraced-sphere-log", "volumes/particles-raytraced-sphere-log"] {
+        for id in [
+            "volumes/raytraced-sphere-log",
+            "volumes/particles-raytraced-sphere-log",
+        ] {
             for free_depth in [0.0, 1.0] {
-                let e = bench.measure_model(id, &[("fit_silhouette", 1.0), ("free_depth", free_depth)]);
+                let e =
+                    bench.measure_model(id, &[("fit_silhouette", 1.0), ("free_depth", free_depth)]);
                 assert_eq!(e.non_finite, 0);
-                assert!(e.rmse <= 0.002, "{id} free_depth={free_depth} eye {eye}: {e:?}");
+                assert!(
+                    e.rmse <= 0.002,
+                    "{id} free_depth={free_depth} eye {eye}: {e:?}"
+                );
             }
         }
     }
@@ -344,7 +430,11 @@ fn bvh_distances_agree_with_the_raster_pass() {
     for eye in [None, Some(Vec3::new(0.3, 1.15, 0.45))] {
         let scene = single_smoke();
         let camera = match eye {
-            Some(e) => Camera { eye: e, target: e + Vec3::new(0.2, -0.3, -1.0), ..scene.camera },
+            Some(e) => Camera {
+                eye: e,
+                target: e + Vec3::new(0.2, -0.3, -1.0),
+                ..scene.camera
+            },
             None => scene.camera,
         };
         let bench = Bench::new(scene, camera, 0.0);
@@ -352,10 +442,15 @@ fn bvh_distances_agree_with_the_raster_pass() {
         let agree = bvh
             .iter()
             .zip(&bench.distances)
-            .filter(|(a, b)| (a.is_infinite() && b.is_infinite()) || (*a - *b).abs() <= 1e-3 * a.abs().max(1.0))
+            .filter(|(a, b)| {
+                (a.is_infinite() && b.is_infinite()) || (*a - *b).abs() <= 1e-3 * a.abs().max(1.0)
+            })
             .count();
         let n = bvh.len();
-        assert!(agree as f64 >= 0.99 * n as f64, "{agree} of {n} pixels agree");
+        assert!(
+            agree as f64 >= 0.99 * n as f64,
+            "{agree} of {n} pixels agree"
+        );
     }
 }
 
@@ -366,12 +461,19 @@ fn free_depth_matches_the_depth_prepass() {
     let scene = single_smoke();
     let camera = scene.camera;
     let mut bench = Bench::new(scene, camera, 0.0);
-    for id in ["volumes/raytraced-sphere-log", "volumes/raytraced-thickness"] {
+    for id in [
+        "volumes/raytraced-sphere-log",
+        "volumes/raytraced-thickness",
+    ] {
         let (e0, a) = bench.measure(id, &[]);
         let (e1, b) = bench.measure(id, &[("free_depth", 1.0)]);
         let (e0, e1) = (e0.rmse, e1.rmse);
         let (m, _) = scene::metrics::compare(&a, &b, None);
-        assert!(m.rmse < 1e-3, "{id}: the two depth sources differ by RMSE {}", m.rmse);
+        assert!(
+            m.rmse < 1e-3,
+            "{id}: the two depth sources differ by RMSE {}",
+            m.rmse
+        );
         assert!((e0 - e1).abs() < 1e-3, "{id}: {e0} vs {e1}");
     }
 }
@@ -396,7 +498,12 @@ fn supports_scenes_with_volumes_only() {
     for t in volumes::techniques() {
         assert!(t.supports(&smoke), "{}", t.id());
         assert!(!t.supports(&cornell), "{}", t.id());
-        assert_eq!(t.supports(&particles_only), t.id().contains("particles-"), "{}", t.id());
+        assert_eq!(
+            t.supports(&particles_only),
+            t.id().contains("particles-"),
+            "{}",
+            t.id()
+        );
     }
 }
 
@@ -420,19 +527,33 @@ fn follows_the_target_size() {
     let ctx = ctx();
     let mut gpu_scene = GpuScene::new(ctx, &scene).unwrap();
     let mut timer = GpuTimer::new(ctx, 16);
-    let variant = all_variants().into_iter().find(|v| v.id() == "volumes/slices-9").unwrap();
+    let variant = all_variants()
+        .into_iter()
+        .find(|v| v.id() == "volumes/slices-9")
+        .unwrap();
     let mut technique = VolumeTechnique::new(variant);
     for (i, (w, h)) in [(48u32, 32u32), (64, 64), (48, 32)].into_iter().enumerate() {
         let target = Target::new(ctx, w, h).unwrap();
-        let view = View { camera: scene.camera, time: 0.0, width: w, height: h };
+        let view = View {
+            camera: scene.camera,
+            time: 0.0,
+            width: w,
+            height: h,
+        };
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
-            let mut frame = Frame { gpu: ctx, encoder: &mut encoder, timer: &mut timer };
+            let mut frame = Frame {
+                gpu: ctx,
+                encoder: &mut encoder,
+                timer: &mut timer,
+            };
             gpu_scene.set_time(&mut frame, 0.0);
             if i == 0 {
                 technique.prepare(&mut frame, &gpu_scene).unwrap();
             }
-            technique.render(&mut frame, &gpu_scene, &view, &target).unwrap();
+            technique
+                .render(&mut frame, &gpu_scene, &view, &target)
+                .unwrap();
         }
         timer.submit_and_collect(ctx, encoder).unwrap();
         assert_eq!(target.read(ctx).unwrap().non_finite_count(), 0);
