@@ -459,6 +459,34 @@ mod tests {
     }
 
     #[test]
+    fn validate_names_the_problem() {
+        let mut v = ball(1.0, DensityProfile::UNIFORM);
+        assert!(v.validate().is_ok());
+        v.profile.noise = 2.0;
+        assert!(
+            v.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("noise in [0, 1]")
+        );
+        v.profile.noise = 0.5;
+        v.density = -1.0;
+        assert!(
+            v.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("density >= 0")
+        );
+        v.density = f32::NAN;
+        assert!(
+            v.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("is not finite")
+        );
+    }
+
+    #[test]
     fn bad_volumes_are_skipped_not_nan() {
         let mut v = ball(f32::NAN, DensityProfile::UNIFORM);
         assert!(Media::from_volumes(std::slice::from_ref(&v), 0.0).is_empty());

@@ -524,30 +524,37 @@ impl Volume {
     /// falloff >= 0, noise in [0, 1], noise frequency > 0.
     pub fn validate(&self) -> Result<(), crate::SceneError> {
         let p = &self.profile;
-        let ok = self.center.is_finite()
+        let finite = self.center.is_finite()
             && self.color.is_finite()
             && self.radius.is_finite()
-            && self.radius > 0.0
             && self.density.is_finite()
-            && self.density >= 0.0
             && p.falloff.is_finite()
-            && p.falloff >= 0.0
-            && (0.0..=1.0).contains(&p.noise)
+            && p.noise.is_finite()
             && p.noise_frequency.is_finite()
-            && p.noise_frequency > 0.0
             && self
                 .motion
                 .keys
                 .iter()
                 .all(|(t, v)| t.is_finite() && v.is_finite());
-        if ok {
-            Ok(())
-        } else {
+        let in_range = self.radius > 0.0
+            && self.density >= 0.0
+            && p.falloff >= 0.0
+            && (0.0..=1.0).contains(&p.noise)
+            && p.noise_frequency > 0.0;
+        let bad = |what: &str| {
             Err(crate::SceneError::Invalid(format!(
-                "volume \"{}\" needs a finite centre and colour, radius > 0, density >= 0, \
-                 falloff >= 0, noise in [0, 1] and noise frequency > 0",
+                "volume \"{}\" {what}",
                 self.name
             )))
+        };
+        if !finite {
+            bad("is not finite")
+        } else if !in_range {
+            bad(
+                "needs radius > 0, density >= 0, falloff >= 0, noise in [0, 1] and noise frequency > 0",
+            )
+        } else {
+            Ok(())
         }
     }
 }
