@@ -97,7 +97,7 @@ impl DensityProfile {
     /// `(1 - |q|^2)^k (1 + a n(f q))`, 0 outside the unit ball.
     pub fn shape(&self, q: Vec3) -> f32 {
         let r2 = q.length_squared();
-        if !(r2 < 1.0) {
+        if r2.is_nan() || r2 >= 1.0 {
             return 0.0;
         }
         let falloff = if self.falloff > 0.0 {

@@ -80,7 +80,7 @@ impl OpacityFn {
     /// The path length at which this function with `scale` reaches `alpha` (the inverse of
     /// [`OpacityFn::opacity`] below saturation); 0 for a zero scale.
     pub fn length_for(self, alpha: f32, scale: f32) -> f32 {
-        if !(scale > 0.0) {
+        if scale.is_nan() || scale <= 0.0 {
             return 0.0;
         }
         let g = alpha.max(0.0) / scale;
