@@ -120,7 +120,8 @@ impl Primitive {
 }
 
 /// Opacity of a path of `len` metres through a medium whose `density` is the opacity reached
-/// over one metre: linear `density * len`, logarithmic `density * log2(1 + len)`, square root
+/// over one metre (the technique's opacity scale, [`crate::technique::opacity_scale`], not the
+/// scene's extinction coefficient): linear `density * len`, logarithmic `density * log2(1 + len)`, square root
 /// `density * sqrt(len)` (all give `density` at 1 m and 0 at 0 m), clamped to [0, 1].
 /// An unknown `kind` is linear.
 pub fn opacity_from_length(kind: u32, len: f32, density: f32) -> f32 {
