@@ -193,3 +193,56 @@ fn smoke_reference_is_deterministic() {
     let b = render(&scene, &scene.camera, 0.5, 40, 30, &opts());
     assert_eq!(a.image.pixels, b.image.pixels);
 }
+
+/// Reflected rays see the media too (the reference composites every eye-pass ray): a ball
+/// between the eye and a perfect mirror is crossed once on the way in and once on the way
+/// out, `L = c (1 - T1) + T1 (c (1 - T2) + T2 background)`.
+#[test]
+fn reflected_rays_see_the_media() {
+    let (mut scene, mut ball) = ball_scene(0.7);
+    ball.center = Vec3::new(0.0, 0.0, 2.0);
+    ball.radius = 0.6;
+    scene.volumes = vec![ball.clone()];
+    scene.objects = vec![Object::new(
+        "mirror",
+        quad(
+            Vec3::new(-20.0, -20.0, 0.0),
+            Vec3::X * 40.0,
+            Vec3::Y * 40.0,
+            Vec2::ONE,
+        ),
+        Material::perfect_mirror(),
+        Mat4::IDENTITY,
+    )];
+    let size = 32;
+    let r = render(&scene, &scene.camera, 0.0, size, size, &opts());
+    let eye = scene.camera.eye;
+    let chord = |o: Vec3, d: Vec3, t_max: f32| {
+        let t = ray_sphere(o, d, ball.center, ball.radius);
+        if t.x <= t.y {
+            (t.y.min(t_max) - t.x.max(0.0)).max(0.0)
+        } else {
+            0.0
+        }
+    };
+    let mut through_twice = 0;
+    for y in 0..size {
+        for x in 0..size {
+            let i = (y * size + x) as usize;
+            let d = scene
+                .camera
+                .ray_dir(x as f32 + 0.5, y as f32 + 0.5, size, size);
+            let t_mirror = eye.z / -d.z;
+            let p = eye + d * t_mirror;
+            let reflected = Vec3::new(d.x, d.y, -d.z);
+            let t1 = (-ball.density * chord(eye, d, t_mirror)).exp();
+            let t2 = (-ball.density * chord(p, reflected, f32::INFINITY)).exp();
+            let behind = ball.color * (1.0 - t2) + BACKGROUND * t2;
+            let want = ball.color * (1.0 - t1) + behind * t1;
+            let err = (rgb(&r, i) - want).abs().max_element();
+            assert!(err < 1e-3, "pixel {x},{y}: {:?} vs {want:?}", rgb(&r, i));
+            through_twice += (t1 < 1.0 && t2 < 1.0) as u32;
+        }
+    }
+    assert!(through_twice > 50, "{through_twice}");
+}
