@@ -34,6 +34,28 @@ pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
 mod tests {
     use super::*;
 
+    /// Each opacity function, with its scale, gives the true centre opacity of the built-in
+    /// smoke over the diameter (closed form of the `k = 1` chord, `scene::media`).
+    #[test]
+    fn opacity_scale_matches_the_true_centre_opacity() {
+        let smoke = scene::load("smoke").unwrap();
+        let v = &smoke.volumes[0];
+        let smooth = scene::DensityProfile {
+            noise: 0.0,
+            ..v.profile
+        };
+        let tau = scene::media::chord_optical_depth(v.density, v.radius, &smooth, 0.0).unwrap();
+        assert!(
+            (technique::centre_optical_depth(v) - tau).abs() < 1e-4,
+            "{tau}"
+        );
+        let alpha = 1.0 - (-tau).exp();
+        for f in [OpacityFn::Linear, OpacityFn::Log, OpacityFn::Sqrt] {
+            let s = technique::opacity_scale(v, f);
+            assert!((f.opacity(2.0 * v.radius, s) - alpha).abs() < 1e-4, "{f:?}");
+        }
+    }
+
     #[test]
     fn ids_are_the_thesis_tests() {
         let ids: Vec<String> = technique::thesis_variants()

@@ -65,14 +65,14 @@ impl VolumeSet {
 /// the profiles in use).
 pub fn centre_optical_depth(v: &Volume) -> f32 {
     let n = 256;
+    let smooth = scene::DensityProfile {
+        noise: 0.0,
+        ..v.profile
+    };
     let shape: f32 = (0..n)
         .map(|i| {
             let x = -1.0 + (i as f32 + 0.5) * 2.0 / n as f32;
-            let p = scene::DensityProfile {
-                noise: 0.0,
-                ..v.profile
-            };
-            p.shape(Vec3::new(x, 0.0, 0.0)) * 2.0 / n as f32
+            smooth.shape(Vec3::new(x, 0.0, 0.0)) * 2.0 / n as f32
         })
         .sum();
     v.density * v.radius * shape
