@@ -7,7 +7,7 @@
 
 use crate::mesh::{cuboid, cylinder, quad, uv_sphere};
 use crate::{
-    Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError,
+    Camera, CameraPath, DensityProfile, Material, Motion, Object, PointLight, Roles, Scene, SceneError,
     Texture, Volume,
 };
 use glam::{Mat4, Quat, Vec2, Vec3};
@@ -245,6 +245,10 @@ pub fn checker_texture(name: &str, size: u32, cells: u32, a: [u8; 3], b: [u8; 3]
     Texture { name: name.to_string(), width: size, height: size, rgba8 }
 }
 
+/// The big smoke volume's density profile: a falloff to zero at the sphere, textured by noise
+/// with features of about a third of the radius.
+pub const SMOKE_PROFILE: DensityProfile = DensityProfile { falloff: 1.0, noise: 0.45, noise_frequency: 3.0 };
+
 fn smoke(particles: usize) -> Scene {
     let wood = Material::diffuse(0.45, 0.3, 0.18);
     let mut objects = vec![Object::new(
@@ -267,12 +271,16 @@ fn smoke(particles: usize) -> Scene {
         wood,
         Mat4::from_rotation_translation(Quat::from_rotation_z(std::f32::consts::FRAC_PI_2), Vec3::new(2.0, 0.15, 0.2)),
     ));
+    // Semi-transparent like the thesis's figures: the big volume's centre chord has optical
+    // depth 4/3 * 0.55 * 1.5 = 1.1 (opacity 0.67 before the texture's +-45%); a particle's
+    // (k = 2) is 16/15 * 1.8 * R = 0.48-0.86 (opacity 0.38-0.58), fading smoothly to its rim.
     let mut volumes = vec![Volume {
         name: "smoke".into(),
         center: Vec3::new(0.0, 1.0, 0.0),
         radius: 1.5,
         color: Vec3::new(0.8, 0.8, 0.85),
-        density: 0.6,
+        density: 0.55,
+        profile: SMOKE_PROFILE,
         particle: false,
         motion: Motion::default(),
     }];
@@ -284,7 +292,8 @@ fn smoke(particles: usize) -> Scene {
             center,
             radius: 0.25 + 0.2 * h(3),
             color: Vec3::new(0.7, 0.7, 0.75),
-            density: 1.5,
+            density: 1.8,
+            profile: DensityProfile { falloff: 2.0, ..SMOKE_PROFILE },
             particle: true,
             motion: Motion { keys: vec![(0.0, Vec3::ZERO), (2.0, Vec3::Y * 0.5)] },
         });

@@ -93,6 +93,8 @@
 //!                                            "up": [..], "fov_y_deg": f }, .. ],
 //!                         "volumes": [ { "name": "smoke", "center": [..], "radius": r,
 //!                                        "color": [..], "density": d, "particle": false,
+//!                                        "profile": { "falloff": k, "noise": a,
+//!                                                     "noise_frequency": f },
 //!                                        "motion": [ { "time": t, "offset": [..] }, .. ] } ] } }
 //! nodes[i].extras     { "scene_model": {                       (an object's node)
 //!                         "roles": ["refractor", "caustic-caster"],
@@ -135,8 +137,8 @@
 //! importer structurally (every JSON value removed or replaced) and with bit flips.
 
 use crate::{
-    Building, Camera, CameraPath, Material, Mesh, Motion, Object, PointLight, Roles, Scene,
-    SceneError, Texture, Volume,
+    Building, Camera, CameraPath, DensityProfile, Material, Mesh, Motion, Object, PointLight,
+    Roles, Scene, SceneError, Texture, Volume,
 };
 use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -299,9 +301,36 @@ struct VolumeExtras {
     radius: f64,
     color: V3,
     density: f64,
+    /// Absent in files written before the density profile existed: a uniform ball.
+    #[serde(default)]
+    profile: Option<ProfileExtras>,
     particle: bool,
     #[serde(default)]
     motion: Vec<KeyExtras>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct ProfileExtras {
+    falloff: f64,
+    noise: f64,
+    noise_frequency: f64,
+}
+
+impl ProfileExtras {
+    fn from_profile(p: &DensityProfile) -> Self {
+        Self {
+            falloff: p.falloff as f64,
+            noise: p.noise as f64,
+            noise_frequency: p.noise_frequency as f64,
+        }
+    }
+    fn profile(&self) -> DensityProfile {
+        DensityProfile {
+            falloff: self.falloff as f32,
+            noise: self.noise as f32,
+            noise_frequency: self.noise_frequency as f32,
+        }
+    }
 }
 
 #[derive(Serialize, Deserialize)]
@@ -917,6 +946,10 @@ impl Importer<'_> {
                         radius: v.radius as f32,
                         color: vec3(v.color),
                         density: v.density as f32,
+                        profile: v
+                            .profile
+                            .as_ref()
+                            .map_or(DensityProfile::UNIFORM, |p| p.profile()),
                         particle: v.particle,
                         motion: motion_from(&v.motion),
                     })
@@ -1609,6 +1642,7 @@ impl Exporter {
                     radius: v.radius as f64,
                     color: v3(v.color),
                     density: v.density as f64,
+                    profile: Some(ProfileExtras::from_profile(&v.profile)),
                     particle: v.particle,
                     motion: motion_extras(&v.motion),
                 })

@@ -2,7 +2,9 @@
 //!
 //! `GpuScene` uploads every object once (object-space vertices, one index range per object,
 //! a storage buffer of per-object transforms and materials, the lights, the diffuse textures
-//! as one texture array) and owns one distance cube shadow map per light. Its raster pass
+//! as one texture array) and owns one distance shadow map per light: a cube map around a
+//! light inside (or near) the scene's bounding sphere, or one 2D map fitted to that sphere for
+//! a light farther than 1.5 radii from its centre (`FittedShadow`). Its raster pass
 //! shades diffuse surfaces exactly like the CPU reference (`shaders/scene.wgsl`), so every
 //! technique differs from the reference only where its special objects are.
 //!
@@ -18,7 +20,7 @@ use gpu::{Context, Vertex};
 /// Scene bindings and the shared diffuse shading model, in WGSL (needs the `gpu` prelude).
 pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
 const RASTER_WGSL: &str = include_str!("shaders/raster.wgsl");
-/// Resolution of each face of the shadow cube maps.
+/// Resolution of each face of the shadow cube maps, and of each fitted 2D shadow map.
 pub const SHADOW_MAP_SIZE: u32 = 1024;
 const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Distance written for texels that see no geometry (must match scene.wgsl).

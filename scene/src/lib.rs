@@ -4,10 +4,11 @@
 
 pub mod builtin;
 mod bunny;
-pub mod city;
 pub mod bvh;
+pub mod city;
 pub mod gltf_io;
 mod gpu_scene;
+pub mod media;
 pub mod mesh;
 pub mod metrics;
 mod model;
@@ -16,8 +17,8 @@ pub mod technique;
 pub mod techniques;
 
 pub use gpu_scene::{
-    BACKGROUND_DISTANCE, DrawRange, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL, begin_scene_pass,
-    scene_pipeline,
+    BACKGROUND_DISTANCE, DrawRange, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL,
+    begin_scene_pass, scene_pipeline,
 };
 pub use model::*;
 pub use technique::{Frame, Param, Technique, TechniqueError, TechniqueResult, Timing, View};

@@ -33,7 +33,10 @@ impl Mesh {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
     /// Lambertian; `texture` indexes `Scene::textures` and multiplies `albedo`.
-    Diffuse { albedo: Vec3, texture: Option<usize> },
+    Diffuse {
+        albedo: Vec3,
+        texture: Option<usize>,
+    },
     /// Conductor with the seeds' Fresnel approximation; n = 0, k = 1 is a perfect mirror.
     Metal { n: Vec3, k: Vec3 },
     /// Dielectric, ior relative to the surrounding air.
@@ -42,19 +45,31 @@ pub enum Material {
 
 impl Material {
     pub fn diffuse(r: f32, g: f32, b: f32) -> Self {
-        Material::Diffuse { albedo: Vec3::new(r, g, b), texture: None }
+        Material::Diffuse {
+            albedo: Vec3::new(r, g, b),
+            texture: None,
+        }
     }
     /// F = 1 at every angle with the seeds' approximation: ((0-1)^2 + 1) / ((0+1)^2 + 1).
     pub fn perfect_mirror() -> Self {
-        Material::Metal { n: Vec3::ZERO, k: Vec3::ONE }
+        Material::Metal {
+            n: Vec3::ZERO,
+            k: Vec3::ONE,
+        }
     }
     /// Gold (n, k at roughly 650/550/450 nm).
     pub fn gold() -> Self {
-        Material::Metal { n: Vec3::new(0.143, 0.374, 1.442), k: Vec3::new(3.983, 2.385, 1.603) }
+        Material::Metal {
+            n: Vec3::new(0.143, 0.374, 1.442),
+            k: Vec3::new(3.983, 2.385, 1.603),
+        }
     }
     /// Copper.
     pub fn copper() -> Self {
-        Material::Metal { n: Vec3::new(0.200, 0.924, 1.102), k: Vec3::new(3.912, 2.452, 2.142) }
+        Material::Metal {
+            n: Vec3::new(0.200, 0.924, 1.102),
+            k: Vec3::new(3.912, 2.452, 2.142),
+        }
     }
     pub fn glass(ior: f32) -> Self {
         Material::Glass { ior }
@@ -102,7 +117,11 @@ impl Texture {
 /// sRGB 8-bit to linear, exactly as the GPU's `*UnormSrgb` formats decode.
 pub fn srgb_to_linear(v: u8) -> f32 {
     let c = v as f32 / 255.0;
-    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 /// The special roles a technique may treat differently from the shared diffuse raster pass.
@@ -136,7 +155,11 @@ impl Roles {
         self.0 == 0
     }
     pub fn names(self) -> Vec<&'static str> {
-        Roles::ALL.iter().filter(|(r, _)| self.contains(*r)).map(|(_, n)| *n).collect()
+        Roles::ALL
+            .iter()
+            .filter(|(r, _)| self.contains(*r))
+            .map(|(_, n)| *n)
+            .collect()
     }
     pub fn from_name(name: &str) -> Option<Roles> {
         Roles::ALL.iter().find(|(_, n)| *n == name).map(|(r, _)| *r)
@@ -284,7 +307,10 @@ impl Camera {
             return None;
         }
         let ndc = clip.truncate() / clip.w;
-        Some(Vec2::new((ndc.x + 1.0) * 0.5 * width as f32, (1.0 - ndc.y) * 0.5 * height as f32))
+        Some(Vec2::new(
+            (ndc.x + 1.0) * 0.5 * width as f32,
+            (1.0 - ndc.y) * 0.5 * height as f32,
+        ))
     }
 }
 
@@ -309,7 +335,11 @@ impl CameraPath {
     }
 }
 
-fn sample_keys<T: Copy>(keys: &[(f32, T)], time: f32, lerp: impl Fn(&T, &T, f32) -> T) -> Option<T> {
+fn sample_keys<T: Copy>(
+    keys: &[(f32, T)],
+    time: f32,
+    lerp: impl Fn(&T, &T, f32) -> T,
+) -> Option<T> {
     let first = keys.first()?;
     if time <= first.0 {
         return Some(first.1);
@@ -317,23 +347,66 @@ fn sample_keys<T: Copy>(keys: &[(f32, T)], time: f32, lerp: impl Fn(&T, &T, f32)
     for pair in keys.windows(2) {
         let ((t0, a), (t1, b)) = (pair[0], pair[1]);
         if time <= t1 {
-            let s = if t1 > t0 { (time - t0) / (t1 - t0) } else { 1.0 };
+            let s = if t1 > t0 {
+                (time - t0) / (t1 - t0)
+            } else {
+                1.0
+            };
             return Some(lerp(&a, &b, s));
         }
     }
     keys.last().map(|k| k.1)
 }
 
-/// A soft volume (participating medium of uniform density) bounded by a sphere.
+/// How a volume's extinction varies inside its bounding sphere: a smooth radial falloff
+/// modulated by a deterministic 3D noise (the thesis's smoke with a diffuse texture, figure
+/// 6.22). [`crate::media`] evaluates it; every technique is measured against that.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DensityProfile {
+    /// Exponent `k` of the radial falloff `(1 - (r/R)^2)^k`: 0 is a uniform ball, 1 falls to
+    /// zero at the sphere with a kink, 2 and more fall smoothly (zero slope at the sphere).
+    pub falloff: f32,
+    /// Relative amplitude `a` of the noise, in [0, 1]: the falloff is multiplied by
+    /// `1 + a n(q)` with `n` in [-1, 1], so 0 is no texture and the density stays >= 0.
+    pub noise: f32,
+    /// Noise lattice cells per radius: the texture's features are about `R / frequency`.
+    pub noise_frequency: f32,
+}
+
+impl DensityProfile {
+    /// A uniform ball: the medium the thesis's techniques assume.
+    pub const UNIFORM: DensityProfile = DensityProfile {
+        falloff: 0.0,
+        noise: 0.0,
+        noise_frequency: 1.0,
+    };
+}
+
+impl Default for DensityProfile {
+    fn default() -> Self {
+        Self::UNIFORM
+    }
+}
+
+/// A soft volume: a participating medium (emission-absorption) bounded by a sphere.
+///
+/// Its extinction coefficient at a point `r` metres from the centre is
+/// `density * (1 - (r/R)^2)^k * (1 + a n(q))` per metre ([`DensityProfile`], `q` the point in
+/// the volume's own frame, so the texture moves with it) and zero outside the sphere. The
+/// medium emits `color` per unit optical depth: along a path of transmittance `T` it adds
+/// `color (1 - T)` over what lies behind it, so an infinitely thick medium shows `color`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Volume {
     pub name: String,
     pub center: Vec3,
     pub radius: f32,
-    /// Linear RGB colour of the medium (what it adds, scaled by opacity).
+    /// Linear RGB radiance of the medium where it is opaque (what it adds, scaled by 1 - T).
     pub color: Vec3,
-    /// Opacity reached over one metre of path (the path-length-to-opacity scale).
+    /// Extinction coefficient `sigma` at the centre, per metre (before the noise): a uniform
+    /// ball of radius R seen through its centre has transmittance `exp(-2 R density)`.
     pub density: f32,
+    /// How the extinction varies inside the sphere.
+    pub profile: DensityProfile,
     /// True for members of a particle cloud, false for a single large volume.
     pub particle: bool,
     pub motion: Motion,
@@ -356,11 +429,15 @@ pub struct Scene {
 impl Scene {
     /// Indices of the objects with any of `roles`.
     pub fn objects_with(&self, roles: Roles) -> Vec<usize> {
-        (0..self.objects.len()).filter(|&i| self.objects[i].roles.intersects(roles)).collect()
+        (0..self.objects.len())
+            .filter(|&i| self.objects[i].roles.intersects(roles))
+            .collect()
     }
     /// The objects a technique treats specially (everything but plain diffuse scenery).
     pub fn special_objects(&self) -> Vec<usize> {
-        (0..self.objects.len()).filter(|&i| !self.objects[i].roles.is_empty()).collect()
+        (0..self.objects.len())
+            .filter(|&i| !self.objects[i].roles.is_empty())
+            .collect()
     }
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| o.mesh.triangle_count()).sum()
@@ -387,17 +464,29 @@ impl Scene {
             if o.mesh.normals.len() != o.mesh.positions.len()
                 || o.mesh.uvs.len() != o.mesh.positions.len()
             {
-                return bad(format!("object \"{}\" has mismatched vertex attributes", o.name));
+                return bad(format!(
+                    "object \"{}\" has mismatched vertex attributes",
+                    o.name
+                ));
             }
             if o.mesh.indices.len() % 3 != 0
-                || o.mesh.indices.iter().any(|&i| i as usize >= o.mesh.positions.len())
+                || o.mesh
+                    .indices
+                    .iter()
+                    .any(|&i| i as usize >= o.mesh.positions.len())
             {
-                return bad(format!("object \"{}\" has invalid triangle indices", o.name));
+                return bad(format!(
+                    "object \"{}\" has invalid triangle indices",
+                    o.name
+                ));
             }
             if Mat3::from_mat4(o.transform).determinant().abs() < 1e-12 {
                 return bad(format!("object \"{}\" has a singular transform", o.name));
             }
-            if let Material::Diffuse { texture: Some(t), .. } = o.material {
+            if let Material::Diffuse {
+                texture: Some(t), ..
+            } = o.material
+            {
                 if t >= self.textures.len() {
                     return bad(format!("object \"{}\" uses missing texture {t}", o.name));
                 }
@@ -413,13 +502,59 @@ impl Scene {
                 return bad(format!("light \"{}\" is not finite", l.name));
             }
         }
+        for v in &self.volumes {
+            v.validate()?;
+        }
         let c = &self.camera;
         if !c.eye.is_finite() || !c.target.is_finite() || c.eye == c.target {
             return bad("the camera is not finite or looks at its own eye".into());
         }
         if !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0) {
-            return bad(format!("camera field of view {} is not in (0, 180)", c.fov_y_deg));
+            return bad(format!(
+                "camera field of view {} is not in (0, 180)",
+                c.fov_y_deg
+            ));
         }
         Ok(())
+    }
+}
+
+impl Volume {
+    /// The numbers a renderer needs are finite and in range: radius > 0, density >= 0,
+    /// falloff >= 0, noise in [0, 1], noise frequency > 0.
+    pub fn validate(&self) -> Result<(), crate::SceneError> {
+        let p = &self.profile;
+        let finite = self.center.is_finite()
+            && self.color.is_finite()
+            && self.radius.is_finite()
+            && self.density.is_finite()
+            && p.falloff.is_finite()
+            && p.noise.is_finite()
+            && p.noise_frequency.is_finite()
+            && self
+                .motion
+                .keys
+                .iter()
+                .all(|(t, v)| t.is_finite() && v.is_finite());
+        let in_range = self.radius > 0.0
+            && self.density >= 0.0
+            && p.falloff >= 0.0
+            && (0.0..=1.0).contains(&p.noise)
+            && p.noise_frequency > 0.0;
+        let bad = |what: &str| {
+            Err(crate::SceneError::Invalid(format!(
+                "volume \"{}\" {what}",
+                self.name
+            )))
+        };
+        if !finite {
+            bad("is not finite")
+        } else if !in_range {
+            bad(
+                "needs radius > 0, density >= 0, falloff >= 0, noise in [0, 1] and noise frequency > 0",
+            )
+        } else {
+            Ok(())
+        }
     }
 }

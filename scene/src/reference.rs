@@ -63,6 +63,20 @@
 //! rooms to cities of hundreds of metres; single-precision hit points carry a relative
 //! error near 1e-7, so the offset has three orders of magnitude of headroom).
 //!
+//! # Participating media
+//!
+//! The scene's volumes are emission-absorption media whose density fields are defined in
+//! [`crate::media`] (independently of any technique). Every eye-pass ray, primary or
+//! reflected or refracted, is composited through the media between its origin and its
+//! first surface (or to infinity on a miss): `L = L_medium + T L_behind`, with `T` the
+//! Beer-Lambert transmittance and `L_medium` the medium's emission (its `color` per unit
+//! optical depth, so `color (1 - T)` for one colour), integrated by ray marching with the
+//! accuracy stated in [`crate::media`] (transmittance within 1e-3 of the closed forms). A
+//! surface in front of a medium hides it; a surface inside one is seen through the part in
+//! front of it. A caustic photon seen by the eye is attenuated by the transmittance between
+//! its landing point and the eye. The `mask` flags every pixel whose primary ray crosses a
+//! volume sphere in front of its first surface.
+//!
 //! # Light pass: caustics by light tracing
 //!
 //! Light that reaches a diffuse surface through one or more specular interactions (paths
@@ -157,13 +171,15 @@
 //!   lit by photons).
 //! * Specular chains longer than `max_depth` and eye-tree branches below
 //!   [`MIN_THROUGHPUT`].
-//! * Volumes: the foundation does not render participating media; pixels whose primary ray
-//!   crosses a volume sphere are only flagged in `mask`.
+//! * Scattering in the volumes: media emit and absorb (below) but are not lit, cast no
+//!   shadows and do not attenuate light on its way to a surface (shadow rays and photons
+//!   pass through them).
 //! * Lights other than point lights; absorption in glass; dispersion; polarisation;
 //!   anti-aliasing beyond `samples_per_pixel` (the default samples pixel centres only, like
 //!   a rasterizer without MSAA).
 
 use crate::bvh::{Hit, SceneBvh};
+use crate::media::Media;
 use crate::{Camera, Material, Roles, Scene};
 use glam::{Vec2, Vec3};
 use gpu::HdrImage;
@@ -270,9 +286,11 @@ pub fn render(
 ) -> ReferenceImage {
     let start = Instant::now();
     let bvh = SceneBvh::build(scene, time);
+    let media = Media::new(scene, time);
     let tracer = Tracer {
         scene,
         bvh: &bvh,
+        media: &media,
         max_depth: opts.max_depth,
     };
     let spp = opts.samples_per_pixel.max(1);
@@ -304,10 +322,11 @@ pub fn render(
                 ids.push(centre_hit.map_or(-1, |h| h.object as i32));
                 mask.push(special || in_volume);
                 let l = if spp == 1 {
-                    match &centre_hit {
+                    let behind = match &centre_hit {
                         Some(h) => tracer.shade(h, dir, 0, Vec3::ONE, &mut counts),
                         None => scene.background,
-                    }
+                    };
+                    media.composite(camera.eye, dir, t_hit, behind)
                 } else {
                     let mut sum = Vec3::ZERO;
                     for i in 0..spp {
@@ -560,6 +579,8 @@ fn scatter(material: &Material, s: &Surface, dir: Vec3) -> Option<Scatter> {
 struct Tracer<'a> {
     scene: &'a Scene,
     bvh: &'a SceneBvh,
+    /// The participating media every eye-pass ray is composited through.
+    media: &'a Media,
     max_depth: u32,
 }
 
@@ -575,10 +596,13 @@ impl Tracer<'_> {
         c: &mut Counts,
     ) -> Vec3 {
         c.camera += 1;
-        match self.bvh.closest_hit(origin, dir, f32::INFINITY) {
-            Some(hit) => self.shade(&hit, dir, depth, throughput, c),
+        let hit = self.bvh.closest_hit(origin, dir, f32::INFINITY);
+        let behind = match &hit {
+            Some(hit) => self.shade(hit, dir, depth, throughput, c),
             None => self.scene.background,
-        }
+        };
+        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+        self.media.composite(origin, dir, t_hit, behind)
     }
 
     /// Radiance leaving `hit` back along `dir`.
@@ -713,8 +737,11 @@ impl Tracer<'_> {
 
 /// The pinhole camera as the light pass sees it: where a point lands on the image and
 /// what one pixel's importance is.
-struct Eye {
+struct Eye<'a> {
     camera: Camera,
+    /// Media between a landed photon and the eye attenuate it, as they attenuate the eye
+    /// pass's view of the same point.
+    media: &'a Media,
     forward: Vec3,
     width: u32,
     height: u32,
@@ -722,12 +749,13 @@ struct Eye {
     pixel_area: f32,
 }
 
-impl Eye {
-    fn new(camera: &Camera, width: u32, height: u32) -> Self {
+impl<'a> Eye<'a> {
+    fn new(camera: &Camera, width: u32, height: u32, media: &'a Media) -> Self {
         let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
         let aspect = width as f32 / height as f32;
         Eye {
             camera: *camera,
+            media,
             forward: (camera.target - camera.eye).normalize(),
             width,
             height,
@@ -778,7 +806,9 @@ impl Eye {
         let cos_i_g = s.ng.dot(w_i).max(1e-6);
         let correction = (s.ns.dot(w_i).max(0.0) / cos_i_g).min(MAX_SHADING_CORRECTION);
         let importance = 1.0 / (self.pixel_area * cos_camera * cos_camera * cos_camera);
-        let value = power * albedo * FRAC_1_PI * (correction * cos_surface / d2 * importance);
+        let seen = self.media.transmittance(self.camera.eye, -w_c, d2.sqrt());
+        let value =
+            power * albedo * FRAC_1_PI * (correction * cos_surface / d2 * importance * seen);
         Some(((y * self.width + x) as usize, value))
     }
 }
@@ -908,12 +938,14 @@ fn light_trace_with(
             first += PHOTON_CHUNK;
         }
     }
+    let media = Media::new(scene, time);
     let tracer = Tracer {
         scene,
         bvh,
+        media: &media,
         max_depth: opts.max_depth,
     };
-    let eye = Eye::new(camera, width, height);
+    let eye = Eye::new(camera, width, height, &media);
     let results: Vec<ChunkResult> = work
         .par_iter()
         .map(|&(ei, first, count)| {

@@ -89,10 +89,11 @@ pub trait Technique {
         Timing::Gpu
     }
     /// The exact image this technique approximates, when that is not the scene's reference
-    /// alone: volume techniques define opacity from path length by their own function, and
-    /// their ground truth is the reference with each volume composited as a real medium with
-    /// that function (exact path lengths against the exact scene depth). Computed on the CPU
-    /// from `reference` (the scene's reference image of `view`); `None` means the reference.
+    /// alone; computed on the CPU from `reference` (the scene's reference image of `view`).
+    /// `None` (every technique in the workspace today) means the reference. A technique must
+    /// not return its own model here: the reference already renders everything the scene
+    /// defines, volumes included (participating media, `crate::media`), and the harness's
+    /// primary error is against it.
     fn ground_truth(&self, _scene: &Scene, _view: &View, _reference: &gpu::HdrImage) -> Option<gpu::HdrImage> {
         None
     }

@@ -85,7 +85,7 @@ impl Technique for RasterTechnique {
         "raster".into()
     }
     fn description(&self) -> String {
-        "shared raster pass (diffuse model + shadow cube maps); specular objects as grey diffuse".into()
+        "shared raster pass (diffuse model + shadow maps); specular objects as grey diffuse".into()
     }
     fn supports(&self, _scene: &Scene) -> bool {
         true

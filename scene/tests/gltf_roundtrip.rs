@@ -141,6 +141,11 @@ fn awkward_values_round_trip_exactly() {
         radius: 0.7,
         color: Vec3::new(0.3, 0.2, 0.1),
         density: 2.5,
+        profile: scene::DensityProfile {
+            falloff: 1.5,
+            noise: 0.35,
+            noise_frequency: 2.75,
+        },
         particle: true,
         motion: Motion::default(),
     });

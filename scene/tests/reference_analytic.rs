@@ -397,6 +397,7 @@ fn object_ids_and_mask() {
         radius: 0.3,
         color: Vec3::ONE,
         density: 1.0,
+        profile: scene::DensityProfile::UNIFORM,
         particle: false,
         motion: Motion::default(),
     });

@@ -1,5 +1,6 @@
 //! Renders the volume variants on a scene, measures their frame times and their error
-//! against the ground truth, and writes PNGs: the table of the thesis's figure 6.23 without
+//! against the ground truth (the reference's participating media composited over the raster
+//! pass, `ground_truth::with_reference_media`), and writes PNGs: the table of the thesis's figure 6.23 without
 //! the harness.
 //!
 //! ```text
@@ -9,7 +10,7 @@
 //! ```
 //!
 //! `--inside` puts the eye inside the scene's large volume; `--density` overrides the large
-//! volumes' density (the default smoke saturates to opaque in its core); `--row` prints the
+//! volumes' density (extinction per metre at the centre); `--row` prints the
 //! luminance of one image row of the test and the truth.
 //!
 //! Times are the harness's: the GPU timer's `frame` span (GPU timestamps where the adapter
@@ -23,7 +24,7 @@ use gpu::{GpuTimer, HdrImage, Target, TimeStats};
 use scene::techniques::RasterTechnique;
 use scene::{Camera, Frame, GpuScene, Technique, View};
 use std::collections::BTreeMap;
-use volumes::ground_truth;
+use volumes::{VolumeSet, ground_truth};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut spec = "smoke".to_string();
@@ -62,14 +63,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ctx = gpu::Context::new()?;
     let mut scene = scene::load(&spec)?;
     if let Some(d) = density {
-        scene.volumes.iter_mut().filter(|v| !v.particle).for_each(|v| v.density = d);
+        scene
+            .volumes
+            .iter_mut()
+            .filter(|v| !v.particle)
+            .for_each(|v| v.density = d);
     }
     let mut camera = scene.camera;
     if inside {
-        let v = scene.volumes.iter().find(|v| !v.particle).ok_or("the scene has no large volume")?;
-        camera = Camera { eye: v.center + glam::Vec3::new(0.2, 0.1, 0.3) * v.radius, ..camera };
+        let v = scene
+            .volumes
+            .iter()
+            .find(|v| !v.particle)
+            .ok_or("the scene has no large volume")?;
+        camera = Camera {
+            eye: v.center + glam::Vec3::new(0.2, 0.1, 0.3) * v.radius,
+            ..camera
+        };
     }
-    let view = View { camera, time: 0.0, width: size, height: size };
+    let view = View {
+        camera,
+        time: 0.0,
+        width: size,
+        height: size,
+    };
     let mut gpu_scene = GpuScene::new(&ctx, &scene)?;
     let target = Target::new(&ctx, size, size)?;
     let mut timer = GpuTimer::new(&ctx, 64);
@@ -80,8 +97,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
 
     // The scene without volumes, and the exact distances, for the ground truth.
-    let base = render_once(&ctx, &mut timer, &mut gpu_scene, &mut RasterTechnique, &view, &target)?;
+    let base = render_once(
+        &ctx,
+        &mut timer,
+        &mut gpu_scene,
+        &mut RasterTechnique,
+        &view,
+        &target,
+    )?;
     let distances = ground_truth::primary_distances(&scene, &camera, view.time, size, size);
+    // The reference's media over the raster pass: every variant's truth.
+    let truth = ground_truth::with_reference_media(&scene, &camera, view.time, &base, &distances);
 
     println!(
         "| id | thesis test | frame ms (median) | p95 | volumes ms | scene-depth ms | RMSE | RMSE cut | FLIP | FLIP masked | non-finite |"
@@ -104,12 +130,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
-            let mut frame = Frame { gpu: &ctx, encoder: &mut encoder, timer: &mut timer };
+            let mut frame = Frame {
+                gpu: &ctx,
+                encoder: &mut encoder,
+                timer: &mut timer,
+            };
             gpu_scene.set_time(&mut frame, view.time);
             technique.prepare(&mut frame, &gpu_scene)?;
         }
         timer.submit_and_collect(&ctx, encoder)?;
-        runs.push(Run { technique, best: BTreeMap::new() });
+        runs.push(Run {
+            technique,
+            best: BTreeMap::new(),
+        });
     }
     // Rounds over all variants, so that a burst of load on a shared machine hits one round of
     // a variant rather than all its frames; each span reports its best round's median.
@@ -120,8 +153,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let mut encoder = ctx.device.create_command_encoder(&Default::default());
                 timer.begin(&mut encoder, "frame");
                 {
-                    let mut frame = Frame { gpu: &ctx, encoder: &mut encoder, timer: &mut timer };
-                    run.technique.render(&mut frame, &gpu_scene, &view, &target)?;
+                    let mut frame = Frame {
+                        gpu: &ctx,
+                        encoder: &mut encoder,
+                        timer: &mut timer,
+                    };
+                    run.technique
+                        .render(&mut frame, &gpu_scene, &view, &target)?;
                 }
                 timer.end(&mut encoder, "frame");
                 let measured = timer.submit_and_collect(&ctx, encoder)?;
@@ -144,20 +182,40 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let id = run.technique.id();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
-            let mut frame = Frame { gpu: &ctx, encoder: &mut encoder, timer: &mut timer };
-            run.technique.render(&mut frame, &gpu_scene, &view, &target)?;
+            let mut frame = Frame {
+                gpu: &ctx,
+                encoder: &mut encoder,
+                timer: &mut timer,
+            };
+            run.technique
+                .render(&mut frame, &gpu_scene, &view, &target)?;
         }
         timer.submit_and_collect(&ctx, encoder)?;
         let image = target.read(&ctx)?;
-        let spec_truth = ground_truth::spec_for(&id).expect("every id has a ground truth");
-        let truth = ground_truth::composite(&scene, &camera, view.time, &base, &distances, spec_truth);
-        let mask = ground_truth::volume_mask(&scene, &camera, view.time, size, size, &distances, spec_truth.set);
+        let spec_truth = ground_truth::spec_for(&id).expect("every id has a variant model");
+        let mask = ground_truth::volume_mask(
+            &scene,
+            &camera,
+            view.time,
+            size,
+            size,
+            &distances,
+            VolumeSet::All,
+        );
         let (m, _) = scene::metrics::compare(&image, &truth, Some(&mask));
         let cut = cut_mask(&scene, &camera, view.time, size, &distances, spec_truth.set);
         let rmse_cut = rmse_over(&image, &truth, &cut);
-        let frame_label = if timer.kind() == gpu::TimerKind::Wall { "wall" } else { "frame" };
+        let frame_label = if timer.kind() == gpu::TimerKind::Wall {
+            "wall"
+        } else {
+            "frame"
+        };
         let f = run.best.get(frame_label).copied().unwrap_or_default();
-        let fmt = |label: &str| run.best.get(label).map_or("-".to_string(), |s| format!("{:.3}", s.median_ms));
+        let fmt = |label: &str| {
+            run.best
+                .get(label)
+                .map_or("-".to_string(), |s| format!("{:.3}", s.median_ms))
+        };
         let test = volumes::technique::all_variants()
             .into_iter()
             .find(|v| v.id() == id)
@@ -178,11 +236,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if let Some(y) = row {
             let lum = |img: &HdrImage, x: u32| {
                 let p = img.get(x, y);
-                format!("{:.3}", gpu::prelude::luminance(glam::Vec3::new(p[0], p[1], p[2])))
+                format!(
+                    "{:.3}",
+                    gpu::prelude::luminance(glam::Vec3::new(p[0], p[1], p[2]))
+                )
             };
             let xs = (0..size).step_by((size as usize / 32).max(1));
-            println!("  row {y} test : {}", xs.clone().map(|x| lum(&image, x)).collect::<Vec<_>>().join(" "));
-            println!("  row {y} truth: {}", xs.map(|x| lum(&truth, x)).collect::<Vec<_>>().join(" "));
+            println!(
+                "  row {y} test : {}",
+                xs.clone()
+                    .map(|x| lum(&image, x))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            );
+            println!(
+                "  row {y} truth: {}",
+                xs.map(|x| lum(&truth, x)).collect::<Vec<_>>().join(" ")
+            );
         }
         if let Some(dir) = &out {
             let name = id.replace('/', "_");
@@ -216,7 +286,11 @@ fn render_once(
 ) -> Result<HdrImage, Box<dyn std::error::Error>> {
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     {
-        let mut frame = Frame { gpu: ctx, encoder: &mut encoder, timer: &mut *timer };
+        let mut frame = Frame {
+            gpu: ctx,
+            encoder: &mut encoder,
+            timer: &mut *timer,
+        };
         gpu_scene.set_time(&mut frame, view.time);
         technique.prepare(&mut frame, gpu_scene)?;
         technique.render(&mut frame, gpu_scene, view, target)?;
@@ -240,7 +314,12 @@ fn cut_mask(
             let d = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, size, size);
             let t = distances[(y * size + x) as usize];
             out.push(scene.volumes.iter().filter(|v| set.includes(v)).any(|v| {
-                let s = gpu::prelude::ray_sphere(camera.eye, d, v.center + v.motion.offset(time), v.radius);
+                let s = gpu::prelude::ray_sphere(
+                    camera.eye,
+                    d,
+                    v.center + v.motion.offset(time),
+                    v.radius,
+                );
                 s.x <= s.y && t > s.x.max(0.0) && t < s.y
             }));
         }
@@ -259,11 +338,21 @@ fn rmse_over(a: &HdrImage, b: &HdrImage, mask: &[bool]) -> f64 {
             n += 3;
         }
     }
-    if n == 0 { f64::NAN } else { (sum / n as f64).sqrt() }
+    if n == 0 {
+        f64::NAN
+    } else {
+        (sum / n as f64).sqrt()
+    }
 }
 
 fn write_png(image: &HdrImage, path: &str) -> Result<(), Box<dyn std::error::Error>> {
     let bytes: Vec<u8> = scene::metrics::to_srgb8(image);
-    image::save_buffer(path, &bytes, image.width, image.height, image::ExtendedColorType::Rgb8)?;
+    image::save_buffer(
+        path,
+        &bytes,
+        image.width,
+        image.height,
+        image::ExtendedColorType::Rgb8,
+    )?;
     Ok(())
 }

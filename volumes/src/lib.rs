@@ -7,8 +7,9 @@
 //!   `shaders/path_length.wgsl` is its twin.
 //! - [`technique`]: the variants (the 17 of the thesis's figure 6.23 plus particle-system
 //!   versions) behind `scene::Technique`.
-//! - [`ground_truth`]: the exact uniform media composited over a volume-free image, on the
-//!   CPU, with the opacity function of the variant under test.
+//! - [`ground_truth`]: what the variants are measured against: the scene's reference with its
+//!   participating media (`scene::media`), and, as a second figure for tests, each variant's
+//!   own model (uniform spheres with its opacity function).
 //!
 //! See `README.md` for how each variant maps to the thesis and where it departs from it.
 
@@ -16,9 +17,9 @@ pub mod ground_truth;
 pub mod path_length;
 pub mod technique;
 
-pub use ground_truth::{TruthSpec, VolumeSet};
+pub use ground_truth::TruthSpec;
 pub use path_length::{OpacityFn, Primitive};
-pub use technique::{Method, Variant, VolumeTechnique};
+pub use technique::{Method, Variant, VolumeSet, VolumeTechnique};
 
 /// All technique variants of this crate: the 17 of the thesis's figure 6.23 in its order,
 /// then the particle-system versions.
@@ -33,9 +34,34 @@ pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
 mod tests {
     use super::*;
 
+    /// Each opacity function, with its scale, gives the true centre opacity of the built-in
+    /// smoke over the diameter (closed form of the `k = 1` chord, `scene::media`).
+    #[test]
+    fn opacity_scale_matches_the_true_centre_opacity() {
+        let smoke = scene::load("smoke").unwrap();
+        let v = &smoke.volumes[0];
+        let smooth = scene::DensityProfile {
+            noise: 0.0,
+            ..v.profile
+        };
+        let tau = scene::media::chord_optical_depth(v.density, v.radius, &smooth, 0.0).unwrap();
+        assert!(
+            (technique::centre_optical_depth(v) - tau).abs() < 1e-4,
+            "{tau}"
+        );
+        let alpha = 1.0 - (-tau).exp();
+        for f in [OpacityFn::Linear, OpacityFn::Log, OpacityFn::Sqrt] {
+            let s = technique::opacity_scale(v, f);
+            assert!((f.opacity(2.0 * v.radius, s) - alpha).abs() < 1e-4, "{f:?}");
+        }
+    }
+
     #[test]
     fn ids_are_the_thesis_tests() {
-        let ids: Vec<String> = technique::thesis_variants().iter().map(|v| v.id()).collect();
+        let ids: Vec<String> = technique::thesis_variants()
+            .iter()
+            .map(|v| v.id())
+            .collect();
         let expected = [
             "volumes/billboard",
             "volumes/slices-5",
@@ -67,7 +93,10 @@ mod tests {
         assert!(all.contains(&"volumes/particles-billboard".to_string()));
         assert!(all.contains(&"volumes/particles-raytraced-sphere-log".to_string()));
         for id in &all {
-            assert!(ground_truth::spec_for(id).is_some(), "{id} has a ground truth");
+            assert!(
+                ground_truth::spec_for(id).is_some(),
+                "{id} has a variant model"
+            );
         }
     }
 }

@@ -58,6 +58,38 @@ impl OpacityFn {
     pub fn opacity(self, len: f32, density: f32) -> f32 {
         opacity_from_length(self.code(), len, density)
     }
+    /// The function's shape `g(len)` (opacity = `scale * g(len)`, before clamping).
+    fn shape(self, len: f32) -> f32 {
+        let l = len.max(0.0);
+        match self {
+            OpacityFn::Linear => l,
+            OpacityFn::Log => (1.0 + l).log2(),
+            OpacityFn::Sqrt => l.sqrt(),
+        }
+    }
+    /// The scale (opacity at one metre) for which a path of `len` metres has opacity `alpha`;
+    /// 0 for a non-positive length.
+    pub fn scale_for(self, alpha: f32, len: f32) -> f32 {
+        let g = self.shape(len);
+        if g > 0.0 && alpha.is_finite() {
+            alpha.max(0.0) / g
+        } else {
+            0.0
+        }
+    }
+    /// The path length at which this function with `scale` reaches `alpha` (the inverse of
+    /// [`OpacityFn::opacity`] below saturation); 0 for a zero scale.
+    pub fn length_for(self, alpha: f32, scale: f32) -> f32 {
+        if scale.is_nan() || scale <= 0.0 {
+            return 0.0;
+        }
+        let g = alpha.max(0.0) / scale;
+        match self {
+            OpacityFn::Linear => g,
+            OpacityFn::Log => g.exp2() - 1.0,
+            OpacityFn::Sqrt => g * g,
+        }
+    }
 }
 
 /// The volume primitive a ray-traced billboard intersects (thesis figure 6.18).
@@ -88,7 +120,8 @@ impl Primitive {
 }
 
 /// Opacity of a path of `len` metres through a medium whose `density` is the opacity reached
-/// over one metre: linear `density * len`, logarithmic `density * log2(1 + len)`, square root
+/// over one metre (the technique's opacity scale, [`crate::technique::opacity_scale`], not the
+/// scene's extinction coefficient): linear `density * len`, logarithmic `density * log2(1 + len)`, square root
 /// `density * sqrt(len)` (all give `density` at 1 m and 0 at 0 m), clamped to [0, 1].
 /// An unknown `kind` is linear.
 pub fn opacity_from_length(kind: u32, len: f32, density: f32) -> f32 {
@@ -120,7 +153,15 @@ pub fn sphere_path_length(o: Vec3, d: Vec3, center: Vec3, radius: f32, t_scene: 
 /// Where the ray meets the billboard plane through `center` (unit `normal`, unit in-plane
 /// axes `right`, `up`): `(u, v, t_plane)` with `(u, v)` in units of `radius`. A ray parallel to
 /// the plane gives `t_plane = -1`.
-pub fn billboard_coords(o: Vec3, d: Vec3, center: Vec3, right: Vec3, up: Vec3, normal: Vec3, radius: f32) -> Vec3 {
+pub fn billboard_coords(
+    o: Vec3,
+    d: Vec3,
+    center: Vec3,
+    right: Vec3,
+    up: Vec3,
+    normal: Vec3,
+    radius: f32,
+) -> Vec3 {
     let t = ray_plane(o, d, normal, normal.dot(center));
     let p = o + t * d - center;
     Vec3::new(p.dot(right) / radius, p.dot(up) / radius, t)
@@ -173,7 +214,14 @@ pub fn billboard_path_length(t_plane: f32, half_len: f32, t_scene: f32) -> f32 {
 /// the front face up to this one composite to the opacity of the path from the front face to
 /// the far side of this slab: `1 - (1 - a_far) / (1 - a_near)`. A slab outside the volume
 /// gives 0; one behind an already opaque front gives 1 (hidden whenever it is drawn).
-pub fn slice_alpha(kind: u32, density: f32, half_len: f32, slab_near: f32, slab_far: f32, obliquity: f32) -> f32 {
+pub fn slice_alpha(
+    kind: u32,
+    density: f32,
+    half_len: f32,
+    slab_near: f32,
+    slab_far: f32,
+    obliquity: f32,
+) -> f32 {
     let h = half_len.max(0.0);
     let l_near = (slab_near + h).clamp(0.0, 2.0 * h) * obliquity;
     let l_far = (slab_far + h).clamp(0.0, 2.0 * h) * obliquity;
@@ -234,6 +282,51 @@ pub fn thickness_texels() -> Vec<u8> {
     out
 }
 
+/// Column steps per texel of [`bake_thickness`].
+const BAKE_STEPS: u32 = 48;
+
+/// The thickness texture of `volume` as an artist would paint it for the view along
+/// `-basis[2]` (billboard axes `right`, `up`, `normal` toward the eye, as
+/// `technique::placed_volumes` gives them): per texel, the true opacity `alpha(uv) = 1 -
+/// exp(-tau)` of the column through the point `c + R (u right + v up)` along the normal
+/// (`tau` by the midpoint rule, [`BAKE_STEPS`] steps, with the scene's own density field
+/// `Volume::extinction_at` at time 0), stored as the half thickness `h = L / 2R` at which
+/// `opacity` reaches it, `L = opacity.length_for(alpha, scale)`. `scale` (returned) is chosen
+/// so that the densest column has `h = 1`: nothing is clipped by the 8-bit range, and a
+/// billboard with this texture and this scale shows `alpha(uv)` exactly (up to 8 bits).
+pub fn bake_thickness(
+    volume: &scene::Volume,
+    basis: [Vec3; 3],
+    opacity: OpacityFn,
+) -> (Vec<u8>, f32) {
+    let [right, up, normal] = basis;
+    let (c, r) = (volume.center + volume.motion.offset(0.0), volume.radius);
+    let n = THICKNESS_TEXTURE_SIZE;
+    let mut alphas = Vec::with_capacity((n * n) as usize);
+    for j in 0..n {
+        for i in 0..n {
+            let uv = Vec2::new(texel_coord(i), texel_coord(j));
+            let half = r * (1.0 - uv.dot(uv)).max(0.0).sqrt();
+            let p0 = c + r * (uv.x * right + uv.y * up);
+            let dt = 2.0 * half / BAKE_STEPS as f32;
+            let tau: f32 = (0..BAKE_STEPS)
+                .map(|k| {
+                    volume.extinction_at(p0 + normal * (-half + (k as f32 + 0.5) * dt), 0.0) * dt
+                })
+                .sum();
+            alphas.push(1.0 - (-tau).exp());
+        }
+    }
+    let max_alpha = alphas.iter().copied().fold(0.0f32, f32::max);
+    let scale = opacity.scale_for(max_alpha, 2.0 * r);
+    let mut out = Vec::with_capacity(4 * alphas.len());
+    for a in alphas {
+        let h = (opacity.length_for(a, scale) / (2.0 * r)).clamp(0.0, 1.0);
+        out.extend_from_slice(&[255, 255, 255, (h * 255.0).round() as u8]);
+    }
+    (out, scale)
+}
+
 /// Billboard coordinate of the centre of texel `i` of the thickness texture.
 fn texel_coord(i: u32) -> f32 {
     ((i as f32 + 0.5) / THICKNESS_TEXTURE_SIZE as f32 * 2.0 - 1.0) * THICKNESS_TEXTURE_EXTENT
@@ -267,6 +360,39 @@ mod tests {
             assert_eq!(opacity_from_length(kind, 0.0, 0.6), 0.0);
             assert!((opacity_from_length(kind, 1.0, 0.6) - 0.6).abs() < 1e-6);
             assert_eq!(opacity_from_length(kind, 100.0, 0.6), 1.0);
+        }
+    }
+
+    #[test]
+    fn scale_and_length_invert_each_other() {
+        for f in [OpacityFn::Linear, OpacityFn::Log, OpacityFn::Sqrt] {
+            let s = f.scale_for(0.6, 3.0);
+            assert!((f.opacity(3.0, s) - 0.6).abs() < 1e-5);
+            assert!((f.length_for(0.6, s) - 3.0).abs() < 1e-4);
+            assert_eq!(f.length_for(0.5, 0.0), 0.0);
+        }
+    }
+
+    /// A baked uniform ball seen along its normal: the billboard with the returned scale
+    /// shows the ball's true opacity `1 - exp(-sigma chord)`.
+    #[test]
+    fn baked_texture_reproduces_the_true_opacity() {
+        let v = scene::Volume {
+            name: "v".into(),
+            center: Vec3::new(0.5, 1.0, -2.0),
+            radius: 1.5,
+            color: Vec3::ONE,
+            density: 0.4,
+            profile: scene::DensityProfile::UNIFORM,
+            particle: false,
+            motion: Default::default(),
+        };
+        let (texels, scale) = bake_thickness(&v, [Vec3::X, Vec3::Y, Vec3::Z], OpacityFn::Log);
+        for uv in [Vec2::ZERO, Vec2::new(0.5, 0.0), Vec2::new(0.3, -0.6)] {
+            let h = sample_thickness(&texels, uv);
+            let shown = OpacityFn::Log.opacity(2.0 * v.radius * h, scale);
+            let truth = 1.0 - (-v.density * 2.0 * v.radius * (1.0 - uv.dot(uv)).sqrt()).exp();
+            assert!((shown - truth).abs() < 0.01, "{uv}: {shown} vs {truth}");
         }
     }
 

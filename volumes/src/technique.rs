@@ -18,15 +18,16 @@
 //! context does not request it); the Rgba16Float buffer of steps 2-5 is the thesis's "floating
 //! point colour buffer" (16 bits were enough, 6.3.2).
 
-use crate::ground_truth::VolumeSet;
-use crate::path_length::{OpacityFn, PATH_LENGTH_WGSL, Primitive, THICKNESS_TEXTURE_SIZE, thickness_texels};
+use crate::path_length::{
+    OpacityFn, PATH_LENGTH_WGSL, Primitive, THICKNESS_TEXTURE_SIZE, bake_thickness,
+};
 use glam::Vec3;
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target};
 use scene::technique::check_param;
 use scene::{
-    BACKGROUND_DISTANCE, Camera, Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueResult,
-    View, Volume,
+    BACKGROUND_DISTANCE, Camera, Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene,
+    Technique, TechniqueResult, View, Volume,
 };
 
 const VOLUMES_WGSL: &str = include_str!("shaders/volumes.wgsl");
@@ -39,6 +40,53 @@ pub const FLOAT_BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16
 pub const BYTE_BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// The depth pre-pass's distance texture: "a 16 bit floating point texture" (6.3.3).
 pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+/// Which volumes of a scene a variant draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum VolumeSet {
+    /// The large volumes (`particle == false`): the thesis's "simple, large particle" that its
+    /// 17 tests analyse.
+    Single,
+    /// Every volume (the particle-system versions).
+    All,
+}
+
+impl VolumeSet {
+    pub fn includes(self, v: &Volume) -> bool {
+        match self {
+            VolumeSet::Single => !v.particle,
+            VolumeSet::All => true,
+        }
+    }
+}
+
+/// Optical depth of a volume's chord through its centre, without its noise texture:
+/// `density R integral_{-1}^{1} (1 - x^2)^k dx` (midpoint rule, 256 steps: exact to 1e-5 for
+/// the profiles in use).
+pub fn centre_optical_depth(v: &Volume) -> f32 {
+    let n = 256;
+    let smooth = scene::DensityProfile {
+        noise: 0.0,
+        ..v.profile
+    };
+    let shape: f32 = (0..n)
+        .map(|i| {
+            let x = -1.0 + (i as f32 + 0.5) * 2.0 / n as f32;
+            smooth.shape(Vec3::new(x, 0.0, 0.0)) * 2.0 / n as f32
+        })
+        .sum();
+    v.density * v.radius * shape
+}
+
+/// The opacity reached over one metre (the scale of the thesis's opacity functions) that
+/// makes `opacity` give a volume's true centre opacity `1 - exp(-tau_c)` over its diameter,
+/// tau_c = [`centre_optical_depth`]. This is how a variant reads the scene's density field
+/// (an artist matching the smoke's look at its centre); away from the centre each opacity
+/// function departs from Beer-Lambert in its own way, which is part of its error.
+pub fn opacity_scale(v: &Volume, opacity: OpacityFn) -> f32 {
+    let alpha = 1.0 - (-centre_optical_depth(v)).exp();
+    opacity.scale_for(alpha, 2.0 * v.radius)
+}
 
 /// How a variant renders a volume.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -65,19 +113,28 @@ impl Variant {
     pub fn id(&self) -> String {
         let name = match self.method {
             Method::Billboard => "billboard".to_string(),
-            Method::Slices { count, float_buffer } => {
+            Method::Slices {
+                count,
+                float_buffer,
+            } => {
                 format!("slices-{count}{}", if float_buffer { "-float" } else { "" })
             }
             Method::Raytraced(Primitive::Constant) => "raytraced-constant".into(),
             Method::Raytraced(Primitive::Linear) => "raytraced-linear".into(),
             Method::Raytraced(Primitive::Texture) => "raytraced-thickness".into(),
-            Method::Raytraced(Primitive::Sphere) => format!("raytraced-sphere-{}", self.opacity.name()),
+            Method::Raytraced(Primitive::Sphere) => {
+                format!("raytraced-sphere-{}", self.opacity.name())
+            }
         };
         let suffix = match (self.method, self.opacity) {
             (Method::Raytraced(Primitive::Sphere), _) | (_, OpacityFn::Log) => String::new(),
             (_, f) => format!("-{}", f.name()),
         };
-        let prefix = if self.set == VolumeSet::All { "particles-" } else { "" };
+        let prefix = if self.set == VolumeSet::All {
+            "particles-"
+        } else {
+            ""
+        };
         format!("volumes/{prefix}{name}{suffix}")
     }
 
@@ -86,12 +143,21 @@ impl Variant {
         if self.set != VolumeSet::Single {
             return None;
         }
-        let slice_rank = |n: u32| [5, 9, 19, 39, 79].iter().position(|&m| m == n).map(|p| p as u32);
+        let slice_rank = |n: u32| {
+            [5, 9, 19, 39, 79]
+                .iter()
+                .position(|&m| m == n)
+                .map(|p| p as u32)
+        };
         match (self.method, self.opacity) {
             (Method::Billboard, OpacityFn::Log) => Some(1),
-            (Method::Slices { count, float_buffer }, OpacityFn::Log) => {
-                slice_rank(count).map(|r| if float_buffer { 7 + r } else { 2 + r })
-            }
+            (
+                Method::Slices {
+                    count,
+                    float_buffer,
+                },
+                OpacityFn::Log,
+            ) => slice_rank(count).map(|r| if float_buffer { 7 + r } else { 2 + r }),
             (Method::Raytraced(Primitive::Constant), OpacityFn::Log) => Some(12),
             (Method::Raytraced(Primitive::Linear), OpacityFn::Log) => Some(13),
             (Method::Raytraced(Primitive::Sphere), OpacityFn::Log) => Some(14),
@@ -105,10 +171,17 @@ impl Variant {
     fn description(&self) -> String {
         let what = match self.method {
             Method::Billboard => "simple billboard, no volume (6.3.1)".to_string(),
-            Method::Slices { count, float_buffer } => format!(
+            Method::Slices {
+                count,
+                float_buffer,
+            } => format!(
                 "{count} camera-facing slices forming a sphere, perspective-corrected texture \
                  coordinates, {} colour buffer (6.3.2)",
-                if float_buffer { "16-bit float" } else { "8-bit" }
+                if float_buffer {
+                    "16-bit float"
+                } else {
+                    "8-bit"
+                }
             ),
             Method::Raytraced(p) => format!(
                 "ray-traced {} against the scene depth (6.3.3)",
@@ -124,36 +197,68 @@ impl Variant {
             VolumeSet::Single => "the scene's large volumes",
             VolumeSet::All => "every volume as a particle system",
         };
-        let test = self.thesis_test().map(|t| format!(", thesis fig. 6.23 test {t}")).unwrap_or_default();
-        format!("{what}; {} path-length-to-opacity; {set}{test}", self.opacity.name())
+        let test = self
+            .thesis_test()
+            .map(|t| format!(", thesis fig. 6.23 test {t}"))
+            .unwrap_or_default();
+        format!(
+            "{what}; {} path-length-to-opacity; {set}{test}",
+            self.opacity.name()
+        )
     }
 }
 
 /// The 17 variants of the thesis's figure 6.23, in its order.
 pub fn thesis_variants() -> Vec<Variant> {
-    let single = |method, opacity| Variant { method, opacity, set: VolumeSet::Single };
+    let single = |method, opacity| Variant {
+        method,
+        opacity,
+        set: VolumeSet::Single,
+    };
     let mut out = vec![single(Method::Billboard, OpacityFn::Log)];
     for float_buffer in [false, true] {
         for count in [5, 9, 19, 39, 79] {
-            out.push(single(Method::Slices { count, float_buffer }, OpacityFn::Log));
+            out.push(single(
+                Method::Slices {
+                    count,
+                    float_buffer,
+                },
+                OpacityFn::Log,
+            ));
         }
     }
-    out.push(single(Method::Raytraced(Primitive::Constant), OpacityFn::Log));
+    out.push(single(
+        Method::Raytraced(Primitive::Constant),
+        OpacityFn::Log,
+    ));
     out.push(single(Method::Raytraced(Primitive::Linear), OpacityFn::Log));
     for f in [OpacityFn::Log, OpacityFn::Linear, OpacityFn::Sqrt] {
         out.push(single(Method::Raytraced(Primitive::Sphere), f));
     }
-    out.push(single(Method::Raytraced(Primitive::Texture), OpacityFn::Log));
+    out.push(single(
+        Method::Raytraced(Primitive::Texture),
+        OpacityFn::Log,
+    ));
     out
 }
 
 /// The particle-system versions: every volume of the scene, sorted back to front.
 pub fn particle_variants() -> Vec<Variant> {
-    let all = |method| Variant { method, opacity: OpacityFn::Log, set: VolumeSet::All };
+    let all = |method| Variant {
+        method,
+        opacity: OpacityFn::Log,
+        set: VolumeSet::All,
+    };
     vec![
         all(Method::Billboard),
-        all(Method::Slices { count: 9, float_buffer: false }),
-        all(Method::Slices { count: 9, float_buffer: true }),
+        all(Method::Slices {
+            count: 9,
+            float_buffer: false,
+        }),
+        all(Method::Slices {
+            count: 9,
+            float_buffer: true,
+        }),
         all(Method::Raytraced(Primitive::Sphere)),
         all(Method::Raytraced(Primitive::Texture)),
     ]
@@ -188,9 +293,13 @@ struct VolumeGpu {
 /// A volume placed for one frame, with its camera-facing billboard axes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlacedVolume {
+    /// Index of the volume in `Scene::volumes`.
+    pub index: usize,
     pub center: Vec3,
     pub radius: f32,
     pub color: Vec3,
+    /// [`opacity_scale`] with the logarithmic function; [`VolumeTechnique`] recomputes it
+    /// for its own function.
     pub density: f32,
     /// Unit billboard axes: right and up in the plane, normal toward the eye.
     pub right: Vec3,
@@ -205,25 +314,46 @@ pub struct PlacedVolume {
 /// its right axis is the camera's right made perpendicular to that normal, so billboards
 /// keep the camera's roll. With the eye at the centre the normal is the camera's backward
 /// axis.
-pub fn placed_volumes(volumes: &[Volume], set: VolumeSet, camera: &Camera, time: f32) -> Vec<PlacedVolume> {
+pub fn placed_volumes(
+    volumes: &[Volume],
+    set: VolumeSet,
+    camera: &Camera,
+    time: f32,
+) -> Vec<PlacedVolume> {
     let forward = (camera.target - camera.eye).normalize();
     let cam_right = forward.cross(camera.up).normalize();
     let cam_up = cam_right.cross(forward);
     let mut out: Vec<PlacedVolume> = volumes
         .iter()
-        .filter(|v| set.includes(v))
-        .map(|v| {
+        .enumerate()
+        .filter(|(_, v)| set.includes(v))
+        .map(|(index, v)| {
             let center = v.center + v.motion.offset(time);
             let to_eye = camera.eye - center;
             let distance = to_eye.length();
-            let normal = if distance > 1e-6 * v.radius.max(1e-6) { to_eye / distance } else { -forward };
+            let normal = if distance > 1e-6 * v.radius.max(1e-6) {
+                to_eye / distance
+            } else {
+                -forward
+            };
             let mut right = cam_right - normal * cam_right.dot(normal);
             if right.length_squared() < 1e-8 {
                 right = cam_up.cross(normal);
             }
             let right = right.normalize();
             let up = normal.cross(right);
-            PlacedVolume { center, radius: v.radius, color: v.color, density: v.density, right, up, normal, distance }
+            let density = opacity_scale(v, OpacityFn::Log);
+            PlacedVolume {
+                index,
+                center,
+                radius: v.radius,
+                color: v.color,
+                density,
+                right,
+                up,
+                normal,
+                distance,
+            }
         })
         .collect();
     out.sort_by(|a, b| b.distance.total_cmp(&a.distance));
@@ -249,7 +379,16 @@ pub struct VolumeTechnique {
     buffers: Option<FrameBuffers>,
 }
 
+/// The thickness texture baked from one volume of the scene (see [`bake_thickness`]).
+struct Baked {
+    /// Index in `Scene::volumes` of the volume it was baked from.
+    volume: usize,
+    /// The opacity scale that turns the texture back into that volume's opacity.
+    scale: f32,
+}
+
 struct Resources {
+    baked: Option<Baked>,
     /// The `free_depth` the volume pipeline was specialised for.
     free_depth: bool,
     volume_layout: wgpu::BindGroupLayout,
@@ -292,6 +431,11 @@ impl VolumeTechnique {
         self.variant
     }
 
+    /// Billboard, slices and the thickness-texture primitive read the thickness texture.
+    fn uses_texture(&self) -> bool {
+        !matches!(self.variant.method, Method::Raytraced(p) if p != Primitive::Texture)
+    }
+
     fn is_raytraced(&self) -> bool {
         matches!(self.variant.method, Method::Raytraced(_))
     }
@@ -305,17 +449,28 @@ impl VolumeTechnique {
 
     fn buffer_format(&self) -> wgpu::TextureFormat {
         match self.variant.method {
-            Method::Slices { float_buffer: false, .. } => BYTE_BUFFER_FORMAT,
+            Method::Slices {
+                float_buffer: false,
+                ..
+            } => BYTE_BUFFER_FORMAT,
             _ => FLOAT_BUFFER_FORMAT,
         }
     }
 
     fn renders_distance(&self) -> bool {
-        if self.is_raytraced() { !self.free_depth } else { self.depth_prepass }
+        if self.is_raytraced() {
+            !self.free_depth
+        } else {
+            self.depth_prepass
+        }
     }
 
     fn ensure_buffers(&mut self, ctx: &Context, width: u32, height: u32) {
-        if self.buffers.as_ref().is_some_and(|b| b.width == width && b.height == height) {
+        if self
+            .buffers
+            .as_ref()
+            .is_some_and(|b| b.width == width && b.height == height)
+        {
             return;
         }
         let res = self.gpu.as_ref().expect("prepare() runs before render()");
@@ -323,12 +478,17 @@ impl VolumeTechnique {
             ctx.device
                 .create_texture(&wgpu::TextureDescriptor {
                     label: Some(label),
-                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                    size: wgpu::Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
                     mip_level_count: 1,
                     sample_count: 1,
                     dimension: wgpu::TextureDimension::D2,
                     format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
                     view_formats: &[],
                 })
                 .create_view(&Default::default())
@@ -338,15 +498,21 @@ impl VolumeTechnique {
             .then(|| texture("volumes colour (Rgba8Unorm)", BYTE_BUFFER_FORMAT));
         let distance_view = texture("volumes scene distance (R16Float)", DISTANCE_FORMAT);
         let distance_depth_view =
-            gpu::depth_texture(ctx, width, height, 1, "volumes depth pre-pass depth").create_view(&Default::default());
+            gpu::depth_texture(ctx, width, height, 1, "volumes depth pre-pass depth")
+                .create_view(&Default::default());
         let copy_bind_group = |view: &wgpu::TextureView| {
             ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("volumes copy"),
                 layout: &res.copy_layout,
-                entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(view) }],
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }],
             })
         };
-        let to_bytes_bind_group = bytes_view.as_ref().map(|_| copy_bind_group(&scene_color_view));
+        let to_bytes_bind_group = bytes_view
+            .as_ref()
+            .map(|_| copy_bind_group(&scene_color_view));
         let resolve_bind_group = copy_bind_group(bytes_view.as_ref().unwrap_or(&scene_color_view));
         self.buffers = Some(FrameBuffers {
             width,
@@ -433,13 +599,6 @@ impl Technique for VolumeTechnique {
         scene.volumes.iter().any(|v| self.variant.set.includes(v))
     }
 
-    /// The exact volume: the reference with this variant's volumes composited as real media
-    /// with its opacity function (see `ground_truth`).
-    fn ground_truth(&self, scene: &Scene, view: &scene::View, reference: &gpu::HdrImage) -> Option<gpu::HdrImage> {
-        let spec = crate::ground_truth::spec_for(&self.id())?;
-        Some(crate::ground_truth::render(scene, &view.camera, view.time, reference, spec))
-    }
-
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         self.buffers = None;
@@ -448,9 +607,19 @@ impl Technique for VolumeTechnique {
         Ok(())
     }
 
-    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
         let ctx = frame.gpu;
-        if self.gpu.as_ref().is_some_and(|r| r.free_depth != self.free_depth) {
+        if self
+            .gpu
+            .as_ref()
+            .is_some_and(|r| r.free_depth != self.free_depth)
+        {
             // `free_depth` changed after prepare: respecialise the pipelines.
             self.gpu = Some(ctx.validated(|| self.create_resources(ctx, scene))?);
             self.buffers = None;
@@ -466,34 +635,36 @@ impl Technique for VolumeTechnique {
             frame.timer.begin(frame.encoder, "scene-depth");
             {
                 let camera_group = scene.camera_bind_group(ctx, view_proj, camera.eye);
-                let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("volumes scene distance"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &buffers.distance_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: BACKGROUND_DISTANCE as f64,
-                                g: 0.0,
-                                b: 0.0,
-                                a: 0.0,
+                let mut pass = frame
+                    .encoder
+                    .begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("volumes scene distance"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view: &buffers.distance_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color {
+                                    r: BACKGROUND_DISTANCE as f64,
+                                    g: 0.0,
+                                    b: 0.0,
+                                    a: 0.0,
+                                }),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                            view: &buffers.distance_depth_view,
+                            depth_ops: Some(wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(1.0),
+                                store: wgpu::StoreOp::Store,
                             }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &buffers.distance_depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Store,
+                            stencil_ops: None,
                         }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                        timestamp_writes: None,
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
                 pass.set_pipeline(&res.distance_pipeline);
                 pass.set_bind_group(0, &camera_group, &[]);
                 pass.set_bind_group(1, scene.bind_group(), &[]);
@@ -509,18 +680,30 @@ impl Technique for VolumeTechnique {
             format: FLOAT_BUFFER_FORMAT,
             clear: true,
         };
-        scene.raster(frame, &scene_target, view_proj, camera.eye, &ObjectFilter::All, true);
+        scene.raster(
+            frame,
+            &scene_target,
+            view_proj,
+            camera.eye,
+            &ObjectFilter::All,
+            true,
+        );
 
         // 3. 8-bit slices: from here on the frame is 8 bits per channel.
-        if let (Some(bytes_view), Some(pipeline), Some(group)) =
-            (&buffers.bytes_view, &res.to_bytes_pipeline, &buffers.to_bytes_bind_group)
-        {
+        if let (Some(bytes_view), Some(pipeline), Some(group)) = (
+            &buffers.bytes_view,
+            &res.to_bytes_pipeline,
+            &buffers.to_bytes_bind_group,
+        ) {
             let mut pass = colour_pass(frame.encoder, bytes_view, "volumes to 8-bit", false);
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, group, &[]);
             gpu::fullscreen::draw(&mut pass);
         }
-        let work_view = buffers.bytes_view.as_ref().unwrap_or(&buffers.scene_color_view);
+        let work_view = buffers
+            .bytes_view
+            .as_ref()
+            .unwrap_or(&buffers.scene_color_view);
 
         // 4. The volumes, back to front.
         let placed = placed_volumes(&scene.scene.volumes, self.variant.set, camera, view.time);
@@ -531,34 +714,63 @@ impl Technique for VolumeTechnique {
                 eye: camera.eye.extend(1.0).to_array(),
                 viewport: [target.width as f32, target.height as f32, 0.0, 0.0],
             };
-            let records: Vec<VolumeGpu> = placed.iter().map(|v| self.volume_record(v)).collect();
-            let globals_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("volumes globals"),
-                contents: bytemuck::bytes_of(&globals),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-            let volume_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("volumes"),
-                contents: bytemuck::cast_slice(&records),
-                usage: wgpu::BufferUsages::STORAGE,
-            });
+            let records: Vec<VolumeGpu> = placed
+                .iter()
+                .map(|v| self.volume_record(v, &scene.scene.volumes))
+                .collect();
+            let globals_buffer = ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("volumes globals"),
+                    contents: bytemuck::bytes_of(&globals),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+            let volume_buffer = ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("volumes"),
+                    contents: bytemuck::cast_slice(&records),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
             let raytraced = self.is_raytraced();
-            let distance_view =
-                if raytraced && !self.free_depth { &buffers.distance_view } else { &res.dummy_distance_view };
-            let depth_view = if raytraced && self.free_depth { &target.depth_view } else { &res.dummy_depth_view };
+            let distance_view = if raytraced && !self.free_depth {
+                &buffers.distance_view
+            } else {
+                &res.dummy_distance_view
+            };
+            let depth_view = if raytraced && self.free_depth {
+                &target.depth_view
+            } else {
+                &res.dummy_depth_view
+            };
             let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("volumes"),
                 layout: &res.volume_layout,
                 entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: globals_buffer.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: volume_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: globals_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: volume_buffer.as_entire_binding(),
+                    },
                     wgpu::BindGroupEntry {
                         binding: 2,
                         resource: wgpu::BindingResource::TextureView(&res.thickness_view),
                     },
-                    wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&res.sampler) },
-                    wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(distance_view) },
-                    wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(depth_view) },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::Sampler(&res.sampler),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::TextureView(distance_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: wgpu::BindingResource::TextureView(depth_view),
+                    },
                 ],
             });
             frame.timer.begin(frame.encoder, "volumes");
@@ -568,19 +780,24 @@ impl Technique for VolumeTechnique {
                     depth_ops: None,
                     stencil_ops: None,
                 });
-                let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("volumes"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: work_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-                    })],
-                    depth_stencil_attachment: depth_test,
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                let mut pass = frame
+                    .encoder
+                    .begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("volumes"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view: work_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Load,
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: depth_test,
+                        timestamp_writes: None,
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
                 pass.set_pipeline(&res.volume_pipeline);
                 pass.set_bind_group(0, &group, &[]);
                 pass.draw(0..6, 0..placed.len() as u32 * self.slice_count());
@@ -609,6 +826,34 @@ fn scale_param() -> Param {
     }
 }
 
+impl VolumeTechnique {
+    /// The thickness texture: baked from the first volume of the variant's set as seen from
+    /// the scene's default camera at time 0 (the artist's view), or the plain sphere profile
+    /// when the set is empty.
+    fn bake(&self, scene: &Scene) -> (Vec<u8>, Option<Baked>) {
+        if !self.uses_texture() {
+            return (crate::path_length::thickness_texels(), None);
+        }
+        let placed = placed_volumes(&scene.volumes, self.variant.set, &scene.camera, 0.0);
+        let Some(first) = placed.iter().min_by_key(|p| p.index) else {
+            return (crate::path_length::thickness_texels(), None);
+        };
+        let volume = &scene.volumes[first.index];
+        let (texels, scale) = bake_thickness(
+            volume,
+            [first.right, first.up, first.normal],
+            self.variant.opacity,
+        );
+        (
+            texels,
+            Some(Baked {
+                volume: first.index,
+                scale,
+            }),
+        )
+    }
+}
+
 /// Beyond this ratio of eye distance to radius a fitted billboard covers the silhouette;
 /// closer, the ray-traced pass draws a screen-filling quad.
 const FIT_MIN_DISTANCE: f32 = 1.05;
@@ -616,11 +861,26 @@ const FIT_MIN_DISTANCE: f32 = 1.05;
 impl VolumeTechnique {
     /// The GPU record of a placed volume: billboard half size (metres) and whether to draw a
     /// screen-filling quad instead.
-    fn volume_record(&self, v: &PlacedVolume) -> VolumeGpu {
-        let (half_size, screen) = billboard_extent(v, self.billboard_scale, self.fit_silhouette && self.is_raytraced());
+    fn volume_record(&self, v: &PlacedVolume, volumes: &[Volume]) -> VolumeGpu {
+        let (half_size, screen) = billboard_extent(
+            v,
+            self.billboard_scale,
+            self.fit_silhouette && self.is_raytraced(),
+        );
+        let baked = self
+            .gpu
+            .as_ref()
+            .and_then(|r| r.baked.as_ref())
+            .filter(|b| b.volume == v.index);
+        let scale = match baked {
+            Some(b) if self.uses_texture() => b.scale,
+            _ => volumes
+                .get(v.index)
+                .map_or(v.density, |s| opacity_scale(s, self.variant.opacity)),
+        };
         VolumeGpu {
             center: v.center.extend(v.radius).to_array(),
-            right: v.right.extend(v.density).to_array(),
+            right: v.right.extend(scale).to_array(),
             up: v.up.extend(half_size).to_array(),
             normal: v.normal.extend(if screen { 1.0 } else { 0.0 }).to_array(),
             color: v.color.extend(1.0).to_array(),
@@ -659,7 +919,11 @@ fn colour_pass<'e>(
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: if load { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(wgpu::Color::BLACK) },
+                load: if load {
+                    wgpu::LoadOp::Load
+                } else {
+                    wgpu::LoadOp::Clear(wgpu::Color::BLACK)
+                },
                 store: wgpu::StoreOp::Store,
             },
         })],
@@ -721,7 +985,10 @@ impl VolumeTechnique {
         });
         let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("volumes copy"),
-            entries: &[texture_entry(0, wgpu::TextureSampleType::Float { filterable: false })],
+            entries: &[texture_entry(
+                0,
+                wgpu::TextureSampleType::Float { filterable: false },
+            )],
         });
 
         // The volume pass.
@@ -743,8 +1010,10 @@ impl VolumeTechnique {
             ("PRIMITIVE", primitive.code() as f64),
             ("DEPTH_SOURCE", if self.free_depth { 1.0 } else { 0.0 }),
         ];
-        let options =
-            wgpu::PipelineCompilationOptions { constants: &constants, zero_initialize_workgroup_memory: true };
+        let options = wgpu::PipelineCompilationOptions {
+            constants: &constants,
+            zero_initialize_workgroup_memory: true,
+        };
         let depth_stencil = (!self.is_raytraced()).then(|| wgpu::DepthStencilState {
             format: gpu::DEPTH_FORMAT,
             depth_write_enabled: Some(false),
@@ -783,7 +1052,10 @@ impl VolumeTechnique {
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
             }),
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
             depth_stencil,
             multisample: Default::default(),
             multiview_mask: None,
@@ -791,7 +1063,8 @@ impl VolumeTechnique {
         });
 
         // Full-screen copies.
-        let copy_source = |keep_alpha: bool| format!("const COPY_ALPHA: bool = {keep_alpha};\n{COPY_WGSL}");
+        let copy_source =
+            |keep_alpha: bool| format!("const COPY_ALPHA: bool = {keep_alpha};\n{COPY_WGSL}");
         let to_bytes_pipeline = (self.buffer_format() == BYTE_BUFFER_FORMAT).then(|| {
             gpu::fullscreen::pipeline(
                 ctx,
@@ -829,11 +1102,16 @@ impl VolumeTechnique {
 
         // The thickness texture (the alpha of the billboard texture) and its sampler.
         let size = THICKNESS_TEXTURE_SIZE;
+        let (texels, baked) = self.bake(&scene.scene);
         let thickness = device.create_texture_with_data(
             &ctx.queue,
             &wgpu::TextureDescriptor {
                 label: Some("volumes thickness texture"),
-                size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width: size,
+                    height: size,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
@@ -842,7 +1120,7 @@ impl VolumeTechnique {
                 view_formats: &[],
             },
             wgpu::util::TextureDataOrder::LayerMajor,
-            &thickness_texels(),
+            &texels,
         );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("volumes thickness sampler"),
@@ -855,7 +1133,11 @@ impl VolumeTechnique {
         let dummy_distance_view = device
             .create_texture(&wgpu::TextureDescriptor {
                 label: Some("volumes unused distance"),
-                size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
@@ -864,9 +1146,10 @@ impl VolumeTechnique {
                 view_formats: &[],
             })
             .create_view(&Default::default());
-        let dummy_depth_view =
-            gpu::depth_texture(ctx, 1, 1, 1, "volumes unused depth").create_view(&Default::default());
+        let dummy_depth_view = gpu::depth_texture(ctx, 1, 1, 1, "volumes unused depth")
+            .create_view(&Default::default());
         Resources {
+            baked,
             free_depth: self.free_depth,
             volume_layout,
             copy_layout,

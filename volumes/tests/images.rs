@@ -1,24 +1,19 @@
-//! Image tests on the `smoke` scene on the software adapter: every variant against the CPU
-//! ground truth (`volumes::ground_truth`: the exact spheres composited over the raster pass's
-//! image with the variant's own opacity function), with stated bounds, and the thesis's
-//! claims.
+//! Image tests on the `smoke` scene on the software adapter.
 //!
-//! Two versions of the scene: the built-in `smoke` (its large volume, density 0.6 over 3 m,
-//! saturates to opaque in the core) and "thin smoke", the same scene with the large volume's
-//! density set to 0.2, where the posts and the ground stay visible through the volume and the
-//! way they fade into it is measured.
+//! **Primary figure: every variant against the ground truth**, the scene's participating
+//! media (`scene::media`, what `scene::reference` renders) composited over the raster pass's
+//! image of the volume-free scene (`ground_truth::with_reference_media`; the raster pass
+//! rather than the CPU surfaces, so that shadow-map edges, which no volume technique owns,
+//! stay out of the error). The 17 thesis variants draw the large volume only and are measured
+//! on `smoke:particles=0`; the particle versions on the built-in `smoke` (24 particles).
+//! Bounds are the measured values (comments) with about 1.5x headroom, and every variant
+//! must beat, by a stated factor, the image without any volume: a variant that draws nothing
+//! fails.
 //!
-//! Bounds (RMSE on linear RGB over the whole 96x72 image; FLIP over the pixels whose ray
-//! crosses a volume; observed values are in README.md, the bounds have headroom of about 1.5x):
-//!
-//! | variant | RMSE | masked FLIP |
-//! | --- | --- | --- |
-//! | `raytraced-sphere-*` (and particles) | 0.002 | 0.02 |
-//! | `raytraced-thickness` | 0.03 | 0.2 |
-//! | `raytraced-constant` | 0.05 | 0.3 |
-//! | `raytraced-linear` | 0.06 | 0.45 |
-//! | `slices-*`, `slices-*-float` | 0.03 | 0.25 |
-//! | `billboard` | 0.06 | 0.35 |
+//! **Second figure: the variant model** (`ground_truth::variant_model`: uniform spheres with
+//! the variant's own opacity function and scale, exact path lengths). It isolates the GPU
+//! geometry: the ray-traced sphere must match its own model to RMSE 0.002 from every eye
+//! position with `fit_silhouette`, whatever the error of that model against the truth.
 
 use glam::Vec3;
 use gpu::{GpuTimer, HdrImage, Target};
@@ -26,7 +21,8 @@ use scene::techniques::RasterTechnique;
 use scene::{Camera, Frame, GpuScene, Scene, Technique, View};
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
-use volumes::ground_truth::{self, TruthSpec};
+use volumes::VolumeSet;
+use volumes::ground_truth;
 use volumes::technique::{VolumeTechnique, all_variants};
 
 const W: u32 = 96;
@@ -34,23 +30,22 @@ const H: u32 = 72;
 
 fn ctx() -> &'static gpu::Context {
     static CTX: OnceLock<gpu::Context> = OnceLock::new();
-    CTX.get_or_init(|| gpu::Context::new().unwrap_or_else(|e| panic!("the image tests need a GPU adapter: {e}")))
+    CTX.get_or_init(|| {
+        gpu::Context::new().unwrap_or_else(|e| panic!("the image tests need a GPU adapter: {e}"))
+    })
 }
 
 fn smoke() -> Scene {
     scene::load("smoke").expect("the built-in smoke scene")
 }
 
-fn thin_smoke() -> Scene {
-    let mut s = smoke();
-    for v in s.volumes.iter_mut().filter(|v| !v.particle) {
-        v.density = 0.2;
-    }
-    s
+/// The large volume alone (what the 17 thesis variants draw).
+fn single_smoke() -> Scene {
+    scene::load("smoke:particles=0").expect("the built-in smoke scene")
 }
 
-/// A scene uploaded once, with its volume-free image (the raster pass) and the distances of
-/// its pixels, for one view.
+/// A scene uploaded once, with its volume-free image (the raster pass), the distances of its
+/// pixels and the ground truth, for one view.
 struct Bench {
     scene: Scene,
     gpu_scene: GpuScene,
@@ -59,6 +54,16 @@ struct Bench {
     view: View,
     base: HdrImage,
     distances: Vec<f32>,
+    truth: HdrImage,
+    mask: Vec<bool>,
+}
+
+/// Metrics of one image against one truth.
+#[derive(Clone, Copy, Debug)]
+struct Error {
+    rmse: f64,
+    flip_masked: f64,
+    non_finite: usize,
 }
 
 impl Bench {
@@ -67,8 +72,24 @@ impl Bench {
         let gpu_scene = GpuScene::new(ctx, &scene).expect("upload");
         let target = Target::new(ctx, W, H).expect("target");
         let timer = GpuTimer::new(ctx, 16);
-        let view = View { camera, time, width: W, height: H };
-        let mut bench = Bench { scene, gpu_scene, target, timer, view, base: HdrImage::new(W, H), distances: vec![] };
+        let view = View {
+            camera,
+            time,
+            width: W,
+            height: H,
+        };
+        let empty = HdrImage::new(W, H);
+        let mut bench = Bench {
+            scene,
+            gpu_scene,
+            target,
+            timer,
+            view,
+            base: empty.clone(),
+            distances: vec![],
+            truth: empty,
+            mask: vec![],
+        };
         bench.base = bench.render(&mut RasterTechnique);
         // The raster pass writes each pixel's distance from the eye into alpha: the distances
         // that belong to exactly these pixels (the BVH's can differ on silhouette pixels, see
@@ -77,8 +98,17 @@ impl Bench {
             .base
             .pixels
             .iter()
-            .map(|p| if p[3] >= 0.5 * scene::BACKGROUND_DISTANCE { f32::INFINITY } else { p[3] })
+            .map(|p| {
+                if p[3] >= 0.5 * scene::BACKGROUND_DISTANCE {
+                    f32::INFINITY
+                } else {
+                    p[3]
+                }
+            })
             .collect();
+        let (s, c) = (&bench.scene, &bench.view.camera);
+        bench.truth = ground_truth::with_reference_media(s, c, time, &bench.base, &bench.distances);
+        bench.mask = ground_truth::volume_mask(s, c, time, W, H, &bench.distances, VolumeSet::All);
         bench
     }
 
@@ -86,7 +116,11 @@ impl Bench {
         let ctx = ctx();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
-            let mut frame = Frame { gpu: ctx, encoder: &mut encoder, timer: &mut self.timer };
+            let mut frame = Frame {
+                gpu: ctx,
+                encoder: &mut encoder,
+                timer: &mut self.timer,
+            };
             self.gpu_scene.set_time(&mut frame, self.view.time);
             technique
                 .prepare(&mut frame, &self.gpu_scene)
@@ -99,114 +133,194 @@ impl Bench {
         self.target.read(ctx).expect("read back")
     }
 
-    fn truth(&self, spec: TruthSpec) -> HdrImage {
-        ground_truth::composite(&self.scene, &self.view.camera, self.view.time, &self.base, &self.distances, spec)
+    fn error(&self, image: &HdrImage, truth: &HdrImage) -> Error {
+        let (m, _) = scene::metrics::compare(image, truth, Some(&self.mask));
+        Error {
+            rmse: m.rmse,
+            flip_masked: m.flip_mean_masked,
+            non_finite: m.nan_pixels,
+        }
     }
 
-    fn mask(&self, spec: TruthSpec) -> Vec<bool> {
-        let c = &self.view.camera;
-        ground_truth::volume_mask(&self.scene, c, self.view.time, W, H, &self.distances, spec.set)
-    }
-
-    /// (RMSE, masked FLIP, non-finite pixels) of technique `id` (with `params`) against its
-    /// ground truth, and its image.
-    fn measure(&mut self, id: &str, params: &[(&str, f64)]) -> (f64, f64, usize, HdrImage) {
-        let variant = all_variants().into_iter().find(|v| v.id() == id).unwrap_or_else(|| panic!("no variant {id}"));
+    /// Renders technique `id` with `params`.
+    fn image(&mut self, id: &str, params: &[(&str, f64)]) -> HdrImage {
+        let variant = all_variants()
+            .into_iter()
+            .find(|v| v.id() == id)
+            .unwrap_or_else(|| panic!("no variant {id}"));
         let mut technique = VolumeTechnique::new(variant);
         for (k, v) in params {
             technique.set_param(k, *v).unwrap();
         }
-        let image = self.render(&mut technique);
+        self.render(&mut technique)
+    }
+
+    /// Technique `id` against the ground truth (the primary figure), and its image.
+    fn measure(&mut self, id: &str, params: &[(&str, f64)]) -> (Error, HdrImage) {
+        let image = self.image(id, params);
+        (self.error(&image, &self.truth), image)
+    }
+
+    /// Technique `id` against its own variant model (the second figure).
+    fn measure_model(&mut self, id: &str, params: &[(&str, f64)]) -> Error {
+        let image = self.image(id, params);
         let spec = ground_truth::spec_for(id).unwrap();
-        let truth = self.truth(spec);
-        let (m, _) = scene::metrics::compare(&image, &truth, Some(&self.mask(spec)));
-        (m.rmse, m.flip_mean_masked, m.nan_pixels, image)
+        let (s, c, t) = (&self.scene, &self.view.camera, self.view.time);
+        let model = ground_truth::variant_model(s, c, t, &self.base, &self.distances, spec);
+        self.error(&image, &model)
+    }
+
+    /// The image without any volume against the ground truth: what drawing nothing scores.
+    fn nothing(&self) -> Error {
+        self.error(&self.base, &self.truth)
     }
 }
 
+/// (RMSE, masked FLIP) bounds against the ground truth at 96x72: the measured values (in
+/// the comments, `--nocapture` prints them) times about 1.5, except where that would let an
+/// empty image pass (drawing nothing scores RMSE 0.110, FLIP 0.696 on `smoke:particles=0` and
+/// 0.163, 0.716 on `smoke`): there the bound sits between the measured value and nothing's.
 fn bound(id: &str) -> (f64, f64) {
-    let name = id.trim_start_matches("volumes/").trim_start_matches("particles-");
-    if name.starts_with("raytraced-sphere") {
-        (0.002, 0.02)
-    } else if name == "raytraced-thickness" {
-        (0.03, 0.2)
-    } else if name == "raytraced-constant" {
-        (0.05, 0.3)
-    } else if name == "raytraced-linear" {
-        (0.06, 0.45)
-    } else if name.starts_with("slices") {
-        (0.03, 0.25)
-    } else {
-        (0.06, 0.35)
+    match id.trim_start_matches("volumes/") {
+        "billboard" => (0.043, 0.30),               // 0.0290, 0.197
+        "raytraced-constant" => (0.105, 0.62),      // 0.0986, 0.518
+        "raytraced-linear" => (0.032, 0.28),        // 0.0215, 0.189
+        "raytraced-sphere-log" => (0.09, 0.60),     // 0.0603, 0.416
+        "raytraced-sphere-linear" => (0.055, 0.44), // 0.0369, 0.294
+        "raytraced-sphere-sqrt" => (0.10, 0.62),    // 0.0699, 0.453
+        "raytraced-thickness" => (0.015, 0.18),     // 0.0099, 0.119
+        "particles-billboard" => (0.058, 0.33),     // 0.0388, 0.216
+        "particles-slices-9" | "particles-slices-9-float" => (0.041, 0.26), // 0.0271, 0.173
+        "particles-raytraced-sphere-log" => (0.14, 0.62), // 0.0945, 0.431
+        "particles-raytraced-thickness" => (0.041, 0.27), // 0.0276, 0.178
+        // 8-bit and float, 5 to 79 slices: 0.0091-0.0118, 0.106-0.160.
+        name if name.starts_with("slices-") => (0.018, 0.24),
+        _ => panic!("no bound for {id}"),
     }
 }
 
-/// Every variant on thin smoke: finite, within its bounds; the thesis's claims hold.
+/// Every variant's RMSE must be below this share of the RMSE of drawing nothing (measured:
+/// 0.08-0.90; 1.0 is an empty image).
+const BEATS_NOTHING: f64 = 0.95;
+
+/// Every variant against the ground truth: finite, within its bound, far better than drawing
+/// nothing; the thesis's claims that hold against the true medium.
 #[test]
-fn thin_smoke_against_ground_truth() {
-    let scene = thin_smoke();
-    let camera = scene.camera;
-    let mut bench = Bench::new(scene, camera, 0.0);
+fn every_variant_against_the_reference() {
+    let mut single = Bench::new(single_smoke(), single_smoke().camera, 0.0);
+    let mut all = Bench::new(smoke(), smoke().camera, 0.0);
+    let nothing = [
+        (VolumeSet::Single, single.nothing()),
+        (VolumeSet::All, all.nothing()),
+    ];
+    println!(
+        "nothing drawn: single {:?}, all {:?}",
+        nothing[0].1, nothing[1].1
+    );
     let mut rmse: BTreeMap<String, f64> = BTreeMap::new();
-    let mut report = Vec::new();
     let mut failures = Vec::new();
     for variant in all_variants() {
         let id = variant.id();
-        let (e, flip, non_finite, _) = bench.measure(&id, &[]);
-        report.push(format!("{id}: RMSE {e:.5}, masked FLIP {flip:.4}"));
+        let bench = if variant.set == VolumeSet::Single {
+            &mut single
+        } else {
+            &mut all
+        };
+        let (e, _) = bench.measure(&id, &[]);
+        let none = nothing.iter().find(|(s, _)| *s == variant.set).unwrap().1;
+        println!(
+            "{id}: RMSE {:.5}, masked FLIP {:.4} ({:.2} of nothing)",
+            e.rmse,
+            e.flip_masked,
+            e.rmse / none.rmse
+        );
         let (max_rmse, max_flip) = bound(&id);
-        if non_finite != 0 {
-            failures.push(format!("{id}: {non_finite} non-finite pixels"));
+        if e.non_finite != 0 {
+            failures.push(format!("{id}: {} non-finite pixels", e.non_finite));
         }
-        if !(e <= max_rmse && flip <= max_flip) {
-            failures.push(format!("{id}: RMSE {e:.5} (bound {max_rmse}), masked FLIP {flip:.4} (bound {max_flip})"));
+        if !(e.rmse <= max_rmse && e.flip_masked <= max_flip) {
+            failures.push(format!(
+                "{id}: RMSE {:.5} (bound {max_rmse}), FLIP {:.4} (bound {max_flip})",
+                e.rmse, e.flip_masked
+            ));
         }
-        rmse.insert(id.trim_start_matches("volumes/").to_string(), e);
+        if e.rmse.is_nan() || e.rmse >= BEATS_NOTHING * none.rmse {
+            failures.push(format!(
+                "{id}: RMSE {:.5} is not below {BEATS_NOTHING} x nothing's {:.5}",
+                e.rmse, none.rmse
+            ));
+        }
+        rmse.insert(id.trim_start_matches("volumes/").to_string(), e.rmse);
     }
-    println!("{}", report.join("\n"));
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-
-    // Thesis 6.4.1: the ray-traced volumes are smooth where even 79 slices are not; here the
-    // exact sphere beats every slice count by an order of magnitude.
-    for n in [5, 9, 19, 39, 79] {
-        for suffix in ["", "-float"] {
-            let slices = rmse[&format!("slices-{n}{suffix}")];
-            assert!(
-                rmse["raytraced-sphere-log"] * 10.0 < slices,
-                "sphere {} vs slices-{n}{suffix} {slices}",
-                rmse["raytraced-sphere-log"]
-            );
-        }
-    }
-    // Any volume beats the plain billboard; the thickness texture beats the constant and
-    // linear primitives (6.4.1: the linear volume "shows very clear corners").
-    for other in ["slices-5", "slices-79-float", "raytraced-constant", "raytraced-thickness", "raytraced-sphere-log"] {
-        assert!(rmse[other] < rmse["billboard"], "{other} {} vs billboard {}", rmse[other], rmse["billboard"]);
-    }
-    assert!(rmse["raytraced-thickness"] < rmse["raytraced-constant"]);
-    assert!(rmse["raytraced-constant"] < rmse["raytraced-linear"]);
-    assert!(rmse["particles-raytraced-sphere-log"] * 10.0 < rmse["particles-billboard"]);
+    check_claims(&rmse);
 }
 
-/// The built-in (dense) smoke: the exact sphere stays within its bound, nothing is NaN.
+/// The thesis's claims (6.4.1, 6.4.3) as they hold against the true, textured medium.
+fn check_claims(rmse: &BTreeMap<String, f64>) {
+    let less = |a: &str, b: &str| {
+        assert!(
+            rmse[a] < rmse[b],
+            "{a} {} must beat {b} {}",
+            rmse[a],
+            rmse[b]
+        )
+    };
+    // 6.4.1: "of the volume primitives the one using the thickness texture appears to be the
+    // best choice" (measured 0.0099 against 0.021-0.099 for the untextured primitives).
+    for other in [
+        "raytraced-constant",
+        "raytraced-linear",
+        "raytraced-sphere-log",
+        "raytraced-sphere-linear",
+        "raytraced-sphere-sqrt",
+    ] {
+        less("raytraced-thickness", other);
+    }
+    // Any volume with the texture beats the plain billboard's hard edges (6.4.1).
+    for n in [5, 9, 19, 39, 79] {
+        less(&format!("slices-{n}-float"), "billboard");
+        less(&format!("slices-{n}"), "billboard");
+    }
+    less("raytraced-thickness", "billboard");
+    // 6.3.2, figure 6.15: 79 slices round visibly in an 8-bit buffer, not in a float one.
+    less("slices-79-float", "slices-79");
+    less(
+        "particles-raytraced-thickness",
+        "particles-raytraced-sphere-log",
+    );
+    less("particles-raytraced-thickness", "particles-billboard");
+}
+
+/// The second figure: the ray-traced sphere is exact in its own model (uniform sphere, its
+/// opacity function): the GPU path (ray-sphere, depth clipping, compositing) is right.
 #[test]
-fn dense_smoke_against_ground_truth() {
-    let scene = smoke();
-    let camera = scene.camera;
-    let mut bench = Bench::new(scene, camera, 0.0);
+fn sphere_matches_its_own_model() {
+    let mut single = Bench::new(single_smoke(), single_smoke().camera, 0.0);
+    let mut all = Bench::new(smoke(), smoke().camera, 0.0);
     for id in [
         "volumes/raytraced-sphere-log",
-        "volumes/particles-raytraced-sphere-log",
-        "volumes/slices-19",
-        "volumes/billboard",
+        "volumes/raytraced-sphere-linear",
+        "volumes/raytraced-sphere-sqrt",
     ] {
-        let (e, flip, non_finite, _) = bench.measure(id, &[]);
-        let (max_rmse, max_flip) = bound(id);
-        let max_rmse = if id.contains("sphere") { max_rmse } else { 2.0 * max_rmse };
-        let max_flip = if id.contains("sphere") { max_flip } else { 1.5 * max_flip };
-        assert_eq!(non_finite, 0, "{id}");
-        assert!(e <= max_rmse && flip <= max_flip, "{id}: RMSE {e}, masked FLIP {flip}");
+        let e = single.measure_model(id, &[]);
+        assert!(e.rmse <= 0.002 && e.flip_masked <= 0.02, "{id}: {e:?}");
     }
+    let e = all.measure_model("volumes/particles-raytraced-sphere-log", &[]);
+    assert!(e.rmse <= 0.002 && e.flip_masked <= 0.02, "particles: {e:?}");
+}
+
+/// Same inputs, same image: the technique and the truth are deterministic.
+#[test]
+fn same_image_twice() {
+    let mut bench = Bench::new(single_smoke(), single_smoke().camera, 0.0);
+    for id in ["volumes/raytraced-thickness", "volumes/slices-9"] {
+        let a = bench.image(id, &[]);
+        let b = bench.image(id, &[]);
+        assert_eq!(a.pixels, b.pixels, "{id}");
+    }
+    let again = Bench::new(single_smoke(), single_smoke().camera, 0.0);
+    assert_eq!(bench.truth.pixels, again.truth.pixels);
 }
 
 /// Thesis 6.3.2: with an 8-bit colour buffer every slice's small contribution is rounded, and
@@ -215,15 +329,14 @@ fn dense_smoke_against_ground_truth() {
 /// in 8-bit steps, and as the number of distinct values along the volume's smooth gradient.
 #[test]
 fn eight_bit_slices_band() {
-    let scene = thin_smoke();
+    let scene = single_smoke();
     let camera = scene.camera;
     let mut bench = Bench::new(scene, camera, 0.0);
-    let spec = ground_truth::spec_for("volumes/slices-5").unwrap();
-    let mask = bench.mask(spec);
+    let mask = bench.mask.clone();
     let mut deviation = BTreeMap::new();
     for n in [5, 79] {
-        let (_, _, _, bytes) = bench.measure(&format!("volumes/slices-{n}"), &[]);
-        let (_, _, _, float) = bench.measure(&format!("volumes/slices-{n}-float"), &[]);
+        let bytes = bench.image(&format!("volumes/slices-{n}"), &[]);
+        let float = bench.image(&format!("volumes/slices-{n}-float"), &[]);
         let (mut sum, mut count) = (0.0f64, 0usize);
         for ((b, f), &m) in bytes.pixels.iter().zip(&float.pixels).zip(&mask) {
             if m {
@@ -236,8 +349,14 @@ fn eight_bit_slices_band() {
         deviation.insert(n, (sum / count as f64).sqrt());
     }
     println!("8-bit vs float RMS deviation in 8-bit steps: {deviation:?}");
-    assert!(deviation[&79] > 1.5 * deviation[&5], "rounding must grow with the slice count: {deviation:?}");
-    assert!(deviation[&79] > 1.0, "79 slices at 8 bits must be off by more than one step: {deviation:?}");
+    assert!(
+        deviation[&79] > 1.5 * deviation[&5],
+        "rounding must grow with the slice count: {deviation:?}"
+    );
+    assert!(
+        deviation[&79] > 1.0,
+        "79 slices at 8 bits must be off by more than one step: {deviation:?}"
+    );
 }
 
 /// The eye inside the large volume (and exactly at its centre): every variant stays finite.
@@ -245,10 +364,14 @@ fn eight_bit_slices_band() {
 /// finiteness is asserted.
 #[test]
 fn camera_inside_the_volume_is_finite() {
-    let scene = thin_smoke();
+    let scene = single_smoke();
     let v = scene.volumes.iter().find(|v| !v.particle).unwrap().clone();
     for eye in [v.center + Vec3::new(0.3, 0.15, 0.45), v.center] {
-        let camera = Camera { eye, target: eye + Vec3::new(0.2, -0.3, -1.0), ..scene.camera };
+        let camera = Camera {
+            eye,
+            target: eye + Vec3::new(0.2, -0.3, -1.0),
+            ..scene.camera
+        };
         let mut bench = Bench::new(scene.clone(), camera, 0.0);
         for variant in all_variants() {
             let id = variant.id();
@@ -256,19 +379,19 @@ fn camera_inside_the_volume_is_finite() {
                 if !params.is_empty() && !id.contains("raytraced") {
                     continue;
                 }
-                let (_, _, non_finite, _) = bench.measure(&id, params);
-                assert_eq!(non_finite, 0, "{id} {params:?} with the eye at {eye}");
+                let (e, _) = bench.measure(&id, params);
+                assert_eq!(e.non_finite, 0, "{id} {params:?} with the eye at {eye}");
             }
         }
     }
 }
 
 /// `fit_silhouette` (not in the thesis) removes the camera-inside failure of the ray-traced
-/// sphere: from inside, from next to the volume and from the default view it matches the
-/// exact volume.
+/// sphere: from inside, from next to the volume and from the default view it matches its own
+/// model (the second figure: the uniform sphere it draws, exactly).
 #[test]
 fn fitted_billboards_fix_the_close_camera() {
-    let scene = thin_smoke();
+    let scene = single_smoke();
     let v = scene.volumes.iter().find(|v| !v.particle).unwrap().clone();
     let eyes = [
         scene.camera.eye,
@@ -277,13 +400,24 @@ fn fitted_billboards_fix_the_close_camera() {
         v.center + Vec3::new(0.0, 0.2, 1.0).normalize() * v.radius * 1.2,
     ];
     for eye in eyes {
-        let camera = Camera { eye, target: eye + Vec3::new(0.2, -0.3, -1.0), ..scene.camera };
+        let camera = Camera {
+            eye,
+            target: eye + Vec3::new(0.2, -0.3, -1.0),
+            ..scene.camera
+        };
         let mut bench = Bench::new(scene.clone(), camera, 0.0);
-        for id in ["volumes/raytraced-sphere-log", "volumes/particles-raytraced-sphere-log"] {
+        for id in [
+            "volumes/raytraced-sphere-log",
+            "volumes/particles-raytraced-sphere-log",
+        ] {
             for free_depth in [0.0, 1.0] {
-                let (e, _, non_finite, _) = bench.measure(id, &[("fit_silhouette", 1.0), ("free_depth", free_depth)]);
-                assert_eq!(non_finite, 0);
-                assert!(e <= 0.002, "{id} free_depth={free_depth} eye {eye}: RMSE {e}");
+                let e =
+                    bench.measure_model(id, &[("fit_silhouette", 1.0), ("free_depth", free_depth)]);
+                assert_eq!(e.non_finite, 0);
+                assert!(
+                    e.rmse <= 0.002,
+                    "{id} free_depth={free_depth} eye {eye}: {e:?}"
+                );
             }
         }
     }
@@ -294,9 +428,13 @@ fn fitted_billboards_fix_the_close_camera() {
 #[test]
 fn bvh_distances_agree_with_the_raster_pass() {
     for eye in [None, Some(Vec3::new(0.3, 1.15, 0.45))] {
-        let scene = thin_smoke();
+        let scene = single_smoke();
         let camera = match eye {
-            Some(e) => Camera { eye: e, target: e + Vec3::new(0.2, -0.3, -1.0), ..scene.camera },
+            Some(e) => Camera {
+                eye: e,
+                target: e + Vec3::new(0.2, -0.3, -1.0),
+                ..scene.camera
+            },
             None => scene.camera,
         };
         let bench = Bench::new(scene, camera, 0.0);
@@ -304,10 +442,15 @@ fn bvh_distances_agree_with_the_raster_pass() {
         let agree = bvh
             .iter()
             .zip(&bench.distances)
-            .filter(|(a, b)| (a.is_infinite() && b.is_infinite()) || (*a - *b).abs() <= 1e-3 * a.abs().max(1.0))
+            .filter(|(a, b)| {
+                (a.is_infinite() && b.is_infinite()) || (*a - *b).abs() <= 1e-3 * a.abs().max(1.0)
+            })
             .count();
         let n = bvh.len();
-        assert!(agree as f64 >= 0.99 * n as f64, "{agree} of {n} pixels agree");
+        assert!(
+            agree as f64 >= 0.99 * n as f64,
+            "{agree} of {n} pixels agree"
+        );
     }
 }
 
@@ -315,27 +458,35 @@ fn bvh_distances_agree_with_the_raster_pass() {
 /// the thesis's R16Float distance pre-pass give the same picture.
 #[test]
 fn free_depth_matches_the_depth_prepass() {
-    let scene = thin_smoke();
+    let scene = single_smoke();
     let camera = scene.camera;
     let mut bench = Bench::new(scene, camera, 0.0);
-    for id in ["volumes/raytraced-sphere-log", "volumes/raytraced-thickness"] {
-        let (e0, _, _, a) = bench.measure(id, &[]);
-        let (e1, _, _, b) = bench.measure(id, &[("free_depth", 1.0)]);
+    for id in [
+        "volumes/raytraced-sphere-log",
+        "volumes/raytraced-thickness",
+    ] {
+        let (e0, a) = bench.measure(id, &[]);
+        let (e1, b) = bench.measure(id, &[("free_depth", 1.0)]);
+        let (e0, e1) = (e0.rmse, e1.rmse);
         let (m, _) = scene::metrics::compare(&a, &b, None);
-        assert!(m.rmse < 1e-3, "{id}: the two depth sources differ by RMSE {}", m.rmse);
+        assert!(
+            m.rmse < 1e-3,
+            "{id}: the two depth sources differ by RMSE {}",
+            m.rmse
+        );
         assert!((e0 - e1).abs() < 1e-3, "{id}: {e0} vs {e1}");
     }
 }
 
-/// Particles move with the scene time; the technique follows them.
+/// Particles move with the scene time; the technique follows them (against its own model).
 #[test]
 fn particles_follow_the_scene_time() {
     let scene = smoke();
     let camera = scene.camera;
     let mut bench = Bench::new(scene, camera, 1.5);
-    let (e, flip, non_finite, _) = bench.measure("volumes/particles-raytraced-sphere-log", &[]);
-    assert_eq!(non_finite, 0);
-    assert!(e <= 0.002 && flip <= 0.02, "RMSE {e}, masked FLIP {flip}");
+    let e = bench.measure_model("volumes/particles-raytraced-sphere-log", &[]);
+    assert_eq!(e.non_finite, 0);
+    assert!(e.rmse <= 0.002 && e.flip_masked <= 0.02, "{e:?}");
 }
 
 #[test]
@@ -347,7 +498,12 @@ fn supports_scenes_with_volumes_only() {
     for t in volumes::techniques() {
         assert!(t.supports(&smoke), "{}", t.id());
         assert!(!t.supports(&cornell), "{}", t.id());
-        assert_eq!(t.supports(&particles_only), t.id().contains("particles-"), "{}", t.id());
+        assert_eq!(
+            t.supports(&particles_only),
+            t.id().contains("particles-"),
+            "{}",
+            t.id()
+        );
     }
 }
 
@@ -367,23 +523,37 @@ fn parameters_are_declared_and_checked() {
 /// The same technique instance renders targets of different sizes (buffers follow the target).
 #[test]
 fn follows_the_target_size() {
-    let scene = thin_smoke();
+    let scene = single_smoke();
     let ctx = ctx();
     let mut gpu_scene = GpuScene::new(ctx, &scene).unwrap();
     let mut timer = GpuTimer::new(ctx, 16);
-    let variant = all_variants().into_iter().find(|v| v.id() == "volumes/slices-9").unwrap();
+    let variant = all_variants()
+        .into_iter()
+        .find(|v| v.id() == "volumes/slices-9")
+        .unwrap();
     let mut technique = VolumeTechnique::new(variant);
     for (i, (w, h)) in [(48u32, 32u32), (64, 64), (48, 32)].into_iter().enumerate() {
         let target = Target::new(ctx, w, h).unwrap();
-        let view = View { camera: scene.camera, time: 0.0, width: w, height: h };
+        let view = View {
+            camera: scene.camera,
+            time: 0.0,
+            width: w,
+            height: h,
+        };
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
-            let mut frame = Frame { gpu: ctx, encoder: &mut encoder, timer: &mut timer };
+            let mut frame = Frame {
+                gpu: ctx,
+                encoder: &mut encoder,
+                timer: &mut timer,
+            };
             gpu_scene.set_time(&mut frame, 0.0);
             if i == 0 {
                 technique.prepare(&mut frame, &gpu_scene).unwrap();
             }
-            technique.render(&mut frame, &gpu_scene, &view, &target).unwrap();
+            technique
+                .render(&mut frame, &gpu_scene, &view, &target)
+                .unwrap();
         }
         timer.submit_and_collect(ctx, encoder).unwrap();
         assert_eq!(target.read(ctx).unwrap().non_finite_count(), 0);

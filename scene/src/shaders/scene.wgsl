@@ -1,7 +1,8 @@
 // ---------------------------------------------------------------------------------------------
 // Shared scene bindings and the diffuse shading model (DESIGN.md): identical to the CPU
 // reference's direct lighting: albedo / pi * I * max(0, n.l) / d^2 * visibility, summed over
-// point lights, no ambient, visibility from a distance cube shadow map per light.
+// point lights, no ambient, visibility from one distance shadow map per light (a cube map, or a
+// 2D map fitted to the scene for a light outside it: see light_visibility).
 // Technique shaders are prelude + this file + their own entry points; they draw objects with
 // `scene_vs` (instance index = object index) and shade diffuse surfaces with `shade_diffuse`.
 // ---------------------------------------------------------------------------------------------

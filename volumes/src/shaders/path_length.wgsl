@@ -20,7 +20,7 @@ const PRIMITIVE_SPHERE: u32 = 2u;
 const PRIMITIVE_TEXTURE: u32 = 3u;
 
 // Opacity of a path of `len` metres through a medium whose `density` is the opacity reached
-// over one metre (thesis figure 6.21; all three give `density` at 1 m and 0 at 0 m):
+// over one metre (the technique's opacity scale, not the scene's extinction coefficient) (thesis figure 6.21; all three give `density` at 1 m and 0 at 0 m):
 // linear density * len, logarithmic density * log2(1 + len), square root density * sqrt(len),
 // clamped to [0, 1].
 fn opacity_from_length(kind: u32, len: f32, density: f32) -> f32 {

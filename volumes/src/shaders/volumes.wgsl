@@ -36,7 +36,8 @@ struct VolumeGpu {
     // xyz: centre at this frame's time; w: radius R.
     center: vec4f,
     // Billboard axes (unit): right and up in the plane, normal toward the eye.
-    // right.w: density (opacity reached over one metre); up.w: billboard half size (metres);
+    // right.w: opacity scale (opacity reached over one metre, `technique::opacity_scale` or the
+    // baked texture's scale; not the scene's extinction); up.w: billboard half size (metres);
     // normal.w: 1 = draw a screen-filling quad instead of the billboard (ray-traced only).
     right: vec4f,
     up: vec4f,
