@@ -67,26 +67,15 @@ pub struct ResultRow {
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct ErrorAt {
     pub time: f32,
-    pub rmse: f64,
-    pub psnr_db: f64,
-    pub flip_mean: f64,
-    pub flip_mean_masked: f64,
-    pub flip_over_0_1_pct: f64,
-    pub nan_pixels: usize,
-    pub masked_pixels: usize,
+    #[serde(flatten)]
+    pub metrics: Metrics,
 }
 
 impl ErrorAt {
-    pub fn new(time: f32, m: &Metrics) -> Self {
+    pub fn new(time: f32, metrics: &Metrics) -> Self {
         ErrorAt {
             time,
-            rmse: m.rmse,
-            psnr_db: m.psnr_db,
-            flip_mean: m.flip_mean,
-            flip_mean_masked: m.flip_mean_masked,
-            flip_over_0_1_pct: m.flip_over_0_1_pct,
-            nan_pixels: m.nan_pixels,
-            masked_pixels: m.masked_pixels,
+            metrics: *metrics,
         }
     }
 }
@@ -140,29 +129,29 @@ impl ResultRow {
         let Some(first) = at.first() else {
             return self;
         };
-        let rmse = mean(at.iter().map(|e| e.rmse));
+        let rmse = mean(at.iter().map(|e| e.metrics.rmse));
         self.rmse = Some(rmse);
         self.psnr_db = Some(if rmse > 0.0 {
             20.0 * (1.0 / rmse).log10()
         } else {
             f64::INFINITY
         });
-        self.flip_mean = Some(mean(at.iter().map(|e| e.flip_mean)));
-        self.flip_mean_masked = Some(mean(at.iter().map(|e| e.flip_mean_masked)));
-        self.flip_over_0_1_pct = Some(mean(at.iter().map(|e| e.flip_over_0_1_pct)));
-        self.nan_pixels = at.iter().map(|e| e.nan_pixels).max();
-        self.masked_pixels = Some(first.masked_pixels);
-        self.rmse_worst = Some(worst(at.iter().map(|e| e.rmse)));
-        self.flip_mean_worst = Some(worst(at.iter().map(|e| e.flip_mean)));
-        self.flip_mean_masked_worst = Some(worst(at.iter().map(|e| e.flip_mean_masked)));
-        let key = |e: &ErrorAt| match e.flip_mean_masked.is_nan() {
-            true => e.flip_mean,
-            false => e.flip_mean_masked,
+        self.flip_mean = Some(mean(at.iter().map(|e| e.metrics.flip_mean)));
+        self.flip_mean_masked = Some(mean(at.iter().map(|e| e.metrics.flip_mean_masked)));
+        self.flip_over_0_1_pct = Some(mean(at.iter().map(|e| e.metrics.flip_over_0_1_pct)));
+        self.nan_pixels = at.iter().map(|e| e.metrics.nan_pixels).max();
+        self.masked_pixels = Some(first.metrics.masked_pixels);
+        self.rmse_worst = Some(worst(at.iter().map(|e| e.metrics.rmse)));
+        self.flip_mean_worst = Some(worst(at.iter().map(|e| e.metrics.flip_mean)));
+        self.flip_mean_masked_worst = Some(worst(at.iter().map(|e| e.metrics.flip_mean_masked)));
+        let key = |e: &ErrorAt| match e.metrics.flip_mean_masked.is_nan() {
+            true => e.metrics.flip_mean,
+            false => e.metrics.flip_mean_masked,
         };
-        let masked = at.iter().any(|e| !e.flip_mean_masked.is_nan());
+        let masked = at.iter().any(|e| !e.metrics.flip_mean_masked.is_nan());
         self.worst_time = at
             .iter()
-            .filter(|e| !masked || !e.flip_mean_masked.is_nan())
+            .filter(|e| !masked || !e.metrics.flip_mean_masked.is_nan())
             .max_by(|a, b| key(a).total_cmp(&key(b)))
             .map(|e| e.time as f64);
         self.error_times = at.iter().map(|e| e.time).collect();
@@ -424,15 +413,17 @@ mod tests {
 
     #[test]
     fn errors_along_the_path_give_means_and_the_worst_time() {
-        let at = |time, rmse, flip, masked| ErrorAt {
+        let at = |time: f32, rmse, flip, masked| ErrorAt {
             time,
-            rmse,
-            psnr_db: 0.0,
-            flip_mean: flip,
-            flip_mean_masked: masked,
-            flip_over_0_1_pct: 10.0 * flip,
-            nan_pixels: (time * 2.0) as usize,
-            masked_pixels: 7,
+            metrics: Metrics {
+                rmse,
+                psnr_db: 0.0,
+                flip_mean: flip,
+                flip_mean_masked: masked,
+                flip_over_0_1_pct: 10.0 * flip,
+                nan_pixels: (time * 2.0) as usize,
+                masked_pixels: 7,
+            },
         };
         let row = ResultRow::new("s", "t", crate::Size::new(4, 4), "a").with_errors_along(vec![
             at(0.0, 0.1, 0.02, 0.01),

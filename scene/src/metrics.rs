@@ -21,7 +21,7 @@
 use gpu::HdrImage;
 
 /// Error of a test image against the reference (see the module documentation).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Metrics {
     /// Root mean square error over linear RGB of the finite pixels.
     pub rmse: f64,
