@@ -196,6 +196,12 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
             .require(t.required_features())
             .with_context(|| format!("technique {spec}"))?;
     }
+    if techniques
+        .iter()
+        .any(|t| t.timing() != techniques[0].timing())
+    {
+        bail!("bench cannot compare a CPU technique's clock with GPU timestamps: time them apart");
+    }
     let mut gpu_scene = backend::upload_scene(env.ctx, &scene)?;
     let target = Target::new(env.ctx, opts.size.width, opts.size.height)?;
     let mut timer = GpuTimer::new(env.ctx, 64);
@@ -241,8 +247,10 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
             }
         }
     }
-    if samples.iter().flatten().flatten().all(|v| v.is_nan()) {
-        bail!("no technique recorded a span \"{}\"", opts.span);
+    for (rounds, spec) in samples.iter().zip(&opts.techniques) {
+        if rounds.iter().flatten().all(|v| v.is_nan()) {
+            bail!("technique {spec} recorded no span \"{}\"", opts.span);
+        }
     }
 
     let round_medians: Vec<Vec<f64>> = samples

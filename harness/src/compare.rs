@@ -3,11 +3,11 @@
 //! Writes, under the output folder:
 //!
 //! - `results.csv`, `results.json`, `results.md` (see [`crate::report`]);
-//! - `images/<scene>/<technique>.png` and `.exr` (the first error frame: default view, time
-//!   0), `images/<scene>/<technique>.flip.png` (FLIP error map, magma colour map),
-//!   `images/<scene>/reference.png` and `.exr`; the later error frames along the camera path
-//!   as `<technique>.t<time>.png`, `<technique>.t<time>.flip.png` and `reference.t<time>.png`
-//!   (`.t1.00`, see [`crate::time_suffix`]);
+//! - `images/<scene>/<technique>.png` and `.exr` (the first error frame: the camera path's
+//!   view at time 0), `images/<scene>/<technique>.flip.png` (FLIP error map, magma colour
+//!   map), `images/<scene>/reference.png` and `.exr`; the later error frames along the camera
+//!   path as `<technique>.t<time>.png`, `<technique>.t<time>.flip.png` and
+//!   `reference.t<time>.png` (`.t1`, see [`crate::time_suffix`]);
 //! - `.cache/` with the references (see [`crate::cache`]).
 //!
 //! `<scene>` and `<technique>` are made file names by [`crate::file_name`] (`/` becomes `__`).
@@ -290,7 +290,7 @@ pub(crate) fn path_references(
     frames: Frames,
 ) -> Result<Vec<(TimedReference, bool)>> {
     frames
-        .error_times(scene.camera_path.duration())
+        .error_times_for(scene)
         .into_iter()
         .map(|time| {
             let (reference, cached) = scene_reference(env, out, spec, scene, size, time)?;

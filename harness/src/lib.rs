@@ -221,9 +221,19 @@ impl Frames {
     }
 }
 
-/// The file-name suffix of the images of an error frame after the first: `.t1.00`.
+impl Frames {
+    /// [`Frames::error_times`] on the scene's camera path: what the run renders and what the
+    /// references are rendered for (one function, so their times are equal bit for bit).
+    pub fn error_times_for(&self, scene: &scene::Scene) -> Vec<f32> {
+        self.error_times(scene.camera_path.duration())
+    }
+}
+
+/// The file-name suffix of the images of an error frame after the first: `.t1`, `.t0.5`,
+/// `.t0.6666667` (the shortest text that reads back as the same `f32`, so distinct times
+/// never share a file).
 pub fn time_suffix(time: f32) -> String {
-    format!(".t{time:.2}")
+    format!(".t{time}")
 }
 
 /// A technique id or scene spec as a file name: `/` becomes `__`, and every character other
@@ -372,7 +382,9 @@ mod tests {
             frames(1000).error_times(1.0).len(),
             Frames::MAX_ERRORS as usize
         );
-        assert_eq!(time_suffix(1.0), ".t1.00");
+        assert_eq!(time_suffix(1.0), ".t1");
+        assert_eq!(time_suffix(2.0 / 3.0), ".t0.6666667");
+        assert_ne!(time_suffix(0.001), time_suffix(0.002));
     }
 
     #[test]

@@ -155,7 +155,7 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
     },
-    /// Renders one image of a scene's default view at time 0 (.png or .exr by extension).
+    /// Renders one image of the camera path's view at time 0 (.png or .exr by extension).
     /// `--technique reference` renders the ground truth.
     Render {
         #[arg(long, value_name = "SCENE")]
@@ -461,7 +461,7 @@ fn render(
     let image = if use_ground_truth {
         harness::backend::render_reference(
             &scene,
-            &scene.camera,
+            &scene.camera_at(0.0),
             0.0,
             size.width,
             size.height,

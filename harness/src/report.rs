@@ -6,7 +6,9 @@
 //! `flip_over_0_1_pct` are means over those times, `*_worst` the largest value at any of them,
 //! `worst_time` the time of the largest masked FLIP (FLIP where no time has a mask), `psnr_db`
 //! is that of the mean RMSE, `nan_pixels` the largest count in one frame and `masked_pixels`
-//! the mask's size at time 0. JSON also has every time's figures (`errors_at`).
+//! the mask's size at time 0. `flip_mean_masked` is the mean over the frames whose mask is not
+//! empty (a moving object may leave the view). JSON also has every time's figures
+//! (`errors_at`).
 //!
 //! Missing figures (a technique that failed, no reference) are empty CSV cells and JSON
 //! `null`. PSNR of identical images is infinite: `inf` in CSV and markdown, `null` in JSON
@@ -50,7 +52,7 @@ pub struct ResultRow {
     pub flip_mean_worst: Option<f64>,
     pub flip_mean_masked_worst: Option<f64>,
     /// Time of the worst error frame (largest masked FLIP, else largest FLIP).
-    pub worst_time: Option<f64>,
+    pub worst_time: Option<f32>,
     /// The times of the error frames.
     pub error_times: Vec<f32>,
     /// The figures of each error frame.
@@ -95,7 +97,7 @@ fn worst(values: impl Iterator<Item = f64>) -> f64 {
 
 impl ResultRow {
     /// A row with identity fields only (the rest filled by [`ResultRow::with_run`] and
-    /// [`ResultRow::with_metrics`], or an error).
+    /// [`ResultRow::with_errors_along`], or an error).
     pub fn new(scene: &str, technique: &str, size: crate::Size, adapter: &str) -> Self {
         ResultRow {
             scene: scene.to_string(),
@@ -119,11 +121,6 @@ impl ResultRow {
         self
     }
 
-    /// The figures of one error frame at time 0.
-    pub fn with_metrics(self, m: &Metrics) -> Self {
-        self.with_errors_along(vec![ErrorAt::new(0.0, m)])
-    }
-
     /// Means and worst values over the error frames (see the module documentation).
     pub fn with_errors_along(mut self, at: Vec<ErrorAt>) -> Self {
         let Some(first) = at.first() else {
@@ -131,10 +128,11 @@ impl ResultRow {
         };
         let rmse = mean(at.iter().map(|e| e.metrics.rmse));
         self.rmse = Some(rmse);
-        self.psnr_db = Some(if rmse > 0.0 {
-            20.0 * (1.0 / rmse).log10()
-        } else {
+        // Identical images: infinite PSNR; no finite pixel at all (RMSE NaN): NaN, never inf.
+        self.psnr_db = Some(if rmse == 0.0 {
             f64::INFINITY
+        } else {
+            20.0 * (1.0 / rmse).log10()
         });
         self.flip_mean = Some(mean(at.iter().map(|e| e.metrics.flip_mean)));
         self.flip_mean_masked = Some(mean(at.iter().map(|e| e.metrics.flip_mean_masked)));
@@ -153,7 +151,7 @@ impl ResultRow {
             .iter()
             .filter(|e| !masked || !e.metrics.flip_mean_masked.is_nan())
             .max_by(|a, b| key(a).total_cmp(&key(b)))
-            .map(|e| e.time as f64);
+            .map(|e| e.time);
         self.error_times = at.iter().map(|e| e.time).collect();
         self.errors_at = at;
         self
@@ -247,7 +245,7 @@ pub fn to_csv(rows: &[ResultRow], with_param: bool) -> String {
             csv_num(r.rmse_worst),
             csv_num(r.flip_mean_worst),
             csv_num(r.flip_mean_masked_worst),
-            csv_num(r.worst_time),
+            r.worst_time.map(|t| t.to_string()).unwrap_or_default(),
             csv_field(&times_list(&r.error_times)),
             csv_field(&r.adapter),
             csv_field(r.error.as_deref().unwrap_or("")),
@@ -276,14 +274,9 @@ fn md_num(v: Option<f64>, decimals: usize) -> String {
     }
 }
 
-/// The worst masked FLIP with its time (`0.0123 (t 1)`); the worst FLIP when nothing is
-/// masked.
+/// The worst masked FLIP with its time (`0.0123 (t 1)`); `-` when no frame had a mask.
 fn md_worst(r: &ResultRow) -> String {
-    let value = match r.flip_mean_masked_worst {
-        Some(v) if !v.is_nan() => Some(v),
-        _ => r.flip_mean_worst,
-    };
-    match (value, r.worst_time) {
+    match (r.flip_mean_masked_worst, r.worst_time) {
         (Some(v), Some(t)) if !v.is_nan() => format!("{v:.4} (t {t})"),
         _ => "-".into(),
     }
@@ -450,6 +443,13 @@ mod tests {
             at(1.0, 0.4, 0.05, f64::NAN),
         ]);
         assert_eq!(row.worst_time, Some(1.0));
-        assert!(to_markdown(&[row], false).contains("| 0.0500 (t 1) |"));
+        assert!(
+            to_markdown(&[row], false).contains("| - |"),
+            "no masked FLIP to show"
+        );
+        // No finite pixel at all: RMSE and PSNR are NaN (not the inf of identical images).
+        let row = ResultRow::new("s", "t", crate::Size::new(4, 4), "a")
+            .with_errors_along(vec![at(0.0, f64::NAN, f64::NAN, f64::NAN)]);
+        assert!(row.rmse.unwrap().is_nan() && row.psnr_db.unwrap().is_nan());
     }
 }

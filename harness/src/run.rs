@@ -13,14 +13,15 @@
 //! submission of its own (objects' transforms and shadow maps: the same work for every
 //! technique), so it is not part of any technique's time.
 //!
-//! Order: prepare (scene at time 0); the error frames, one at each of
-//! [`Frames::error_times`] (start, middle and end of the camera path by default) with the
-//! path's camera and the scene moved to that time, each read back; `warmup` untimed frames on
-//! the camera path at time 0; `timed` frames at `time = i * duration / timed` on the camera
-//! path (moving objects move too). The error frames run in time order in one sequence, as an
-//! application would render them, so a technique that keeps state from frame to frame (maps
-//! made at prepare, amortized regeneration) is measured with that state. A GPU validation
-//! error in any of these is the technique's error.
+//! Order: prepare (scene at time 0); `warmup` untimed frames on the camera path at time 0;
+//! then the camera path in time order: the `timed` frames at `time = i * duration / timed` and,
+//! among them, the error frames at [`Frames::error_times_for`] (start, middle and end of the
+//! path by default), each read back and not timed. Every frame uses the path's camera at its
+//! time with the scene moved to that time. Because the error frames sit in the same sequence
+//! as the timed frames, a technique that keeps state from frame to frame (maps made at
+//! prepare, amortized regeneration) reaches each error time through the frames an application
+//! would have rendered before it, not by a jump. A GPU validation error in any frame is the
+//! technique's error.
 
 use crate::{Frames, Size, backend};
 use anyhow::{Result, anyhow};
@@ -28,6 +29,17 @@ use gpu::{Context, GpuTimer, HdrImage, Target, TimeStats, TimerKind};
 use scene::{Frame, GpuScene, Technique, TechniqueResult, Timing, View};
 use std::collections::BTreeMap;
 use std::time::Instant;
+
+/// What a frame of a run is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Step {
+    /// Untimed, at time 0, before the path.
+    WarmUp,
+    /// Read back and measured against the reference at its time; not timed.
+    Error,
+    /// Timed.
+    Timed,
+}
 
 /// One error frame: the image of the camera path's view at `time`, read back.
 #[derive(Clone, Debug)]
@@ -52,7 +64,7 @@ pub struct TechniqueRun {
 }
 
 impl TechniqueRun {
-    /// The error frame at time 0 (the default view).
+    /// The error frame at time 0 (the camera path's view there).
     pub fn image(&self) -> &HdrImage {
         &self.error_frames[0].image
     }
@@ -153,6 +165,7 @@ pub fn run_technique(
     let kind = timer.kind();
     let timing = technique.timing();
     let duration = scene.scene.camera_path.duration().max(0.0);
+    let error_times = frames.error_times_for(&scene.scene);
     let path_camera = |t: f32| scene.scene.camera_at(t);
     let view = |camera, time| View {
         camera,
@@ -160,23 +173,23 @@ pub fn run_technique(
         width: size.width,
         height: size.height,
     };
-    let mut views: Vec<(View, bool)> = Vec::new(); // (view, timed)
-    let error_views: Vec<View> = frames
-        .error_times(duration)
-        .into_iter()
-        .map(|t| view(path_camera(t), t))
-        .collect();
+    let mut steps: Vec<(View, Step)> = Vec::new();
     for _ in 0..frames.warmup {
-        views.push((view(path_camera(0.0), 0.0), false));
+        steps.push((view(path_camera(0.0), 0.0), Step::WarmUp));
     }
+    // The error frames take their place among the timed frames in time order (an error frame
+    // before a timed frame of the same time), so a technique reaches each error time through
+    // the frames an application would have rendered before it.
+    let mut path: Vec<(View, Step)> = error_times
+        .iter()
+        .map(|&t| (view(path_camera(t), t), Step::Error))
+        .collect();
     for i in 0..frames.timed {
-        let t = if frames.timed == 0 {
-            0.0
-        } else {
-            i as f32 * duration / frames.timed as f32
-        };
-        views.push((view(path_camera(t), t), true));
+        let t = i as f32 * duration / frames.timed as f32;
+        path.push((view(path_camera(t), t), Step::Timed));
     }
+    path.sort_by(|a, b| a.0.time.total_cmp(&b.0.time));
+    steps.extend(path);
 
     on_frame("prepare");
     update_scene(ctx, &mut timer, scene, 0.0)?;
@@ -187,31 +200,28 @@ pub fn run_technique(
     }
 
     let mut error_frames = Vec::new();
-    for error_view in &error_views {
-        on_frame(&format!("error frame at time {}", error_view.time));
-        render_frame(ctx, &mut timer, technique, scene, error_view, &target)?;
-        error_frames.push(ErrorFrame {
-            time: error_view.time,
-            image: target.read(ctx)?,
-        });
-    }
-
     let mut times = Vec::new();
     let mut extra: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-    let timed_total = frames.timed;
     let mut timed_done = 0;
-    for (v, timed) in &views {
-        if *timed {
-            timed_done += 1;
-            on_frame(&format!("frame {timed_done}/{timed_total}"));
-        } else {
-            on_frame("warm-up");
-        }
+    for (v, step) in &steps {
+        on_frame(&match step {
+            Step::WarmUp => "warm-up".to_string(),
+            Step::Error => format!("error frame at time {}", v.time),
+            Step::Timed => format!("frame {}/{}", timed_done + 1, frames.timed),
+        });
         let sample = render_frame(ctx, &mut timer, technique, scene, v, &target)?;
-        if *timed {
-            times.push(sample.time("frame", timing, kind));
-            for (label, ms) in sample.extra() {
-                extra.entry(format!("{label}_ms")).or_default().push(*ms);
+        match step {
+            Step::WarmUp => {}
+            Step::Error => error_frames.push(ErrorFrame {
+                time: v.time,
+                image: target.read(ctx)?,
+            }),
+            Step::Timed => {
+                timed_done += 1;
+                times.push(sample.time("frame", timing, kind));
+                for (label, ms) in sample.extra() {
+                    extra.entry(format!("{label}_ms")).or_default().push(*ms);
+                }
             }
         }
     }

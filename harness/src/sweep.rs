@@ -8,7 +8,9 @@
 //! Writes `sweep.csv` (the compare columns plus `param` and `value`), `sweep.json`, `sweep.md`,
 //! `sweep.png` (see [`crate::plot`]) and `images/<technique>__<param>=<value>.{png,exr,flip.png}`
 //! (with `images/reference__<param>=<value>.{png,exr}` for a scene parameter, or
-//! `images/reference.{png,exr}` for a technique parameter).
+//! `images/reference.{png,exr}` for a technique parameter), each at the first error frame; the
+//! later error frames along the camera path add `.t<time>.png` and `.t<time>.flip.png` (see
+//! [`crate::time_suffix`]). Error figures are measured along the path as in `compare`.
 
 use crate::compare::{self, Outcome, write_text};
 use crate::plot::{self, PlotPoint, PlotText};

@@ -1,7 +1,8 @@
 //! Checks of the repository's own files, not of the code: generated bulk must not be
 //! committed, and documentation must not be written twice.
 //!
-//! Both guard against a failure that happened (commit 5a43bf4): an edit meant to insert one
+//! Both look at the tracked files (`git ls-files`; every file but build and result folders
+//! where there is no git). Both guard against a failure that happened (commit 5a43bf4): an edit meant to insert one
 //! 704-character bullet into `impostors/README.md` inserted it before every character of the
 //! file (the pattern of a string replace with an empty search string, `text.replace("", block)`),
 //! growing a 38 kB README to 27 MB. A text file over 1 MB, or a README paragraph that occurs
@@ -37,6 +38,29 @@ fn files_under(dir: &Path, out: &mut Vec<PathBuf>) {
             files_under(&path, out);
         } else if kind.is_file() {
             out.push(path);
+        }
+    }
+}
+
+/// The repository's tracked files (`git ls-files`), or, where git or the repository is not
+/// there (a source archive), every file under the root but build and result folders.
+fn repository_files(root: &Path) -> Vec<PathBuf> {
+    let listed = std::process::Command::new("git")
+        .args(["ls-files", "-z"])
+        .current_dir(root)
+        .output();
+    match listed {
+        Ok(out) if out.status.success() && !out.stdout.is_empty() => out
+            .stdout
+            .split(|&b| b == 0)
+            .filter(|name| !name.is_empty())
+            .map(|name| root.join(String::from_utf8_lossy(name).as_ref()))
+            .filter(|path| path.is_file())
+            .collect(),
+        _ => {
+            let mut files = Vec::new();
+            files_under(root, &mut files);
+            files
         }
     }
 }
@@ -88,8 +112,7 @@ fn repeated_text(text: &str) -> Vec<(String, usize)> {
 #[test]
 fn no_text_file_is_over_one_megabyte() {
     let root = workspace_root();
-    let mut files = Vec::new();
-    files_under(&root, &mut files);
+    let files = repository_files(&root);
     assert!(
         files.len() > 50,
         "found only {} files under {}",
@@ -116,8 +139,7 @@ fn no_text_file_is_over_one_megabyte() {
 #[test]
 fn no_readme_repeats_a_paragraph() {
     let root = workspace_root();
-    let mut files = Vec::new();
-    files_under(&root, &mut files);
+    let files = repository_files(&root);
     let docs: Vec<&PathBuf> = files
         .iter()
         .filter(|p| p.extension().is_some_and(|e| e == "md"))
