@@ -12,7 +12,7 @@ use scene::{
 };
 
 const TECHNIQUE_WGSL: &str = include_str!("shaders/technique.wgsl");
-/// Face size of the reflection cube map of `interior/exterior`.
+/// Face size of the reflection cube map of `interior/exterior` and `interior/reflection-only`.
 pub const ENV_MAP_SIZE: u32 = 64;
 /// Refractive index of the window glass (Fresnel weight of the reflection).
 pub const GLASS_IOR: f32 = 1.5;
@@ -32,10 +32,29 @@ pub enum Variant {
     Furniture,
     /// Per-room lights, texture atlas variation and displaced walls (5.4).
     Varied,
+    /// Baseline of 5.3.2: only the ceilings textured, walls and floors flat colours, lit
+    /// (figure 5.13 top right).
+    CeilingOnly,
+    /// Baseline of 5.3.2: all four surfaces read from one texture (a 2 x 2 atlas), the tile
+    /// chosen per hit from the plane family.
+    SingleTexture,
+    /// Baseline of 5.3 and 5.3.2: no interior at all, the windows fully reflect the
+    /// environment cube map (the traditional building material the paper's ~5x is measured
+    /// against).
+    ReflectionOnly,
 }
 
 impl Variant {
-    pub const ALL: [Variant; 5] = [Variant::Basic, Variant::Textured, Variant::Exterior, Variant::Furniture, Variant::Varied];
+    pub const ALL: [Variant; 8] = [
+        Variant::Basic,
+        Variant::Textured,
+        Variant::Exterior,
+        Variant::Furniture,
+        Variant::Varied,
+        Variant::CeilingOnly,
+        Variant::SingleTexture,
+        Variant::ReflectionOnly,
+    ];
     fn name(self) -> &'static str {
         match self {
             Variant::Basic => "basic",
@@ -43,10 +62,18 @@ impl Variant {
             Variant::Exterior => "exterior",
             Variant::Furniture => "furniture",
             Variant::Varied => "varied",
+            Variant::CeilingOnly => "ceiling-only",
+            Variant::SingleTexture => "single-texture",
+            Variant::ReflectionOnly => "reflection-only",
         }
     }
+    /// The variant number the shader branches on (`Settings.a.x` in technique.wgsl).
     fn code(self) -> f32 {
         self as u32 as f32
+    }
+    /// Whether the windows reflect the environment cube map (rendered every frame).
+    fn uses_env_map(self) -> bool {
+        matches!(self, Variant::Exterior | Variant::ReflectionOnly)
     }
 }
 
@@ -143,12 +170,20 @@ impl Technique for InteriorMapping {
             Variant::Exterior => "textured rooms through windows blended with a reflection cube map",
             Variant::Furniture => "textured rooms plus an alpha-tested animated furniture plane",
             Variant::Varied => "per-room lights by probability, atlas variation, displaced walls",
+            Variant::CeilingOnly => "baseline: only ceilings textured, walls and floors flat colours, lit",
+            Variant::SingleTexture => "baseline: all surfaces from one 2x2 atlas texture, tile chosen per hit",
+            Variant::ReflectionOnly => "baseline: no interior, windows fully reflect a cube map (traditional material)",
         };
         format!("interior mapping: {what}{}", if self.prepass { " (depth pre-pass)" } else { "" })
     }
     fn params(&self) -> Vec<Param> {
+        let room_scale = Param { name: "room_scale", default: 1.0, min: 0.05, max: 20.0, integer: false, help: "multiplies each building's room size" };
+        if self.variant == Variant::ReflectionOnly {
+            // No rooms are cast: only the window grid (room cells) depends on a parameter.
+            return vec![room_scale];
+        }
         let mut p = vec![
-            Param { name: "room_scale", default: 1.0, min: 0.05, max: 20.0, integer: false, help: "multiplies each building's room size" },
+            room_scale,
             Param { name: "texture_resolution", default: 64.0, min: 16.0, max: 256.0, integer: true, help: "interior texture size (texels per side)" },
             Param { name: "room_shadows", default: 1.0, min: 0.0, max: 1.0, integer: true, help: "1: rooms of box hulls lit only through their windows (exact); 0: the scene's shadow maps, like interior/polygons" },
             Param { name: "interior_light", default: self.default_interior_light(), min: 0.0, max: 100.0, integer: false, help: "unshadowed room light: radiance = albedo * value (0 matches the reference)" },
@@ -268,7 +303,8 @@ impl Technique for InteriorMapping {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let env_size = if self.variant == Variant::Exterior { ENV_MAP_SIZE } else { 1 };
+        let atlas_view = single_texture_view(ctx, self.variant, size);
+        let env_size = if self.variant.uses_env_map() { ENV_MAP_SIZE } else { 1 };
         let env = CubeTarget::new(ctx, env_size, wgpu::TextureFormat::Rgba16Float, "interior reflection map")?;
         let layout = bind_group_layout(ctx);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -281,6 +317,7 @@ impl Technique for InteriorMapping {
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) },
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&env.cube_view) },
                 wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&sampler) },
+                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&atlas_view) },
             ],
         });
         let source = format!("{}\n{}\n{}", scene::SCENE_WGSL, crate::INTERIOR_WGSL, TECHNIQUE_WGSL);
@@ -300,7 +337,7 @@ impl Technique for InteriorMapping {
             hull_indices,
             hulls,
             building_objects: s.objects_with(Roles::BUILDING),
-            env: (self.variant == Variant::Exterior).then_some(env),
+            env: self.variant.uses_env_map().then_some(env),
         });
         Ok(())
     }
@@ -329,6 +366,9 @@ impl Technique for InteriorMapping {
         let main = RasterTarget { color: &target.color_view, depth: &target.depth_view, format: gpu::HDR_FORMAT, clear: true };
         scene.raster(frame, &main, view_proj, eye, &ObjectFilter::Except(state.building_objects.clone()), true);
         let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
+        // The hulls' own passes (pre-pass and interior mapping), timed apart from the shared
+        // raster pass as span "interior" (encoder timestamps around the passes).
+        frame.timer.begin(frame.encoder, "interior");
         if let Some(prepass) = &state.prepass {
             let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("interior depth pre-pass"),
@@ -358,6 +398,8 @@ impl Technique for InteriorMapping {
         pass.set_bind_group(1, scene.bind_group(), &[]);
         pass.set_bind_group(2, &state.bind_group, &[]);
         draw_hulls(&mut pass, state, scene);
+        drop(pass);
+        frame.timer.end(frame.encoder, "interior");
         Ok(())
     }
 }
@@ -421,6 +463,28 @@ fn hull_pipeline(
     })
 }
 
+/// The one texture of `interior/single-texture` (the 2 x 2 atlas of `textures::single_atlas`);
+/// a 1 x 1 placeholder for the other variants, which bind but never read it.
+fn single_texture_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::TextureView {
+    let (side, data) = if variant == Variant::SingleTexture { (2 * size, textures::single_atlas(size)) } else { (1, vec![0; 4]) };
+    let texture = ctx.device.create_texture_with_data(
+        &ctx.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("interior single texture"),
+            size: wgpu::Extent3d { width: side, height: side, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8UnormSrgb,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &data,
+    );
+    texture.create_view(&Default::default())
+}
+
 fn bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
     let f = wgpu::ShaderStages::FRAGMENT;
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: f, ty, count: None };
@@ -433,6 +497,7 @@ fn bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
             entry(3, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
             entry(4, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::Cube, multisampled: false }),
             entry(5, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+            entry(6, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false }),
         ],
     })
 }
@@ -524,8 +589,8 @@ impl Technique for PolygonInteriors {
     }
 }
 
-/// Every variant: the five interior-mapping versions with and without a depth pre-pass, and
-/// the polygon baseline.
+/// Every variant: the eight interior-mapping versions (five of the paper's, three baselines
+/// of 5.3.2) with and without a depth pre-pass, and the polygon baseline.
 pub fn all() -> Vec<Box<dyn Technique>> {
     let mut out: Vec<Box<dyn Technique>> = Vec::new();
     for v in Variant::ALL {

@@ -79,3 +79,22 @@ pub fn scene_textures(size: u32) -> Vec<Texture> {
         .map(|(name, s)| room_texture(name, s, size))
         .collect()
 }
+
+/// The one texture of `interior/single-texture` (section 5.3.2, "reading the colours of all
+/// walls and ceilings from a single texture"): the four plain surfaces of
+/// [`texture_layers`] as tiles of a `2 size` x `2 size` RGBA8 image, surface `s` at tile
+/// column `s % 2`, row `s / 2`.
+pub fn single_atlas(size: u32) -> Vec<u8> {
+    let layers = texture_layers(size);
+    let (n, side) = (size as usize, 2 * size as usize);
+    let mut out = vec![0u8; side * side * 4];
+    for s in 0..4 {
+        let (x0, y0) = ((s % 2) * n, (s / 2) * n);
+        for j in 0..n {
+            let src = ((s * n + j) * n) * 4;
+            let dst = ((y0 + j) * side + x0) * 4;
+            out[dst..dst + n * 4].copy_from_slice(&layers[src..src + n * 4]);
+        }
+    }
+    out
+}

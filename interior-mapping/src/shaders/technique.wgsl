@@ -18,7 +18,8 @@ struct BuildingGpu {
 };
 
 struct Settings {
-    // x: variant (0 basic, 1 textured, 2 exterior, 3 furniture, 4 varied); y: light probability;
+    // x: variant (0 basic, 1 textured, 2 exterior, 3 furniture, 4 varied, 5 ceiling-only,
+    // 6 single-texture, 7 reflection-only); y: light probability;
     // z: interior light (radiance scale of a lit room); w: furniture frame.
     a: vec4f,
     // x: furniture depth (rooms); y: window glass ior; z: 1 = room shadows through the windows
@@ -30,6 +31,10 @@ const VARIANT_BASIC: f32 = 0.0;
 const VARIANT_EXTERIOR: f32 = 2.0;
 const VARIANT_FURNITURE: f32 = 3.0;
 const VARIANT_VARIED: f32 = 4.0;
+const VARIANT_CEILING_ONLY: f32 = 5.0;
+const VARIANT_SINGLE_TEXTURE: f32 = 6.0;
+const VARIANT_REFLECTION_ONLY: f32 = 7.0;
+const SURFACE_CEILING: u32 = 1u;
 const WINDOW_SIDE: f32 = 0.2;
 const WINDOW_SILL: f32 = 0.3;
 const WINDOW_TOP: f32 = 0.85;
@@ -42,6 +47,8 @@ const FURNITURE_LAYER: i32 = 16;
 @group(2) @binding(3) var room_sampler: sampler;
 @group(2) @binding(4) var env_map: texture_cube<f32>;
 @group(2) @binding(5) var env_sampler: sampler;
+// The 2 x 2 atlas of the single-texture variant (1 x 1 and unread otherwise).
+@group(2) @binding(6) var single_texture: texture_2d<f32>;
 
 fn in_window(h: f32, v: f32) -> bool {
     let fh = h - floor(h);
@@ -57,6 +64,34 @@ fn basic_albedo(surface: u32) -> vec3f {
         case 2u: { return vec3f(0.55, 0.6, 0.4); }
         default: { return vec3f(0.6, 0.42, 0.38); }
     }
+}
+
+// Single-texture variant (5.3.2): the tile of `surface` in the 2 x 2 atlas, at the room-face
+// coordinate fract(uv) kept half a texel inside the tile so that bilinear filtering never
+// reads a neighbouring tile. These are the "extra instructions to calculate which texture
+// coordinates to use" that the paper found slower than four separate textures.
+fn single_texture_albedo(uv: vec2f, surface: u32) -> vec3f {
+    let tile = vec2f(f32(surface % 2u), f32(surface / 2u));
+    let half_texel = 0.5 / (0.5 * f32(textureDimensions(single_texture).x));
+    let local = clamp(fract(uv), vec2f(half_texel), vec2f(1.0 - half_texel));
+    return textureSampleLevel(single_texture, room_sampler, (tile + local) * 0.5, 0.0).rgb;
+}
+
+// The room surface's albedo per variant: flat colours (basic; ceiling-only below the
+// ceilings), one atlas (single-texture) or the texture array layer of the surface.
+fn room_albedo(variant: f32, surface: u32, uv: vec2f, atlas: u32) -> vec3f {
+    if (variant == VARIANT_BASIC || (variant == VARIANT_CEILING_ONLY && surface != SURFACE_CEILING)) {
+        return basic_albedo(surface);
+    }
+    if (variant == VARIANT_SINGLE_TEXTURE) {
+        return single_texture_albedo(uv, surface);
+    }
+    return textureSampleLevel(room_textures, room_sampler, uv, i32(atlas * 4u + surface), 0.0).rgb;
+}
+
+// The environment seen in the window glass (the cube map rendered around the eye).
+fn window_reflection(v: vec3f, n_world: vec3f) -> vec3f {
+    return textureSampleLevel(env_map, env_sampler, reflect_dir(v, n_world), 0.0).rgb;
 }
 
 fn room_hash(room: vec3i, building: u32) -> u32 {
@@ -168,6 +203,13 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
     let an = abs(n_o);
     let h = select(g.x, g.z, an.x >= an.z);
     let window = an.y < 0.7 && in_window(h, g.y);
+    if (variant == VARIANT_REFLECTION_ONLY) {
+        // No interior (5.3): fully reflective windows, the diffuse facade elsewhere. With the
+        // eye inside a hull the glass is seen from behind and reflects the same way.
+        let reflected = window_reflection(normalize(in.world - eye), n_world);
+        out.color = vec4f(select(facade, reflected, window), distance_to_eye);
+        return out;
+    }
     if (outside && !window) {
         out.color = vec4f(facade, distance_to_eye);
         return out;
@@ -194,12 +236,7 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
     } else {
         room_light = settings.a.z;
     }
-    var albedo: vec3f;
-    if (variant == VARIANT_BASIC) {
-        albedo = basic_albedo(surface);
-    } else {
-        albedo = textureSampleLevel(room_textures, room_sampler, uv, i32(atlas * 4u + surface), 0.0).rgb;
-    }
+    let albedo = room_albedo(variant, surface, uv, atlas);
     var axis = vec3f(0.0);
     axis[hit.family] = 1.0;
     let hit_world = (o.model * vec4f(hit.point + origin, 1.0)).xyz;
@@ -234,7 +271,7 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
         // weighted by the shared Fresnel approximation.
         let v = normalize(in.world - eye);
         let f = fresnel_dielectric(-dot(v, n_world), settings.b.y);
-        let reflected = textureSampleLevel(env_map, env_sampler, reflect_dir(v, n_world), 0.0).rgb;
+        let reflected = window_reflection(v, n_world);
         color = f * reflected + (1.0 - f) * interior;
     }
     out.color = vec4f(color, select(distance(hit_world, eye), distance_to_eye, outside));
