@@ -233,6 +233,16 @@ impl GroundTruth for HalfGrey {
     }
 }
 
+/// The harness environment of these tests: the test techniques against `truth`.
+fn test_env(truth: &HalfGrey) -> Env<'_> {
+    Env {
+        ctx: ctx(),
+        techniques: &techniques,
+        ground_truth: truth,
+        progress: false,
+    }
+}
+
 fn exists(dir: &Path, rel: &str) -> bool {
     dir.join(rel).is_file()
 }
@@ -242,12 +252,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
     let truth = HalfGrey {
         renders: AtomicUsize::new(0),
     };
-    let env = Env {
-        ctx: ctx(),
-        techniques: &techniques,
-        ground_truth: &truth,
-        progress: false,
-    };
+    let env = test_env(&truth);
     let out = out_dir("compare");
     let opts = CompareOptions {
         out: out.clone(),
@@ -387,12 +392,7 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
     let truth = HalfGrey {
         renders: AtomicUsize::new(0),
     };
-    let env = Env {
-        ctx: ctx(),
-        techniques: &techniques,
-        ground_truth: &truth,
-        progress: false,
-    };
+    let env = test_env(&truth);
     let out = out_dir("sweep");
     let opts = SweepOptions {
         out: out.clone(),
@@ -469,12 +469,7 @@ fn bench_interleaves_and_states_ratios_with_their_spread() {
     let truth = HalfGrey {
         renders: AtomicUsize::new(0),
     };
-    let env = Env {
-        ctx: ctx(),
-        techniques: &techniques,
-        ground_truth: &truth,
-        progress: false,
-    };
+    let env = test_env(&truth);
     let out = out_dir("bench");
     let opts = harness::bench::BenchOptions {
         scene: "cornell-sphere".into(),
