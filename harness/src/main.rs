@@ -178,6 +178,13 @@ enum Command {
     },
 }
 
+/// The adapter line and a markdown table, as compare, sweep and bench print them.
+fn print_table(ctx: &gpu::Context, timer_kind: &str, markdown: &str) {
+    println!("adapter: {} (timer: {timer_kind})", ctx.summary);
+    println!();
+    print!("{markdown}");
+}
+
 /// An error as one line.
 fn one_line(text: &str) -> String {
     text.lines()
@@ -253,12 +260,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 frames: frames.frames(),
             };
             let report = harness::compare::run(&env, &opts)?;
-            println!(
-                "adapter: {} (timer: {})",
-                ctx.summary, report.adapter.timer_kind
-            );
-            println!();
-            print!("{}", report.markdown);
+            print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
             println!();
             println!(
                 "wrote {0}/results.csv, {0}/results.json, {0}/results.md and {0}/images/",
@@ -303,12 +305,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 frames: frames.frames(),
             };
             let report = harness::sweep::run(&env, &opts)?;
-            println!(
-                "adapter: {} (timer: {})",
-                ctx.summary, report.adapter.timer_kind
-            );
-            println!();
-            print!("{}", report.markdown);
+            print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
             println!();
             println!(
                 "wrote {0}/sweep.csv, {0}/sweep.json, {0}/sweep.png and {0}/images/",
@@ -352,12 +349,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 out: out.clone(),
             };
             let report = harness::bench::run(&env, &opts)?;
-            println!(
-                "adapter: {} (timer: {})",
-                ctx.summary, report.adapter.timer_kind
-            );
-            println!();
-            print!("{}", report.markdown);
+            print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
             if let Some(out) = out {
                 println!();
                 println!("wrote {0}/bench.json and {0}/bench.md", out.display());

@@ -275,21 +275,7 @@ impl Technique for InteriorMapping {
         let size = self.texture_resolution;
         ctx.check_size(size, size)?;
         let layers = FURNITURE_LAYER + FURNITURE_FRAMES;
-        let texture = device.create_texture_with_data(
-            &ctx.queue,
-            &wgpu::TextureDescriptor {
-                label: Some("interior textures"),
-                size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba8UnormSrgb,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            &textures::texture_layers(size),
-        );
+        let texture = srgb_texture(ctx, "interior textures", size, layers, &textures::texture_layers(size));
         debug_assert_eq!(VARIANTS * 4, FURNITURE_LAYER);
         let texture_view = texture.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -467,11 +453,17 @@ fn hull_pipeline(
 /// a 1 x 1 placeholder for the other variants, which bind but never read it.
 fn single_texture_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::TextureView {
     let (side, data) = if variant == Variant::SingleTexture { (2 * size, textures::single_atlas(size)) } else { (1, vec![0; 4]) };
-    let texture = ctx.device.create_texture_with_data(
+    srgb_texture(ctx, "interior single texture", side, 1, &data).create_view(&Default::default())
+}
+
+/// A sampled sRGB RGBA8 texture of `layers` square `side` x `side` layers, filled with `data`
+/// (layer after layer).
+fn srgb_texture(ctx: &Context, label: &str, side: u32, layers: u32, data: &[u8]) -> wgpu::Texture {
+    ctx.device.create_texture_with_data(
         &ctx.queue,
         &wgpu::TextureDescriptor {
-            label: Some("interior single texture"),
-            size: wgpu::Extent3d { width: side, height: side, depth_or_array_layers: 1 },
+            label: Some(label),
+            size: wgpu::Extent3d { width: side, height: side, depth_or_array_layers: layers },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -480,9 +472,8 @@ fn single_texture_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::Text
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
-        &data,
-    );
-    texture.create_view(&Default::default())
+        data,
+    )
 }
 
 fn bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
