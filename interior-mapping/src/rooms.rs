@@ -61,7 +61,12 @@ pub fn room_plane_offset(axis: u32, k: i32, amount: f32, seed: u32) -> f32 {
     if amount == 0.0 {
         return 0.0;
     }
-    let h = hash_to_unit((k as u32).wrapping_mul(3).wrapping_add(axis).wrapping_add(seed));
+    let h = hash_to_unit(
+        (k as u32)
+            .wrapping_mul(3)
+            .wrapping_add(axis)
+            .wrapping_add(seed),
+    );
     amount * (2.0 * h - 1.0)
 }
 
@@ -79,10 +84,18 @@ pub fn room_next_plane(axis: u32, u: f32, du: f32, m: f32, seed: u32) -> (i32, f
     }
     let k = if du > 0.0 {
         let k = (u + ROOM_EPS - m).floor() as i32 + 1;
-        if room_plane_pos(axis, k, m, seed) > u + ROOM_EPS { k } else { k + 1 }
+        if room_plane_pos(axis, k, m, seed) > u + ROOM_EPS {
+            k
+        } else {
+            k + 1
+        }
     } else {
         let k = (u - ROOM_EPS + m).ceil() as i32 - 1;
-        if room_plane_pos(axis, k, m, seed) < u - ROOM_EPS { k } else { k - 1 }
+        if room_plane_pos(axis, k, m, seed) < u - ROOM_EPS {
+            k
+        } else {
+            k - 1
+        }
     };
     (k, (room_plane_pos(axis, k, m, seed) - u) / du)
 }
@@ -91,14 +104,24 @@ pub fn room_next_plane(axis: u32, u: f32, du: f32, m: f32, seed: u32) -> (i32, f
 /// below u).
 pub fn room_index(axis: u32, u: f32, m: f32, seed: u32) -> i32 {
     let k = (u + m).floor() as i32;
-    if room_plane_pos(axis, k, m, seed) <= u { k } else { k - 1 }
+    if room_plane_pos(axis, k, m, seed) <= u {
+        k
+    } else {
+        k - 1
+    }
 }
 
 /// Casts the ray `origin + t * dir` (grid space, `t >= 0`) against the three plane families
 /// of rooms of size `room_size` whose planes are displaced by up to `displacement` rooms
 /// per family (zero for the regular grid; each component at most [`MAX_DISPLACEMENT`]).
 /// Ties go to the lower family index.
-pub fn cast_rooms(origin: Vec3, dir: Vec3, room_size: Vec3, displacement: Vec3, seed: u32) -> RoomHit {
+pub fn cast_rooms(
+    origin: Vec3,
+    dir: Vec3,
+    room_size: Vec3,
+    displacement: Vec3,
+    seed: u32,
+) -> RoomHit {
     let u = origin / room_size;
     let du = dir / room_size;
     let m = displacement;
@@ -128,7 +151,13 @@ pub fn cast_rooms(origin: Vec3, dir: Vec3, room_size: Vec3, displacement: Vec3, 
     if t < BIG {
         point[family] = room_plane_pos(family as u32, plane, m[family], seed) * room_size[family];
     }
-    RoomHit { family: family as u32, t, point, room, plane }
+    RoomHit {
+        family: family as u32,
+        t,
+        point,
+        room,
+        plane,
+    }
 }
 
 /// Texture coordinates of a hit on a plane of `family` (in room units, repeat addressing:

@@ -79,7 +79,10 @@ impl Variant {
 
 /// `supports`: the scene has building objects with a room layout.
 pub fn has_buildings(scene: &Scene) -> bool {
-    scene.objects.iter().any(|o| o.roles.contains(Roles::BUILDING) && o.building.is_some())
+    scene
+        .objects
+        .iter()
+        .any(|o| o.roles.contains(Roles::BUILDING) && o.building.is_some())
 }
 
 /// Whether the building's mesh is a facade with real window holes (the `city` scene's real
@@ -161,39 +164,109 @@ impl InteriorMapping {
 
 impl Technique for InteriorMapping {
     fn id(&self) -> String {
-        format!("interior/{}{}", self.variant.name(), if self.prepass { "-prepass" } else { "" })
+        format!(
+            "interior/{}{}",
+            self.variant.name(),
+            if self.prepass { "-prepass" } else { "" }
+        )
     }
     fn description(&self) -> String {
         let what = match self.variant {
             Variant::Basic => "rooms by per-pixel ray cast against plane families, lit, untextured",
-            Variant::Textured => "rooms by per-pixel ray cast, four textures (floor, ceiling, two walls)",
-            Variant::Exterior => "textured rooms through windows blended with a reflection cube map",
+            Variant::Textured => {
+                "rooms by per-pixel ray cast, four textures (floor, ceiling, two walls)"
+            }
+            Variant::Exterior => {
+                "textured rooms through windows blended with a reflection cube map"
+            }
             Variant::Furniture => "textured rooms plus an alpha-tested animated furniture plane",
             Variant::Varied => "per-room lights by probability, atlas variation, displaced walls",
-            Variant::CeilingOnly => "baseline: only ceilings textured, walls and floors flat colours, lit",
-            Variant::SingleTexture => "baseline: all surfaces from one 2x2 atlas texture, tile chosen per hit",
-            Variant::ReflectionOnly => "baseline: no interior, windows fully reflect a cube map (traditional material)",
+            Variant::CeilingOnly => {
+                "baseline: only ceilings textured, walls and floors flat colours, lit"
+            }
+            Variant::SingleTexture => {
+                "baseline: all surfaces from one 2x2 atlas texture, tile chosen per hit"
+            }
+            Variant::ReflectionOnly => {
+                "baseline: no interior, windows fully reflect a cube map (traditional material)"
+            }
         };
-        format!("interior mapping: {what}{}", if self.prepass { " (depth pre-pass)" } else { "" })
+        format!(
+            "interior mapping: {what}{}",
+            if self.prepass {
+                " (depth pre-pass)"
+            } else {
+                ""
+            }
+        )
     }
     fn params(&self) -> Vec<Param> {
-        let room_scale = Param { name: "room_scale", default: 1.0, min: 0.05, max: 20.0, integer: false, help: "multiplies each building's room size" };
+        let room_scale = Param {
+            name: "room_scale",
+            default: 1.0,
+            min: 0.05,
+            max: 20.0,
+            integer: false,
+            help: "multiplies each building's room size",
+        };
         if self.variant == Variant::ReflectionOnly {
             // No rooms are cast: only the window grid (room cells) depends on a parameter.
             return vec![room_scale];
         }
         let mut p = vec![
             room_scale,
-            Param { name: "texture_resolution", default: 64.0, min: 16.0, max: 256.0, integer: true, help: "interior texture size (texels per side)" },
-            Param { name: "room_shadows", default: 1.0, min: 0.0, max: 1.0, integer: true, help: "1: rooms of box hulls lit only through their windows (exact); 0: the scene's shadow maps, like interior/polygons" },
-            Param { name: "interior_light", default: self.default_interior_light(), min: 0.0, max: 100.0, integer: false, help: "unshadowed room light: radiance = albedo * value (0 matches the reference)" },
+            Param {
+                name: "texture_resolution",
+                default: 64.0,
+                min: 16.0,
+                max: 256.0,
+                integer: true,
+                help: "interior texture size (texels per side)",
+            },
+            Param {
+                name: "room_shadows",
+                default: 1.0,
+                min: 0.0,
+                max: 1.0,
+                integer: true,
+                help: "1: rooms of box hulls lit only through their windows (exact); 0: the scene's shadow maps, like interior/polygons",
+            },
+            Param {
+                name: "interior_light",
+                default: self.default_interior_light(),
+                min: 0.0,
+                max: 100.0,
+                integer: false,
+                help: "unshadowed room light: radiance = albedo * value (0 matches the reference)",
+            },
         ];
         if self.variant == Variant::Varied {
-            p.push(Param { name: "light_probability", default: 0.5, min: 0.0, max: 1.0, integer: false, help: "probability that a room's light is on (c in 5.4.1)" });
-            p.push(Param { name: "displacement", default: 0.3, min: 0.0, max: crate::rooms::MAX_DISPLACEMENT as f64, integer: false, help: "largest wall displacement (rooms)" });
+            p.push(Param {
+                name: "light_probability",
+                default: 0.5,
+                min: 0.0,
+                max: 1.0,
+                integer: false,
+                help: "probability that a room's light is on (c in 5.4.1)",
+            });
+            p.push(Param {
+                name: "displacement",
+                default: 0.3,
+                min: 0.0,
+                max: crate::rooms::MAX_DISPLACEMENT as f64,
+                integer: false,
+                help: "largest wall displacement (rooms)",
+            });
         }
         if self.variant == Variant::Furniture {
-            p.push(Param { name: "furniture_depth", default: 0.4, min: 0.0, max: 1.0, integer: false, help: "furniture plane depth behind the facade (rooms)" });
+            p.push(Param {
+                name: "furniture_depth",
+                default: 0.4,
+                min: 0.0,
+                max: 1.0,
+                integer: false,
+                help: "furniture plane depth behind the facade (rooms)",
+            });
         }
         p
     }
@@ -218,12 +291,16 @@ impl Technique for InteriorMapping {
         let ctx = frame.gpu;
         let s = &scene.scene;
         let time = scene.time();
-        let mut records = vec![<BuildingGpu as bytemuck::Zeroable>::zeroed(); s.objects.len().max(1)];
-        let (mut vertices, mut indices, mut hulls) = (Vec::<Vertex>::new(), Vec::<u32>::new(), Vec::new());
+        let mut records =
+            vec![<BuildingGpu as bytemuck::Zeroable>::zeroed(); s.objects.len().max(1)];
+        let (mut vertices, mut indices, mut hulls) =
+            (Vec::<Vertex>::new(), Vec::<u32>::new(), Vec::new());
         let mut hull_boxes = Vec::new();
         let mut number = 0.0;
         for (i, o) in s.objects.iter().enumerate() {
-            let Some(b) = o.building.filter(|_| o.roles.contains(Roles::BUILDING)) else { continue };
+            let Some(b) = o.building.filter(|_| o.roles.contains(Roles::BUILDING)) else {
+                continue;
+            };
             let (lo, hi) = o.mesh.bounds();
             hull_boxes.push((o.world_at(time).inverse(), lo, hi));
             records[i] = BuildingGpu {
@@ -231,20 +308,30 @@ impl Technique for InteriorMapping {
                 grid_origin: lo.extend(number).to_array(),
                 room_size: (b.room_size * self.room_scale).extend(1.0).to_array(),
                 displacement: Vec3::new(self.displacement, 0.0, self.displacement)
-                    .extend(if has_window_holes(o) || o.mesh.triangle_count() == 12 { 1.0 } else { 0.0 })
+                    .extend(if has_window_holes(o) || o.mesh.triangle_count() == 12 {
+                        1.0
+                    } else {
+                        0.0
+                    })
                     .to_array(),
                 hull_max: hi.extend(0.0).to_array(),
             };
             number += 1.0;
             if has_window_holes(o) {
                 let mesh = scene::mesh::cuboid(lo, hi);
-                let range = (indices.len() as u32, mesh.indices.len() as u32, vertices.len() as i32);
+                let range = (
+                    indices.len() as u32,
+                    mesh.indices.len() as u32,
+                    vertices.len() as i32,
+                );
                 indices.extend_from_slice(&mesh.indices);
-                vertices.extend(mesh.positions.iter().zip(&mesh.normals).zip(&mesh.uvs).map(|((p, n), uv)| Vertex {
-                    position: p.to_array(),
-                    normal: n.to_array(),
-                    uv: uv.to_array(),
-                }));
+                vertices.extend(mesh.positions.iter().zip(&mesh.normals).zip(&mesh.uvs).map(
+                    |((p, n), uv)| Vertex {
+                        position: p.to_array(),
+                        normal: n.to_array(),
+                        uv: uv.to_array(),
+                    },
+                ));
                 hulls.push((i, Some(range)));
             } else {
                 hulls.push((i, None));
@@ -261,21 +348,46 @@ impl Technique for InteriorMapping {
         indices.extend([0, 0, 0]);
         let device = &ctx.device;
         let buffer = |label: &str, contents: &[u8], usage| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
         };
-        let buildings = buffer("interior buildings", bytemuck::cast_slice(&records), wgpu::BufferUsages::STORAGE);
+        let buildings = buffer(
+            "interior buildings",
+            bytemuck::cast_slice(&records),
+            wgpu::BufferUsages::STORAGE,
+        );
         let settings = buffer(
             "interior settings",
-            bytemuck::bytes_of(&SettingsGpu { a: [0.0; 4], b: [0.0; 4] }),
+            bytemuck::bytes_of(&SettingsGpu {
+                a: [0.0; 4],
+                b: [0.0; 4],
+            }),
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-        let hull_vertices = buffer("interior hulls", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX);
-        let hull_indices = buffer("interior hull indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
+        let hull_vertices = buffer(
+            "interior hulls",
+            bytemuck::cast_slice(&vertices),
+            wgpu::BufferUsages::VERTEX,
+        );
+        let hull_indices = buffer(
+            "interior hull indices",
+            bytemuck::cast_slice(&indices),
+            wgpu::BufferUsages::INDEX,
+        );
 
         let size = self.texture_resolution;
         ctx.check_size(size, size)?;
         let layers = FURNITURE_LAYER + FURNITURE_FRAMES;
-        let texture = srgb_texture(ctx, "interior textures", size, layers, &textures::texture_layers(size));
+        let texture = srgb_texture(
+            ctx,
+            "interior textures",
+            size,
+            layers,
+            &textures::texture_layers(size),
+        );
         debug_assert_eq!(VARIANTS * 4, FURNITURE_LAYER);
         let texture_view = texture.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -290,28 +402,77 @@ impl Technique for InteriorMapping {
             ..Default::default()
         });
         let atlas_view = single_texture_view(ctx, self.variant, size);
-        let env_size = if self.variant.uses_env_map() { ENV_MAP_SIZE } else { 1 };
-        let env = CubeTarget::new(ctx, env_size, wgpu::TextureFormat::Rgba16Float, "interior reflection map")?;
+        let env_size = if self.variant.uses_env_map() {
+            ENV_MAP_SIZE
+        } else {
+            1
+        };
+        let env = CubeTarget::new(
+            ctx,
+            env_size,
+            wgpu::TextureFormat::Rgba16Float,
+            "interior reflection map",
+        )?;
         let layout = bind_group_layout(ctx);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("interior mapping"),
             layout: &layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: buildings.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: settings.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&texture_view) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&env.cube_view) },
-                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&sampler) },
-                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&atlas_view) },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buildings.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: settings.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&texture_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&env.cube_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&atlas_view),
+                },
             ],
         });
-        let source = format!("{}\n{}\n{}", scene::SCENE_WGSL, crate::INTERIOR_WGSL, TECHNIQUE_WGSL);
+        let source = format!(
+            "{}\n{}\n{}",
+            scene::SCENE_WGSL,
+            crate::INTERIOR_WGSL,
+            TECHNIQUE_WGSL
+        );
         let module = gpu::shader_with_prelude(ctx, "interior mapping", &source);
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
-        let pipeline = hull_pipeline(ctx, &pipeline_layout, &module, Some("interior_fs"), !self.prepass);
-        let pipeline_inside = hull_pipeline(ctx, &pipeline_layout, &module, Some("interior_inside_fs"), !self.prepass);
-        let prepass = self.prepass.then(|| hull_pipeline(ctx, &pipeline_layout, &module, None, true));
+        let pipeline = hull_pipeline(
+            ctx,
+            &pipeline_layout,
+            &module,
+            Some("interior_fs"),
+            !self.prepass,
+        );
+        let pipeline_inside = hull_pipeline(
+            ctx,
+            &pipeline_layout,
+            &module,
+            Some("interior_inside_fs"),
+            !self.prepass,
+        );
+        let prepass = self
+            .prepass
+            .then(|| hull_pipeline(ctx, &pipeline_layout, &module, None, true));
         self.state = Some(State {
             pipeline,
             pipeline_inside,
@@ -327,59 +488,115 @@ impl Technique for InteriorMapping {
         });
         Ok(())
     }
-    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
-        let state = self.state.as_ref().ok_or_else(|| scene::TechniqueError::Unsupported("prepare() runs before render()".into()))?;
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let state = self.state.as_ref().ok_or_else(|| {
+            scene::TechniqueError::Unsupported("prepare() runs before render()".into())
+        })?;
         let eye = view.camera.eye;
         if let Some(env) = &state.env {
             // The reflection map: the scene around the eye (buildings' hulls included as drawn by
             // the shared pass), regenerated every frame.
             frame.timer.begin(frame.encoder, "regenerate");
             for face in 0..6 {
-                let view_proj = cube_face_view_proj(face, eye, 0.01, 2.0 * scene::BACKGROUND_DISTANCE);
-                let t = RasterTarget { color: &env.face_views[face], depth: &env.depth_face_views[face], format: env.format, clear: true };
+                let view_proj =
+                    cube_face_view_proj(face, eye, 0.01, 2.0 * scene::BACKGROUND_DISTANCE);
+                let t = RasterTarget {
+                    color: &env.face_views[face],
+                    depth: &env.depth_face_views[face],
+                    format: env.format,
+                    clear: true,
+                };
                 scene.raster(frame, &t, view_proj, eye, &ObjectFilter::All, true);
             }
             frame.timer.end(frame.encoder, "regenerate");
         }
         let frame_index = ((view.time * FURNITURE_FPS).floor().max(0.0) as u32) % FURNITURE_FRAMES;
         let settings = SettingsGpu {
-            a: [self.variant.code(), self.light_probability, self.interior_light, frame_index as f32],
-            b: [self.furniture_depth, GLASS_IOR, if self.room_shadows { 1.0 } else { 0.0 }, 0.0],
+            a: [
+                self.variant.code(),
+                self.light_probability,
+                self.interior_light,
+                frame_index as f32,
+            ],
+            b: [
+                self.furniture_depth,
+                GLASS_IOR,
+                if self.room_shadows { 1.0 } else { 0.0 },
+                0.0,
+            ],
         };
-        frame.gpu.queue.write_buffer(&state.settings, 0, bytemuck::bytes_of(&settings));
+        frame
+            .gpu
+            .queue
+            .write_buffer(&state.settings, 0, bytemuck::bytes_of(&settings));
 
         let view_proj = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget { color: &target.color_view, depth: &target.depth_view, format: gpu::HDR_FORMAT, clear: true };
-        scene.raster(frame, &main, view_proj, eye, &ObjectFilter::Except(state.building_objects.clone()), true);
+        let main = RasterTarget {
+            color: &target.color_view,
+            depth: &target.depth_view,
+            format: gpu::HDR_FORMAT,
+            clear: true,
+        };
+        scene.raster(
+            frame,
+            &main,
+            view_proj,
+            eye,
+            &ObjectFilter::Except(state.building_objects.clone()),
+            true,
+        );
         let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
         // The hulls' own passes (pre-pass and interior mapping), timed apart from the shared
         // raster pass as span "interior" (encoder timestamps around the passes).
         frame.timer.begin(frame.encoder, "interior");
         if let Some(prepass) = &state.prepass {
-            let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("interior depth pre-pass"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.depth_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = frame
+                .encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("interior depth pre-pass"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &target.depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
             pass.set_pipeline(prepass);
             pass.set_bind_group(0, &camera, &[]);
             pass.set_bind_group(1, scene.bind_group(), &[]);
             pass.set_bind_group(2, &state.bind_group, &[]);
             draw_hulls(&mut pass, state, scene);
         }
-        let mut pass = scene::begin_scene_pass(frame.encoder, &RasterTarget { clear: false, ..main }, scene.scene.background, "interior mapping");
+        let mut pass = scene::begin_scene_pass(
+            frame.encoder,
+            &RasterTarget {
+                clear: false,
+                ..main
+            },
+            scene.scene.background,
+            "interior mapping",
+        );
         let inside = state.hull_boxes.iter().any(|(to_object, lo, hi)| {
             let e = to_object.transform_point3(eye);
             e.cmpgt(*lo).all() && e.cmplt(*hi).all()
         });
-        pass.set_pipeline(if inside { &state.pipeline_inside } else { &state.pipeline });
+        pass.set_pipeline(if inside {
+            &state.pipeline_inside
+        } else {
+            &state.pipeline
+        });
         pass.set_bind_group(0, &camera, &[]);
         pass.set_bind_group(1, scene.bind_group(), &[]);
         pass.set_bind_group(2, &state.bind_group, &[]);
@@ -392,12 +609,21 @@ impl Technique for InteriorMapping {
 
 impl InteriorMapping {
     fn default_interior_light(&self) -> f64 {
-        if self.variant == Variant::Varied { 0.3 } else { 0.0 }
+        if self.variant == Variant::Varied {
+            0.3
+        } else {
+            0.0
+        }
     }
 }
 
 fn draw_hulls(pass: &mut wgpu::RenderPass<'_>, state: &State, scene: &GpuScene) {
-    let own: Vec<usize> = state.hulls.iter().filter(|h| h.1.is_none()).map(|h| h.0).collect();
+    let own: Vec<usize> = state
+        .hulls
+        .iter()
+        .filter(|h| h.1.is_none())
+        .map(|h| h.0)
+        .collect();
     if !own.is_empty() {
         scene.draw_objects(pass, &ObjectFilter::Only(own));
     }
@@ -419,40 +645,60 @@ fn hull_pipeline(
     write_depth: bool,
 ) -> wgpu::RenderPipeline {
     let shade = fragment_entry.is_some();
-    let targets = [Some(wgpu::ColorTargetState { format: gpu::HDR_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL })];
-    ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if shade { "interior mapping" } else { "interior depth pre-pass" }),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("scene_vs"),
-            compilation_options: Default::default(),
-            buffers: &[Some(Vertex::layout())],
-        },
-        fragment: fragment_entry.map(|entry| wgpu::FragmentState {
-            module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            targets: &targets,
-        }),
-        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: gpu::DEPTH_FORMAT,
-            depth_write_enabled: Some(write_depth),
-            depth_compare: Some(if write_depth { wgpu::CompareFunction::Less } else { wgpu::CompareFunction::LessEqual }),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        multiview_mask: None,
-        cache: None,
-    })
+    let targets = [Some(wgpu::ColorTargetState {
+        format: gpu::HDR_FORMAT,
+        blend: None,
+        write_mask: wgpu::ColorWrites::ALL,
+    })];
+    ctx.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(if shade {
+                "interior mapping"
+            } else {
+                "interior depth pre-pass"
+            }),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("scene_vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(Vertex::layout())],
+            },
+            fragment: fragment_entry.map(|entry| wgpu::FragmentState {
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: gpu::DEPTH_FORMAT,
+                depth_write_enabled: Some(write_depth),
+                depth_compare: Some(if write_depth {
+                    wgpu::CompareFunction::Less
+                } else {
+                    wgpu::CompareFunction::LessEqual
+                }),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        })
 }
 
 /// The one texture of `interior/single-texture` (the 2 x 2 atlas of `textures::single_atlas`);
 /// a 1 x 1 placeholder for the other variants, which bind but never read it.
 fn single_texture_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::TextureView {
-    let (side, data) = if variant == Variant::SingleTexture { (2 * size, textures::single_atlas(size)) } else { (1, vec![0; 4]) };
+    let (side, data) = if variant == Variant::SingleTexture {
+        (2 * size, textures::single_atlas(size))
+    } else {
+        (1, vec![0; 4])
+    };
     srgb_texture(ctx, "interior single texture", side, 1, &data).create_view(&Default::default())
 }
 
@@ -463,7 +709,11 @@ fn srgb_texture(ctx: &Context, label: &str, side: u32, layers: u32, data: &[u8])
         &ctx.queue,
         &wgpu::TextureDescriptor {
             label: Some(label),
-            size: wgpu::Extent3d { width: side, height: side, depth_or_array_layers: layers },
+            size: wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: layers,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -478,19 +728,66 @@ fn srgb_texture(ctx: &Context, label: &str, side: u32, layers: u32, data: &[u8])
 
 fn bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
     let f = wgpu::ShaderStages::FRAGMENT;
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: f, ty, count: None };
-    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("interior mapping"),
-        entries: &[
-            entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None }),
-            entry(1, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
-            entry(2, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2Array, multisampled: false }),
-            entry(3, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
-            entry(4, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::Cube, multisampled: false }),
-            entry(5, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
-            entry(6, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false }),
-        ],
-    })
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: f,
+        ty,
+        count: None,
+    };
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("interior mapping"),
+            entries: &[
+                entry(
+                    0,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+                entry(
+                    1,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+                entry(
+                    2,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                ),
+                entry(
+                    3,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+                entry(
+                    4,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::Cube,
+                        multisampled: false,
+                    },
+                ),
+                entry(
+                    5,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+                entry(
+                    6,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
+            ],
+        })
 }
 
 /// The baseline: the same rooms as real geometry (a facade with window holes and planes
@@ -505,7 +802,11 @@ pub struct PolygonInteriors {
 
 impl Default for PolygonInteriors {
     fn default() -> Self {
-        Self { room_scale: 1.0, texture_resolution: 64, state: None }
+        Self {
+            room_scale: 1.0,
+            texture_resolution: 64,
+            state: None,
+        }
     }
 }
 
@@ -513,7 +814,8 @@ impl Default for PolygonInteriors {
 pub fn polygon_scene(scene: &Scene, room_scale: f32, texture_resolution: u32) -> Scene {
     let mut out = scene.clone();
     let base = out.textures.len();
-    out.textures.extend(textures::scene_textures(texture_resolution));
+    out.textures
+        .extend(textures::scene_textures(texture_resolution));
     let mut added = Vec::new();
     for o in &mut out.objects {
         let Some(b) = o.building else { continue };
@@ -524,8 +826,16 @@ pub fn polygon_scene(scene: &Scene, room_scale: f32, texture_resolution: u32) ->
         let room = b.room_size * room_scale;
         o.mesh = crate::geometry::facade_with_windows(lo, hi, room);
         o.name = o.name.replace("(box)", "(box, window holes)");
-        for (family, name, texture) in [(1u32, "floors", 0usize), (4, "ceilings", 1), (0, "walls x", 2), (2, "walls z", 3)] {
-            let material = Material::Diffuse { albedo: Vec3::ONE, texture: Some(base + texture) };
+        for (family, name, texture) in [
+            (1u32, "floors", 0usize),
+            (4, "ceilings", 1),
+            (0, "walls x", 2),
+            (2, "walls z", 3),
+        ] {
+            let material = Material::Diffuse {
+                albedo: Vec3::ONE,
+                texture: Some(base + texture),
+            };
             let mut planes = Object::new(
                 &format!("{} {name}", o.name),
                 crate::geometry::room_planes(lo, hi, room, family),
@@ -550,8 +860,22 @@ impl Technique for PolygonInteriors {
     }
     fn params(&self) -> Vec<Param> {
         vec![
-            Param { name: "room_scale", default: 1.0, min: 0.05, max: 20.0, integer: false, help: "multiplies each building's room size" },
-            Param { name: "texture_resolution", default: 64.0, min: 16.0, max: 256.0, integer: true, help: "interior texture size (texels per side)" },
+            Param {
+                name: "room_scale",
+                default: 1.0,
+                min: 0.05,
+                max: 20.0,
+                integer: false,
+                help: "multiplies each building's room size",
+            },
+            Param {
+                name: "texture_resolution",
+                default: 64.0,
+                min: 16.0,
+                max: 256.0,
+                integer: true,
+                help: "interior texture size (texels per side)",
+            },
         ]
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
@@ -570,12 +894,32 @@ impl Technique for PolygonInteriors {
         self.state = Some(GpuScene::new(frame.gpu, &modified)?);
         Ok(())
     }
-    fn render(&mut self, frame: &mut Frame, _scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
-        let state = self.state.as_mut().ok_or_else(|| scene::TechniqueError::Unsupported("prepare() runs before render()".into()))?;
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        _scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let state = self.state.as_mut().ok_or_else(|| {
+            scene::TechniqueError::Unsupported("prepare() runs before render()".into())
+        })?;
         state.set_time(frame, view.time);
         let view_proj: Mat4 = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget { color: &target.color_view, depth: &target.depth_view, format: gpu::HDR_FORMAT, clear: true };
-        state.raster(frame, &main, view_proj, view.camera.eye, &ObjectFilter::All, true);
+        let main = RasterTarget {
+            color: &target.color_view,
+            depth: &target.depth_view,
+            format: gpu::HDR_FORMAT,
+            clear: true,
+        };
+        state.raster(
+            frame,
+            &main,
+            view_proj,
+            view.camera.eye,
+            &ObjectFilter::All,
+            true,
+        );
         Ok(())
     }
 }

@@ -18,8 +18,18 @@ pub fn layer(surface: u32, variant: u32) -> u32 {
 /// First array layer of the furniture frames.
 pub const FURNITURE_LAYER: u32 = VARIANTS * 4;
 
-const SURFACES: [RoomSurface; 4] = [RoomSurface::Floor, RoomSurface::Ceiling, RoomSurface::WallX, RoomSurface::WallZ];
-const TINTS: [[f32; 3]; 4] = [[1.0, 1.0, 1.0], [1.1, 0.85, 0.75], [0.75, 0.9, 1.15], [0.85, 1.1, 0.8]];
+const SURFACES: [RoomSurface; 4] = [
+    RoomSurface::Floor,
+    RoomSurface::Ceiling,
+    RoomSurface::WallX,
+    RoomSurface::WallZ,
+];
+const TINTS: [[f32; 3]; 4] = [
+    [1.0, 1.0, 1.0],
+    [1.1, 0.85, 0.75],
+    [0.75, 0.9, 1.15],
+    [0.85, 1.1, 0.8],
+];
 
 /// RGBA8 (sRGB) texel of the furniture sprite frame `f`: a seated figure beside a table, the
 /// figure's arm moving from frame to frame; alpha 0 outside the figure.
@@ -29,7 +39,10 @@ pub fn furniture_texel(frame: u32, s: f32, t: f32) -> [u8; 4] {
     let legs = (s - 0.38).abs() < 0.06 && (0.75..0.97).contains(&t);
     let arm_y = 0.5 + 0.04 * frame as f32;
     let arm = s > 0.38 && s < 0.58 && (t - arm_y).abs() < 0.025;
-    let table = s > 0.55 && s < 0.85 && ((t - 0.6).abs() < 0.025 || ((s - 0.6).abs() < 0.02 || (s - 0.8).abs() < 0.02) && t > 0.6 && t < 0.97);
+    let table = s > 0.55
+        && s < 0.85
+        && ((t - 0.6).abs() < 0.025
+            || ((s - 0.6).abs() < 0.02 || (s - 0.8).abs() < 0.02) && t > 0.6 && t < 0.97);
     if head {
         [220, 180, 150, 255]
     } else if body || arm {
@@ -73,11 +86,16 @@ pub fn texture_layers(size: u32) -> Vec<u8> {
 
 /// The four plain room textures as scene textures (what the polygon baseline adds).
 pub fn scene_textures(size: u32) -> Vec<Texture> {
-    ["interior floor", "interior ceiling", "interior wall x", "interior wall z"]
-        .iter()
-        .zip(SURFACES)
-        .map(|(name, s)| room_texture(name, s, size))
-        .collect()
+    [
+        "interior floor",
+        "interior ceiling",
+        "interior wall x",
+        "interior wall z",
+    ]
+    .iter()
+    .zip(SURFACES)
+    .map(|(name, s)| room_texture(name, s, size))
+    .collect()
 }
 
 /// The one texture of `interior/single-texture` (section 5.3.2, "reading the colours of all

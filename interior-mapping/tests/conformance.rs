@@ -58,18 +58,29 @@ fn cases() -> Vec<Case> {
             let a = (i / 8 % 3) as usize;
             origin[a] = (origin[a] / size[a]).round() * size[a];
         }
-        let disp = if i % 2 == 0 { Vec3::ZERO } else { Vec3::new(next(), next(), next()) * MAX_DISPLACEMENT };
+        let disp = if i % 2 == 0 {
+            Vec3::ZERO
+        } else {
+            Vec3::new(next(), next(), next()) * MAX_DISPLACEMENT
+        };
         if dir.length() < 1e-3 {
             dir = Vec3::X;
         }
-        out.push(Case { origin, dir: dir.normalize(), size, disp, seed: i * 7919 });
+        out.push(Case {
+            origin,
+            dir: dir.normalize(),
+            size,
+            disp,
+            seed: i * 7919,
+        });
     }
     out
 }
 
 #[test]
 fn wgsl_cast_rooms_matches_twin() {
-    let ctx = gpu::Context::new().unwrap_or_else(|e| panic!("conformance test needs a GPU adapter: {e}"));
+    let ctx =
+        gpu::Context::new().unwrap_or_else(|e| panic!("conformance test needs a GPU adapter: {e}"));
     let cases = cases();
     let mut input: Vec<[f32; 4]> = Vec::new();
     for c in &cases {
@@ -79,7 +90,11 @@ fn wgsl_cast_rooms_matches_twin() {
         input.push(c.disp.extend(0.0).to_array());
     }
     let device = &ctx.device;
-    let module = gpu::shader_with_prelude(&ctx, "interior conformance", &format!("{}\n{KERNEL}", interior_mapping::INTERIOR_WGSL));
+    let module = gpu::shader_with_prelude(
+        &ctx,
+        "interior conformance",
+        &format!("{}\n{KERNEL}", interior_mapping::INTERIOR_WGSL),
+    );
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some("interior conformance"),
         layout: None,
@@ -103,8 +118,14 @@ fn wgsl_cast_rooms_matches_twin() {
         label: None,
         layout: &pipeline.get_bind_group_layout(0),
         entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: cases_buf.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: results.as_entire_binding() },
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: cases_buf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: results.as_entire_binding(),
+            },
         ],
     });
     let mut encoder = device.create_command_encoder(&Default::default());
@@ -122,30 +143,48 @@ fn wgsl_cast_rooms_matches_twin() {
     for (i, c) in cases.iter().enumerate() {
         let w = &words[12 * i..12 * i + 12];
         let (family, t, plane) = (w[0], f32::from_bits(w[1]), w[2] as i32);
-        let point = Vec3::new(f32::from_bits(w[4]), f32::from_bits(w[5]), f32::from_bits(w[6]));
+        let point = Vec3::new(
+            f32::from_bits(w[4]),
+            f32::from_bits(w[5]),
+            f32::from_bits(w[6]),
+        );
         let room = IVec3::new(w[8] as i32, w[9] as i32, w[10] as i32);
         let cpu = cast_rooms(c.origin, c.dir, c.size, c.disp, c.seed);
-        assert!(t.is_finite() && point.is_finite(), "case {i}: non-finite GPU result");
+        assert!(
+            t.is_finite() && point.is_finite(),
+            "case {i}: non-finite GPU result"
+        );
         let tol = 1e-4 * (1.0 + cpu.t.abs());
         let same = family == cpu.family
             && plane == cpu.plane
             && room == cpu.room
             && (t - cpu.t).abs() <= tol
-            && (point - cpu.point).abs().max_element() <= 1e-4 * (1.0 + cpu.point.abs().max_element());
+            && (point - cpu.point).abs().max_element()
+                <= 1e-4 * (1.0 + cpu.point.abs().max_element());
         if !same {
             // Accept only ill-conditioned decisions.
             let u = c.origin / c.size;
             let near_eps = (0..3).any(|a| {
-                let (k, _) = room_next_plane(a as u32, u[a], c.dir[a] / c.size[a], c.disp[a], c.seed);
+                let (k, _) =
+                    room_next_plane(a as u32, u[a], c.dir[a] / c.size[a], c.disp[a], c.seed);
                 (room_plane_pos(a as u32, k - 1, c.disp[a], c.seed) - u[a]).abs() < 1e-3
                     || (room_plane_pos(a as u32, k + 1, c.disp[a], c.seed) - u[a]).abs() < 1e-3
                     || (room_plane_pos(a as u32, k, c.disp[a], c.seed) - u[a]).abs() < 1e-3
             });
             let near_tie = (t - cpu.t).abs() <= tol;
-            assert!(near_eps || near_tie, "case {i}: GPU ({family}, {t}, {plane}, {room}, {point}) vs CPU {cpu:?}");
+            assert!(
+                near_eps || near_tie,
+                "case {i}: GPU ({family}, {t}, {plane}, {room}, {point}) vs CPU {cpu:?}"
+            );
             disagreements += 1;
         }
     }
-    assert!(disagreements * 100 <= cases.len(), "{disagreements} ill-conditioned disagreements");
-    eprintln!("{} cases, {disagreements} ill-conditioned disagreements", cases.len());
+    assert!(
+        disagreements * 100 <= cases.len(),
+        "{disagreements} ill-conditioned disagreements"
+    );
+    eprintln!(
+        "{} cases, {disagreements} ill-conditioned disagreements",
+        cases.len()
+    );
 }

@@ -17,7 +17,10 @@ fn interior_variants_against_reference_and_polygons() {
     eprintln!("reference {:.2} s", start.elapsed().as_secs_f64());
     dump("reference", &reference.image);
     let masked = reference.mask.iter().filter(|m| **m).count();
-    assert!(masked > (SIZE * SIZE / 3) as usize, "the view must show the building ({masked} masked pixels)");
+    assert!(
+        masked > (SIZE * SIZE / 3) as usize,
+        "the view must show the building ({masked} masked pixels)"
+    );
 
     let mut images = Vec::new();
     for mut t in interior_mapping::techniques() {
@@ -27,7 +30,10 @@ fn interior_variants_against_reference_and_polygons() {
         let ms = start.elapsed().as_secs_f64() * 1e3;
         assert_eq!(image.non_finite_count(), 0, "{id}: non-finite pixels");
         let (m, _) = scene::metrics::compare(&image, &reference.image, Some(&reference.mask));
-        eprintln!("{id:28} flip {:.4} masked {:.4} rmse {:.4} ({ms:.0} ms incl. prepare, wall)", m.flip_mean, m.flip_mean_masked, m.rmse);
+        eprintln!(
+            "{id:28} flip {:.4} masked {:.4} rmse {:.4} ({ms:.0} ms incl. prepare, wall)",
+            m.flip_mean, m.flip_mean_masked, m.rmse
+        );
         dump(&id, &image);
         images.push((id, image, m));
     }
@@ -43,24 +49,47 @@ fn interior_variants_against_reference_and_polygons() {
     let shadow_mapped = render(&scene, t.as_mut(), &view);
     dump("interior_textured_shadow_maps", &shadow_mapped);
     let (vs_poly, _) = scene::metrics::compare(&shadow_mapped, polygons, Some(&reference.mask));
-    eprintln!("textured vs polygons: flip masked {:.4}, rmse {:.4}", vs_poly.flip_mean_masked, vs_poly.rmse);
-    assert!(vs_poly.flip_mean_masked < 0.05, "textured vs polygons: masked FLIP {} >= 0.05", vs_poly.flip_mean_masked);
+    eprintln!(
+        "textured vs polygons: flip masked {:.4}, rmse {:.4}",
+        vs_poly.flip_mean_masked, vs_poly.rmse
+    );
+    assert!(
+        vs_poly.flip_mean_masked < 0.05,
+        "textured vs polygons: masked FLIP {} >= 0.05",
+        vs_poly.flip_mean_masked
+    );
 
     // Against the ray-traced reference: the shared raster pass's shadow maps are the main
     // difference (the sun is 540 m away, so its shadow-map bias is about 2.5 m and room
     // surfaces that near a window are lit on the GPU where the reference has them in shadow).
     // Measured (96 x 96, lavapipe): polygons 0.1016, textured 0.0109; bounds about 1.5x.
-    assert!(pm.flip_mean_masked < 0.15, "polygons vs reference: masked FLIP {}", pm.flip_mean_masked);
-    assert!(tm.flip_mean_masked < 0.02, "textured vs reference: masked FLIP {}", tm.flip_mean_masked);
+    assert!(
+        pm.flip_mean_masked < 0.15,
+        "polygons vs reference: masked FLIP {}",
+        pm.flip_mean_masked
+    );
+    assert!(
+        tm.flip_mean_masked < 0.02,
+        "textured vs reference: masked FLIP {}",
+        tm.flip_mean_masked
+    );
     // With exact room shadows interior mapping beats the polygons drawn by the shared pass.
-    assert!(tm.flip_mean_masked < pm.flip_mean_masked, "textured {} vs polygons {}", tm.flip_mean_masked, pm.flip_mean_masked);
+    assert!(
+        tm.flip_mean_masked < pm.flip_mean_masked,
+        "textured {} vs polygons {}",
+        tm.flip_mean_masked,
+        pm.flip_mean_masked
+    );
 
     // The baselines of 5.3.2 against the reference: ceiling-only and single-texture cast the
     // same rooms (flat colours where ceiling-only has no texture), reflection-only has mirrors
     // where the reference has rooms. Measured (96 x 96, lavapipe): ceiling-only 0.0260 (as
     // basic: the unlit rooms' ceilings are dark), single-texture 0.0109 (as textured),
     // reflection-only 0.2428; bounds about 1.5x.
-    for (id, bound) in [("interior/ceiling-only", 0.04), ("interior/single-texture", 0.02)] {
+    for (id, bound) in [
+        ("interior/ceiling-only", 0.04),
+        ("interior/single-texture", 0.02),
+    ] {
         let m = get(id).2.flip_mean_masked;
         assert!(m < bound, "{id} vs reference: masked FLIP {m} >= {bound}");
     }
@@ -74,11 +103,28 @@ fn interior_variants_against_reference_and_polygons() {
     // A depth pre-pass changes the cost, not the image, except on pixels where two hull
     // faces tie in depth (the building's edges): without the pre-pass the first face drawn
     // wins (depth test Less), with it the last (LessEqual). At most 2% of the pixels.
-    for v in ["basic", "textured", "exterior", "furniture", "varied", "ceiling-only", "single-texture", "reflection-only"] {
+    for v in [
+        "basic",
+        "textured",
+        "exterior",
+        "furniture",
+        "varied",
+        "ceiling-only",
+        "single-texture",
+        "reflection-only",
+    ] {
         let (_, a, _) = get(&format!("interior/{v}"));
         let (_, b, _) = get(&format!("interior/{v}-prepass"));
-        let differ = a.pixels.iter().zip(&b.pixels).filter(|(p, q)| (0..3).any(|c| (p[c] - q[c]).abs() > 1e-4)).count();
-        assert!(differ * 50 <= a.pixels.len(), "{v}: pre-pass changes {differ} pixels");
+        let differ = a
+            .pixels
+            .iter()
+            .zip(&b.pixels)
+            .filter(|(p, q)| (0..3).any(|c| (p[c] - q[c]).abs() > 1e-4))
+            .count();
+        assert!(
+            differ * 50 <= a.pixels.len(),
+            "{v}: pre-pass changes {differ} pixels"
+        );
     }
     // The variants really differ from the plain textured rooms (with a room light, since
     // the sun reaches only the rooms' window sides and the furniture would stand in the dark).
@@ -93,7 +139,11 @@ fn interior_variants_against_reference_and_polygons() {
         let a = lit(&format!("interior/{v}"));
         dump(&format!("interior_{v}_lit"), &a);
         let (m, _) = scene::metrics::compare(&a, &lit_textured, None);
-        assert!(m.rmse > 1e-3, "{v} renders the same image as textured (rmse {})", m.rmse);
+        assert!(
+            m.rmse > 1e-3,
+            "{v} renders the same image as textured (rmse {})",
+            m.rmse
+        );
     }
 }
 
@@ -101,9 +151,17 @@ fn interior_variants_against_reference_and_polygons() {
 /// interior mapping works at the sweep's extreme room counts.
 #[test]
 fn any_hull_and_extreme_room_counts_are_finite() {
-    for spec in ["city:interiors=0", "city:rooms_per_building=4000000", "city:rooms_per_building=1"] {
+    for spec in [
+        "city:interiors=0",
+        "city:rooms_per_building=4000000",
+        "city:rooms_per_building=1",
+    ] {
         let scene = scene::load(spec).expect("city");
-        for id in ["interior/textured", "interior/varied-prepass", "interior/furniture"] {
+        for id in [
+            "interior/textured",
+            "interior/varied-prepass",
+            "interior/furniture",
+        ] {
             let mut t = technique(id);
             let mut view = view(48, 1.0);
             // Look at the cylinder (building 1) and the sphere (building 2) too.
@@ -133,11 +191,30 @@ fn camera_inside_a_room_matches_reference() {
     dump("inside_textured", &image);
     assert_eq!(image.non_finite_count(), 0);
     let (m, _) = scene::metrics::compare(&image, &reference.image, Some(&reference.mask));
-    eprintln!("inside: flip masked {:.4}, rmse {:.4}, masked pixels {}", m.flip_mean_masked, m.rmse, m.masked_pixels);
-    assert!(m.masked_pixels * 10 >= 9 * 64 * 64, "the view must show the room ({} masked pixels)", m.masked_pixels);
-    let lit = reference.image.pixels.iter().filter(|p| p[0] > 0.05).count();
-    assert!(lit > 64 * 64 / 20, "the view must include the sun patch on the floor ({lit} lit pixels)");
-    assert!(m.flip_mean_masked < 0.1, "inside a room: masked FLIP {}", m.flip_mean_masked);
+    eprintln!(
+        "inside: flip masked {:.4}, rmse {:.4}, masked pixels {}",
+        m.flip_mean_masked, m.rmse, m.masked_pixels
+    );
+    assert!(
+        m.masked_pixels * 10 >= 9 * 64 * 64,
+        "the view must show the room ({} masked pixels)",
+        m.masked_pixels
+    );
+    let lit = reference
+        .image
+        .pixels
+        .iter()
+        .filter(|p| p[0] > 0.05)
+        .count();
+    assert!(
+        lit > 64 * 64 / 20,
+        "the view must include the sun patch on the floor ({lit} lit pixels)"
+    );
+    assert!(
+        m.flip_mean_masked < 0.1,
+        "inside a room: masked FLIP {}",
+        m.flip_mean_masked
+    );
 }
 
 /// The furniture sprite is animated: frames change with the view's time (2 fps).
@@ -173,16 +250,27 @@ fn baselines_of_5_3_2() {
         dump(&format!("{}_lit", id.replace('/', "_")), &image);
         image
     };
-    let [textured, basic, ceiling, single, reflection] =
-        ["textured", "basic", "ceiling-only", "single-texture", "reflection-only"].map(|v| lit(&format!("interior/{v}")));
-    let flip = |a: &gpu::HdrImage, b: &gpu::HdrImage| scene::metrics::compare(a, b, mask).0.flip_mean_masked;
+    let [textured, basic, ceiling, single, reflection] = [
+        "textured",
+        "basic",
+        "ceiling-only",
+        "single-texture",
+        "reflection-only",
+    ]
+    .map(|v| lit(&format!("interior/{v}")));
+    let flip = |a: &gpu::HdrImage, b: &gpu::HdrImage| {
+        scene::metrics::compare(a, b, mask).0.flip_mean_masked
+    };
 
     // Ceiling-only: the ceilings of textured, the walls and floors of basic, so it differs from
     // both, and from textured most (walls and floors cover more of the view). Measured (96 x
     // 96, lavapipe, lit rooms): vs textured 0.1858, vs basic 0.0130.
     let (ct, cb) = (flip(&ceiling, &textured), flip(&ceiling, &basic));
     eprintln!("ceiling-only: vs textured {ct:.4}, vs basic {cb:.4}");
-    assert!(ct > 0.1 && cb > 0.005 && ct > cb, "ceiling-only vs textured {ct}, vs basic {cb}");
+    assert!(
+        ct > 0.1 && cb > 0.005 && ct > cb,
+        "ceiling-only vs textured {ct}, vs basic {cb}"
+    );
 
     // Single texture: the same texels from one atlas, so it matches textured up to the
     // half-texel tile borders (clamped there, wrapped in the array). Measured: 0.0006.
@@ -193,14 +281,25 @@ fn baselines_of_5_3_2() {
     // Reflection-only: the facade is the same as textured's, every window pixel differs (a
     // reflection instead of a room). Measured: 2958 of 9216 pixels (0.321) differ.
     let differ = |a: &gpu::HdrImage, b: &gpu::HdrImage| {
-        a.pixels.iter().zip(&b.pixels).filter(|(p, q)| (0..3).any(|c| (p[c] - q[c]).abs() > 1e-3)).count()
+        a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .filter(|(p, q)| (0..3).any(|c| (p[c] - q[c]).abs() > 1e-3))
+            .count()
     };
     let windows = differ(&reflection, &textured);
     let share = windows as f64 / reflection.pixels.len() as f64;
     eprintln!("reflection-only differs from textured on {windows} pixels ({share:.3})");
-    assert!(share > 0.1, "reflection-only shows rooms: only {windows} pixels differ from textured");
+    assert!(
+        share > 0.1,
+        "reflection-only shows rooms: only {windows} pixels differ from textured"
+    );
     // No room planes: the rooms' light (interior_light) changes textured, not reflection-only
     // (it has no such parameter), and the window pixels of textured and ceiling-only agree
     // on the facade: the same pixels differ from reflection-only.
-    assert_eq!(differ(&reflection, &ceiling), windows, "reflection-only vs ceiling-only: other pixels differ");
+    assert_eq!(
+        differ(&reflection, &ceiling),
+        windows,
+        "reflection-only vs ceiling-only: other pixels differ"
+    );
 }

@@ -2,7 +2,7 @@
 //! force search: every plane of every family with index in [-RANGE, RANGE] is intersected
 //! in f64, the nearest one beyond the start (by the same `ROOM_EPS` rule) wins.
 
-use glam::{Vec3, IVec3};
+use glam::{IVec3, Vec3};
 use interior_mapping::rooms::*;
 use proptest::prelude::*;
 
@@ -20,7 +20,11 @@ fn brute(origin: Vec3, dir: Vec3, size: Vec3, disp: Vec3, seed: u32) -> Option<(
         for k in -RANGE..=RANGE {
             {
                 let p = room_plane_pos(a as u32, k, disp[a], seed);
-                let beyond = if du[a] > 0.0 { p > u[a] + ROOM_EPS } else { p < u[a] - ROOM_EPS };
+                let beyond = if du[a] > 0.0 {
+                    p > u[a] + ROOM_EPS
+                } else {
+                    p < u[a] - ROOM_EPS
+                };
                 if !beyond {
                     continue;
                 }
@@ -36,16 +40,27 @@ fn brute(origin: Vec3, dir: Vec3, size: Vec3, disp: Vec3, seed: u32) -> Option<(
 
 fn check(origin: Vec3, dir: Vec3, size: Vec3, disp: Vec3, seed: u32) -> Result<(), TestCaseError> {
     let hit = cast_rooms(origin, dir, size, disp, seed);
-    prop_assert!(hit.t.is_finite() && hit.point.is_finite(), "non-finite hit {hit:?}");
+    prop_assert!(
+        hit.t.is_finite() && hit.point.is_finite(),
+        "non-finite hit {hit:?}"
+    );
     match brute(origin, dir, size, disp, seed) {
         None => prop_assert!(hit.t >= 1e29, "hit {hit:?} where brute force finds none"),
         Some((family, t)) => {
             let tol = 1e-4 * (1.0 + t.abs());
-            prop_assert!((hit.t as f64 - t).abs() <= tol, "t {} vs brute {t} (family {family}, twin {hit:?})", hit.t);
+            prop_assert!(
+                (hit.t as f64 - t).abs() <= tol,
+                "t {} vs brute {t} (family {family}, twin {hit:?})",
+                hit.t
+            );
             if family != hit.family {
                 // Only a near tie may pick the other family.
                 let other = brute_family(origin, dir, size, disp, seed, hit.family);
-                prop_assert!(other.is_some_and(|o| (o - t).abs() <= tol), "family {} vs brute {family}", hit.family);
+                prop_assert!(
+                    other.is_some_and(|o| (o - t).abs() <= tol),
+                    "family {} vs brute {family}",
+                    hit.family
+                );
             }
             prop_assert!(hit.t > 0.0);
         }
@@ -53,7 +68,14 @@ fn check(origin: Vec3, dir: Vec3, size: Vec3, disp: Vec3, seed: u32) -> Result<(
     Ok(())
 }
 
-fn brute_family(origin: Vec3, dir: Vec3, size: Vec3, disp: Vec3, seed: u32, family: u32) -> Option<f64> {
+fn brute_family(
+    origin: Vec3,
+    dir: Vec3,
+    size: Vec3,
+    disp: Vec3,
+    seed: u32,
+    family: u32,
+) -> Option<f64> {
     let mut d = Vec3::ZERO;
     d[family as usize] = dir[family as usize];
     brute(origin, d, size, disp, seed).map(|(_, t)| t)
@@ -140,7 +162,13 @@ fn start_on_a_plane_skips_it() {
     assert!((hit.t - 2.5).abs() < 1e-5);
     let hit = cast_rooms(Vec3::new(5.0, 1.0, 1.0), -Vec3::X, size, Vec3::ZERO, 0);
     assert_eq!((hit.family, hit.plane, hit.room.x), (FAMILY_X, 1, 1));
-    let hit = cast_rooms(Vec3::new(-5.0, -6.0, 1.0), Vec3::new(0.0, -1.0, 0.0), size, Vec3::ZERO, 0);
+    let hit = cast_rooms(
+        Vec3::new(-5.0, -6.0, 1.0),
+        Vec3::new(0.0, -1.0, 0.0),
+        size,
+        Vec3::ZERO,
+        0,
+    );
     assert_eq!((hit.family, hit.plane, hit.room.y), (FAMILY_Y, -3, -3));
     let hit = cast_rooms(Vec3::ONE, Vec3::ZERO, size, Vec3::ZERO, 0);
     assert!(hit.t.is_finite() && hit.point.is_finite());

@@ -23,10 +23,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut gpu_scene = GpuScene::new(&ctx, &scene)?;
     let target = gpu::Target::new(&ctx, size, size)?;
     let mut timer = gpu::GpuTimer::new(&ctx, 64);
-    let view = View { camera: scene.camera, time: 0.0, width: size, height: size };
+    let view = View {
+        camera: scene.camera,
+        time: 0.0,
+        width: size,
+        height: size,
+    };
 
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    let mut frame = Frame { gpu: &ctx, encoder: &mut encoder, timer: &mut timer };
+    let mut frame = Frame {
+        gpu: &ctx,
+        encoder: &mut encoder,
+        timer: &mut timer,
+    };
     gpu_scene.set_time(&mut frame, 0.0);
     technique.prepare(&mut frame, &gpu_scene)?;
     technique.render(&mut frame, &gpu_scene, &view, &target)?;
@@ -40,7 +49,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .flat_map(|p| {
             let srgb = |c: f32| {
                 let c = c.clamp(0.0, 1.0);
-                let s = if c <= 0.0031308 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+                let s = if c <= 0.0031308 {
+                    12.92 * c
+                } else {
+                    1.055 * c.powf(1.0 / 2.4) - 0.055
+                };
                 (s * 255.0 + 0.5) as u8
             };
             [srgb(p[0]), srgb(p[1]), srgb(p[2]), 255]

@@ -7,8 +7,8 @@
 
 use crate::mesh::{cuboid, cylinder, quad, uv_sphere};
 use crate::{
-    Camera, CameraPath, DensityProfile, Material, Motion, Object, PointLight, Roles, Scene, SceneError,
-    Texture, Volume,
+    Camera, CameraPath, DensityProfile, Material, Motion, Object, PointLight, Roles, Scene,
+    SceneError, Texture, Volume,
 };
 use glam::{Mat4, Quat, Vec2, Vec3};
 use std::collections::BTreeMap;
@@ -34,7 +34,11 @@ const MATERIAL_HELP: &str = "sphere material: glass-1.5, glass-1.1, glass-0.75, 
 
 /// Every built-in scene.
 pub fn builtin_scenes() -> Vec<SceneInfo> {
-    let material = |default| SceneParam { name: "material", default, help: MATERIAL_HELP };
+    let material = |default| SceneParam {
+        name: "material",
+        default,
+        help: MATERIAL_HELP,
+    };
     vec![
         SceneInfo {
             name: "cornell-sphere",
@@ -42,7 +46,11 @@ pub fn builtin_scenes() -> Vec<SceneInfo> {
                           along x over the camera path",
             params: vec![
                 material("glass-1.5"),
-                SceneParam { name: "sphere_x", default: "0", help: "sphere centre x (m), -0.6..0.6" },
+                SceneParam {
+                    name: "sphere_x",
+                    default: "0",
+                    help: "sphere centre x (m), -0.6..0.6",
+                },
             ],
         },
         SceneInfo {
@@ -51,20 +59,32 @@ pub fn builtin_scenes() -> Vec<SceneInfo> {
                           impostor paper's hard case)",
             params: vec![
                 material("mirror"),
-                SceneParam { name: "sphere_x", default: "0", help: "sphere centre x (m), -0.6..0.6" },
+                SceneParam {
+                    name: "sphere_x",
+                    default: "0",
+                    help: "sphere centre x (m), -0.6..0.6",
+                },
             ],
         },
         SceneInfo {
             name: "refraction-bunny",
             description: "a glass Stanford bunny in front of a checker wall with nearby boxes",
-            params: vec![SceneParam { name: "ior", default: "1.5", help: "bunny index of refraction" }],
+            params: vec![SceneParam {
+                name: "ior",
+                default: "1.5",
+                help: "bunny index of refraction",
+            }],
         },
         SceneInfo {
             name: "city",
             description: "a grid of box buildings plus a cylinder and a sphere building; \
                           camera path along a street",
             params: vec![
-                SceneParam { name: "buildings", default: "16", help: "number of buildings (>= 2)" },
+                SceneParam {
+                    name: "buildings",
+                    default: "16",
+                    help: "number of buildings (>= 2)",
+                },
                 SceneParam {
                     name: "rooms_per_building",
                     default: "1000",
@@ -82,7 +102,11 @@ pub fn builtin_scenes() -> Vec<SceneInfo> {
             name: "smoke",
             description: "ground plane and posts/logs crossing a large soft volume, plus a \
                           particle cloud",
-            params: vec![SceneParam { name: "particles", default: "24", help: "particles in the cloud" }],
+            params: vec![SceneParam {
+                name: "particles",
+                default: "24",
+                help: "particles in the cloud",
+            }],
         },
     ]
 }
@@ -117,7 +141,11 @@ pub fn build(name: &str, params: &BTreeMap<String, String>) -> Result<Scene, Sce
     }
     let get = |key: &str| -> String {
         params.get(key).cloned().unwrap_or_else(|| {
-            info.params.iter().find(|p| p.name == key).map(|p| p.default.to_string()).unwrap_or_default()
+            info.params
+                .iter()
+                .find(|p| p.name == key)
+                .map(|p| p.default.to_string())
+                .unwrap_or_default()
         })
     };
     let mut scene = match name {
@@ -146,7 +174,11 @@ fn spec_string(name: &str, params: &BTreeMap<String, String>) -> String {
 }
 
 fn scene_names() -> String {
-    builtin_scenes().iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
+    builtin_scenes()
+        .iter()
+        .map(|s| s.name)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn num(value: &str, key: &str) -> Result<f32, SceneError> {
@@ -169,7 +201,9 @@ fn sphere_material(name: &str) -> Result<(Material, Roles), SceneError> {
         "copper" => (Material::copper(), refl),
         "diffuse" => (Material::diffuse(0.7, 0.7, 0.7), Roles::NONE),
         other => {
-            return Err(SceneError::BadParam(format!("unknown material \"{other}\" ({MATERIAL_HELP})")));
+            return Err(SceneError::BadParam(format!(
+                "unknown material \"{other}\" ({MATERIAL_HELP})"
+            )));
         }
     })
 }
@@ -182,15 +216,48 @@ fn room_objects() -> Vec<Object> {
         Object::new(name, quad(origin, u, v, Vec2::ONE), m, id)
     };
     vec![
-        wall("floor", Vec3::new(-1.0, 0.0, 1.0), Vec3::X * 2.0, Vec3::NEG_Z * 2.0, white.clone()),
-        wall("ceiling", Vec3::new(-1.0, 2.0, -1.0), Vec3::X * 2.0, Vec3::Z * 2.0, white.clone()),
-        wall("back wall", Vec3::new(-1.0, 0.0, -1.0), Vec3::X * 2.0, Vec3::Y * 2.0, white.clone()),
-        wall("front wall", Vec3::new(1.0, 0.0, 1.0), Vec3::NEG_X * 2.0, Vec3::Y * 2.0,
-             Material::diffuse(0.55, 0.55, 0.75)),
-        wall("left wall", Vec3::new(-1.0, 0.0, 1.0), Vec3::NEG_Z * 2.0, Vec3::Y * 2.0,
-             Material::diffuse(0.75, 0.15, 0.12)),
-        wall("right wall", Vec3::new(1.0, 0.0, -1.0), Vec3::Z * 2.0, Vec3::Y * 2.0,
-             Material::diffuse(0.15, 0.65, 0.15)),
+        wall(
+            "floor",
+            Vec3::new(-1.0, 0.0, 1.0),
+            Vec3::X * 2.0,
+            Vec3::NEG_Z * 2.0,
+            white.clone(),
+        ),
+        wall(
+            "ceiling",
+            Vec3::new(-1.0, 2.0, -1.0),
+            Vec3::X * 2.0,
+            Vec3::Z * 2.0,
+            white.clone(),
+        ),
+        wall(
+            "back wall",
+            Vec3::new(-1.0, 0.0, -1.0),
+            Vec3::X * 2.0,
+            Vec3::Y * 2.0,
+            white.clone(),
+        ),
+        wall(
+            "front wall",
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::NEG_X * 2.0,
+            Vec3::Y * 2.0,
+            Material::diffuse(0.55, 0.55, 0.75),
+        ),
+        wall(
+            "left wall",
+            Vec3::new(-1.0, 0.0, 1.0),
+            Vec3::NEG_Z * 2.0,
+            Vec3::Y * 2.0,
+            Material::diffuse(0.75, 0.15, 0.12),
+        ),
+        wall(
+            "right wall",
+            Vec3::new(1.0, 0.0, -1.0),
+            Vec3::Z * 2.0,
+            Vec3::Y * 2.0,
+            Material::diffuse(0.15, 0.65, 0.15),
+        ),
     ]
 }
 
@@ -199,15 +266,32 @@ fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, Scene
     let mut objects = room_objects();
     if tall_box {
         let bx = cuboid(Vec3::new(-0.25, 0.0, -0.25), Vec3::new(0.25, 1.3, 0.25));
-        let t = Mat4::from_rotation_translation(Quat::from_rotation_y(0.35), Vec3::new(0.5, 0.0, -0.45));
-        objects.push(Object::new("tall box", bx, Material::diffuse(0.8, 0.75, 0.3), t));
+        let t = Mat4::from_rotation_translation(
+            Quat::from_rotation_y(0.35),
+            Vec3::new(0.5, 0.0, -0.45),
+        );
+        objects.push(Object::new(
+            "tall box",
+            bx,
+            Material::diffuse(0.8, 0.75, 0.3),
+            t,
+        ));
     }
     let center = Vec3::new(sphere_x, 0.55, -0.1);
-    let mut sphere = Object::new("sphere", uv_sphere(0.3, 48, 96), mat, Mat4::from_translation(center))
-        .with_roles(roles);
+    let mut sphere = Object::new(
+        "sphere",
+        uv_sphere(0.3, 48, 96),
+        mat,
+        Mat4::from_translation(center),
+    )
+    .with_roles(roles);
     // Over the camera path the sphere moves 0.5 m along x and back (paper, figure 5).
     sphere.motion = Motion {
-        keys: vec![(0.0, Vec3::ZERO), (1.0, Vec3::new(-0.5, 0.0, 0.0)), (2.0, Vec3::ZERO)],
+        keys: vec![
+            (0.0, Vec3::ZERO),
+            (1.0, Vec3::new(-0.5, 0.0, 0.0)),
+            (2.0, Vec3::ZERO),
+        ],
     };
     objects.push(sphere);
     let camera = Camera {
@@ -216,7 +300,10 @@ fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, Scene
         up: Vec3::Y,
         fov_y_deg: 62.0,
     };
-    let moved = Camera { eye: Vec3::new(0.3, 1.1, 0.9), ..camera };
+    let moved = Camera {
+        eye: Vec3::new(0.3, 1.1, 0.9),
+        ..camera
+    };
     Ok(Scene {
         name: String::new(),
         objects,
@@ -227,7 +314,9 @@ fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, Scene
             intensity: Vec3::splat(2.5),
         }],
         camera,
-        camera_path: CameraPath { keys: vec![(0.0, camera), (1.0, moved), (2.0, camera)] },
+        camera_path: CameraPath {
+            keys: vec![(0.0, camera), (1.0, moved), (2.0, camera)],
+        },
         volumes: vec![],
         background: Vec3::ZERO,
     })
@@ -238,23 +327,44 @@ pub fn checker_texture(name: &str, size: u32, cells: u32, a: [u8; 3], b: [u8; 3]
     let mut rgba8 = Vec::with_capacity((size * size * 4) as usize);
     for j in 0..size {
         for i in 0..size {
-            let c = if (i * cells / size + j * cells / size) % 2 == 0 { a } else { b };
+            let c = if (i * cells / size + j * cells / size) % 2 == 0 {
+                a
+            } else {
+                b
+            };
             rgba8.extend_from_slice(&[c[0], c[1], c[2], 255]);
         }
     }
-    Texture { name: name.to_string(), width: size, height: size, rgba8 }
+    Texture {
+        name: name.to_string(),
+        width: size,
+        height: size,
+        rgba8,
+    }
 }
 
 /// The big smoke volume's density profile: a falloff to zero at the sphere, textured by noise
 /// with features of about a third of the radius.
-pub const SMOKE_PROFILE: DensityProfile = DensityProfile { falloff: 1.0, noise: 0.45, noise_frequency: 3.0 };
+pub const SMOKE_PROFILE: DensityProfile = DensityProfile {
+    falloff: 1.0,
+    noise: 0.45,
+    noise_frequency: 3.0,
+};
 
 fn smoke(particles: usize) -> Scene {
     let wood = Material::diffuse(0.45, 0.3, 0.18);
     let mut objects = vec![Object::new(
         "ground",
-        quad(Vec3::new(-6.0, 0.0, 6.0), Vec3::X * 12.0, Vec3::NEG_Z * 12.0, Vec2::splat(6.0)),
-        Material::Diffuse { albedo: Vec3::splat(0.8), texture: Some(0) },
+        quad(
+            Vec3::new(-6.0, 0.0, 6.0),
+            Vec3::X * 12.0,
+            Vec3::NEG_Z * 12.0,
+            Vec2::splat(6.0),
+        ),
+        Material::Diffuse {
+            albedo: Vec3::splat(0.8),
+            texture: Some(0),
+        },
         Mat4::IDENTITY,
     )];
     for (k, x) in [-1.2f32, 0.3, 1.4].iter().enumerate() {
@@ -269,7 +379,10 @@ fn smoke(particles: usize) -> Scene {
         "log",
         cylinder(0.15, 4.0, 16),
         wood,
-        Mat4::from_rotation_translation(Quat::from_rotation_z(std::f32::consts::FRAC_PI_2), Vec3::new(2.0, 0.15, 0.2)),
+        Mat4::from_rotation_translation(
+            Quat::from_rotation_z(std::f32::consts::FRAC_PI_2),
+            Vec3::new(2.0, 0.15, 0.2),
+        ),
     ));
     // Semi-transparent like the thesis's figures: the big volume's centre chord has optical
     // depth 4/3 * 0.55 * 1.5 = 1.1 (opacity 0.67 before the texture's +-45%); a particle's
@@ -286,16 +399,25 @@ fn smoke(particles: usize) -> Scene {
     }];
     for p in 0..particles {
         let h = |k: u32| gpu::prelude::hash_to_unit(p as u32 * 4 + k);
-        let center = Vec3::new(2.5 + (h(0) - 0.5) * 2.0, 0.4 + h(1) * 1.8, 1.5 + (h(2) - 0.5) * 2.0);
+        let center = Vec3::new(
+            2.5 + (h(0) - 0.5) * 2.0,
+            0.4 + h(1) * 1.8,
+            1.5 + (h(2) - 0.5) * 2.0,
+        );
         volumes.push(Volume {
             name: format!("particle {p}"),
             center,
             radius: 0.25 + 0.2 * h(3),
             color: Vec3::new(0.7, 0.7, 0.75),
             density: 1.8,
-            profile: DensityProfile { falloff: 2.0, ..SMOKE_PROFILE },
+            profile: DensityProfile {
+                falloff: 2.0,
+                ..SMOKE_PROFILE
+            },
             particle: true,
-            motion: Motion { keys: vec![(0.0, Vec3::ZERO), (2.0, Vec3::Y * 0.5)] },
+            motion: Motion {
+                keys: vec![(0.0, Vec3::ZERO), (2.0, Vec3::Y * 0.5)],
+            },
         });
     }
     let camera = Camera {
@@ -304,20 +426,30 @@ fn smoke(particles: usize) -> Scene {
         up: Vec3::Y,
         fov_y_deg: 55.0,
     };
-    let side = Camera { eye: Vec3::new(3.5, 1.8, 4.5), ..camera };
+    let side = Camera {
+        eye: Vec3::new(3.5, 1.8, 4.5),
+        ..camera
+    };
     Scene {
         name: String::new(),
         objects,
-        textures: vec![checker_texture("ground", 64, 8, [200, 200, 200], [120, 120, 120])],
+        textures: vec![checker_texture(
+            "ground",
+            64,
+            8,
+            [200, 200, 200],
+            [120, 120, 120],
+        )],
         lights: vec![PointLight {
             name: "light".into(),
             position: Vec3::new(-2.0, 5.0, 3.0),
             intensity: Vec3::splat(30.0),
         }],
         camera,
-        camera_path: CameraPath { keys: vec![(0.0, camera), (2.0, side)] },
+        camera_path: CameraPath {
+            keys: vec![(0.0, camera), (2.0, side)],
+        },
         volumes,
         background: Vec3::new(0.05, 0.06, 0.08),
     }
 }
-

@@ -32,7 +32,10 @@
 
 use crate::builtin::checker_texture;
 use crate::mesh::{cuboid, cylinder, quad, uv_sphere};
-use crate::{Building, Camera, CameraPath, Material, Mesh, Object, PointLight, Roles, Scene, SceneError, Texture};
+use crate::{
+    Building, Camera, CameraPath, Material, Mesh, Object, PointLight, Roles, Scene, SceneError,
+    Texture,
+};
 use glam::{Mat4, Vec2, Vec3};
 
 /// Horizontal margin of a window in its room cell (room units).
@@ -48,9 +51,15 @@ pub const MAX_REAL_ROOMS: f32 = 100_000.0;
 /// Resolution of the interior textures.
 pub const ROOM_TEXTURE_SIZE: u32 = 64;
 
-pub fn city(buildings: usize, rooms_per_building: f32, interiors: f32) -> Result<Scene, SceneError> {
+pub fn city(
+    buildings: usize,
+    rooms_per_building: f32,
+    interiors: f32,
+) -> Result<Scene, SceneError> {
     if !(2..=100_000).contains(&buildings) {
-        return Err(SceneError::BadParam(format!("buildings={buildings} is not in 2..=100000")));
+        return Err(SceneError::BadParam(format!(
+            "buildings={buildings} is not in 2..=100000"
+        )));
     }
     if !(1.0..=1e8).contains(&rooms_per_building) {
         return Err(SceneError::BadParam(format!(
@@ -58,7 +67,9 @@ pub fn city(buildings: usize, rooms_per_building: f32, interiors: f32) -> Result
         )));
     }
     if interiors != 0.0 && interiors != 1.0 {
-        return Err(SceneError::BadParam(format!("interiors={interiors} is not 0 or 1")));
+        return Err(SceneError::BadParam(format!(
+            "interiors={interiors} is not 0 or 1"
+        )));
     }
     // Hull 20 x 40 x 20 m; rooms split it into n x n^2 x n (more floors than rooms per side
     // would be odd, so rooms are distributed in proportion to the hull's extent).
@@ -80,7 +91,10 @@ pub fn city(buildings: usize, rooms_per_building: f32, interiors: f32) -> Result
         Material::diffuse(0.3, 0.3, 0.3),
         Mat4::IDENTITY,
     )];
-    let facade_material = Material::Diffuse { albedo: Vec3::splat(0.8), texture: Some(facade) };
+    let facade_material = Material::Diffuse {
+        albedo: Vec3::splat(0.8),
+        texture: Some(facade),
+    };
     for b in 0..buildings {
         let (col, row) = (b % columns, b / columns);
         let at = Vec3::new(col as f32 * spacing, 0.0, -(row as f32) * spacing);
@@ -93,10 +107,19 @@ pub fn city(buildings: usize, rooms_per_building: f32, interiors: f32) -> Result
             _ if with_rooms => (facade_with_windows(lo, hi, room_size), "box, window holes"),
             _ => (cuboid(lo, hi), "box"),
         };
-        let lift = if shape == "sphere" { Vec3::Y * hull.x * 0.5 } else { Vec3::ZERO };
+        let lift = if shape == "sphere" {
+            Vec3::Y * hull.x * 0.5
+        } else {
+            Vec3::ZERO
+        };
         let transform = Mat4::from_translation(at + lift);
-        let mut o = Object::new(&format!("building {b} ({shape})"), mesh, facade_material.clone(), transform)
-            .with_roles(Roles::BUILDING);
+        let mut o = Object::new(
+            &format!("building {b} ({shape})"),
+            mesh,
+            facade_material.clone(),
+            transform,
+        )
+        .with_roles(Roles::BUILDING);
         o.building = Some(Building { room_size });
         objects.push(o);
         if with_rooms {
@@ -107,7 +130,10 @@ pub fn city(buildings: usize, rooms_per_building: f32, interiors: f32) -> Result
                 (2, "walls z", 4),
             ] {
                 let mesh = room_planes(lo, hi, room_size, family);
-                let material = Material::Diffuse { albedo: Vec3::ONE, texture: Some(texture) };
+                let material = Material::Diffuse {
+                    albedo: Vec3::ONE,
+                    texture: Some(texture),
+                };
                 objects.push(
                     Object::new(&format!("building {b} {name}"), mesh, material, transform)
                         .with_roles(Roles::BUILDING),
@@ -140,7 +166,9 @@ pub fn city(buildings: usize, rooms_per_building: f32, interiors: f32) -> Result
             intensity: Vec3::splat(4.0e5),
         }],
         camera: cam(0.0),
-        camera_path: CameraPath { keys: vec![(0.0, cam(0.0)), (4.0, cam(depth))] },
+        camera_path: CameraPath {
+            keys: vec![(0.0, cam(0.0)), (4.0, cam(depth))],
+        },
         volumes: vec![],
         background: Vec3::new(0.35, 0.45, 0.6),
     })
@@ -176,8 +204,15 @@ fn breaks(g0: f32, g1: f32, a: f32, b: f32) -> Vec<f32> {
 /// hole in every room cell of the four side faces.
 pub fn facade_with_windows(lo: Vec3, hi: Vec3, room: Vec3) -> Mesh {
     let s = hi - lo;
-    let (x, y, z) = (Vec3::new(s.x, 0.0, 0.0), Vec3::new(0.0, s.y, 0.0), Vec3::new(0.0, 0.0, s.z));
-    let mut parts = vec![quad(lo, x, z, Vec2::ONE), quad(lo + y + z, x, -z, Vec2::ONE)];
+    let (x, y, z) = (
+        Vec3::new(s.x, 0.0, 0.0),
+        Vec3::new(0.0, s.y, 0.0),
+        Vec3::new(0.0, 0.0, s.z),
+    );
+    let mut parts = vec![
+        quad(lo, x, z, Vec2::ONE),
+        quad(lo + y + z, x, -z, Vec2::ONE),
+    ];
     // (corner, edge u, edge v = +y) exactly as mesh::cuboid's side faces.
     for (o, u) in [(lo, z), (lo + x + z, -z), (lo + x, -x), (lo + z, x)] {
         let axis = if u.x != 0.0 { 0 } else { 2 };
@@ -194,7 +229,8 @@ pub fn facade_with_windows(lo: Vec3, hi: Vec3, room: Vec3) -> Mesh {
                 mesh.normals.push(n);
                 mesh.uvs.push(Vec2::new(s, 1.0 - r));
             }
-            mesh.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+            mesh.indices
+                .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
         };
         for rv in sv.windows(2) {
             let vm = gy(o + 0.5 * (rv[0] + rv[1]) * y);
@@ -262,9 +298,11 @@ pub fn room_planes(lo: Vec3, hi: Vec3, room: Vec3, family: u32) -> Mesh {
         // Wind counter-clockwise seen from where the normal points (corners run along a1
         // then a2, and a1 x a2 is -normal for the x and y families).
         if axis == 2 {
-            mesh.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+            mesh.indices
+                .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
         } else {
-            mesh.indices.extend([base, base + 2, base + 1, base, base + 3, base + 2]);
+            mesh.indices
+                .extend([base, base + 2, base + 1, base, base + 3, base + 2]);
         }
     }
     mesh
@@ -327,11 +365,20 @@ pub fn room_texture(name: &str, surface: RoomSurface, size: u32) -> Texture {
     let mut rgba8 = Vec::with_capacity((size * size * 4) as usize);
     for j in 0..size {
         for i in 0..size {
-            let c = room_texel(surface, (i as f32 + 0.5) / size as f32, (j as f32 + 0.5) / size as f32);
+            let c = room_texel(
+                surface,
+                (i as f32 + 0.5) / size as f32,
+                (j as f32 + 0.5) / size as f32,
+            );
             rgba8.extend_from_slice(&[c[0], c[1], c[2], 255]);
         }
     }
-    Texture { name: name.to_string(), width: size, height: size, rgba8 }
+    Texture {
+        name: name.to_string(),
+        width: size,
+        height: size,
+        rgba8,
+    }
 }
 
 #[cfg(test)]
@@ -341,7 +388,11 @@ mod tests {
     #[test]
     fn default_city_has_real_interiors_and_large_counts_build_quickly() {
         let s = city(16, 1000.0, 1.0).unwrap();
-        let holed: Vec<_> = s.objects.iter().filter(|o| o.name.contains("window holes")).collect();
+        let holed: Vec<_> = s
+            .objects
+            .iter()
+            .filter(|o| o.name.contains("window holes"))
+            .collect();
         assert_eq!(holed.len(), 3);
         assert!(s.objects.iter().any(|o| o.name == "building 0 floors"));
         let start = std::time::Instant::now();
@@ -365,7 +416,10 @@ mod tests {
             for t in mesh.indices.chunks(3) {
                 let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
                 let face = (b - a).cross(c - a);
-                assert!(face.length() > 1e-9 && face.dot(mesh.normals[t[0] as usize]) > 0.0, "triangle {t:?}");
+                assert!(
+                    face.length() > 1e-9 && face.dot(mesh.normals[t[0] as usize]) > 0.0,
+                    "triangle {t:?}"
+                );
             }
         }
     }
@@ -376,12 +430,20 @@ mod tests {
         let room = Vec3::new(2.5, 2.5, 2.5);
         let m = facade_with_windows(lo, hi, room);
         // Total area = box area minus window area (8 x 16 windows of 0.6 x 0.55 rooms per face).
-        let area: f32 = m.indices.chunks(3).map(|t| {
-            let [a, b, c] = [0, 1, 2].map(|k| m.positions[t[k] as usize]);
-            0.5 * (b - a).cross(c - a).length()
-        }).sum();
+        let area: f32 = m
+            .indices
+            .chunks(3)
+            .map(|t| {
+                let [a, b, c] = [0, 1, 2].map(|k| m.positions[t[k] as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
         let windows = 4.0 * 8.0 * 16.0 * (0.6 * 2.5) * (0.55 * 2.5);
         let full = 2.0 * (20.0 * 40.0 * 2.0 + 20.0 * 20.0);
-        assert!((area - (full - windows)).abs() < 0.5, "area {area} vs {}", full - windows);
+        assert!(
+            (area - (full - windows)).abs() < 0.5,
+            "area {area} vs {}",
+            full - windows
+        );
     }
 }

@@ -154,14 +154,21 @@ impl GpuScene {
         });
         let fitted: Vec<Option<FittedShadow>> = {
             let (center, radius) = scene_bounding_sphere(scene);
-            scene.lights.iter().map(|l| FittedShadow::for_light(l.position, center, radius)).collect()
+            scene
+                .lights
+                .iter()
+                .map(|l| FittedShadow::for_light(l.position, center, radius))
+                .collect()
         };
         let mut lights: Vec<LightGpu> = scene
             .lights
             .iter()
             .zip(&fitted)
             .map(|(l, f)| LightGpu {
-                position: l.position.extend(if f.is_some() { 1.0 } else { 0.0 }).to_array(),
+                position: l
+                    .position
+                    .extend(if f.is_some() { 1.0 } else { 0.0 })
+                    .to_array(),
                 intensity: l.intensity.extend(0.0).to_array(),
                 shadow_view_proj: f.map_or(Mat4::IDENTITY, |f| f.view_proj).to_cols_array_2d(),
                 shadow_params: [f.map_or(1.0, |f| f.tan_half_fov), 0.0, 0.0, 0.0],
@@ -214,18 +221,29 @@ impl GpuScene {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
-        let shadow_depth = gpu::depth_texture(ctx, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, 6, "shadow depth");
-        let shadow_face_views = (0..shadow_layers).map(|l| gpu::layer_view(&shadow, l)).collect();
+        let shadow_depth =
+            gpu::depth_texture(ctx, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, 6, "shadow depth");
+        let shadow_face_views = (0..shadow_layers)
+            .map(|l| gpu::layer_view(&shadow, l))
+            .collect();
         let shadow_depth_views = (0..6).map(|l| gpu::layer_view(&shadow_depth, l)).collect();
         let shadow_cube_view = shadow.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::CubeArray),
             ..Default::default()
         });
         // One 2D layer per light for lights outside the scene (1 texel when there are none).
-        let fitted_size = if fitted.iter().any(Option::is_some) { SHADOW_MAP_SIZE } else { 1 };
+        let fitted_size = if fitted.iter().any(Option::is_some) {
+            SHADOW_MAP_SIZE
+        } else {
+            1
+        };
         let fitted_shadow = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("fitted shadow maps"),
-            size: wgpu::Extent3d { width: fitted_size, height: fitted_size, depth_or_array_layers: lights.len() as u32 },
+            size: wgpu::Extent3d {
+                width: fitted_size,
+                height: fitted_size,
+                depth_or_array_layers: lights.len() as u32,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -233,7 +251,9 @@ impl GpuScene {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
-        let fitted_views = (0..lights.len() as u32).map(|l| gpu::layer_view(&fitted_shadow, l)).collect();
+        let fitted_views = (0..lights.len() as u32)
+            .map(|l| gpu::layer_view(&fitted_shadow, l))
+            .collect();
         let fitted_array_view = fitted_shadow.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
@@ -258,8 +278,14 @@ impl GpuScene {
                 label: Some("scene"),
                 layout: &scene_layout,
                 entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: object_buffer.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: light_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: object_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: light_buffer.as_entire_binding(),
+                    },
                     wgpu::BindGroupEntry {
                         binding: 2,
                         resource: wgpu::BindingResource::TextureView(&albedo_view),
@@ -276,7 +302,10 @@ impl GpuScene {
                         binding: 5,
                         resource: wgpu::BindingResource::Sampler(&shadow_sampler),
                     },
-                    wgpu::BindGroupEntry { binding: 6, resource: info.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 6,
+                        resource: info.as_entire_binding(),
+                    },
                     wgpu::BindGroupEntry {
                         binding: 7,
                         resource: wgpu::BindingResource::TextureView(&fitted_array_view),
@@ -288,10 +317,16 @@ impl GpuScene {
         let raster_bind_group = bind(&raster_info_buffer);
 
         let layout = pipeline_layout(ctx, &camera_layout, &scene_layout, &[]);
-        let module = gpu::shader_with_prelude(ctx, "raster", &format!("{SCENE_WGSL}\n{RASTER_WGSL}"));
+        let module =
+            gpu::shader_with_prelude(ctx, "raster", &format!("{SCENE_WGSL}\n{RASTER_WGSL}"));
         let raster_pipelines = [gpu::HDR_FORMAT, wgpu::TextureFormat::Rgba16Float]
             .into_iter()
-            .map(|f| (f, scene_pipeline(ctx, "raster", &layout, &module, "raster_fs", f)))
+            .map(|f| {
+                (
+                    f,
+                    scene_pipeline(ctx, "raster", &layout, &module, "raster_fs", f),
+                )
+            })
             .collect();
         // The shadow pass writes the shadow maps, so it must not bind them: its group 1 holds
         // only the object buffer (all that scene_vs and shadow_fs read).
@@ -299,11 +334,20 @@ impl GpuScene {
         let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene objects only"),
             layout: &objects_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: object_buffer.as_entire_binding() }],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: object_buffer.as_entire_binding(),
+            }],
         });
         let shadow_layout = pipeline_layout(ctx, &camera_layout, &objects_layout, &[]);
-        let shadow_pipeline =
-            scene_pipeline(ctx, "shadow", &shadow_layout, &module, "shadow_fs", SHADOW_FORMAT);
+        let shadow_pipeline = scene_pipeline(
+            ctx,
+            "shadow",
+            &shadow_layout,
+            &module,
+            "shadow_fs",
+            SHADOW_FORMAT,
+        );
 
         Ok(Self {
             scene: scene.clone(),
@@ -337,21 +381,33 @@ impl GpuScene {
     /// A camera bind group (`@group(0)`) for one view: world-to-clip matrix and eye position.
     /// Each view of a frame needs its own (uniform writes are applied at submission).
     pub fn camera_bind_group(&self, ctx: &Context, view_proj: Mat4, eye: Vec3) -> wgpu::BindGroup {
-        let data = CameraGpu { view_proj: view_proj.to_cols_array_2d(), eye: eye.extend(1.0).to_array() };
-        let buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("camera"),
-            contents: bytemuck::bytes_of(&data),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let data = CameraGpu {
+            view_proj: view_proj.to_cols_array_2d(),
+            eye: eye.extend(1.0).to_array(),
+        };
+        let buffer = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("camera"),
+                contents: bytemuck::bytes_of(&data),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
         ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("camera"),
             layout: &self.camera_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffer.as_entire_binding(),
+            }],
         })
     }
 
     /// A pipeline layout with the camera at group 0, the scene at group 1 and `extra` after.
-    pub fn pipeline_layout_with(&self, ctx: &Context, extra: &[&wgpu::BindGroupLayout]) -> wgpu::PipelineLayout {
+    pub fn pipeline_layout_with(
+        &self,
+        ctx: &Context,
+        extra: &[&wgpu::BindGroupLayout],
+    ) -> wgpu::PipelineLayout {
         pipeline_layout(ctx, &self.camera_layout, &self.scene_layout, extra)
     }
 
@@ -362,7 +418,11 @@ impl GpuScene {
         if self.time == Some(time) || (self.time.is_some() && !moving) {
             return;
         }
-        frame.gpu.queue.write_buffer(&self.object_buffer, 0, bytemuck::cast_slice(&object_records(&self.scene, time)));
+        frame.gpu.queue.write_buffer(
+            &self.object_buffer,
+            0,
+            bytemuck::cast_slice(&object_records(&self.scene, time)),
+        );
         self.time = Some(time);
         self.render_shadows(frame);
     }
@@ -379,7 +439,12 @@ impl GpuScene {
                 Some(f) => vec![(f.view_proj, &self.fitted_views[l])],
                 None => (0..6)
                     .map(|face| {
-                        let vp = gpu::cube::cube_face_view_proj(face, light.position, 0.01, 2.0 * BACKGROUND_DISTANCE);
+                        let vp = gpu::cube::cube_face_view_proj(
+                            face,
+                            light.position,
+                            0.01,
+                            2.0 * BACKGROUND_DISTANCE,
+                        );
                         (vp, &self.shadow_face_views[6 * l + face])
                     })
                     .collect(),
@@ -387,22 +452,31 @@ impl GpuScene {
             for (face, (view_proj, view)) in faces.into_iter().enumerate() {
                 let camera = self.camera_bind_group(frame.gpu, view_proj, light.position);
                 let writes = frame.timer.render_pass("shadow maps");
-                let mut pass = frame.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("shadow face"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color { r: 2.0 * BACKGROUND_DISTANCE as f64, g: 0.0, b: 0.0, a: 0.0 }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(depth_attachment(&self.shadow_depth_views[face])),
-                    timestamp_writes: writes,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                let mut pass = frame
+                    .encoder
+                    .begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("shadow face"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color {
+                                    r: 2.0 * BACKGROUND_DISTANCE as f64,
+                                    g: 0.0,
+                                    b: 0.0,
+                                    a: 0.0,
+                                }),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: Some(depth_attachment(
+                            &self.shadow_depth_views[face],
+                        )),
+                        timestamp_writes: writes,
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
                 pass.set_pipeline(&self.shadow_pipeline);
                 pass.set_bind_group(0, &camera, &[]);
                 pass.set_bind_group(1, &self.shadow_bind_group, &[]);
@@ -424,14 +498,29 @@ impl GpuScene {
         filter: &ObjectFilter,
         specular_as_diffuse: bool,
     ) {
-        let Some((_, pipeline)) = self.raster_pipelines.iter().find(|(f, _)| *f == target.format) else {
-            panic!("raster pass supports Rgba32Float and Rgba16Float targets, not {:?}", target.format);
+        let Some((_, pipeline)) = self
+            .raster_pipelines
+            .iter()
+            .find(|(f, _)| *f == target.format)
+        else {
+            panic!(
+                "raster pass supports Rgba32Float and Rgba16Float targets, not {:?}",
+                target.format
+            );
         };
         let camera = self.camera_bind_group(frame.gpu, view_proj, eye);
         let mut pass = begin_scene_pass(frame.encoder, target, self.scene.background, "raster");
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &camera, &[]);
-        pass.set_bind_group(1, if specular_as_diffuse { &self.raster_bind_group } else { &self.scene_bind_group }, &[]);
+        pass.set_bind_group(
+            1,
+            if specular_as_diffuse {
+                &self.raster_bind_group
+            } else {
+                &self.scene_bind_group
+            },
+            &[],
+        );
         let keep_specular = specular_as_diffuse;
         let scene = &self.scene;
         self.draw_filtered(&mut pass, |i| {
@@ -453,7 +542,11 @@ impl GpuScene {
         for (i, d) in self.draws.iter().enumerate() {
             if include(i) && d.index_count > 0 {
                 let instance = i as u32;
-                pass.draw_indexed(d.first_index..d.first_index + d.index_count, d.base_vertex, instance..instance + 1);
+                pass.draw_indexed(
+                    d.first_index..d.first_index + d.index_count,
+                    d.base_vertex,
+                    instance..instance + 1,
+                );
             }
         }
     }
@@ -494,12 +587,19 @@ pub fn begin_scene_pass<'e>(
             view: target.color,
             depth_slice: None,
             resolve_target: None,
-            ops: wgpu::Operations { load: color_load, store: wgpu::StoreOp::Store },
+            ops: wgpu::Operations {
+                load: color_load,
+                store: wgpu::StoreOp::Store,
+            },
         })],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: target.depth,
             depth_ops: Some(wgpu::Operations {
-                load: if target.clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load },
+                load: if target.clear {
+                    wgpu::LoadOp::Clear(1.0)
+                } else {
+                    wgpu::LoadOp::Load
+                },
                 store: wgpu::StoreOp::Store,
             }),
             stencil_ops: None,
@@ -513,7 +613,10 @@ pub fn begin_scene_pass<'e>(
 fn depth_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
     wgpu::RenderPassDepthStencilAttachment {
         view,
-        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(1.0),
+            store: wgpu::StoreOp::Store,
+        }),
         stencil_ops: None,
     }
 }
@@ -528,33 +631,41 @@ pub fn scene_pipeline(
     fragment_entry: &str,
     format: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
-    ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("scene_vs"),
-            compilation_options: Default::default(),
-            buffers: &[Some(Vertex::layout())],
-        },
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(fragment_entry),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })],
-        }),
-        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: gpu::DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        multiview_mask: None,
-        cache: None,
-    })
+    ctx.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("scene_vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(Vertex::layout())],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fragment_entry),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: gpu::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        })
 }
 
 fn pipeline_layout(
@@ -565,43 +676,46 @@ fn pipeline_layout(
 ) -> wgpu::PipelineLayout {
     let mut layouts: Vec<Option<&wgpu::BindGroupLayout>> = vec![Some(camera), Some(scene)];
     layouts.extend(extra.iter().map(|l| Some(*l)));
-    ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("scene pipeline layout"),
-        bind_group_layouts: &layouts,
-        immediate_size: 0,
-    })
+    ctx.device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene pipeline layout"),
+            bind_group_layouts: &layouts,
+            immediate_size: 0,
+        })
 }
 
 fn camera_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("camera"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        }],
-    })
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("camera"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        })
 }
 
 fn objects_only_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("scene objects only"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: true },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        }],
-    })
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scene objects only"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        })
 }
 
 fn scene_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
@@ -632,28 +746,29 @@ fn scene_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
         ty: wgpu::BindingType::Sampler(kind),
         count: None,
     };
-    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("scene"),
-        entries: &[
-            storage(0),
-            storage(1),
-            texture(2, true, wgpu::TextureViewDimension::D2Array),
-            sampler(3, wgpu::SamplerBindingType::Filtering),
-            texture(4, false, wgpu::TextureViewDimension::CubeArray),
-            sampler(5, wgpu::SamplerBindingType::NonFiltering),
-            texture(7, false, wgpu::TextureViewDimension::D2Array),
-            wgpu::BindGroupLayoutEntry {
-                binding: 6,
-                visibility: all,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scene"),
+            entries: &[
+                storage(0),
+                storage(1),
+                texture(2, true, wgpu::TextureViewDimension::D2Array),
+                sampler(3, wgpu::SamplerBindingType::Filtering),
+                texture(4, false, wgpu::TextureViewDimension::CubeArray),
+                sampler(5, wgpu::SamplerBindingType::NonFiltering),
+                texture(7, false, wgpu::TextureViewDimension::D2Array),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: all,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
                 },
-                count: None,
-            },
-        ],
-    })
+            ],
+        })
 }
 
 fn pack_meshes(objects: &[Object]) -> (Vec<Vertex>, Vec<u32>, Vec<DrawRange>) {
@@ -665,11 +780,18 @@ fn pack_meshes(objects: &[Object]) -> (Vec<Vertex>, Vec<u32>, Vec<DrawRange>) {
             base_vertex: vertices.len() as i32,
         });
         indices.extend_from_slice(&o.mesh.indices);
-        vertices.extend(o.mesh.positions.iter().zip(&o.mesh.normals).zip(&o.mesh.uvs).map(|((p, n), uv)| Vertex {
-            position: p.to_array(),
-            normal: n.to_array(),
-            uv: uv.to_array(),
-        }));
+        vertices.extend(
+            o.mesh
+                .positions
+                .iter()
+                .zip(&o.mesh.normals)
+                .zip(&o.mesh.uvs)
+                .map(|((p, n), uv)| Vertex {
+                    position: p.to_array(),
+                    normal: n.to_array(),
+                    uv: uv.to_array(),
+                }),
+        );
     }
     (vertices, indices, draws)
 }
@@ -681,11 +803,21 @@ fn object_records(scene: &Scene, time: f32) -> Vec<ObjectGpu> {
         .map(|o| {
             let normal = Mat4::from_mat3(o.normal_matrix_at(time));
             let (albedo, kind, ior, n, k) = match &o.material {
-                Material::Diffuse { albedo, texture } => {
-                    (albedo.extend(texture.map_or(-1.0, |t| t as f32)), 0.0, 1.0, Vec3::ZERO, Vec3::ZERO)
-                }
+                Material::Diffuse { albedo, texture } => (
+                    albedo.extend(texture.map_or(-1.0, |t| t as f32)),
+                    0.0,
+                    1.0,
+                    Vec3::ZERO,
+                    Vec3::ZERO,
+                ),
                 Material::Metal { n, k } => (Vec4::new(0.7, 0.7, 0.7, -1.0), 1.0, 1.0, *n, *k),
-                Material::Glass { ior } => (Vec4::new(0.7, 0.7, 0.7, -1.0), 2.0, *ior, Vec3::ZERO, Vec3::ZERO),
+                Material::Glass { ior } => (
+                    Vec4::new(0.7, 0.7, 0.7, -1.0),
+                    2.0,
+                    *ior,
+                    Vec3::ZERO,
+                    Vec3::ZERO,
+                ),
             };
             ObjectGpu {
                 model: o.world_at(time).to_cols_array_2d(),
@@ -704,7 +836,12 @@ fn object_records(scene: &Scene, time: f32) -> Vec<ObjectGpu> {
 /// sizes than the largest are resampled to it (nearest), which only imported glTF scenes
 /// with mixed sizes hit.
 fn upload_textures(ctx: &Context, scene: &Scene) -> Result<wgpu::TextureView, SceneError> {
-    let size = scene.textures.iter().map(|t| t.width.max(t.height)).max().unwrap_or(1);
+    let size = scene
+        .textures
+        .iter()
+        .map(|t| t.width.max(t.height))
+        .max()
+        .unwrap_or(1);
     ctx.check_size(size, size)?;
     let layers = scene.textures.len().max(1) as u32;
     let mut data = Vec::with_capacity((size * size * 4 * layers) as usize);
@@ -724,7 +861,11 @@ fn upload_textures(ctx: &Context, scene: &Scene) -> Result<wgpu::TextureView, Sc
         &ctx.queue,
         &wgpu::TextureDescriptor {
             label: Some("albedo textures"),
-            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: layers,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -761,8 +902,12 @@ impl FittedShadow {
         let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
         let view = glam::camera::rh::view::look_at_mat4(light, center, up);
         let near = ((d - radius) * 0.9).max(0.01);
-        let proj = glam::camera::rh::proj::directx::perspective(2.0 * half, 1.0, near, (d + radius) * 1.1);
-        Some(Self { view_proj: proj * view, tan_half_fov: half.tan() })
+        let proj =
+            glam::camera::rh::proj::directx::perspective(2.0 * half, 1.0, near, (d + radius) * 1.1);
+        Some(Self {
+            view_proj: proj * view,
+            tan_half_fov: half.tan(),
+        })
     }
 }
 
@@ -779,7 +924,12 @@ fn scene_bounding_sphere(scene: &Scene) -> (Vec3, f32) {
             lo = lo.min(w);
             hi = hi.max(w);
         }
-        travel = o.motion.keys.iter().map(|(_, v)| v.length()).fold(travel, f32::max);
+        travel = o
+            .motion
+            .keys
+            .iter()
+            .map(|(_, v)| v.length())
+            .fold(travel, f32::max);
     }
     if !lo.is_finite() {
         return (Vec3::ZERO, 0.0);

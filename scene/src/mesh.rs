@@ -36,15 +36,19 @@ pub fn merge(meshes: &[Mesh]) -> Mesh {
 /// Axis-aligned box between `lo` and `hi`, outward normals, 24 vertices.
 pub fn cuboid(lo: Vec3, hi: Vec3) -> Mesh {
     let s = hi - lo;
-    let (x, y, z) = (Vec3::new(s.x, 0.0, 0.0), Vec3::new(0.0, s.y, 0.0), Vec3::new(0.0, 0.0, s.z));
+    let (x, y, z) = (
+        Vec3::new(s.x, 0.0, 0.0),
+        Vec3::new(0.0, s.y, 0.0),
+        Vec3::new(0.0, 0.0, s.z),
+    );
     let one = Vec2::ONE;
     merge(&[
-        quad(lo, z, y, one),                 // -X
-        quad(lo + x + z, -z, y, one),        // +X
-        quad(lo, x, z, one),                 // -Y
-        quad(lo + y + z, x, -z, one),        // +Y
-        quad(lo + x, -x, y, one),            // -Z
-        quad(lo + z, x, y, one),             // +Z
+        quad(lo, z, y, one),          // -X
+        quad(lo + x + z, -z, y, one), // +X
+        quad(lo, x, z, one),          // -Y
+        quad(lo + y + z, x, -z, one), // +Y
+        quad(lo + x, -x, y, one),     // -Z
+        quad(lo + z, x, y, one),      // +Z
     ])
 }
 
@@ -66,10 +70,17 @@ pub fn uv_sphere(r: f32, stacks: u32, slices: u32) -> Mesh {
         let theta = PI * i as f32 / stacks as f32;
         for j in 0..=slices {
             let phi = 2.0 * PI * j as f32 / slices as f32;
-            let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin());
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            );
             m.positions.push(n * r);
             m.normals.push(n);
-            m.uvs.push(Vec2::new(j as f32 / slices as f32, i as f32 / stacks as f32));
+            m.uvs.push(Vec2::new(
+                j as f32 / slices as f32,
+                i as f32 / stacks as f32,
+            ));
         }
     }
     let row = slices + 1;
@@ -111,12 +122,18 @@ pub fn cylinder(r: f32, h: f32, slices: u32) -> Mesh {
         c.uvs.push(Vec2::splat(0.5));
         for j in 0..=slices {
             let phi = 2.0 * PI * j as f32 / slices as f32;
-            c.positions.push(Vec3::new(phi.cos() * r, y, -phi.sin() * r));
+            c.positions
+                .push(Vec3::new(phi.cos() * r, y, -phi.sin() * r));
             c.normals.push(n);
-            c.uvs.push(Vec2::new(0.5 + 0.5 * phi.cos(), 0.5 - 0.5 * phi.sin()));
+            c.uvs
+                .push(Vec2::new(0.5 + 0.5 * phi.cos(), 0.5 - 0.5 * phi.sin()));
         }
         for j in 1..=slices {
-            if up { c.indices.extend([0, j, j + 1]) } else { c.indices.extend([0, j + 1, j]) }
+            if up {
+                c.indices.extend([0, j, j + 1])
+            } else {
+                c.indices.extend([0, j + 1, j])
+            }
         }
         c
     };
@@ -142,7 +159,8 @@ mod tests {
                 if face.length() < 1e-9 {
                     continue;
                 }
-                let n = mesh.normals[t[0] as usize] + mesh.normals[t[1] as usize]
+                let n = mesh.normals[t[0] as usize]
+                    + mesh.normals[t[1] as usize]
                     + mesh.normals[t[2] as usize];
                 assert!(face.dot(n) > 0.0, "triangle {t:?} winds against its normal");
             }

@@ -71,7 +71,11 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
 
 /// sRGB transfer function of a linear value (IEC 61966-2-1), input already in [0, 1].
 pub fn linear_to_srgb(v: f32) -> f32 {
-    if v <= 0.003_130_8 { v * 12.92 } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }
+    if v <= 0.003_130_8 {
+        v * 12.92
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
 }
 
 /// One linear channel to an sRGB byte: clamp to [0, 1] (NaN counts as 0, +inf as 1), sRGB
@@ -86,7 +90,11 @@ pub fn channel_to_srgb8(v: f32) -> u8 {
 pub fn to_srgb8(image: &HdrImage) -> Vec<u8> {
     let mut out = Vec::with_capacity(image.pixels.len() * 3);
     for p in &image.pixels {
-        out.extend_from_slice(&[channel_to_srgb8(p[0]), channel_to_srgb8(p[1]), channel_to_srgb8(p[2])]);
+        out.extend_from_slice(&[
+            channel_to_srgb8(p[0]),
+            channel_to_srgb8(p[1]),
+            channel_to_srgb8(p[2]),
+        ]);
     }
     out
 }
@@ -104,9 +112,17 @@ pub fn compare(test: &HdrImage, reference: &HdrImage, mask: Option<&[bool]>) -> 
         "metrics::compare: test and reference differ in size"
     );
     let n = test.pixels.len();
-    assert_eq!(reference.pixels.len(), n, "metrics::compare: reference pixel count");
+    assert_eq!(
+        reference.pixels.len(),
+        n,
+        "metrics::compare: reference pixel count"
+    );
     if let Some(m) = mask {
-        assert_eq!(m.len(), n, "metrics::compare: the mask needs one entry per pixel");
+        assert_eq!(
+            m.len(),
+            n,
+            "metrics::compare: the mask needs one entry per pixel"
+        );
     }
 
     let finite = |p: &[f32; 4]| p[..3].iter().all(|c| c.is_finite());
@@ -122,8 +138,16 @@ pub fn compare(test: &HdrImage, reference: &HdrImage, mask: Option<&[bool]>) -> 
             counted += 1;
         }
     }
-    let rmse = if counted == 0 { f64::NAN } else { (sum_sq / (3 * counted) as f64).sqrt() };
-    let psnr_db = if rmse == 0.0 { f64::INFINITY } else { 20.0 * (1.0 / rmse).log10() };
+    let rmse = if counted == 0 {
+        f64::NAN
+    } else {
+        (sum_sq / (3 * counted) as f64).sqrt()
+    };
+    let psnr_db = if rmse == 0.0 {
+        f64::INFINITY
+    } else {
+        20.0 * (1.0 / rmse).log10()
+    };
 
     let values = if n == 0 {
         Vec::new()
@@ -133,14 +157,28 @@ pub fn compare(test: &HdrImage, reference: &HdrImage, mask: Option<&[bool]>) -> 
         let t8 = nv_flip::FlipImageRgb8::with_data(w, h, &to_srgb8(test));
         nv_flip::flip(r8, t8, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec()
     };
-    let map = FlipMap { width: test.width, height: test.height, values };
+    let map = FlipMap {
+        width: test.width,
+        height: test.height,
+        values,
+    };
     let flip_mean = map.mean();
     let over = map.values.iter().filter(|&&v| v > 0.1).count();
-    let flip_over_0_1_pct = if n == 0 { f64::NAN } else { 100.0 * over as f64 / n as f64 };
+    let flip_over_0_1_pct = if n == 0 {
+        f64::NAN
+    } else {
+        100.0 * over as f64 / n as f64
+    };
     let (flip_mean_masked, masked_pixels) = match mask {
         Some(m) => {
             let masked = m.iter().filter(|&&b| b).count();
-            let mean = mean(map.values.iter().zip(m).filter(|(_, b)| **b).map(|(v, _)| *v as f64));
+            let mean = mean(
+                map.values
+                    .iter()
+                    .zip(m)
+                    .filter(|(_, b)| **b)
+                    .map(|(v, _)| *v as f64),
+            );
             (mean, masked)
         }
         None => (f64::NAN, 0),
@@ -162,7 +200,11 @@ mod tests {
     use super::*;
 
     fn constant(w: u32, h: u32, v: [f32; 4]) -> HdrImage {
-        HdrImage { width: w, height: h, pixels: vec![v; (w * h) as usize] }
+        HdrImage {
+            width: w,
+            height: h,
+            pixels: vec![v; (w * h) as usize],
+        }
     }
 
     fn gradient(w: u32, h: u32) -> HdrImage {
@@ -237,7 +279,12 @@ mod tests {
         }
         let (m, map) = compare(&t, &r, Some(&mask));
         assert_eq!(m.masked_pixels, 64);
-        assert!(m.flip_mean_masked > m.flip_mean, "{} vs {}", m.flip_mean_masked, m.flip_mean);
+        assert!(
+            m.flip_mean_masked > m.flip_mean,
+            "{} vs {}",
+            m.flip_mean_masked,
+            m.flip_mean
+        );
         assert!(m.flip_over_0_1_pct > 0.0 && m.flip_over_0_1_pct < 100.0);
         assert_eq!(map.to_magma_rgb8().len(), (w * h * 3) as usize);
         // An empty mask gives NaN, reported as an empty cell.

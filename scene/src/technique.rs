@@ -94,7 +94,12 @@ pub trait Technique {
     /// not return its own model here: the reference already renders everything the scene
     /// defines, volumes included (participating media, `crate::media`), and the harness's
     /// primary error is against it.
-    fn ground_truth(&self, _scene: &Scene, _view: &View, _reference: &gpu::HdrImage) -> Option<gpu::HdrImage> {
+    fn ground_truth(
+        &self,
+        _scene: &Scene,
+        _view: &View,
+        _reference: &gpu::HdrImage,
+    ) -> Option<gpu::HdrImage> {
         None
     }
     /// Builds per-scene resources; GPU work recorded into `frame` is timed as "prepare".
@@ -114,10 +119,19 @@ pub trait Technique {
 pub fn check_param(id: &str, params: &[Param], name: &str, value: f64) -> TechniqueResult<()> {
     let Some(p) = params.iter().find(|p| p.name == name) else {
         let names: Vec<_> = params.iter().map(|p| p.name).collect();
-        return Err(TechniqueError::UnknownParam(id.into(), name.into(), names.join(", ")));
+        return Err(TechniqueError::UnknownParam(
+            id.into(),
+            name.into(),
+            names.join(", "),
+        ));
     };
     if !(value >= p.min && value <= p.max) || (p.integer && value.fract() != 0.0) {
-        return Err(TechniqueError::ParamOutOfRange(name.into(), value, p.min, p.max));
+        return Err(TechniqueError::ParamOutOfRange(
+            name.into(),
+            value,
+            p.min,
+            p.max,
+        ));
     }
     Ok(())
 }

@@ -15,7 +15,12 @@ use gpu::wgpu;
 use gpu::{Context, Target};
 
 fn main_target(target: &Target) -> RasterTarget<'_> {
-    RasterTarget { color: &target.color_view, depth: &target.depth_view, format: gpu::HDR_FORMAT, clear: true }
+    RasterTarget {
+        color: &target.color_view,
+        depth: &target.depth_view,
+        format: gpu::HDR_FORMAT,
+        clear: true,
+    }
 }
 
 /// The ground truth as a technique: renders on the CPU and uploads the image.
@@ -25,7 +30,9 @@ pub struct ReferenceTechnique {
 
 impl Default for ReferenceTechnique {
     fn default() -> Self {
-        Self { options: ReferenceOptions::default() }
+        Self {
+            options: ReferenceOptions::default(),
+        }
     }
 }
 
@@ -38,8 +45,22 @@ impl Technique for ReferenceTechnique {
     }
     fn params(&self) -> Vec<Param> {
         vec![
-            Param { name: "max_depth", default: 8.0, min: 0.0, max: 64.0, integer: true, help: "specular bounces followed" },
-            Param { name: "photons", default: ReferenceOptions::default().photons as f64, min: 0.0, max: 1e9, integer: true, help: "caustic photons per frame (0: no caustics)" },
+            Param {
+                name: "max_depth",
+                default: 8.0,
+                min: 0.0,
+                max: 64.0,
+                integer: true,
+                help: "specular bounces followed",
+            },
+            Param {
+                name: "photons",
+                default: ReferenceOptions::default().photons as f64,
+                min: 0.0,
+                max: 1e9,
+                integer: true,
+                help: "caustic photons per frame (0: no caustics)",
+            },
         ]
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
@@ -59,8 +80,22 @@ impl Technique for ReferenceTechnique {
     fn prepare(&mut self, _frame: &mut Frame, _scene: &GpuScene) -> TechniqueResult<()> {
         Ok(())
     }
-    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
-        let image = reference::render(&scene.scene, &view.camera, view.time, view.width, view.height, &self.options).image;
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let image = reference::render(
+            &scene.scene,
+            &view.camera,
+            view.time,
+            view.width,
+            view.height,
+            &self.options,
+        )
+        .image;
         upload_image(frame.gpu, target, &image.pixels);
         Ok(())
     }
@@ -71,7 +106,11 @@ pub fn upload_image(ctx: &Context, target: &Target, pixels: &[[f32; 4]]) {
     ctx.queue.write_texture(
         target.color.as_image_copy(),
         bytemuck::cast_slice(pixels),
-        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(16 * target.width), rows_per_image: Some(target.height) },
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(16 * target.width),
+            rows_per_image: Some(target.height),
+        },
         target.color.size(),
     );
 }
@@ -93,9 +132,22 @@ impl Technique for RasterTechnique {
     fn prepare(&mut self, _frame: &mut Frame, _scene: &GpuScene) -> TechniqueResult<()> {
         Ok(())
     }
-    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
         let view_proj = view.camera.view_proj(view.width, view.height);
-        scene.raster(frame, &main_target(target), view_proj, view.camera.eye, &ObjectFilter::All, true);
+        scene.raster(
+            frame,
+            &main_target(target),
+            view_proj,
+            view.camera.eye,
+            &ObjectFilter::All,
+            true,
+        );
         Ok(())
     }
 }
@@ -117,33 +169,38 @@ pub struct EnvMap {
 
 impl Default for ClassicEnvMap {
     fn default() -> Self {
-        Self { resolution: 256, maps: Vec::new(), pipeline: None }
+        Self {
+            resolution: 256,
+            maps: Vec::new(),
+            pipeline: None,
+        }
     }
 }
 
 /// Layout of `@group(2)` in envmap.wgsl: a cube texture and a filtering sampler.
 pub fn envmap_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("environment map"),
-        entries: &[
-            wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                    view_dimension: wgpu::TextureViewDimension::Cube,
-                    multisampled: false,
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("environment map"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::Cube,
+                        multisampled: false,
+                    },
+                    count: None,
                 },
-                count: None,
-            },
-            wgpu::BindGroupLayoutEntry {
-                binding: 1,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                count: None,
-            },
-        ],
-    })
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        })
 }
 
 /// Renders the diffuse scene (without `object`) into the six faces of `cube` from `object`'s
@@ -159,7 +216,14 @@ pub fn render_environment(frame: &mut Frame, scene: &GpuScene, cube: &CubeTarget
             format: cube.format,
             clear: true,
         };
-        scene.raster(frame, &target, view_proj, center, &ObjectFilter::Except(vec![object]), false);
+        scene.raster(
+            frame,
+            &target,
+            view_proj,
+            center,
+            &ObjectFilter::Except(vec![object]),
+            false,
+        );
     }
 }
 
@@ -171,7 +235,14 @@ impl Technique for ClassicEnvMap {
         "classic environment map from each specular object's centre (direction-only lookup)".into()
     }
     fn params(&self) -> Vec<Param> {
-        vec![Param { name: "resolution", default: 256.0, min: 4.0, max: 4096.0, integer: true, help: "cube map face size (texels)" }]
+        vec![Param {
+            name: "resolution",
+            default: 256.0,
+            min: 4.0,
+            max: 4096.0,
+            integer: true,
+            help: "cube map face size (texels)",
+        }]
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         check_param(&self.id(), &self.params(), name, value)?;
@@ -195,24 +266,56 @@ impl Technique for ClassicEnvMap {
             if !o.material.is_specular() {
                 continue;
             }
-            let cube = CubeTarget::new(ctx, self.resolution, wgpu::TextureFormat::Rgba16Float, "classic environment map")?;
+            let cube = CubeTarget::new(
+                ctx,
+                self.resolution,
+                wgpu::TextureFormat::Rgba16Float,
+                "classic environment map",
+            )?;
             let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("environment map"),
                 layout: &layout,
                 entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&cube.cube_view) },
-                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&sampler) },
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&cube.cube_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::Sampler(&sampler),
+                    },
                 ],
             });
-            self.maps.push(EnvMap { object, cube, bind_group });
+            self.maps.push(EnvMap {
+                object,
+                cube,
+                bind_group,
+            });
         }
-        let source = format!("{}\n{}", crate::SCENE_WGSL, include_str!("shaders/envmap.wgsl"));
+        let source = format!(
+            "{}\n{}",
+            crate::SCENE_WGSL,
+            include_str!("shaders/envmap.wgsl")
+        );
         let module = gpu::shader_with_prelude(ctx, "envmap/classic", &source);
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
-        self.pipeline = Some(crate::scene_pipeline(ctx, "envmap/classic", &pipeline_layout, &module, "envmap_fs", gpu::HDR_FORMAT));
+        self.pipeline = Some(crate::scene_pipeline(
+            ctx,
+            "envmap/classic",
+            &pipeline_layout,
+            &module,
+            "envmap_fs",
+            gpu::HDR_FORMAT,
+        ));
         Ok(())
     }
-    fn render(&mut self, frame: &mut Frame, scene: &GpuScene, view: &View, target: &Target) -> TechniqueResult<()> {
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
         frame.timer.begin(frame.encoder, "regenerate");
         for map in &self.maps {
             render_environment(frame, scene, &map.cube, map.object);
@@ -221,10 +324,28 @@ impl Technique for ClassicEnvMap {
 
         let view_proj = view.camera.view_proj(view.width, view.height);
         let specular: Vec<usize> = self.maps.iter().map(|m| m.object).collect();
-        scene.raster(frame, &main_target(target), view_proj, view.camera.eye, &ObjectFilter::Except(specular), false);
+        scene.raster(
+            frame,
+            &main_target(target),
+            view_proj,
+            view.camera.eye,
+            &ObjectFilter::Except(specular),
+            false,
+        );
         let camera = scene.camera_bind_group(frame.gpu, view_proj, view.camera.eye);
-        let pipeline = self.pipeline.as_ref().expect("prepare() runs before render()");
-        let mut pass = crate::begin_scene_pass(frame.encoder, &RasterTarget { clear: false, ..main_target(target) }, scene.scene.background, "envmap/classic");
+        let pipeline = self
+            .pipeline
+            .as_ref()
+            .expect("prepare() runs before render()");
+        let mut pass = crate::begin_scene_pass(
+            frame.encoder,
+            &RasterTarget {
+                clear: false,
+                ..main_target(target)
+            },
+            scene.scene.background,
+            "envmap/classic",
+        );
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &camera, &[]);
         pass.set_bind_group(1, scene.bind_group(), &[]);

@@ -16,13 +16,24 @@ pub fn render(technique: &mut dyn Technique, scene: &Scene, size: u32) -> gpu::H
     let mut gpu_scene = GpuScene::new(ctx, scene).expect("scene uploads");
     let target = gpu::Target::new(ctx, size, size).expect("target");
     let mut timer = gpu::GpuTimer::new(ctx, 64);
-    let view = View { camera: scene.camera, time: 0.0, width: size, height: size };
+    let view = View {
+        camera: scene.camera,
+        time: 0.0,
+        width: size,
+        height: size,
+    };
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     {
-        let mut frame = Frame { gpu: ctx, encoder: &mut encoder, timer: &mut timer };
+        let mut frame = Frame {
+            gpu: ctx,
+            encoder: &mut encoder,
+            timer: &mut timer,
+        };
         gpu_scene.set_time(&mut frame, 0.0);
         technique.prepare(&mut frame, &gpu_scene).expect("prepare");
-        technique.render(&mut frame, &gpu_scene, &view, &target).expect("render");
+        technique
+            .render(&mut frame, &gpu_scene, &view, &target)
+            .expect("render");
     }
     timer.submit_and_collect(ctx, encoder).expect("submit");
     target.read(ctx).expect("read back")
@@ -31,6 +42,9 @@ pub fn render(technique: &mut dyn Technique, scene: &Scene, size: u32) -> gpu::H
 /// The ground truth at the default view, with caustics off unless asked (they only add light
 /// under specular objects, and cost most of the reference's time).
 pub fn reference(scene: &Scene, size: u32, photons: u64) -> scene::reference::ReferenceImage {
-    let options = scene::reference::ReferenceOptions { photons, ..Default::default() };
+    let options = scene::reference::ReferenceOptions {
+        photons,
+        ..Default::default()
+    };
     scene::reference::render(scene, &scene.camera, 0.0, size, size, &options)
 }

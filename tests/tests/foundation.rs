@@ -17,8 +17,16 @@ fn raster_matches_reference_on_diffuse_cornell_sphere() {
     println!("raster vs reference, diffuse cornell-sphere 128^2: {m:?}");
     assert_eq!(m.nan_pixels, 0);
     // Measured 2026-11: FLIP 0.00085, RMSE 0.0025, 0.24% of pixels over 0.1 (shadow edges).
-    assert!(m.flip_mean < 0.005, "FLIP mean {} over bound 0.005", m.flip_mean);
-    assert!(m.flip_over_0_1_pct < 1.0, "{}% pixels with FLIP > 0.1", m.flip_over_0_1_pct);
+    assert!(
+        m.flip_mean < 0.005,
+        "FLIP mean {} over bound 0.005",
+        m.flip_mean
+    );
+    assert!(
+        m.flip_over_0_1_pct < 1.0,
+        "{}% pixels with FLIP > 0.1",
+        m.flip_over_0_1_pct
+    );
     assert!(m.rmse < 0.01, "RMSE {}", m.rmse);
 }
 
@@ -45,7 +53,9 @@ fn classic_envmap_renders_every_specular_scene() {
         let truth = reference(&scene, size, 0);
         let special = scene.special_objects();
         let lit = (0..image.pixels.len())
-            .filter(|&i| truth.object_ids[i] >= 0 && special.contains(&(truth.object_ids[i] as usize)))
+            .filter(|&i| {
+                truth.object_ids[i] >= 0 && special.contains(&(truth.object_ids[i] as usize))
+            })
             .filter(|&i| image.pixels[i][..3].iter().sum::<f32>() > 1e-3)
             .count();
         assert!(lit > 20, "{spec}: specular object shows {lit} lit pixels");
@@ -63,5 +73,9 @@ fn classic_envmap_is_near_reference_on_mirror_sphere() {
     let (m, _) = scene::metrics::compare(&image, &truth.image, Some(&truth.mask));
     println!("classic vs reference, mirror cornell-sphere 96^2: {m:?}");
     assert!(m.masked_pixels > 500);
-    assert!(m.flip_mean_masked < 0.5, "masked FLIP {}", m.flip_mean_masked);
+    assert!(
+        m.flip_mean_masked < 0.5,
+        "masked FLIP {}",
+        m.flip_mean_masked
+    );
 }

@@ -19,7 +19,11 @@ fn every_technique_renders_finite_pixels_on_every_supported_scene() {
             let image = workspace_tests::render(technique.as_mut(), &scene, size);
             let bad = image.non_finite_count();
             if bad > 0 {
-                failures.push(format!("{} on {}: {bad} non-finite pixels", technique.id(), info.name));
+                failures.push(format!(
+                    "{} on {}: {bad} non-finite pixels",
+                    technique.id(),
+                    info.name
+                ));
             }
         }
     }

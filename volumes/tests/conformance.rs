@@ -24,7 +24,10 @@ const EPS: f32 = f32::EPSILON;
 
 fn ctx() -> &'static gpu::Context {
     static CTX: OnceLock<gpu::Context> = OnceLock::new();
-    CTX.get_or_init(|| gpu::Context::new().unwrap_or_else(|e| panic!("the conformance test needs a GPU adapter: {e}")))
+    CTX.get_or_init(|| {
+        gpu::Context::new()
+            .unwrap_or_else(|e| panic!("the conformance test needs a GPU adapter: {e}"))
+    })
 }
 
 /// Four `vec4` arguments per case; two `vec4` results.
@@ -118,8 +121,12 @@ fn run_kernel(entry: &str, cases: &[Case]) -> Vec<Output> {
 }
 
 fn run_kernel_with(path_length_wgsl: &str, entry: &str, cases: &[Case]) -> Vec<Output> {
-    let source = format!("{}\n{path_length_wgsl}\n{KERNELS}", gpu::prelude::PRELUDE_WGSL);
-    gpu::compute::run_kernel(ctx(), &source, entry, cases, 1).unwrap_or_else(|e| panic!("kernel {entry}: {e}"))
+    let source = format!(
+        "{}\n{path_length_wgsl}\n{KERNELS}",
+        gpu::prelude::PRELUDE_WGSL
+    );
+    gpu::compute::run_kernel(ctx(), &source, entry, cases, 1)
+        .unwrap_or_else(|e| panic!("kernel {entry}: {e}"))
 }
 
 /// Deterministic random numbers: stream `s`, case `i`, component `k`.
@@ -138,7 +145,12 @@ fn unit(s: u32, i: u32, k: u32) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
-fn check(entry: &str, cases: &[Case], failures: &mut Vec<String>, ok: impl Fn(&Case, &Output) -> Result<(), String>) {
+fn check(
+    entry: &str,
+    cases: &[Case],
+    failures: &mut Vec<String>,
+    ok: impl Fn(&Case, &Output) -> Result<(), String>,
+) {
     let out = run_kernel(entry, cases);
     for (case, o) in cases.iter().zip(&out) {
         if let Err(msg) = ok(case, o) {
@@ -164,48 +176,89 @@ fn opacity_and_visible_length_match_the_twin() {
     let mut failures = Vec::new();
     let mut cases: Vec<Case> = (0..RANDOM_CASES)
         .map(|i| {
-            let len = if i % 7 == 0 { range(1, i, 0, -1.0, 0.0) } else { range(1, i, 0, 0.0, 8.0) };
-            [Vec4::new(len, range(1, i, 1, 0.0, 3.0), (i % 3) as f32, 0.0), Vec4::ZERO, Vec4::ZERO, Vec4::ZERO]
+            let len = if i % 7 == 0 {
+                range(1, i, 0, -1.0, 0.0)
+            } else {
+                range(1, i, 0, 0.0, 8.0)
+            };
+            [
+                Vec4::new(len, range(1, i, 1, 0.0, 3.0), (i % 3) as f32, 0.0),
+                Vec4::ZERO,
+                Vec4::ZERO,
+                Vec4::ZERO,
+            ]
         })
         .collect();
     for kind in 0..3 {
         for len in [0.0, 1.0, 1e-7, 1e30] {
-            cases.push([Vec4::new(len, 0.6, kind as f32, 0.0), Vec4::ZERO, Vec4::ZERO, Vec4::ZERO]);
+            cases.push([
+                Vec4::new(len, 0.6, kind as f32, 0.0),
+                Vec4::ZERO,
+                Vec4::ZERO,
+                Vec4::ZERO,
+            ]);
         }
     }
     check("k_opacity", &cases, &mut failures, |c, o| {
         let cpu = opacity_from_length(c[0].z as u32, c[0].x, c[0].y);
-        close(o[0].x, cpu, 2e-5 + 2e-5 * cpu).then_some(()).ok_or_else(|| format!("opacity {} vs {cpu}", o[0].x))
+        close(o[0].x, cpu, 2e-5 + 2e-5 * cpu)
+            .then_some(())
+            .ok_or_else(|| format!("opacity {} vs {cpu}", o[0].x))
     });
 
     let cases: Vec<Case> = (0..RANDOM_CASES)
         .map(|i| {
             let (a, b) = (range(2, i, 0, -10.0, 10.0), range(2, i, 1, -10.0, 10.0));
-            [Vec4::new(a.min(b), a.max(b), scene_t(2, i), 0.0), Vec4::ZERO, Vec4::ZERO, Vec4::ZERO]
+            [
+                Vec4::new(a.min(b), a.max(b), scene_t(2, i), 0.0),
+                Vec4::ZERO,
+                Vec4::ZERO,
+                Vec4::ZERO,
+            ]
         })
         .collect();
     check("k_visible", &cases, &mut failures, |c, o| {
         let cpu = visible_length(c[0].x, c[0].y, c[0].z);
         let tol = 1e-6 * (c[0].x.abs() + c[0].y.abs() + c[0].z.abs().min(100.0));
-        close(o[0].x, cpu, tol).then_some(()).ok_or_else(|| format!("visible {} vs {cpu}", o[0].x))
+        close(o[0].x, cpu, tol)
+            .then_some(())
+            .ok_or_else(|| format!("visible {} vs {cpu}", o[0].x))
     });
-    assert!(failures.is_empty(), "{} mismatches:\n{}", failures.len(), failures[..failures.len().min(20)].join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} mismatches:\n{}",
+        failures.len(),
+        failures[..failures.len().min(20)].join("\n")
+    );
 }
 
 #[test]
 fn sphere_path_length_matches_the_twin() {
     let mut cases: Vec<Case> = (0..RANDOM_CASES)
         .map(|i| {
-            let c = Vec3::new(range(3, i, 0, -5.0, 5.0), range(3, i, 1, -5.0, 5.0), range(3, i, 2, -5.0, 5.0));
+            let c = Vec3::new(
+                range(3, i, 0, -5.0, 5.0),
+                range(3, i, 1, -5.0, 5.0),
+                range(3, i, 2, -5.0, 5.0),
+            );
             let r = range(3, i, 3, 0.05, 3.0);
             let o = if i % 4 == 0 {
                 c + unit(3, i, 4) * r * range(3, i, 6, 0.0, 0.95) // eye inside
             } else {
-                Vec3::new(range(3, i, 7, -8.0, 8.0), range(3, i, 8, -8.0, 8.0), range(3, i, 9, -8.0, 8.0))
+                Vec3::new(
+                    range(3, i, 7, -8.0, 8.0),
+                    range(3, i, 8, -8.0, 8.0),
+                    range(3, i, 9, -8.0, 8.0),
+                )
             };
             let aim = c + unit(3, i, 10) * r * range(3, i, 12, 0.0, 1.2);
             let d = (aim - o).normalize_or(Vec3::X);
-            [o.extend(scene_t(3, i)), d.extend(0.0), c.extend(r), Vec4::ZERO]
+            [
+                o.extend(scene_t(3, i)),
+                d.extend(0.0),
+                c.extend(r),
+                Vec4::ZERO,
+            ]
         })
         .collect();
     // Tangent rays and an eye at the centre.
@@ -215,12 +268,28 @@ fn sphere_path_length_matches_the_twin() {
         let n = unit(4, i, 0);
         let d = (unit(4, i, 2) - n * unit(4, i, 2).dot(n)).normalize_or(n.any_orthonormal_vector());
         let o = c + n * r - d * range(4, i, 4, 0.0, 6.0);
-        cases.push([o.extend(scene_t(4, i)), d.extend(0.0), c.extend(r), Vec4::ZERO]);
+        cases.push([
+            o.extend(scene_t(4, i)),
+            d.extend(0.0),
+            c.extend(r),
+            Vec4::ZERO,
+        ]);
     }
-    cases.push([Vec3::ZERO.extend(10.0), Vec3::X.extend(0.0), Vec3::ZERO.extend(1.0), Vec4::ZERO]);
+    cases.push([
+        Vec3::ZERO.extend(10.0),
+        Vec3::X.extend(0.0),
+        Vec3::ZERO.extend(1.0),
+        Vec4::ZERO,
+    ]);
     let mut failures = Vec::new();
     check("k_sphere", &cases, &mut failures, |c, o| {
-        let (orig, d, center, r, s) = (c[0].truncate(), c[1].truncate(), c[2].truncate(), c[2].w, c[0].w);
+        let (orig, d, center, r, s) = (
+            c[0].truncate(),
+            c[1].truncate(),
+            c[2].truncate(),
+            c[2].w,
+            c[0].w,
+        );
         let cpu = sphere_path_length(orig, d, center, r, s);
         let oc = orig - center;
         let b = oc.dot(d);
@@ -229,16 +298,27 @@ fn sphere_path_length_matches_the_twin() {
         if !o[0].x.is_finite() {
             return Err("non-finite".into());
         }
-        close(o[0].x, cpu, tol).then_some(()).ok_or_else(|| format!("length {} vs {cpu} (tol {tol})", o[0].x))
+        close(o[0].x, cpu, tol)
+            .then_some(())
+            .ok_or_else(|| format!("length {} vs {cpu} (tol {tol})", o[0].x))
     });
-    assert!(failures.is_empty(), "{} mismatches:\n{}", failures.len(), failures[..failures.len().min(20)].join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} mismatches:\n{}",
+        failures.len(),
+        failures[..failures.len().min(20)].join("\n")
+    );
 }
 
 #[test]
 fn billboard_primitives_match_the_twin() {
     let mut cases: Vec<Case> = Vec::new();
     for i in 0..RANDOM_CASES {
-        let c = Vec3::new(range(5, i, 0, -5.0, 5.0), range(5, i, 1, -5.0, 5.0), range(5, i, 2, -5.0, 5.0));
+        let c = Vec3::new(
+            range(5, i, 0, -5.0, 5.0),
+            range(5, i, 1, -5.0, 5.0),
+            range(5, i, 2, -5.0, 5.0),
+        );
         let r = range(5, i, 3, 0.05, 3.0);
         let o = c + unit(5, i, 4) * range(5, i, 6, 0.2, 10.0);
         let n = (o - c).normalize();
@@ -256,17 +336,32 @@ fn billboard_primitives_match_the_twin() {
             continue;
         }
         let tex = range(5, i, 10, -0.2, 1.2);
-        cases.push([o.extend(scene_t(5, i)), d.extend(tex), c.extend(r), n.extend(angle)]);
+        cases.push([
+            o.extend(scene_t(5, i)),
+            d.extend(tex),
+            c.extend(r),
+            n.extend(angle),
+        ]);
     }
     let mut failures = Vec::new();
     check("k_billboard", &cases, &mut failures, |c, o| {
-        let (orig, d, center, r, s, tex) = (c[0].truncate(), c[1].truncate(), c[2].truncate(), c[2].w, c[0].w, c[1].w);
+        let (orig, d, center, r, s, tex) = (
+            c[0].truncate(),
+            c[1].truncate(),
+            c[2].truncate(),
+            c[2].w,
+            c[0].w,
+            c[1].w,
+        );
         let n = c[3].truncate();
         let (right, up) = billboard_axes(n, c[3].w);
         let b = billboard_coords(orig, d, center, right, up, n, r);
         let scale = (orig - center).length() + 1.0;
         let uv_tol = 1e-4 * scale / r;
-        if !(close(o[0].x, b.x, uv_tol) && close(o[0].y, b.y, uv_tol) && close(o[0].z, b.z, 1e-4 * scale)) {
+        if !(close(o[0].x, b.x, uv_tol)
+            && close(o[0].y, b.y, uv_tol)
+            && close(o[0].z, b.z, 1e-4 * scale))
+        {
             return Err(format!("coords {:?} vs {b:?}", o[0].truncate()));
         }
         let uv = Vec2::new(b.x, b.y);
@@ -274,9 +369,13 @@ fn billboard_primitives_match_the_twin() {
         if !close(o[0].w, hs, 2e-3) {
             return Err(format!("sphere profile {} vs {hs}", o[0].w));
         }
-        let near_edge = (uv.length_squared() - 1.0).abs() < 1e-3 || (b.x.abs() - b.y.abs()).abs() < 1e-3;
+        let near_edge =
+            (uv.length_squared() - 1.0).abs() < 1e-3 || (b.x.abs() - b.y.abs()).abs() < 1e-3;
         let tol = 2e-4 * ((orig - center).length() + r);
-        for (k, kind) in [PRIMITIVE_CONSTANT, PRIMITIVE_LINEAR, PRIMITIVE_TEXTURE].into_iter().enumerate() {
+        for (k, kind) in [PRIMITIVE_CONSTANT, PRIMITIVE_LINEAR, PRIMITIVE_TEXTURE]
+            .into_iter()
+            .enumerate()
+        {
             let cpu = billboard_path_length(b.z, r * half_thickness(kind, uv, tex), s);
             let gpu = o[1][k];
             if !gpu.is_finite() || gpu < 0.0 || gpu > 2.0 * r + tol {
@@ -289,7 +388,12 @@ fn billboard_primitives_match_the_twin() {
         Ok(())
     });
     assert!(cases.len() > 3000);
-    assert!(failures.is_empty(), "{} mismatches:\n{}", failures.len(), failures[..failures.len().min(20)].join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} mismatches:\n{}",
+        failures.len(),
+        failures[..failures.len().min(20)].join("\n")
+    );
 }
 
 #[test]
@@ -303,7 +407,12 @@ fn slice_alpha_matches_the_twin() {
         let near = -r + k as f32 * delta;
         let h = range(6, i, 2, 0.0, 1.0) * r;
         cases.push([
-            Vec4::new((i % 3) as f32, range(6, i, 3, 0.0, 2.0), h, range(6, i, 4, 1.0, 3.0)),
+            Vec4::new(
+                (i % 3) as f32,
+                range(6, i, 3, 0.0, 2.0),
+                h,
+                range(6, i, 4, 1.0, 3.0),
+            ),
             Vec4::new(near, near + delta, 0.0, 0.0),
             Vec4::ZERO,
             Vec4::ZERO,
@@ -311,7 +420,8 @@ fn slice_alpha_matches_the_twin() {
     }
     let mut failures = Vec::new();
     check("k_slice", &cases, &mut failures, |c, o| {
-        let (kind, density, h, obliquity, near, far) = (c[0].x as u32, c[0].y, c[0].z, c[0].w, c[1].x, c[1].y);
+        let (kind, density, h, obliquity, near, far) =
+            (c[0].x as u32, c[0].y, c[0].z, c[0].w, c[1].x, c[1].y);
         let cpu = slice_alpha(kind, density, h, near, far, obliquity);
         let gpu = o[0].x;
         if !(0.0..=1.0).contains(&gpu) {
@@ -323,9 +433,16 @@ fn slice_alpha_matches_the_twin() {
             return Ok(());
         }
         let tol = 1e-4 + 1e-5 / (1.0 - a_near);
-        close(gpu, cpu, tol).then_some(()).ok_or_else(|| format!("alpha {gpu} vs {cpu}"))
+        close(gpu, cpu, tol)
+            .then_some(())
+            .ok_or_else(|| format!("alpha {gpu} vs {cpu}"))
     });
-    assert!(failures.is_empty(), "{} mismatches:\n{}", failures.len(), failures[..failures.len().min(20)].join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} mismatches:\n{}",
+        failures.len(),
+        failures[..failures.len().min(20)].join("\n")
+    );
 }
 
 /// The comparison can fail: a copy of the WGSL with the logarithmic function's argument 1%
@@ -336,22 +453,45 @@ fn mutated_shaders_are_detected() {
     assert_ne!(broken_log, PATH_LENGTH_WGSL);
     let cases: Vec<Case> = (0..256)
         .map(|i| {
-            [Vec4::new(range(7, i, 0, 0.1, 2.0), 0.3, OPACITY_LOG as f32, 0.0), Vec4::ZERO, Vec4::ZERO, Vec4::ZERO]
+            [
+                Vec4::new(range(7, i, 0, 0.1, 2.0), 0.3, OPACITY_LOG as f32, 0.0),
+                Vec4::ZERO,
+                Vec4::ZERO,
+                Vec4::ZERO,
+            ]
         })
         .collect();
     let out = run_kernel_with(&broken_log, "k_opacity", &cases);
     let caught = cases
         .iter()
         .zip(&out)
-        .filter(|(c, o)| !close(o[0].x, opacity_from_length(OPACITY_LOG, c[0].x, 0.3), 2e-5 + 2e-5 * o[0].x))
+        .filter(|(c, o)| {
+            !close(
+                o[0].x,
+                opacity_from_length(OPACITY_LOG, c[0].x, 0.3),
+                2e-5 + 2e-5 * o[0].x,
+            )
+        })
         .count();
-    assert!(caught > 250, "only {caught} of {} cases caught a 1% error in the log function", cases.len());
+    assert!(
+        caught > 250,
+        "only {caught} of {} cases caught a 1% error in the log function",
+        cases.len()
+    );
 
-    let broken_slice = PATH_LENGTH_WGSL.replace("(1.0 - a_far) / (1.0 - a_near)", "(1.0 - a_near) / (1.0 - a_far)");
+    let broken_slice = PATH_LENGTH_WGSL.replace(
+        "(1.0 - a_far) / (1.0 - a_near)",
+        "(1.0 - a_near) / (1.0 - a_far)",
+    );
     assert_ne!(broken_slice, PATH_LENGTH_WGSL);
     let cases: Vec<Case> = (0..256)
         .map(|i| {
-            [Vec4::new(0.0, 0.5, 1.0, 1.0), Vec4::new(range(8, i, 0, -1.0, 0.8), 0.0, 0.0, 0.0), Vec4::ZERO, Vec4::ZERO]
+            [
+                Vec4::new(0.0, 0.5, 1.0, 1.0),
+                Vec4::new(range(8, i, 0, -1.0, 0.8), 0.0, 0.0, 0.0),
+                Vec4::ZERO,
+                Vec4::ZERO,
+            ]
         })
         .map(|mut c| {
             c[1].y = c[1].x + 0.2;
@@ -364,5 +504,9 @@ fn mutated_shaders_are_detected() {
         .zip(&out)
         .filter(|(c, o)| !close(o[0].x, slice_alpha(0, 0.5, 1.0, c[1].x, c[1].y, 1.0), 1e-3))
         .count();
-    assert!(caught > 200, "only {caught} of {} cases caught an inverted slice share", cases.len());
+    assert!(
+        caught > 200,
+        "only {caught} of {} cases caught an inverted slice share",
+        cases.len()
+    );
 }

@@ -21,22 +21,32 @@ fn vec3_in(lo: f32, hi: f32) -> impl Strategy<Value = Vec3> {
 /// A ray aimed near a sphere: origin anywhere around it, direction toward a point of the
 /// sphere's bounding box (so that most rays hit), plus the sphere.
 fn ray_and_sphere() -> impl Strategy<Value = (Vec3, Vec3, Vec3, f32)> {
-    (vec3_in(-5.0, 5.0), 0.05f32..3.0, vec3_in(-8.0, 8.0), vec3_in(-1.2, 1.2), unit_vec()).prop_map(
-        |(c, r, o, aim, fallback)| {
+    (
+        vec3_in(-5.0, 5.0),
+        0.05f32..3.0,
+        vec3_in(-8.0, 8.0),
+        vec3_in(-1.2, 1.2),
+        unit_vec(),
+    )
+        .prop_map(|(c, r, o, aim, fallback)| {
             let d = (c + aim * r - o).normalize_or(fallback);
             (o, d, c, r)
-        },
-    )
+        })
 }
 
 /// A ray from outside or inside aimed at a point inside the sphere: it always hits.
 fn ray_hitting_sphere() -> impl Strategy<Value = (Vec3, Vec3, Vec3, f32)> {
-    (vec3_in(-5.0, 5.0), 0.05f32..3.0, vec3_in(-8.0, 8.0), vec3_in(-1.0, 1.0), unit_vec()).prop_map(
-        |(c, r, o, aim, fallback)| {
+    (
+        vec3_in(-5.0, 5.0),
+        0.05f32..3.0,
+        vec3_in(-8.0, 8.0),
+        vec3_in(-1.0, 1.0),
+        unit_vec(),
+    )
+        .prop_map(|(c, r, o, aim, fallback)| {
             let d = (c + aim.clamp_length_max(0.98) * r - o).normalize_or(fallback);
             (o, d, c, r)
-        },
-    )
+        })
 }
 
 /// A float at most 8 ulps from 1.
@@ -45,7 +55,12 @@ fn near_one() -> impl Strategy<Value = f32> {
 }
 
 fn scene_distance() -> impl Strategy<Value = f32> {
-    prop_oneof![0.0f32..20.0, Just(f32::INFINITY), Just(gpu::prelude::BIG), -1.0f32..0.0]
+    prop_oneof![
+        0.0f32..20.0,
+        Just(f32::INFINITY),
+        Just(gpu::prelude::BIG),
+        -1.0f32..0.0
+    ]
 }
 
 fn opacity_kind() -> impl Strategy<Value = u32> {

@@ -17,7 +17,8 @@
 //!
 //! Then, with `NODEVICE_SELECT=1` (silences Mesa's device-select layer), it runs
 //!
-//! - `test`: `cargo test --workspace [ARGS...]` (every member: unit, integration and doc
+//! - `test`: `cargo fmt --all --check` (the style of `rustfmt.toml`), then
+//!   `cargo test --workspace [ARGS...]` (every member: unit, integration and doc
 //!   tests; `-p NAME` in ARGS replaces `--workspace`);
 //! - `compare`: `cargo run -p harness -- compare --out out [ARGS...]` (`--out DIR` in ARGS
 //!   replaces `--out out`). It uses the dev profile on purpose: the workspace's dev profile
@@ -31,7 +32,11 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-const ICD_DIRS: &[&str] = &["/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d", "/usr/local/share/vulkan/icd.d"];
+const ICD_DIRS: &[&str] = &[
+    "/usr/share/vulkan/icd.d",
+    "/etc/vulkan/icd.d",
+    "/usr/local/share/vulkan/icd.d",
+];
 
 fn usage() -> ExitCode {
     eprintln!(
@@ -44,7 +49,9 @@ fn usage() -> ExitCode {
 
 fn main() -> ExitCode {
     let mut args = std::env::args().skip(1);
-    let Some(job) = args.next() else { return usage() };
+    let Some(job) = args.next() else {
+        return usage();
+    };
     let rest: Vec<String> = args.collect();
     let command = match job.as_str() {
         "test" => test_command(&rest),
@@ -61,7 +68,30 @@ fn main() -> ExitCode {
     if let Err(code) = ensure_prerequisites() {
         return code;
     }
+    if job == "test" {
+        let status = check_format();
+        if status != ExitCode::SUCCESS {
+            return status;
+        }
+    }
     run(&command)
+}
+
+/// `cargo fmt --all --check`: one style for the workspace (`rustfmt.toml`), checked before the
+/// tests so that an unformatted change fails CI with the diff, not later in review.
+fn check_format() -> ExitCode {
+    if !succeeds(&cargo(), &["fmt", "--version"]) {
+        eprintln!(
+            "error: rustfmt is not installed; `cargo xtask test` checks the format first. \
+             Install it with `rustup component add rustfmt`"
+        );
+        return ExitCode::FAILURE;
+    }
+    let status = run(&[cargo(), "fmt".into(), "--all".into(), "--check".into()]);
+    if status != ExitCode::SUCCESS {
+        eprintln!("error: the workspace is not rustfmt-clean; run `cargo fmt --all`");
+    }
+    status
 }
 
 /// The cargo that runs us (`cargo xtask` sets `CARGO`), else `cargo` from PATH.
@@ -70,14 +100,24 @@ fn cargo() -> String {
 }
 
 fn has_flag(args: &[String], names: &[&str]) -> bool {
-    args.iter().any(|a| names.iter().any(|n| a == n || a.starts_with(&format!("{n}="))))
+    args.iter().any(|a| {
+        names
+            .iter()
+            .any(|n| a == n || a.starts_with(&format!("{n}=")))
+    })
 }
 
 /// `cargo test --workspace ARGS` (without `--workspace` when ARGS pick packages).
 fn test_command(rest: &[String]) -> Vec<String> {
     let mut cmd = vec![cargo(), "test".to_string()];
-    let before_separator = rest.iter().position(|a| a == "--").map_or(rest, |i| &rest[..i]);
-    if !has_flag(before_separator, &["-p", "--package", "--workspace", "--all"]) {
+    let before_separator = rest
+        .iter()
+        .position(|a| a == "--")
+        .map_or(rest, |i| &rest[..i]);
+    if !has_flag(
+        before_separator,
+        &["-p", "--package", "--workspace", "--all"],
+    ) {
         cmd.push("--workspace".into());
     }
     cmd.extend(rest.iter().cloned());
@@ -104,11 +144,17 @@ fn compare_command(rest: &[String]) -> Vec<String> {
 }
 
 fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."))
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."))
 }
 
 fn shell_quote(s: &str) -> String {
-    if !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@".contains(c)) {
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@".contains(c))
+    {
         s.to_string()
     } else {
         format!("'{}'", s.replace('\'', "'\\''"))
@@ -117,8 +163,13 @@ fn shell_quote(s: &str) -> String {
 
 fn print_command(cmd: &[String]) {
     // The program by its file name (`cargo`, not the toolchain's full path).
-    let program = Path::new(&cmd[0]).file_name().map_or(cmd[0].clone(), |n| n.to_string_lossy().into_owned());
-    let shown: Vec<String> = std::iter::once(program).chain(cmd[1..].iter().cloned()).map(|s| shell_quote(&s)).collect();
+    let program = Path::new(&cmd[0])
+        .file_name()
+        .map_or(cmd[0].clone(), |n| n.to_string_lossy().into_owned());
+    let shown: Vec<String> = std::iter::once(program)
+        .chain(cmd[1..].iter().cloned())
+        .map(|s| shell_quote(&s))
+        .collect();
     eprintln!("+ {}", shown.join(" "));
 }
 
@@ -157,19 +208,31 @@ fn succeeds(program: &str, args: &[&str]) -> bool {
 fn has_vulkan_icd() -> bool {
     ICD_DIRS.iter().any(|dir| {
         std::fs::read_dir(dir).is_ok_and(|entries| {
-            entries.flatten().any(|e| e.path().extension().is_some_and(|x| x == "json"))
+            entries
+                .flatten()
+                .any(|e| e.path().extension().is_some_and(|x| x == "json"))
         })
     })
 }
 
 fn has_vulkan_loader() -> bool {
-    let listed = ["/sbin/ldconfig", "ldconfig"].iter().find_map(|p| output(p, &["-p"]));
+    let listed = ["/sbin/ldconfig", "ldconfig"]
+        .iter()
+        .find_map(|p| output(p, &["-p"]));
     match listed {
-        Some(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).contains("libvulkan.so.1"),
+        Some(o) if o.status.success() => {
+            String::from_utf8_lossy(&o.stdout).contains("libvulkan.so.1")
+        }
         // No ldconfig: look in the usual library folders.
-        _ => ["/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu", "/usr/lib64", "/usr/lib", "/lib"]
-            .iter()
-            .any(|d| Path::new(d).join("libvulkan.so.1").exists()),
+        _ => [
+            "/usr/lib/x86_64-linux-gnu",
+            "/usr/lib/aarch64-linux-gnu",
+            "/usr/lib64",
+            "/usr/lib",
+            "/lib",
+        ]
+        .iter()
+        .any(|d| Path::new(d).join("libvulkan.so.1").exists()),
     }
 }
 
@@ -194,7 +257,11 @@ fn missing_prerequisites() -> Vec<Missing> {
         });
     }
     if !succeeds("c++", &["--version"]) && !succeeds("g++", &["--version"]) {
-        missing.push(Missing { what: "a C++ compiler (nv-flip builds FLIP)", packages: &["g++"], required: true });
+        missing.push(Missing {
+            what: "a C++ compiler (nv-flip builds FLIP)",
+            packages: &["g++"],
+            required: true,
+        });
     }
     if !succeeds("pkg-config", &["--exists", "fontconfig"]) {
         missing.push(Missing {
@@ -205,7 +272,11 @@ fn missing_prerequisites() -> Vec<Missing> {
     }
     let fonts = output("fc-list", &[]).is_some_and(|o| o.status.success() && !o.stdout.is_empty());
     if !fonts {
-        missing.push(Missing { what: "a font (text in sweep.png)", packages: &["fonts-dejavu-core"], required: false });
+        missing.push(Missing {
+            what: "a font (text in sweep.png)",
+            packages: &["fonts-dejavu-core"],
+            required: false,
+        });
     }
     missing
 }
@@ -218,14 +289,23 @@ fn ensure_prerequisites() -> Result<(), ExitCode> {
     }
     for m in &missing {
         let note = if m.required { "" } else { " (optional)" };
-        eprintln!("xtask: missing {}{note}: package {}", m.what, m.packages.join(" "));
+        eprintln!(
+            "xtask: missing {}{note}: package {}",
+            m.what,
+            m.packages.join(" ")
+        );
     }
-    let packages: Vec<&str> = missing.iter().flat_map(|m| m.packages.iter().copied()).collect();
+    let packages: Vec<&str> = missing
+        .iter()
+        .flat_map(|m| m.packages.iter().copied())
+        .collect();
     let required = missing.iter().any(|m| m.required);
     let has_apt = succeeds("apt-get", &["--version"]);
     if is_root() && has_apt {
         let update = ["apt-get", "update"].map(String::from).to_vec();
-        let mut install = ["apt-get", "install", "-y", "--no-install-recommends"].map(String::from).to_vec();
+        let mut install = ["apt-get", "install", "-y", "--no-install-recommends"]
+            .map(String::from)
+            .to_vec();
         install.extend(packages.iter().map(|p| p.to_string()));
         for cmd in [update, install] {
             print_command(&cmd);
@@ -236,12 +316,23 @@ fn ensure_prerequisites() -> Result<(), ExitCode> {
                 .is_ok_and(|s| s.success());
             if !ok {
                 eprintln!("error: `{}` failed", cmd.join(" "));
-                return if required { Err(ExitCode::FAILURE) } else { Ok(()) };
+                return if required {
+                    Err(ExitCode::FAILURE)
+                } else {
+                    Ok(())
+                };
             }
         }
-        let still: Vec<Missing> = missing_prerequisites().into_iter().filter(|m| m.required).collect();
+        let still: Vec<Missing> = missing_prerequisites()
+            .into_iter()
+            .filter(|m| m.required)
+            .collect();
         if let Some(m) = still.first() {
-            eprintln!("error: still missing {} after installing {}", m.what, packages.join(" "));
+            eprintln!(
+                "error: still missing {} after installing {}",
+                m.what,
+                packages.join(" ")
+            );
             return Err(ExitCode::FAILURE);
         }
         return Ok(());
@@ -277,7 +368,10 @@ mod tests {
     #[test]
     fn test_command_passes_arguments_through() {
         assert_eq!(test_command(&[])[1..], strings(&["test", "--workspace"]));
-        assert_eq!(test_command(&strings(&["-p", "harness"]))[1..], strings(&["test", "-p", "harness"]));
+        assert_eq!(
+            test_command(&strings(&["-p", "harness"]))[1..],
+            strings(&["test", "-p", "harness"])
+        );
         assert_eq!(
             test_command(&strings(&["--", "-p"]))[1..],
             strings(&["test", "--workspace", "--", "-p"])
@@ -286,10 +380,23 @@ mod tests {
 
     #[test]
     fn compare_command_defaults_and_overrides() {
-        assert_eq!(compare_command(&[])[1..], strings(&["run", "-p", "harness", "--", "compare", "--out", "out"]));
+        assert_eq!(
+            compare_command(&[])[1..],
+            strings(&["run", "-p", "harness", "--", "compare", "--out", "out"])
+        );
         assert_eq!(
             compare_command(&strings(&["--release", "--out=x", "--size", "64x64"]))[1..],
-            strings(&["run", "--release", "-p", "harness", "--", "compare", "--out=x", "--size", "64x64"])
+            strings(&[
+                "run",
+                "--release",
+                "-p",
+                "harness",
+                "--",
+                "compare",
+                "--out=x",
+                "--size",
+                "64x64"
+            ])
         );
     }
 
