@@ -36,10 +36,7 @@ use std::str::FromStr;
 pub fn registry() -> Vec<Box<dyn Technique>> {
     let mut techniques: Vec<Box<dyn Technique>> = Vec::new();
     // ---- REGISTRY: one line per technique crate (and add the crate to harness/Cargo.toml) ----
-    // The foundation's techniques (scene::techniques).
-    techniques.push(Box::new(scene::techniques::ReferenceTechnique::default()));
-    techniques.push(Box::new(scene::techniques::RasterTechnique));
-    techniques.push(Box::new(scene::techniques::ClassicEnvMap::default()));
+    techniques.extend(scene::foundation::techniques());
     // Technique crates:
     techniques.extend(impostors::techniques());
     techniques.extend(volumes::techniques());

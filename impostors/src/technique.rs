@@ -2,7 +2,7 @@
 //!
 //! Per specular object the technique keeps an environment impostor: a cube map taken from the
 //! object's centre by the shared raster pass (rgb = radiance, alpha = distance from the
-//! centre; `scene::techniques::render_environment`). It is regenerated only when the object
+//! centre; `scene::foundation::render_environment`). It is regenerated only when the object
 //! has moved farther than `regen_threshold` from the map's reference point (0: every frame),
 //! inside a "regenerate" timer span. In the split layout the distances are copied into a
 //! one-channel `R16Float` cube beside the radiance (paper section 6). For double refraction
@@ -549,7 +549,7 @@ impl Technique for Impostor {
             frame.timer.begin(frame.encoder, "regenerate");
             for &i in &stale {
                 let m = &mut state.maps[i];
-                scene::techniques::render_environment(frame, scene, &m.env, m.object);
+                scene::foundation::render_environment(frame, scene, &m.env, m.object);
                 if let Some(split) = &m.split {
                     copy_distances(frame, &state.split_pipeline, split);
                 }

@@ -3,7 +3,7 @@
 //! cube map.
 //!
 //! The map is real: cornell-sphere's environment rendered from the sphere's centre by
-//! `scene::techniques::render_environment` into an `Rgba32Float` cube (64 texels a face),
+//! `scene::foundation::render_environment` into an `Rgba32Float` cube (64 texels a face),
 //! read back face by face with `gpu::read_texture_f32x4`.
 //!
 //! *Nearest* (`wgsl_hit_matches_the_rust_twin`): the GPU samples through a `Nearest`
@@ -208,7 +208,7 @@ fn fixture() -> Fixture {
     let mut gpu_scene = GpuScene::new(ctx, &scene).unwrap();
     let cube = CubeTarget::new(ctx, SIZE, gpu::HDR_FORMAT, "conformance impostor").unwrap();
     common::submit(ctx, &mut gpu_scene, 0.0, |frame, s| {
-        scene::techniques::render_environment(frame, s, &cube, sphere);
+        scene::foundation::render_environment(frame, s, &cube, sphere);
     });
     let faces: Vec<Vec<[f32; 4]>> = (0..6)
         .map(|f| gpu::read_texture_f32x4(ctx, &cube.color, f).unwrap())

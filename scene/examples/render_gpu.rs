@@ -3,7 +3,7 @@
 //!
 //! `cargo run -p scene --example render_gpu -- cornell-sphere envmap/classic out.png 256`
 
-use scene::techniques::{ClassicEnvMap, RasterTechnique};
+use scene::foundation::{ClassicEnvMap, RasterTechnique};
 use scene::{Frame, GpuScene, Technique, View};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -6,6 +6,7 @@ pub mod builtin;
 mod bunny;
 pub mod bvh;
 pub mod city;
+pub mod foundation;
 pub mod gltf_io;
 mod gpu_scene;
 pub mod media;
@@ -14,7 +15,6 @@ pub mod metrics;
 mod model;
 pub mod reference;
 pub mod technique;
-pub mod techniques;
 
 pub use gpu_scene::{
     BACKGROUND_DISTANCE, DrawRange, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL,

@@ -1,7 +1,7 @@
 //! The foundation's cross-crate claims: the shared raster pass agrees with the reference where
 //! nothing is specular, and the classic environment map renders every specular scene.
 
-use scene::techniques::{ClassicEnvMap, RasterTechnique};
+use scene::foundation::{ClassicEnvMap, RasterTechnique};
 use workspace_tests::{reference, render};
 
 /// Where nothing is specular, `raster` and `reference` compute the same diffuse model; they

@@ -21,7 +21,7 @@
 //! volume pass and of the depth pre-pass inside the frame.
 
 use gpu::{GpuTimer, HdrImage, Target, TimeStats};
-use scene::techniques::RasterTechnique;
+use scene::foundation::RasterTechnique;
 use scene::{Camera, Frame, GpuScene, Technique, View};
 use std::collections::BTreeMap;
 use volumes::{VolumeSet, ground_truth};

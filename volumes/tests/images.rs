@@ -17,7 +17,7 @@
 
 use glam::Vec3;
 use gpu::{GpuTimer, HdrImage, Target};
-use scene::techniques::RasterTechnique;
+use scene::foundation::RasterTechnique;
 use scene::{Camera, Frame, GpuScene, Scene, Technique, View};
 use std::collections::BTreeMap;
 use std::sync::OnceLock;

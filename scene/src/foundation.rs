@@ -14,6 +14,15 @@ use gpu::cube::{CubeTarget, cube_face_view_proj};
 use gpu::wgpu;
 use gpu::{Context, Target};
 
+/// The foundation's variants, fresh: `reference`, `raster`, `envmap/classic`.
+pub fn techniques() -> Vec<Box<dyn Technique>> {
+    vec![
+        Box::new(ReferenceTechnique::default()),
+        Box::new(RasterTechnique),
+        Box::new(ClassicEnvMap::default()),
+    ]
+}
+
 fn main_target(target: &Target) -> RasterTarget<'_> {
     RasterTarget {
         color: &target.color_view,
