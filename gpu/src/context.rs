@@ -42,6 +42,8 @@ pub struct Context {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub summary: AdapterSummary,
+    /// The shared samplers, made once with the device.
+    pub samplers: crate::bind::Samplers,
 }
 
 impl Context {
@@ -85,12 +87,14 @@ impl Context {
             driver: format!("{} {}", info.driver, info.driver_info),
             is_software: info.device_type == wgpu::DeviceType::Cpu,
         };
+        let samplers = crate::bind::Samplers::new(&device);
         Ok(Self {
             instance,
             adapter,
             device,
             queue,
             summary,
+            samplers,
         })
     }
 

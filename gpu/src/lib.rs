@@ -1,16 +1,20 @@
-//! The shared GPU layer of the workspace: one headless wgpu [`Context`], HDR render targets
-//! and read-back, cube-map targets, depth peeling, a full-screen pass, GPU timers, and the
+//! The shared GPU layer of the workspace: one headless wgpu [`Context`] with its shared
+//! samplers, bind-group lists ([`bind`]), one-line attachments and passes ([`pass`]), the
+//! per-frame recording context [`Frame`], HDR render targets and read-back, cube-map targets, depth peeling, a full-screen pass, GPU timers, and the
 //! WGSL prelude (with its Rust twin in [`prelude`]) that every technique's shaders include.
 
+pub mod bind;
 pub mod compute;
 mod context;
 pub mod cube;
 pub mod depth_peel;
 pub mod fullscreen;
+pub mod pass;
 pub mod prelude;
 mod target;
 mod timer;
 
+pub use bind::{Samplers, Uniform};
 pub use context::{AdapterSummary, Context};
 pub use depth_peel::DepthPeeler;
 pub use target::{
@@ -19,6 +23,15 @@ pub use target::{
 };
 pub use timer::{GpuTimer, TimeStats, TimerKind};
 pub use wgpu;
+
+/// The per-frame GPU recording context: the harness opens the encoder and times it; a
+/// technique records passes into it and may bracket named parts (for example "regenerate")
+/// with the timer so they are reported apart from the frame.
+pub struct Frame<'a> {
+    pub gpu: &'a Context,
+    pub encoder: &'a mut wgpu::CommandEncoder,
+    pub timer: &'a mut GpuTimer,
+}
 
 /// Everything that can go wrong in the GPU layer, each as one sentence a user can act on.
 #[derive(Debug, thiserror::Error)]

@@ -5,14 +5,14 @@
 //! so technique crates (which depend on `gpu` and `scene` only) can reuse the classic map.
 
 use crate::reference::{self, ReferenceOptions};
-use crate::technique::check_param;
+use crate::technique::{check_param, not_prepared};
 use crate::{
     Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueResult, Timing,
     View,
 };
-use gpu::cube::{CubeTarget, cube_face_view_proj};
+use gpu::cube::CubeTarget;
 use gpu::wgpu;
-use gpu::{Context, Target};
+use gpu::{Context, Target, bind};
 
 /// The foundation's variants, fresh: `reference`, `raster`, `envmap/classic`.
 pub fn techniques() -> Vec<Box<dyn Technique>> {
@@ -188,28 +188,13 @@ impl Default for ClassicEnvMap {
 
 /// Layout of `@group(2)` in envmap.wgsl: a cube texture and a filtering sampler.
 pub fn envmap_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("environment map"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::Cube,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        })
+    let stages = wgpu::ShaderStages::FRAGMENT;
+    bind::layout(
+        ctx,
+        "environment map",
+        stages,
+        &[bind::texture_cube(), bind::sampler()],
+    )
 }
 
 /// Renders the diffuse scene (without `object`) into the six faces of `cube` from `object`'s
@@ -217,23 +202,13 @@ pub fn envmap_layout(ctx: &Context) -> wgpu::BindGroupLayout {
 /// the object. Alpha holds the per-fragment distance from the centre.
 pub fn render_environment(frame: &mut Frame, scene: &GpuScene, cube: &CubeTarget, object: usize) {
     let center = scene.scene.objects[object].center_at(scene.time());
-    for face in 0..6 {
-        let view_proj = cube_face_view_proj(face, center, 0.01, 2.0 * crate::BACKGROUND_DISTANCE);
-        let target = RasterTarget {
-            color: &cube.face_views[face],
-            depth: &cube.depth_face_views[face],
-            format: cube.format,
-            clear: true,
-        };
-        scene.raster(
-            frame,
-            &target,
-            view_proj,
-            center,
-            &ObjectFilter::Except(vec![object]),
-            false,
-        );
-    }
+    scene.raster_cube(
+        frame,
+        cube,
+        center,
+        &ObjectFilter::Except(vec![object]),
+        false,
+    );
 }
 
 impl Technique for ClassicEnvMap {
@@ -264,12 +239,6 @@ impl Technique for ClassicEnvMap {
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         let layout = envmap_layout(ctx);
-        let sampler = ctx.device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("environment sampler"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
         self.maps.clear();
         for (object, o) in scene.scene.objects.iter().enumerate() {
             if !o.material.is_specular() {
@@ -281,20 +250,15 @@ impl Technique for ClassicEnvMap {
                 wgpu::TextureFormat::Rgba16Float,
                 "classic environment map",
             )?;
-            let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("environment map"),
-                layout: &layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&cube.cube_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::Sampler(&sampler),
-                    },
+            let bind_group = bind::group(
+                ctx,
+                "environment map",
+                &layout,
+                &[
+                    bind::view(&cube.cube_view),
+                    bind::sampler_resource(&ctx.samplers.linear_clamp),
                 ],
-            });
+            );
             self.maps.push(EnvMap {
                 object,
                 cube,
@@ -342,10 +306,7 @@ impl Technique for ClassicEnvMap {
             false,
         );
         let camera = scene.camera_bind_group(frame.gpu, view_proj, view.camera.eye);
-        let pipeline = self
-            .pipeline
-            .as_ref()
-            .expect("prepare() runs before render()");
+        let pipeline = self.pipeline.as_ref().ok_or_else(|| not_prepared(self))?;
         let mut pass = crate::begin_scene_pass(
             frame.encoder,
             &RasterTarget {

@@ -14,8 +14,10 @@
 
 use crate::{Frame, Material, Object, Scene, SceneError};
 use glam::{Mat4, Vec3, Vec4};
+use gpu::cube::CubeTarget;
+use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
-use gpu::{Context, Vertex};
+use gpu::{Context, Uniform, Vertex, bind};
 
 /// Scene bindings and the shared diffuse shading model, in WGSL (needs the `gpu` prelude).
 pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
@@ -119,8 +121,8 @@ pub struct GpuScene {
     shadow_bind_group: wgpu::BindGroup,
     object_buffer: wgpu::Buffer,
     light_buffer: wgpu::Buffer,
-    info_buffer: wgpu::Buffer,
-    raster_info_buffer: wgpu::Buffer,
+    info_buffer: Uniform<SceneInfoGpu>,
+    raster_info_buffer: Uniform<SceneInfoGpu>,
     shadow_face_views: Vec<wgpu::TextureView>,
     /// Per light: the fitted 2D shadow map's projection, for lights outside the scene.
     fitted: Vec<Option<FittedShadow>>,
@@ -195,15 +197,8 @@ impl GpuScene {
             _pad: 0,
             background: scene.background.extend(0.0).to_array(),
         };
-        let uniform = |label: &str, info: SceneInfoGpu| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytemuck::bytes_of(&info),
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
-        };
-        let info_buffer = uniform("scene info", info(0));
-        let raster_info_buffer = uniform("scene info (specular as diffuse)", info(1));
+        let info_buffer = Uniform::new(ctx, "scene info", &info(0));
+        let raster_info_buffer = Uniform::new(ctx, "scene info (specular as diffuse)", &info(1));
 
         let albedo_view = upload_textures(ctx, scene)?;
         let shadow_layers = 6 * lights.len() as u32;
@@ -261,57 +256,23 @@ impl GpuScene {
 
         let camera_layout = camera_bind_group_layout(ctx);
         let scene_layout = scene_bind_group_layout(ctx);
-        let albedo_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("albedo sampler"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
-        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("shadow sampler"),
-            ..Default::default()
-        });
-        let bind = |info: &wgpu::Buffer| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("scene"),
-                layout: &scene_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: object_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: light_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: wgpu::BindingResource::TextureView(&albedo_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: wgpu::BindingResource::Sampler(&albedo_sampler),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: wgpu::BindingResource::TextureView(&shadow_cube_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 5,
-                        resource: wgpu::BindingResource::Sampler(&shadow_sampler),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 6,
-                        resource: info.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 7,
-                        resource: wgpu::BindingResource::TextureView(&fitted_array_view),
-                    },
+        let samplers = &ctx.samplers;
+        let bind = |info: &Uniform<SceneInfoGpu>| {
+            bind::group(
+                ctx,
+                "scene",
+                &scene_layout,
+                &[
+                    object_buffer.as_entire_binding(),
+                    light_buffer.as_entire_binding(),
+                    bind::view(&albedo_view),
+                    bind::sampler_resource(&samplers.linear_repeat),
+                    bind::view(&shadow_cube_view),
+                    bind::sampler_resource(&samplers.nearest_clamp),
+                    info.binding(),
+                    bind::view(&fitted_array_view),
                 ],
-            })
+            )
         };
         let scene_bind_group = bind(&info_buffer);
         let raster_bind_group = bind(&raster_info_buffer);
@@ -331,14 +292,12 @@ impl GpuScene {
         // The shadow pass writes the shadow maps, so it must not bind them: its group 1 holds
         // only the object buffer (all that scene_vs and shadow_fs read).
         let objects_layout = objects_only_layout(ctx);
-        let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("scene objects only"),
-            layout: &objects_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: object_buffer.as_entire_binding(),
-            }],
-        });
+        let shadow_bind_group = bind::group(
+            ctx,
+            "scene objects only",
+            &objects_layout,
+            &[object_buffer.as_entire_binding()],
+        );
         let shadow_layout = pipeline_layout(ctx, &camera_layout, &objects_layout, &[]);
         let shadow_pipeline = scene_pipeline(
             ctx,
@@ -385,21 +344,8 @@ impl GpuScene {
             view_proj: view_proj.to_cols_array_2d(),
             eye: eye.extend(1.0).to_array(),
         };
-        let buffer = ctx
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("camera"),
-                contents: bytemuck::bytes_of(&data),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("camera"),
-            layout: &self.camera_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffer.as_entire_binding(),
-            }],
-        })
+        let camera = Uniform::new(ctx, "camera", &data);
+        bind::group(ctx, "camera", &self.camera_layout, &[camera.binding()])
     }
 
     /// A pipeline layout with the camera at group 0, the scene at group 1 and `extra` after.
@@ -452,37 +398,108 @@ impl GpuScene {
             for (face, (view_proj, view)) in faces.into_iter().enumerate() {
                 let camera = self.camera_bind_group(frame.gpu, view_proj, light.position);
                 let writes = frame.timer.render_pass("shadow maps");
-                let mut pass = frame
-                    .encoder
-                    .begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("shadow face"),
-                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color {
-                                    r: 2.0 * BACKGROUND_DISTANCE as f64,
-                                    g: 0.0,
-                                    b: 0.0,
-                                    a: 0.0,
-                                }),
-                                store: wgpu::StoreOp::Store,
-                            },
-                        })],
-                        depth_stencil_attachment: Some(depth_attachment(
-                            &self.shadow_depth_views[face],
-                        )),
-                        timestamp_writes: writes,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
+                let far = wgpu::Color {
+                    r: 2.0 * BACKGROUND_DISTANCE as f64,
+                    g: 0.0,
+                    b: 0.0,
+                    a: 0.0,
+                };
+                let mut pass = gpu::pass::begin(
+                    frame.encoder,
+                    "shadow face",
+                    &[pass::color(view, Load::Clear(far))],
+                    Some(pass::depth(&self.shadow_depth_views[face], pass::CLEAR_FAR)),
+                    writes,
+                );
                 pass.set_pipeline(&self.shadow_pipeline);
                 pass.set_bind_group(0, &camera, &[]);
                 pass.set_bind_group(1, &self.shadow_bind_group, &[]);
                 self.draw_objects(&mut pass, &ObjectFilter::All);
             }
         }
+    }
+
+    /// Renders the six faces of `cube` as seen from `center`, the loop every cube map in the
+    /// workspace shares (distance and refractor maps, environment maps, caustic receivers):
+    /// for each face, `draw_face` gets the face's projection (near plane `near`, far plane
+    /// beyond the background sphere), its camera bind group and the face's colour and depth
+    /// views as a cleared [`RasterTarget`].
+    pub fn render_cube(
+        &self,
+        frame: &mut Frame,
+        cube: &CubeTarget,
+        center: Vec3,
+        near: f32,
+        mut draw_face: impl FnMut(&mut Frame, &CubeFace),
+    ) {
+        for index in 0..6 {
+            let view_proj =
+                gpu::cube::cube_face_view_proj(index, center, near, 2.0 * BACKGROUND_DISTANCE);
+            let face = CubeFace {
+                index,
+                view_proj,
+                eye: center,
+                camera: self.camera_bind_group(frame.gpu, view_proj, center),
+                target: RasterTarget {
+                    color: &cube.face_views[index],
+                    depth: &cube.depth_face_views[index],
+                    format: cube.format,
+                    clear: true,
+                },
+            };
+            draw_face(frame, &face);
+        }
+    }
+
+    /// The shared raster pass into every face of `cube` from `center`: an environment map
+    /// of the objects `filter` selects, radiance in rgb and the distance from `center` in
+    /// alpha (a distance impostor's map).
+    pub fn raster_cube(
+        &self,
+        frame: &mut Frame,
+        cube: &CubeTarget,
+        center: Vec3,
+        filter: &ObjectFilter,
+        specular_as_diffuse: bool,
+    ) {
+        self.render_cube(frame, cube, center, 0.01, |frame, face| {
+            self.raster(
+                frame,
+                &face.target,
+                face.view_proj,
+                face.eye,
+                filter,
+                specular_as_diffuse,
+            );
+        });
+    }
+
+    /// Draws the objects `filter` selects with `pipeline` (camera at `@group(0)`, the scene at
+    /// `@group(1)`, `extra` groups from `@group(2)`) into every face of `cube` from `center`:
+    /// how a technique renders its own per-object cube map (a refractor's distance and
+    /// normal map, for example).
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_cube(
+        &self,
+        frame: &mut Frame,
+        cube: &CubeTarget,
+        center: Vec3,
+        near: f32,
+        pipeline: &wgpu::RenderPipeline,
+        extra: &[&wgpu::BindGroup],
+        filter: &ObjectFilter,
+        label: &str,
+    ) {
+        self.render_cube(frame, cube, center, near, |frame, face| {
+            let mut pass = begin_scene_pass(frame.encoder, &face.target, Vec3::ZERO, label);
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &face.camera, &[]);
+            pass.set_bind_group(1, self.bind_group(), &[]);
+            for (i, group) in extra.iter().enumerate() {
+                pass.set_bind_group(2 + i as u32, *group, &[]);
+            }
+            self.draw_objects(&mut pass, filter);
+        });
     }
 
     /// The shared raster pass: draws the objects selected by `filter` into `target` with the
@@ -560,8 +577,22 @@ impl GpuScene {
         &self.object_buffer
     }
     pub fn info_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
-        (&self.info_buffer, &self.raster_info_buffer)
+        (self.info_buffer.buffer(), self.raster_info_buffer.buffer())
     }
+}
+
+/// One face of a cube map being rendered by [`GpuScene::render_cube`].
+pub struct CubeFace<'a> {
+    /// Layer 0..6: +X, -X, +Y, -Y, +Z, -Z.
+    pub index: usize,
+    /// World to clip for this face ([`gpu::cube::cube_face_view_proj`]).
+    pub view_proj: Mat4,
+    /// The cube's centre, the eye of every face.
+    pub eye: Vec3,
+    /// The camera bind group (`@group(0)`) of this face.
+    pub camera: wgpu::BindGroup,
+    /// The face's colour and depth views, cleared when the pass begins.
+    pub target: RasterTarget<'a>,
 }
 
 /// Begins a render pass on `target` (cleared to the background and its distance if asked).
@@ -571,54 +602,24 @@ pub fn begin_scene_pass<'e>(
     background: Vec3,
     label: &str,
 ) -> wgpu::RenderPass<'e> {
-    let color_load = if target.clear {
-        wgpu::LoadOp::Clear(wgpu::Color {
+    let (color, depth) = if target.clear {
+        let background = wgpu::Color {
             r: background.x as f64,
             g: background.y as f64,
             b: background.z as f64,
             a: BACKGROUND_DISTANCE as f64,
-        })
+        };
+        (Load::Clear(background), pass::CLEAR_FAR)
     } else {
-        wgpu::LoadOp::Load
+        (Load::Keep, Load::Keep)
     };
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: target.color,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: color_load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: target.depth,
-            depth_ops: Some(wgpu::Operations {
-                load: if target.clear {
-                    wgpu::LoadOp::Clear(1.0)
-                } else {
-                    wgpu::LoadOp::Load
-                },
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
-}
-
-fn depth_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
-    wgpu::RenderPassDepthStencilAttachment {
-        view,
-        depth_ops: Some(wgpu::Operations {
-            load: wgpu::LoadOp::Clear(1.0),
-            store: wgpu::StoreOp::Store,
-        }),
-        stencil_ops: None,
-    }
+    gpu::pass::begin(
+        encoder,
+        label,
+        &[pass::color(target.color, color)],
+        Some(pass::depth(target.depth, depth)),
+        None,
+    )
 }
 
 /// A render pipeline drawing scene objects with `scene_vs` and the given fragment entry:
@@ -645,23 +646,13 @@ pub fn scene_pipeline(
                 module,
                 entry_point: Some(fragment_entry),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
+                targets: &[pass::color_target(format, None)],
             }),
             primitive: wgpu::PrimitiveState {
                 cull_mode: None,
                 ..Default::default()
             },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: gpu::DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: Some(pass::depth_state(true, wgpu::CompareFunction::Less)),
             multisample: Default::default(),
             multiview_mask: None,
             cache: None,
@@ -685,90 +676,34 @@ fn pipeline_layout(
 }
 
 fn camera_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("camera"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        })
+    let stages = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
+    bind::layout(ctx, "camera", stages, &[bind::uniform()])
 }
 
 fn objects_only_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scene objects only"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only: true },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        })
+    let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    bind::layout(ctx, "scene objects only", stages, &[bind::storage(true)])
 }
 
+/// `@group(1)` of scene.wgsl.
 fn scene_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    let all = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
-    let storage = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: all,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let texture = |binding, filterable, dim| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: all,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable },
-            view_dimension: dim,
-            multisampled: false,
-        },
-        count: None,
-    };
-    let sampler = |binding, kind| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: all,
-        ty: wgpu::BindingType::Sampler(kind),
-        count: None,
-    };
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scene"),
-            entries: &[
-                storage(0),
-                storage(1),
-                texture(2, true, wgpu::TextureViewDimension::D2Array),
-                sampler(3, wgpu::SamplerBindingType::Filtering),
-                texture(4, false, wgpu::TextureViewDimension::CubeArray),
-                sampler(5, wgpu::SamplerBindingType::NonFiltering),
-                texture(7, false, wgpu::TextureViewDimension::D2Array),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 6,
-                    visibility: all,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
-        })
+    use wgpu::TextureViewDimension::{CubeArray, D2Array};
+    let stages = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
+    bind::layout(
+        ctx,
+        "scene",
+        stages,
+        &[
+            bind::storage(true),             // objects
+            bind::storage(true),             // lights
+            bind::texture_2d_array(),        // albedo textures
+            bind::sampler(),                 // albedo sampler
+            bind::texture(CubeArray, false), // shadow cube maps
+            bind::sampler_non_filtering(),   // shadow sampler
+            bind::uniform(),                 // scene info
+            bind::texture(D2Array, false),   // fitted shadow maps
+        ],
+    )
 }
 
 fn pack_meshes(objects: &[Object]) -> (Vec<Vertex>, Vec<u32>, Vec<DrawRange>) {

@@ -17,7 +17,7 @@ pub mod reference;
 pub mod technique;
 
 pub use gpu_scene::{
-    BACKGROUND_DISTANCE, DrawRange, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL,
+    BACKGROUND_DISTANCE, CubeFace, DrawRange, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL,
     begin_scene_pass, scene_pipeline,
 };
 pub use model::*;

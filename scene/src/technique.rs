@@ -6,7 +6,7 @@
 //! maps once per scene; `render` records one frame into the harness's encoder.
 
 use crate::{Camera, GpuScene, Scene};
-use gpu::{Context, GpuError, GpuTimer, Target};
+use gpu::{GpuError, Target};
 
 /// A declared, sweepable parameter.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,14 +30,8 @@ pub struct View {
     pub height: u32,
 }
 
-/// The per-frame GPU recording context: the harness opens the encoder and times it; a
-/// technique records passes into it and may bracket named parts (for example "regenerate")
-/// with the timer so they are reported apart from the frame.
-pub struct Frame<'a> {
-    pub gpu: &'a Context,
-    pub encoder: &'a mut gpu::wgpu::CommandEncoder,
-    pub timer: &'a mut GpuTimer,
-}
+/// The per-frame GPU recording context (it lives in `gpu`, which needs it too).
+pub use gpu::Frame;
 
 /// Errors a technique reports; each is one sentence for the user.
 #[derive(Debug, thiserror::Error)]
@@ -52,6 +46,8 @@ pub enum TechniqueError {
     ParamOutOfRange(String, f64, f64, f64),
     #[error("{0}")]
     Unsupported(String),
+    #[error("technique {0} rendered before prepare(): call prepare() once per scene first")]
+    NotPrepared(String),
 }
 
 pub type TechniqueResult<T> = Result<T, TechniqueError>;
@@ -134,4 +130,10 @@ pub fn check_param(id: &str, params: &[Param], name: &str, value: f64) -> Techni
         ));
     }
     Ok(())
+}
+
+/// The error of a technique asked to render before [`Technique::prepare`] built its
+/// resources: what every technique returns instead of panicking.
+pub fn not_prepared(technique: &(impl Technique + ?Sized)) -> TechniqueError {
+    TechniqueError::NotPrepared(technique.id())
 }
