@@ -1,13 +1,16 @@
 //! The shared GPU layer of the workspace: one headless wgpu [`Context`] with its shared
 //! samplers, bind-group lists ([`bind`]), one-line attachments and passes ([`pass`]), the
-//! per-frame recording context [`Frame`], HDR render targets and read-back, cube-map targets, depth peeling, a full-screen pass, GPU timers, and the
-//! WGSL prelude (with its Rust twin in [`prelude`]) that every technique's shaders include.
+//! per-frame recording context [`Frame`], HDR render targets and read-back, cube-map targets,
+//! the distance-map search `Hit()` ([`distance_map`], Rust twin of `shaders/hit.wgsl`), depth
+//! peeling, a full-screen pass, GPU timers, and the WGSL prelude (with its Rust twin in
+//! [`prelude`]) that every technique's shaders include.
 
 pub mod bind;
 pub mod compute;
 mod context;
 pub mod cube;
 pub mod depth_peel;
+pub mod distance_map;
 pub mod fullscreen;
 pub mod pass;
 pub mod prelude;

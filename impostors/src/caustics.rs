@@ -12,20 +12,20 @@
 //!
 //! Both also put the caustics into reflections and refractions (paper figure 11): the
 //! localized lookup adds the caustic radiance of the surface the impostor shows.
-//! Shaders: `caustic.wgsl`, `chart.wgsl`, `lightmap.wgsl`, `splat.wgsl`, `splat_quads.wgsl`.
+//! Shaders: `caustic.wgsl`, `lightmap.wgsl`, `splat.wgsl` here; `chart.wgsl` and the quad
+//! splat (`splat_quads.wgsl`) come from `scene::lightmap`.
 
-use crate::lightmap::ChartAtlas;
 use glam::Vec3;
-use gpu::cube::{CubeTarget, cube_face_view_proj};
+use gpu::cube::CubeTarget;
+use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load, color_target};
 use gpu::wgpu::{self, util::DeviceExt};
-use gpu::{Context, GpuError};
-use scene::{BACKGROUND_DISTANCE, Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
+use gpu::{Context, GpuError, Uniform, bind};
+use scene::lightmap::{CHART_WGSL, ChartAtlas, QuadSplatter};
+use scene::{Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
 
-pub const CHART_WGSL: &str = include_str!("shaders/chart.wgsl");
 pub const LIGHTMAP_WGSL: &str = include_str!("shaders/lightmap.wgsl");
 pub const CAUSTIC_WGSL: &str = include_str!("shaders/caustic.wgsl");
 const SPLAT_WGSL: &str = include_str!("shaders/splat.wgsl");
-const SPLAT_QUADS_WGSL: &str = include_str!("shaders/splat_quads.wgsl");
 
 /// Format of the caustic map's two targets (photon address, photon power).
 const PHOTON_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -116,24 +116,6 @@ struct SplatGpu {
     _pad: u32,
 }
 
-/// The uniform block `SplatQuadParams` of splat_quads.wgsl.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct SplatQuadGpu {
-    atlas: [f32; 4],
-    size: u32,
-    _pad: [u32; 3],
-}
-
-/// Gaussian of a photon's quad: sigma = R / 2, cut at the disc of radius R; `(1 / (2
-/// sigma^2), 1 / integral over the disc)` in texel units, so a photon adds its whole power.
-pub fn splat_gaussian(radius: f32) -> (f32, f32) {
-    let sigma = 0.5 * radius;
-    let k = 1.0 / (2.0 * sigma * sigma);
-    let integral = std::f32::consts::PI / k * (1.0 - (-radius * radius * k).exp());
-    (k, 1.0 / integral)
-}
-
 /// Pipelines, layouts and the shared light-map resources of one caustic variant.
 pub struct Caustics {
     settings: CausticSettings,
@@ -154,7 +136,6 @@ pub struct Caustics {
     chart_of: wgpu::Buffer,
     light_map: wgpu::Texture,
     light_map_view: wgpu::TextureView,
-    light_map_sampler: wgpu::Sampler,
 }
 
 enum Splatter {
@@ -162,10 +143,7 @@ enum Splatter {
         pipeline: wgpu::ComputePipeline,
         layout: wgpu::BindGroupLayout,
     },
-    Quads {
-        pipeline: wgpu::RenderPipeline,
-        layout: wgpu::BindGroupLayout,
-    },
+    Quads(QuadSplatter),
 }
 
 /// One caustic generator's resources.
@@ -185,68 +163,6 @@ impl GeneratorMaps {
     pub fn caustic_map(&self) -> (&wgpu::Texture, &wgpu::Texture) {
         (&self.address, &self.power)
     }
-}
-
-/// Bind-group layout entries used below.
-fn entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    ty: wgpu::BindingType,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty,
-        count: None,
-    }
-}
-fn uniform_ty() -> wgpu::BindingType {
-    wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    }
-}
-fn storage_ty(read_only: bool) -> wgpu::BindingType {
-    wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Storage { read_only },
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    }
-}
-fn texture_ty(dimension: wgpu::TextureViewDimension, filterable: bool) -> wgpu::BindingType {
-    wgpu::BindingType::Texture {
-        sample_type: wgpu::TextureSampleType::Float { filterable },
-        view_dimension: dimension,
-        multisampled: false,
-    }
-}
-fn uniform_buffer<T: bytemuck::Pod>(ctx: &Context, label: &str, value: &T) -> wgpu::Buffer {
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytemuck::bytes_of(value),
-            usage: wgpu::BufferUsages::UNIFORM,
-        })
-}
-fn bind_group(
-    ctx: &Context,
-    label: &str,
-    layout: &wgpu::BindGroupLayout,
-    resources: &[(u32, wgpu::BindingResource<'_>)],
-) -> wgpu::BindGroup {
-    let entries: Vec<_> = resources
-        .iter()
-        .map(|(binding, resource)| wgpu::BindGroupEntry {
-            binding: *binding,
-            resource: resource.clone(),
-        })
-        .collect();
-    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries,
-    })
 }
 
 /// A pipeline drawing scene objects with `scene_vs`, no culling.
@@ -279,43 +195,12 @@ fn scene_objects_pipeline(
                 cull_mode: None,
                 ..Default::default()
             },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: gpu::DEPTH_FORMAT,
-                depth_write_enabled: Some(depth.0),
-                depth_compare: Some(depth.1),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: Some(pass::depth_state(depth.0, depth.1)),
             multisample: Default::default(),
             multiview_mask: None,
             cache: None,
         })
 }
-
-fn target(
-    format: wgpu::TextureFormat,
-    blend: Option<wgpu::BlendState>,
-) -> Option<wgpu::ColorTargetState> {
-    Some(wgpu::ColorTargetState {
-        format,
-        blend,
-        write_mask: wgpu::ColorWrites::ALL,
-    })
-}
-
-/// Adds rgb, keeps the destination's alpha (the distance in the HDR target).
-const ADD_RGB: wgpu::BlendState = wgpu::BlendState {
-    color: wgpu::BlendComponent {
-        src_factor: wgpu::BlendFactor::One,
-        dst_factor: wgpu::BlendFactor::One,
-        operation: wgpu::BlendOperation::Add,
-    },
-    alpha: wgpu::BlendComponent {
-        src_factor: wgpu::BlendFactor::Zero,
-        dst_factor: wgpu::BlendFactor::One,
-        operation: wgpu::BlendOperation::Add,
-    },
-};
 
 impl Caustics {
     /// Pipelines for `settings.path`; `impostor_layout` is the localized pass's `@group(2)`.
@@ -332,37 +217,37 @@ impl Caustics {
         }
         let device = &ctx.device;
         let frag = wgpu::ShaderStages::FRAGMENT;
-        let d2array = wgpu::TextureViewDimension::D2Array;
-        let group3_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("caustics"),
-            entries: &[
-                entry(0, frag, uniform_ty()),
-                entry(1, frag, storage_ty(true)),
-                entry(2, frag, storage_ty(true)),
-                entry(3, frag, storage_ty(true)),
-                entry(4, frag, texture_ty(d2array, false)),
-                entry(5, frag, texture_ty(d2array, false)),
-                entry(6, frag, texture_ty(wgpu::TextureViewDimension::D2, true)),
-                entry(
-                    7,
-                    frag,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                ),
+        let layers = bind::texture(wgpu::TextureViewDimension::D2Array, false);
+        let group3_layout = bind::layout(
+            ctx,
+            "caustics",
+            frag,
+            &[
+                bind::uniform(),     // CausticParams
+                bind::storage(true), // grid
+                bind::storage(true), // charts
+                bind::storage(true), // chart of each object
+                layers,              // receiver info
+                layers,              // receiver albedo
+                bind::texture_2d(),  // light map
+                bind::sampler(),     // light-map sampler
             ],
-        });
-        let receiver_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("caustic receivers"),
-            entries: &[
-                entry(0, frag, uniform_ty()),
-                entry(2, frag, storage_ty(true)),
-                entry(3, frag, storage_ty(true)),
+        );
+        // The receivers' pass binds the same @group(3) declarations (lightmap.wgsl's charts at
+        // 2 and 3); it reads no grid, but keeps binding 1 so the numbers stay those of the WGSL.
+        let receiver_layout = bind::layout(
+            ctx,
+            "caustic receivers",
+            frag,
+            &[
+                bind::uniform(),
+                bind::storage(true),
+                bind::storage(true),
+                bind::storage(true),
             ],
-        });
-        let empty_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("empty"),
-            entries: &[],
-        });
-        let empty_group = bind_group(ctx, "empty", &empty_layout, &[]);
+        );
+        let empty_layout = bind::layout(ctx, "empty", frag, &[]);
+        let empty_group = bind::group(ctx, "empty", &empty_layout, &[]);
 
         let module = gpu::shader_with_prelude(ctx, "impostors caustics", localized_source);
         let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, &group3_layout]);
@@ -377,7 +262,10 @@ impl Caustics {
             &layout,
             &module,
             map_entry,
-            &[target(PHOTON_FORMAT, None), target(PHOTON_FORMAT, None)],
+            &[
+                color_target(PHOTON_FORMAT, None),
+                color_target(PHOTON_FORMAT, None),
+            ],
             less,
         );
         let apply_pipeline = scene_objects_pipeline(
@@ -386,7 +274,7 @@ impl Caustics {
             &layout,
             &module,
             apply_entry,
-            &[target(gpu::HDR_FORMAT, Some(ADD_RGB))],
+            &[color_target(gpu::HDR_FORMAT, Some(ADD_RGB_KEEP_ALPHA))],
             (false, wgpu::CompareFunction::LessEqual),
         );
         let localized_pipeline = scene_objects_pipeline(
@@ -395,7 +283,7 @@ impl Caustics {
             &layout,
             &module,
             "localized_fs",
-            &[target(gpu::HDR_FORMAT, None)],
+            &[color_target(gpu::HDR_FORMAT, None)],
             less,
         );
         let receiver_pipeline = scene_objects_pipeline(
@@ -405,14 +293,14 @@ impl Caustics {
             &module,
             "receiver_fs",
             &[
-                target(RECEIVER_INFO_FORMAT, None),
-                target(RECEIVER_ALBEDO_FORMAT, None),
+                color_target(RECEIVER_INFO_FORMAT, None),
+                color_target(RECEIVER_ALBEDO_FORMAT, None),
             ],
             less,
         );
         let splat = match settings.path {
             CausticPath::Grid => splat_compute(ctx),
-            CausticPath::LightMap => splat_quads(ctx),
+            CausticPath::LightMap => Splatter::Quads(QuadSplatter::new(ctx, LIGHT_MAP_FORMAT)),
         };
 
         let atlas = ChartAtlas::new(&scene.scene, settings.lightmap_resolution);
@@ -448,12 +336,6 @@ impl Caustics {
             view_formats: &[],
         });
         let light_map_view = light_map.create_view(&Default::default());
-        let light_map_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("light map"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
         Ok(Self {
             settings: settings.clone(),
             group3_layout,
@@ -469,7 +351,6 @@ impl Caustics {
             chart_of,
             light_map,
             light_map_view,
-            light_map_sampler,
         })
     }
 
@@ -565,70 +446,55 @@ impl Caustics {
         reference: Vec3,
     ) {
         let ctx = frame.gpu;
-        let uniform = uniform_buffer(ctx, "receiver params", &self.params(None, 1.0));
-        let group = bind_group(
+        let uniform = Uniform::new(ctx, "receiver params", &self.params(None, 1.0));
+        let group = bind::group(
             ctx,
             "caustic receivers",
             &self.receiver_layout,
             &[
-                (0, uniform.as_entire_binding()),
-                (2, self.charts.as_entire_binding()),
-                (3, self.chart_of.as_entire_binding()),
+                uniform.binding(),
+                maps.grid.as_entire_binding(),
+                self.charts.as_entire_binding(),
+                self.chart_of.as_entire_binding(),
             ],
         );
-        for face in 0..6 {
-            let view_proj = cube_face_view_proj(face, reference, 0.01, 2.0 * BACKGROUND_DISTANCE);
-            let camera = scene.camera_bind_group(ctx, view_proj, reference);
-            let clear = |view, r| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r,
-                            g: 0.0,
-                            b: 0.0,
-                            a: 0.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            };
-            let mut pass = frame
-                .encoder
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("caustic receivers"),
-                    color_attachments: &[
-                        clear(&maps.receiver_info.face_views[face], -1.0),
-                        clear(&maps.receiver_albedo.face_views[face], 0.0),
-                    ],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &maps.receiver_info.depth_face_views[face],
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
+        scene.render_cube(
+            frame,
+            &maps.receiver_info,
+            reference,
+            0.01,
+            |frame, face| {
+                let no_receiver = Load::Clear(wgpu::Color {
+                    r: -1.0,
+                    g: 0.0,
+                    b: 0.0,
+                    a: 0.0,
                 });
-            pass.set_pipeline(&self.receiver_pipeline);
-            pass.set_bind_group(0, &camera, &[]);
-            pass.set_bind_group(1, scene.bind_group(), &[]);
-            pass.set_bind_group(2, &self.empty_group, &[]);
-            pass.set_bind_group(3, &group, &[]);
-            scene.draw_objects(&mut pass, &ObjectFilter::Except(vec![object]));
-        }
+                let mut pass = gpu::pass::begin(
+                    frame.encoder,
+                    "caustic receivers",
+                    &[
+                        pass::color(face.target.color, no_receiver),
+                        pass::color(&maps.receiver_albedo.face_views[face.index], CLEAR_BLACK),
+                    ],
+                    Some(pass::depth(face.target.depth, CLEAR_FAR)),
+                    None,
+                );
+                pass.set_pipeline(&self.receiver_pipeline);
+                pass.set_bind_group(0, &face.camera, &[]);
+                pass.set_bind_group(1, scene.bind_group(), &[]);
+                pass.set_bind_group(2, &self.empty_group, &[]);
+                pass.set_bind_group(3, &group, &[]);
+                scene.draw_objects(&mut pass, &ObjectFilter::Except(vec![object]));
+            },
+        );
     }
 
     fn group3(
         &self,
         ctx: &Context,
         maps: &GeneratorMaps,
-        uniform: &wgpu::Buffer,
+        uniform: &Uniform<CausticGpu>,
     ) -> wgpu::BindGroup {
         let array_view = |t: &wgpu::Texture| {
             t.create_view(&wgpu::TextureViewDescriptor {
@@ -638,19 +504,19 @@ impl Caustics {
         };
         let info = array_view(&maps.receiver_info.color);
         let albedo = array_view(&maps.receiver_albedo.color);
-        bind_group(
+        bind::group(
             ctx,
             "caustics",
             &self.group3_layout,
             &[
-                (0, uniform.as_entire_binding()),
-                (1, maps.grid.as_entire_binding()),
-                (2, self.charts.as_entire_binding()),
-                (3, self.chart_of.as_entire_binding()),
-                (4, wgpu::BindingResource::TextureView(&info)),
-                (5, wgpu::BindingResource::TextureView(&albedo)),
-                (6, wgpu::BindingResource::TextureView(&self.light_map_view)),
-                (7, wgpu::BindingResource::Sampler(&self.light_map_sampler)),
+                uniform.binding(),
+                maps.grid.as_entire_binding(),
+                self.charts.as_entire_binding(),
+                self.chart_of.as_entire_binding(),
+                bind::view(&info),
+                bind::view(&albedo),
+                bind::view(&self.light_map_view),
+                bind::sampler_resource(&ctx.samplers.linear_clamp),
             ],
         )
     }
@@ -709,7 +575,7 @@ impl Caustics {
                 );
                 let camera = scene.camera_bind_group(ctx, proj * view, light.position);
                 let pixel_area = (2.0 * half.tan() / size as f32).powi(2);
-                let uniform = uniform_buffer(
+                let uniform = Uniform::new(
                     ctx,
                     "caustic params",
                     &self.params(Some((light, axis, pixel_area)), scale),
@@ -721,7 +587,7 @@ impl Caustics {
             }
             // No light outside the object: nothing splatted, the group still binds the maps.
             groups.push(lookup_group.unwrap_or_else(|| {
-                let uniform = uniform_buffer(ctx, "caustic params", &self.params(None, 1.0));
+                let uniform = Uniform::new(ctx, "caustic params", &self.params(None, 1.0));
                 self.group3(ctx, maps, &uniform)
             }));
         }
@@ -742,34 +608,16 @@ impl Caustics {
         let address = maps.address.create_view(&Default::default());
         let power = maps.power.create_view(&Default::default());
         let depth = maps.depth.create_view(&Default::default());
-        let clear = |view| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
-        let mut pass = frame
-            .encoder
-            .begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("caustic map"),
-                color_attachments: &[clear(&address), clear(&power)],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            "caustic map",
+            &[
+                pass::color(&address, CLEAR_BLACK),
+                pass::color(&power, CLEAR_BLACK),
+            ],
+            Some(pass::depth(&depth, CLEAR_FAR)),
+            None,
+        );
         pass.set_pipeline(&self.map_pipeline);
         pass.set_bind_group(0, camera, &[]);
         pass.set_bind_group(1, scene.bind_group(), &[]);
@@ -787,7 +635,7 @@ impl Caustics {
         let power = maps.power.create_view(&Default::default());
         match &self.splat {
             Splatter::Compute { pipeline, layout } => {
-                let uniform = uniform_buffer(
+                let uniform = Uniform::new(
                     ctx,
                     "splat params",
                     &SplatGpu {
@@ -798,15 +646,15 @@ impl Caustics {
                         _pad: 0,
                     },
                 );
-                let group = bind_group(
+                let group = bind::group(
                     ctx,
                     "caustic splat",
                     layout,
                     &[
-                        (0, wgpu::BindingResource::TextureView(&address)),
-                        (1, wgpu::BindingResource::TextureView(&power)),
-                        (2, maps.grid.as_entire_binding()),
-                        (3, uniform.as_entire_binding()),
+                        bind::view(&address),
+                        bind::view(&power),
+                        maps.grid.as_entire_binding(),
+                        uniform.binding(),
                     ],
                 );
                 let mut pass = frame
@@ -819,51 +667,16 @@ impl Caustics {
                 pass.set_bind_group(0, &group, &[]);
                 pass.dispatch_workgroups(size.div_ceil(8), size.div_ceil(8), 1);
             }
-            Splatter::Quads { pipeline, layout } => {
-                let radius = self.settings.splat_radius;
-                let (k, norm) = splat_gaussian(radius);
-                let uniform = uniform_buffer(
-                    ctx,
-                    "splat quad params",
-                    &SplatQuadGpu {
-                        atlas: [self.light_map.width() as f32, radius, k, norm],
-                        size,
-                        _pad: [0; 3],
-                    },
-                );
-                let group = bind_group(
-                    ctx,
-                    "caustic splat quads",
-                    layout,
-                    &[
-                        (0, wgpu::BindingResource::TextureView(&address)),
-                        (1, wgpu::BindingResource::TextureView(&power)),
-                        (2, self.charts.as_entire_binding()),
-                        (3, uniform.as_entire_binding()),
-                    ],
-                );
-                let mut pass = frame
-                    .encoder
-                    .begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("caustic splat quads"),
-                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view: &self.light_map_view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Load,
-                                store: wgpu::StoreOp::Store,
-                            },
-                        })],
-                        depth_stencil_attachment: None,
-                        timestamp_writes: None,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &group, &[]);
-                pass.draw(0..6, 0..size * size);
-            }
+            Splatter::Quads(splatter) => splatter.splat(
+                frame,
+                &self.light_map_view,
+                self.light_map.width(),
+                &address,
+                &power,
+                &self.charts,
+                size,
+                self.settings.splat_radius,
+            ),
         }
     }
 
@@ -914,38 +727,23 @@ impl Caustics {
 }
 
 fn clear_texture_pass(encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView) {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("clear light map"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
+    gpu::pass::begin(
+        encoder,
+        "clear light map",
+        &[pass::color(view, CLEAR_BLACK)],
+        None,
+        None,
+    );
 }
 
 fn splat_compute(ctx: &Context) -> Splatter {
-    let comp = wgpu::ShaderStages::COMPUTE;
-    let d2 = wgpu::TextureViewDimension::D2;
-    let layout = ctx
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("caustic splat"),
-            entries: &[
-                entry(0, comp, texture_ty(d2, false)),
-                entry(1, comp, texture_ty(d2, false)),
-                entry(2, comp, storage_ty(false)),
-                entry(3, comp, uniform_ty()),
-            ],
-        });
+    let photons = bind::texture_2d_unfilterable();
+    let layout = bind::layout(
+        ctx,
+        "caustic splat",
+        wgpu::ShaderStages::COMPUTE,
+        &[photons, photons, bind::storage(false), bind::uniform()],
+    );
     let module = gpu::shader_with_prelude(ctx, "caustic splat", SPLAT_WGSL);
     let pipeline = ctx
         .device
@@ -965,61 +763,4 @@ fn splat_compute(ctx: &Context) -> Splatter {
             cache: None,
         });
     Splatter::Compute { pipeline, layout }
-}
-
-fn splat_quads(ctx: &Context) -> Splatter {
-    let vert = wgpu::ShaderStages::VERTEX;
-    let d2 = wgpu::TextureViewDimension::D2;
-    let layout = ctx
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("caustic splat quads"),
-            entries: &[
-                entry(0, vert, texture_ty(d2, false)),
-                entry(1, vert, texture_ty(d2, false)),
-                entry(2, vert, storage_ty(true)),
-                entry(3, vert | wgpu::ShaderStages::FRAGMENT, uniform_ty()),
-            ],
-        });
-    let source = format!("{CHART_WGSL}\n{SPLAT_QUADS_WGSL}");
-    let module = gpu::shader_with_prelude(ctx, "caustic splat quads", &source);
-    let add = wgpu::BlendState {
-        color: wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        },
-        alpha: wgpu::BlendComponent::REPLACE,
-    };
-    let pipeline = ctx
-        .device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("caustic splat quads"),
-            layout: Some(
-                &ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("caustic splat quads"),
-                        bind_group_layouts: &[Some(&layout)],
-                        immediate_size: 0,
-                    }),
-            ),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("splat_quad_vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("splat_quad_fs"),
-                compilation_options: Default::default(),
-                targets: &[target(LIGHT_MAP_FORMAT, Some(add))],
-            }),
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
-    Splatter::Quads { pipeline, layout }
 }

@@ -1,24 +1,23 @@
 //! Distance impostors (Szirmay-Kalos, Aszódi, Lazányi, Premecz: "Approximate Ray-Tracing on
 //! the GPU with Distance Impostors", 2005): environment maps that also store the distance of
 //! the visible surface, so reflections and refractions can be *localized* by an approximate
-//! ray hit ([`hit`]) found with a few map lookups; refractor maps for double refraction.
+//! ray hit (`gpu::distance_map::hit`) found with a few map lookups; refractor maps for double refraction.
 //!
-//! - [`hit`]: `Hit()` in Rust (the twin of `shaders/hit.wgsl`), distance-map abstraction,
-//!   exact box-room and read-back cube maps.
+//! - `Hit()` itself (Rust twin, WGSL, property tests) is shared by every distance-map
+//!   technique and lives in `gpu::distance_map`.
 //! - [`technique`]: the [`Impostor`] technique and its variants ([`techniques`]): classic,
 //!   localized (initial guess, secant, false position; packed or split distances), double
 //!   refraction through a refractor map, caustics.
 //! - [`caustics`]: caustic maps and the two splat paths (the paper's light maps, a compute
-//!   scatter); [`lightmap`]: the receivers' light-map charts.
+//!   scatter); the receivers' light-map charts and the Gaussian quad splat are shared in
+//!   `scene::lightmap`.
 //!
 //! See `README.md` for the mapping of variants to the paper, departures and failure cases.
 
 pub mod caustics;
-pub mod hit;
-pub mod lightmap;
 pub mod technique;
 
-pub use technique::{HIT_WGSL, Impostor, Mode, Settings};
+pub use technique::{Impostor, Mode, Settings};
 
 /// All technique variants of this crate: `impostors/classic`, `impostors/initial-guess`,
 /// `impostors/secant-{1..8}`, `impostors/false-position-{1..8}`,
@@ -28,7 +27,40 @@ pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     technique::variants()
 }
 
-/// Same as [`techniques`] (the name the harness registry comment uses).
-pub fn variants() -> Vec<Box<dyn scene::Technique>> {
-    technique::variants()
+/// The image checks of this crate (run by the tests crate against the reference along the
+/// camera path).
+pub fn image_checks() -> Vec<scene::ImageCheck> {
+    let check = |technique, scene, max_flip_mean, max_rmse, reason| scene::ImageCheck {
+        technique,
+        scene,
+        size: 64,
+        max_flip_mean,
+        max_rmse,
+        reason,
+    };
+    vec![
+        check(
+            "impostors/false-position-4",
+            "cornell-box",
+            1.0,
+            1.0,
+            "MEASURE",
+        ),
+        check("impostors/classic", "cornell-box", 1.0, 1.0, "MEASURE"),
+        check(
+            "impostors/double-refraction",
+            "cornell-sphere",
+            1.0,
+            1.0,
+            "MEASURE",
+        ),
+        check("impostors/caustics", "cornell-sphere", 1.0, 1.0, "MEASURE"),
+        check(
+            "impostors/false-position-4",
+            "cornell-sphere:material=gold",
+            1.0,
+            1.0,
+            "MEASURE",
+        ),
+    ]
 }

@@ -13,19 +13,19 @@
 //! adds the resulting caustic radiance to the diffuse surfaces (README.md, "Caustics").
 
 use crate::caustics::{self, CausticPath, CausticSettings, Caustics, GeneratorMaps};
-use crate::hit::Method;
 use glam::Vec3;
-use gpu::cube::{CubeTarget, cube_face_view_proj};
-use gpu::wgpu::{self, util::DeviceExt};
-use gpu::{Context, Target};
+use gpu::cube::CubeTarget;
+use gpu::distance_map::{HIT_WGSL, Method};
+use gpu::pass::{self, Load};
+use gpu::wgpu;
+use gpu::{Context, Target, Uniform, bind};
 use scene::technique::check_param;
 use scene::{
-    BACKGROUND_DISTANCE, Frame, GpuScene, Material, ObjectFilter, Param, RasterTarget, Scene,
-    Technique, TechniqueResult, View,
+    Frame, GpuScene, Material, ObjectFilter, Param, RasterTarget, Scene, Technique,
+    TechniqueResult, View,
 };
 
 /// WGSL of `Hit()` (needs the gpu prelude before it).
-pub const HIT_WGSL: &str = include_str!("shaders/hit.wgsl");
 const LOCALIZED_WGSL: &str = include_str!("shaders/localized.wgsl");
 const SPLIT_WGSL: &str = include_str!("shaders/split.wgsl");
 
@@ -105,7 +105,6 @@ struct State {
     pipeline: wgpu::RenderPipeline,
     split_pipeline: wgpu::RenderPipeline,
     split_layout: wgpu::BindGroupLayout,
-    sampler: wgpu::Sampler,
     maps: Vec<ObjectMaps>,
 }
 
@@ -417,12 +416,6 @@ impl Technique for Impostor {
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         let layout = impostor_layout(ctx);
-        let sampler = ctx.device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("impostor sampler"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
         // The plain localized pass (and the refractor map) from a module without caustics;
         // caustic variants draw with their own module, whose lookups add the caustics.
         let source_with = |path| {
@@ -512,7 +505,6 @@ impl Technique for Impostor {
             pipeline,
             split_pipeline,
             split_layout,
-            sampler,
             maps,
         });
         Ok(())
@@ -524,11 +516,12 @@ impl Technique for Impostor {
         view: &View,
         target: &Target,
     ) -> TechniqueResult<()> {
-        if self.state.is_none() {
-            self.prepare(frame, scene)?;
-        }
         let settings = self.settings.clone();
-        let state = self.state.as_mut().expect("prepared above");
+        let id = self.id.clone();
+        let state = self
+            .state
+            .as_mut()
+            .ok_or(scene::TechniqueError::NotPrepared(id))?;
 
         // Regenerate the environment impostors of objects that moved too far.
         let time = scene.time();
@@ -617,31 +610,13 @@ impl Technique for Impostor {
         }
 
         // The specular objects' pass, timed on its own as "lookup" (pass timestamps).
-        let mut pass = frame
-            .encoder
-            .begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(&self.id),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target.color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: frame.timer.render_pass("lookup"),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            &self.id,
+            &[pass::color(&target.color_view, Load::Keep)],
+            Some(pass::depth(&target.depth_view, Load::Keep)),
+            frame.timer.render_pass("lookup"),
+        );
         match &state.caustic {
             Some(c) => pass.set_pipeline(&c.localized_pipeline),
             None => pass.set_pipeline(&state.pipeline),
@@ -675,58 +650,28 @@ struct ParamsGpu {
 
 /// Layout of `@group(2)` in localized.wgsl.
 pub fn impostor_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    let cube = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-            view_dimension: wgpu::TextureViewDimension::Cube,
-            multisampled: false,
-        },
-        count: None,
-    };
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("distance impostor"),
-            entries: &[
-                cube(0),
-                cube(1),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                cube(4),
-            ],
-        })
+    bind::layout(
+        ctx,
+        "distance impostor",
+        wgpu::ShaderStages::FRAGMENT,
+        &[
+            bind::texture_cube(), // radiance (+ distance in alpha when packed)
+            bind::texture_cube(), // distances (split) or the radiance map again
+            bind::sampler(),
+            bind::uniform(),      // ImpostorParams
+            bind::texture_cube(), // refractor map (normal + distance)
+        ],
+    )
 }
 
 fn single_texture_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("packed face"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        })
+    let unfilterable = bind::texture_2d_unfilterable();
+    bind::layout(
+        ctx,
+        "packed face",
+        wgpu::ShaderStages::FRAGMENT,
+        &[unfilterable],
+    )
 }
 
 fn split_distance(
@@ -738,16 +683,7 @@ fn split_distance(
     let copy_groups = env
         .face_views
         .iter()
-        .map(|face| {
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("packed face"),
-                layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(face),
-                }],
-            })
-        })
+        .map(|face| bind::group(ctx, "packed face", layout, &[bind::view(face)]))
         .collect();
     Ok(SplitDistance {
         distances,
@@ -755,26 +691,21 @@ fn split_distance(
     })
 }
 
+/// Split distances start as opaque black (distance 0 where the copy draws nothing).
+const CLEAR_OPAQUE_BLACK: Load<wgpu::Color> = Load::Clear(wgpu::Color::BLACK);
+
 fn copy_distances(frame: &mut Frame, pipeline: &wgpu::RenderPipeline, split: &SplitDistance) {
     for face in 0..6 {
-        let mut pass = frame
-            .encoder
-            .begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("impostor split copy"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &split.distances.face_views[face],
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            "impostor split copy",
+            &[pass::color(
+                &split.distances.face_views[face],
+                CLEAR_OPAQUE_BLACK,
+            )],
+            None,
+            None,
+        );
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &split.copy_groups[face], &[]);
         gpu::fullscreen::draw(&mut pass);
@@ -790,21 +721,17 @@ fn render_refractor_map(
     object: usize,
     center: Vec3,
 ) {
-    for face in 0..6 {
-        let view_proj = cube_face_view_proj(face, center, 1e-3, 2.0 * BACKGROUND_DISTANCE);
-        let camera = scene.camera_bind_group(frame.gpu, view_proj, center);
-        let target = RasterTarget {
-            color: &cube.face_views[face],
-            depth: &cube.depth_face_views[face],
-            format: cube.format,
-            clear: true,
-        };
-        let mut pass = scene::begin_scene_pass(frame.encoder, &target, Vec3::ZERO, "refractor map");
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &camera, &[]);
-        pass.set_bind_group(1, scene.bind_group(), &[]);
-        scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![object]));
-    }
+    let only = ObjectFilter::Only(vec![object]);
+    scene.draw_cube(
+        frame,
+        cube,
+        center,
+        1e-3,
+        pipeline,
+        &[],
+        &only,
+        "refractor map",
+    );
 }
 
 /// The `@group(2)` bind group of each object's maps for this frame. The refractor map is
@@ -841,39 +768,19 @@ fn impostor_groups(
                 refractor_iterations: settings.refractor_iterations,
                 _pad: [0; 3],
             };
-            let buffer = ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("impostor params"),
-                    contents: bytemuck::bytes_of(&uniform),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("impostor"),
-                layout: &state.layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&m.env.cube_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(distance_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: wgpu::BindingResource::Sampler(&state.sampler),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: wgpu::BindingResource::TextureView(refractor_view),
-                    },
+            let params = Uniform::new(ctx, "impostor params", &uniform);
+            bind::group(
+                ctx,
+                "impostor",
+                &state.layout,
+                &[
+                    bind::view(&m.env.cube_view),
+                    bind::view(distance_view),
+                    bind::sampler_resource(&ctx.samplers.linear_clamp),
+                    params.binding(),
+                    bind::view(refractor_view),
                 ],
-            })
+            )
         })
         .collect()
 }

@@ -1,5 +1,5 @@
-//! GPU conformance of `Hit()`: the WGSL function (`src/shaders/hit.wgsl`) run in a compute
-//! shader against its Rust twin (`impostors::hit`) on the same rays over the same distance
+//! GPU conformance of `Hit()`: the WGSL function (`gpu/src/shaders/hit.wgsl`) run in a compute
+//! shader against its Rust twin (`gpu::distance_map`) on the same rays over the same distance
 //! cube map.
 //!
 //! The map is real: cornell-sphere's environment rendered from the sphere's centre by
@@ -31,8 +31,8 @@ use std::cell::Cell;
 
 use glam::Vec3;
 use gpu::cube::CubeTarget;
+use gpu::distance_map::{CubeDistanceMap, DistanceMap, Method, hit};
 use gpu::wgpu::{self, util::DeviceExt};
-use impostors::hit::{CubeDistanceMap, DistanceMap, Method, hit};
 use scene::GpuScene;
 
 const SIZE: u32 = 64;
@@ -244,7 +244,7 @@ fn run_gpu(f: &Fixture, filter: Filter, method: Method, iterations: u32) -> Vec<
         .iter()
         .flat_map(|(x, r)| [x.extend(0.0).to_array(), r.extend(0.0).to_array()])
         .collect();
-    let source = format!("{}\n{}", impostors::HIT_WGSL, KERNEL);
+    let source = format!("{}\n{}", gpu::distance_map::HIT_WGSL, KERNEL);
     dispatch(
         f,
         &source,

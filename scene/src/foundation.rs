@@ -23,6 +23,28 @@ pub fn techniques() -> Vec<Box<dyn Technique>> {
     ]
 }
 
+/// The foundation's image checks (run by the tests crate against the reference).
+pub fn image_checks() -> Vec<crate::ImageCheck> {
+    vec![
+        crate::ImageCheck {
+            technique: "raster",
+            scene: "cornell-sphere:material=diffuse",
+            size: 64,
+            max_flip_mean: 1.0,
+            max_rmse: 1.0,
+            reason: "MEASURE",
+        },
+        crate::ImageCheck {
+            technique: "envmap/classic",
+            scene: "cornell-sphere:material=mirror",
+            size: 64,
+            max_flip_mean: 1.0,
+            max_rmse: 1.0,
+            reason: "MEASURE",
+        },
+    ]
+}
+
 fn main_target(target: &Target) -> RasterTarget<'_> {
     RasterTarget {
         color: &target.color_view,

@@ -9,6 +9,7 @@ pub mod city;
 pub mod foundation;
 pub mod gltf_io;
 mod gpu_scene;
+pub mod lightmap;
 pub mod media;
 pub mod mesh;
 pub mod metrics;
@@ -21,7 +22,9 @@ pub use gpu_scene::{
     begin_scene_pass, scene_pipeline,
 };
 pub use model::*;
-pub use technique::{Frame, Param, Technique, TechniqueError, TechniqueResult, Timing, View};
+pub use technique::{
+    Frame, ImageCheck, Param, Technique, TechniqueError, TechniqueResult, Timing, View,
+};
 
 use std::path::Path;
 

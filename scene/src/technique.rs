@@ -137,3 +137,34 @@ pub fn check_param(id: &str, params: &[Param], name: &str, value: f64) -> Techni
 pub fn not_prepared(technique: &(impl Technique + ?Sized)) -> TechniqueError {
     TechniqueError::NotPrepared(technique.id())
 }
+
+/// An image check a technique crate declares, like a wgpu example's image test: `technique`
+/// rendered on `scene` at `size` x `size`, at the start, middle and end of the scene's camera
+/// path, must stay within `max_flip_mean` and `max_rmse` of the reference (no NaN pixel, ever).
+/// The tests crate runs every declared check (`harness::image_checks`); a crate declares one
+/// per claim its README makes about its error.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageCheck {
+    /// Technique id, `crate/variant`.
+    pub technique: &'static str,
+    /// Scene spec (`cornell-box`, `cornell-sphere:material=gold`).
+    pub scene: &'static str,
+    pub size: u32,
+    /// Bound on the mean FLIP of every checked frame.
+    pub max_flip_mean: f32,
+    /// Bound on the RMSE (linear radiance) of every checked frame.
+    pub max_rmse: f32,
+    /// Why the bounds are what they are: the measured values they were set from, and what a
+    /// loose bound tolerates (a failure case the README names, noise of the reference...).
+    pub reason: &'static str,
+}
+
+/// The times an image check renders: start, middle and end of a camera path of `duration`
+/// seconds (a still scene: time 0 only).
+pub fn check_times(duration: f32) -> Vec<f32> {
+    if duration > 0.0 {
+        vec![0.0, 0.5 * duration, duration]
+    } else {
+        vec![0.0]
+    }
+}

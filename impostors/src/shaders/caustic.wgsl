@@ -60,24 +60,22 @@ fn trace_photon(in: SceneVertexOut) -> Photon {
     photon.alive = false;
     let light = caustic.light.xyz;
     let l_dir = normalize(in.world - light);
-    let n = facing_normal(in.normal, in.world, light);
+    let e = specular_event(in.object, in.normal, in.world, light, l_dir);
+    let n = e.normal;
     let o = objects[in.object];
-    let cos_i = -dot(l_dir, n);
     var origin = in.world;
     var dir: vec3f;
     var weight = vec3f(1.0);
-    if (o.material.x == MATERIAL_METAL) {
-        dir = reflect_dir(l_dir, n);
-        weight = fresnel_nk(cos_i, o.n.xyz, o.k.xyz);
+    if (e.is_metal) {
+        dir = e.reflected;
+        weight = e.reflectance;
     } else {
-        let entering = dot(normalize(in.normal), l_dir) < 0.0;
-        let eta_rel = select(1.0 / o.material.y, o.material.y, entering);
-        let t = refract_dir(l_dir, n, 1.0 / eta_rel);
+        let t = e.refracted;
         if (t.w < 0.5) { return photon; }
-        weight = vec3f(1.0 - fresnel_dielectric(cos_i, eta_rel));
+        weight = vec3f(1.0 - e.reflectance.x);
         dir = t.xyz;
         origin = in.world - n * SURFACE_OFFSET;
-        if (entering && params.mode == MODE_DOUBLE) {
+        if (e.entering && params.mode == MODE_DOUBLE) {
             // Out through the refractor: the first chord that leaves (TIR chords reflect on).
             var left = false;
             for (var s = 0u; s < MAX_SEGMENTS; s++) {

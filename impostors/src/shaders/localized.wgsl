@@ -120,30 +120,18 @@ fn through_refractor(x: vec3f, t: vec3f, ior: f32) -> vec3f {
 fn localized_fs(in: SceneVertexOut) -> @location(0) vec4f {
     let eye = camera.eye.xyz;
     let v = normalize(in.world - eye);
-    let n = facing_normal(in.normal, in.world, eye);
-    let o = objects[in.object];
-    let cos_i = -dot(v, n);
-    let reflected = env_lookup(in.world, reflect_dir(v, n));
-    var color: vec3f;
-    if (o.material.x == MATERIAL_METAL) {
-        color = fresnel_nk(cos_i, o.n.xyz, o.k.xyz) * reflected;
-    } else {
-        // Entering when the authored (outward) normal faces the viewer.
-        let entering = dot(normalize(in.normal), v) < 0.0;
-        let eta_rel = select(1.0 / o.material.y, o.material.y, entering);
-        let f = fresnel_dielectric(cos_i, eta_rel);
-        let t = refract_dir(v, n, 1.0 / eta_rel);
-        var refracted = reflected;
-        if (t.w > 0.5) {
-            if (params.mode == MODE_DOUBLE && entering) {
-                refracted = through_refractor(in.world - n * SURFACE_OFFSET, t.xyz, o.material.y);
-            } else {
-                refracted = env_lookup(in.world, t.xyz);
-            }
+    let e = specular_event(in.object, in.normal, in.world, eye, v);
+    let reflected = env_lookup(in.world, e.reflected);
+    var refracted = reflected;
+    if (e.refracted.w > 0.5) {
+        if (params.mode == MODE_DOUBLE && e.entering) {
+            let o = objects[in.object];
+            refracted = through_refractor(in.world - e.normal * SURFACE_OFFSET, e.refracted.xyz, o.material.y);
+        } else {
+            refracted = env_lookup(in.world, e.refracted.xyz);
         }
-        color = f * reflected + (1.0 - f) * refracted;
     }
-    return vec4f(color, distance(in.world, eye));
+    return vec4f(specular_shade(e, reflected, refracted), distance(in.world, eye));
 }
 
 // Refractor map: the object's own surface seen from its centre (camera.eye): outward unit

@@ -13,21 +13,11 @@ fn sample_env(dir: vec3f) -> vec3f {
 fn envmap_fs(in: SceneVertexOut) -> @location(0) vec4f {
     let eye = camera.eye.xyz;
     let v = normalize(in.world - eye);
-    let n = facing_normal(in.normal, in.world, eye);
-    let o = objects[in.object];
-    let cos_i = -dot(v, n);
-    let reflected = sample_env(reflect_dir(v, n));
-    var color: vec3f;
-    if (o.material.x == MATERIAL_METAL) {
-        color = fresnel_nk(cos_i, o.n.xyz, o.k.xyz) * reflected;
-    } else {
-        // Entering when the authored (outward) normal faces the viewer.
-        let entering = dot(normalize(in.normal), v) < 0.0;
-        let eta_rel = select(1.0 / o.material.y, o.material.y, entering);
-        let f = fresnel_dielectric(cos_i, eta_rel);
-        let t = refract_dir(v, n, 1.0 / eta_rel);
-        let refracted = select(reflected, sample_env(t.xyz), t.w > 0.5);
-        color = f * reflected + (1.0 - f) * refracted;
+    let e = specular_event(in.object, in.normal, in.world, eye, v);
+    let reflected = sample_env(e.reflected);
+    var refracted = reflected;
+    if (e.refracted.w > 0.5) {
+        refracted = sample_env(e.refracted.xyz);
     }
-    return vec4f(color, distance(in.world, eye));
+    return vec4f(specular_shade(e, reflected, refracted), distance(in.world, eye));
 }

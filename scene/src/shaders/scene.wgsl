@@ -160,3 +160,67 @@ fn shade_diffuse_ng(p: vec3f, n: vec3f, ng: vec3f, albedo: vec3f) -> vec3f {
 fn shade_diffuse(p: vec3f, n: vec3f, albedo: vec3f) -> vec3f {
     return shade_diffuse_ng(p, n, n, albedo);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The specular half of the shading model (DESIGN.md), shared by every technique that shades a
+// metal or glass surface: a metal reflects with the conductor Fresnel term of its per-channel
+// n, k; glass splits into a reflected part f and a refracted part 1 - f (Fresnel of the
+// dielectric interface; under total internal reflection the refracted ray does not exist and
+// its share is reflected too). A technique's only job is to say what radiance arrives along
+// the two directions: `specular_event` gives the directions and weights, `specular_shade`
+// combines the two radiances.
+// ---------------------------------------------------------------------------------------------
+
+struct SpecularEvent {
+    // The normal facing the incoming ray.
+    normal: vec3f,
+    // Unit mirror direction.
+    reflected: vec3f,
+    // xyz: unit refracted direction; w = 1 when it exists (glass without total internal
+    // reflection), 0 otherwise (always 0 for metals).
+    refracted: vec4f,
+    // Weight of the reflected radiance: the conductor Fresnel term per channel (metal) or f
+    // in every channel (glass).
+    reflectance: vec3f,
+    // Cosine of the incidence angle.
+    cos_i: f32,
+    // Relative index of refraction across the interface (glass; 1 for metals).
+    eta_rel: f32,
+    is_metal: bool,
+    // Glass: the ray enters the object (its authored outward normal faces the ray).
+    entering: bool,
+};
+
+// The specular event of a ray travelling along unit `dir` and meeting `object` at `p`, whose
+// interpolated authored normal there is `authored_normal`; `origin` is the ray's origin (the
+// eye, or a light for photons).
+fn specular_event(object: u32, authored_normal: vec3f, p: vec3f, origin: vec3f, dir: vec3f) -> SpecularEvent {
+    let o = objects[object];
+    var e: SpecularEvent;
+    e.normal = facing_normal(authored_normal, p, origin);
+    e.cos_i = -dot(dir, e.normal);
+    e.reflected = reflect_dir(dir, e.normal);
+    e.is_metal = o.material.x == MATERIAL_METAL;
+    e.entering = dot(normalize(authored_normal), dir) < 0.0;
+    if (e.is_metal) {
+        e.reflectance = fresnel_nk(e.cos_i, o.n.xyz, o.k.xyz);
+        e.refracted = vec4f(0.0);
+        e.eta_rel = 1.0;
+    } else {
+        e.eta_rel = select(1.0 / o.material.y, o.material.y, e.entering);
+        e.reflectance = vec3f(fresnel_dielectric(e.cos_i, e.eta_rel));
+        e.refracted = refract_dir(dir, e.normal, 1.0 / e.eta_rel);
+    }
+    return e;
+}
+
+// Radiance leaving the surface toward the ray's origin, given the radiance arriving along the
+// reflected and (when it exists) the refracted direction.
+fn specular_shade(e: SpecularEvent, reflected: vec3f, refracted: vec3f) -> vec3f {
+    if (e.is_metal) {
+        return e.reflectance * reflected;
+    }
+    let f = e.reflectance.x;
+    let through = select(reflected, refracted, e.refracted.w > 0.5);
+    return f * reflected + (1.0 - f) * through;
+}

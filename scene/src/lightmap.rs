@@ -10,10 +10,21 @@
 //! square atlas of equal cells; a chart keeps its aspect ratio (one texel size per chart) and
 //! a one-texel gutter inside its cell, so bilinear lookups never read a neighbour.
 //!
-//! The GPU side is `shaders/lightmap.wgsl` (`chart_uv`): same axis rule, same mapping.
+//! The GPU side is `shaders/chart.wgsl` ([`CHART_WGSL`]: `chart_uv`, same axis rule, same
+//! mapping). [`QuadSplatter`] adds photons to the atlas as small Gaussian quads (the paper's
+//! light-map splatting), reading a photon map of light-map addresses and powers; it lives
+//! here, beside the charts, so that every technique that gathers photons into light maps
+//! (caustics of distance impostors, screen-space photons) shares one splat.
 
+use crate::{Frame, Material, Scene};
 use glam::{Vec2, Vec3};
-use scene::{Material, Scene};
+use gpu::pass::{self, Load};
+use gpu::wgpu;
+use gpu::{Context, Uniform, bind};
+
+/// `struct Chart` and `chart_uv` in WGSL (needs the prelude; no bindings).
+pub const CHART_WGSL: &str = include_str!("shaders/chart.wgsl");
+const SPLAT_QUADS_WGSL: &str = include_str!("shaders/splat_quads.wgsl");
 
 /// No chart for this (object, axis): `chart_of` entry.
 pub const NO_CHART: i32 = -1;
@@ -199,12 +210,148 @@ impl ChartGpu {
     }
 }
 
+/// The uniform block `SplatQuadParams` of splat_quads.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SplatQuadGpu {
+    atlas: [f32; 4],
+    size: u32,
+    _pad: [u32; 3],
+}
+
+/// Gaussian of a photon's quad: sigma = R / 2, cut at the disc of radius R; `(1 / (2
+/// sigma^2), 1 / integral over the disc)` in texel units, so a photon adds its whole power.
+pub fn splat_gaussian(radius: f32) -> (f32, f32) {
+    let sigma = 0.5 * radius;
+    let k = 1.0 / (2.0 * sigma * sigma);
+    let integral = std::f32::consts::PI / k * (1.0 - (-radius * radius * k).exp());
+    (k, 1.0 / integral)
+}
+
+/// The paper's light-map splatting: one quad per photon-map texel, centred at the photon's
+/// light-map address, weighted by a Gaussian and added into the atlas (the vertex stage
+/// reads the photon map: the paper's vertex texture fetch).
+///
+/// The photon map is two `size` x `size` textures: the *address* (atlas u, v, chart index,
+/// w = 1 where a photon landed) and the *power* (rgb).
+pub struct QuadSplatter {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl QuadSplatter {
+    /// A splatter that adds into an atlas of `format` (needs additive blending of it:
+    /// `FLOAT32_BLENDABLE` for 32-bit float atlases).
+    pub fn new(ctx: &Context, format: wgpu::TextureFormat) -> Self {
+        let vert = wgpu::ShaderStages::VERTEX;
+        let photons = bind::texture_2d_unfilterable();
+        let layout = bind::layout_with_stages(
+            ctx,
+            "light-map splat quads",
+            &[
+                (vert, photons),
+                (vert, photons),
+                (vert, bind::storage(true)),
+                (vert | wgpu::ShaderStages::FRAGMENT, bind::uniform()),
+            ],
+        );
+        let source = format!("{CHART_WGSL}\n{SPLAT_QUADS_WGSL}");
+        let module = gpu::shader_with_prelude(ctx, "light-map splat quads", &source);
+        // Adds rgb; alpha is unused.
+        let add = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent::REPLACE,
+        };
+        let pipeline_layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("light-map splat quads"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let pipeline = ctx
+            .device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("light-map splat quads"),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("splat_quad_vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("splat_quad_fs"),
+                    compilation_options: Default::default(),
+                    targets: &[pass::color_target(format, Some(add))],
+                }),
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                multiview_mask: None,
+                cache: None,
+            });
+        Self { pipeline, layout }
+    }
+
+    /// Adds every photon of the `size` x `size` photon map (`address`, `power`) into `atlas`
+    /// (side `atlas_side` texels) as a Gaussian quad of radius `radius` texels, clipped to
+    /// the photon's own chart (`charts` holds the [`ChartGpu`]s).
+    #[allow(clippy::too_many_arguments)]
+    pub fn splat(
+        &self,
+        frame: &mut Frame,
+        atlas: &wgpu::TextureView,
+        atlas_side: u32,
+        address: &wgpu::TextureView,
+        power: &wgpu::TextureView,
+        charts: &wgpu::Buffer,
+        size: u32,
+        radius: f32,
+    ) {
+        let ctx = frame.gpu;
+        let (k, norm) = splat_gaussian(radius);
+        let params = SplatQuadGpu {
+            atlas: [atlas_side as f32, radius, k, norm],
+            size,
+            _pad: [0; 3],
+        };
+        let uniform = Uniform::new(ctx, "splat quad params", &params);
+        let group = bind::group(
+            ctx,
+            "light-map splat quads",
+            &self.layout,
+            &[
+                bind::view(address),
+                bind::view(power),
+                charts.as_entire_binding(),
+                uniform.binding(),
+            ],
+        );
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            "light-map splat quads",
+            &[pass::color(atlas, Load::Keep)],
+            None,
+            None,
+        );
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..6, 0..size * size);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn atlas(name: &str) -> (Scene, ChartAtlas) {
-        let scene = scene::load(name).unwrap();
+        let scene = crate::load(name).unwrap();
         let atlas = ChartAtlas::new(&scene, 1024);
         (scene, atlas)
     }

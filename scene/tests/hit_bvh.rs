@@ -12,7 +12,7 @@
 //!   states the error of each class.
 
 use glam::Vec3;
-use impostors::hit::{DistanceMap, Method, hit};
+use gpu::distance_map::{DistanceMap, Method, hit};
 use scene::bvh::SceneBvh;
 
 struct BvhMap<'a> {

@@ -3,14 +3,14 @@
 //! `hit_properties.rs`).
 //!
 //! ```sh
-//! cargo run -p impostors --example explore_hit -- [box-room|worst|secant-divergence|regime-worst]
+//! cargo run -p gpu --release --example explore_hit -- [box-room|worst|secant-divergence|regime-worst]
 //! ```
 //!
 //! With no argument it runs all four. `MARGIN`, `XR` and `CMIN` environment variables narrow
 //! the sampled regime.
 
 use glam::Vec3;
-use impostors::hit::*;
+use gpu::distance_map::*;
 
 fn rnd(k: u32) -> f32 {
     gpu::prelude::hash_to_unit(k)

@@ -1,5 +1,9 @@
 //! `Hit()`: the approximate ray hit of a distance impostor (paper sections 2.1-2.2 and the
-//! `Hit` listing of section 3), and its WGSL twin in `shaders/hit.wgsl`.
+//! `Hit` listing of section 3), and its WGSL twin in `shaders/hit.wgsl` ([`HIT_WGSL`]).
+//!
+//! It lives in `gpu`, not in a technique crate, because every distance-map technique searches
+//! with it: distance impostors (`impostors`), refractor distance maps and height maps
+//! (`refractor-maps`, `height-maps`) build on exactly this search.
 //!
 //! Coordinates are relative to the reference point `o` of the map (the paper's origin). A
 //! [`DistanceMap`] answers "how far from `o` is the environment surface in direction `u`?".
@@ -41,6 +45,10 @@
 //!   [`DENOM_EPSILON`] is skipped (the listing would divide by zero).
 
 use glam::Vec3;
+
+/// `Hit()` in WGSL (needs the prelude): `hit(x, R, map, sampler, channel, method, iterations)
+/// -> vec4(l, d)`.
+pub const HIT_WGSL: &str = include_str!("shaders/hit.wgsl");
 
 /// Floor of a distance read from the map (metres).
 pub const DIST_EPSILON: f32 = 1e-6;
@@ -289,7 +297,7 @@ impl CubeDistanceMap {
 
     /// Texel (face, i, j) that a nearest lookup of `dir` reads.
     pub fn texel(&self, dir: Vec3) -> (usize, u32, u32) {
-        let fuv = gpu::prelude::cube_dir_to_face_uv(dir);
+        let fuv = crate::prelude::cube_dir_to_face_uv(dir);
         let s = self.size as f32;
         let i = ((fuv.y * s).floor().max(0.0) as u32).min(self.size - 1);
         let j = ((fuv.z * s).floor().max(0.0) as u32).min(self.size - 1);
@@ -332,7 +340,7 @@ impl Footprint {
 impl CubeDistanceMap {
     /// Bilinear footprint of a lookup of `dir` (see [`Footprint`]).
     pub fn footprint(&self, dir: Vec3) -> Footprint {
-        let fuv = gpu::prelude::cube_dir_to_face_uv(dir);
+        let fuv = crate::prelude::cube_dir_to_face_uv(dir);
         let s = self.size as f32;
         let x = fuv.y * s - 0.5;
         let y = fuv.z * s - 0.5;
@@ -422,7 +430,7 @@ mod tests {
     #[test]
     fn bilinear_reads_texel_centres_exactly_and_blends_between_them() {
         let cube = ramp_cube();
-        let dir = |f, u: f32, v: f32| gpu::prelude::cube_face_uv_to_dir(f, u / 4.0, v / 4.0);
+        let dir = |f, u: f32, v: f32| crate::prelude::cube_face_uv_to_dir(f, u / 4.0, v / 4.0);
         for f in 0..6u32 {
             // Texel centre (1, 2): weight 0 on the neighbours.
             let d = dir(f, 1.5, 2.5);

@@ -39,7 +39,7 @@
 //!   points in the corners of the 0.3 m-shrunk room.
 
 use glam::Vec3;
-use impostors::hit::{BoxRoom, D_MAX, Method, Trace, hit, hit_traced};
+use gpu::distance_map::{BoxRoom, D_MAX, Method, Trace, hit, hit_traced};
 use proptest::prelude::*;
 
 const ROOM_MIN: Vec3 = Vec3::new(-1.0, 0.0, -1.0);
@@ -194,7 +194,7 @@ fn wall_of(q: Vec3) -> (usize, bool) {
 
 /// The wall the distance map shows in the direction of `y` (relative to the reference point).
 fn map_wall(room: &BoxRoom, y: Vec3) -> (usize, bool) {
-    use impostors::hit::DistanceMap;
+    use gpu::distance_map::DistanceMap;
     let dir = y.normalize();
     wall_of(room.reference + dir * room.distance(dir))
 }

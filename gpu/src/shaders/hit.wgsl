@@ -1,7 +1,7 @@
 // ---------------------------------------------------------------------------------------------
 // Hit(): approximate ray hit against a distance impostor (Szirmay-Kalos et al. 2005, sections
-// 2.1-2.2 and the Hit listing of section 3). Rust twin: impostors/src/hit.rs (same algorithm,
-// same constants, same names); tests/gpu_conformance.rs compares the two.
+// 2.1-2.2 and the Hit listing of section 3). Rust twin: gpu/src/distance_map.rs (same algorithm,
+// same constants, same names); impostors/tests/gpu_conformance.rs compares the two.
 //
 // Coordinates are relative to the map's reference point o. The map's channel `channel` holds
 // the distance from o of the surface seen in each direction (3: alpha of a packed
