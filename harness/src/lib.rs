@@ -45,6 +45,19 @@ pub fn registry() -> Vec<Box<dyn Technique>> {
     techniques
 }
 
+/// Every image check the technique crates declare (`scene::ImageCheck`), run by the tests
+/// crate against the reference. One line per crate, beside its registry line.
+pub fn image_checks() -> Vec<scene::ImageCheck> {
+    let mut checks = Vec::new();
+    // ---- IMAGE CHECKS: one line per technique crate ----
+    checks.extend(scene::foundation::image_checks());
+    checks.extend(impostors::image_checks());
+    checks.extend(volumes::image_checks());
+    checks.extend(interior_mapping::image_checks());
+    // ---- end of image checks ----
+    checks
+}
+
 /// A technique factory: returns fresh instances of every variant it knows.
 pub type TechniqueFactory = dyn Fn() -> Vec<Box<dyn Technique>>;
 

@@ -38,7 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             up: Vec3::Y,
             fov_y_deg: 60.0,
         };
-        for id in ["interior/textured", "interior/furniture"] {
+        for id in ["interior-mapping/textured", "interior-mapping/furniture"] {
             let mut technique = interior_mapping::techniques()
                 .into_iter()
                 .find(|t| t.id() == id)
@@ -72,7 +72,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             } else {
                 image::ExtendedColorType::Rgb8
             };
-            let path = format!("{out}/failure-{name}-{}.png", id.replace("interior/", ""));
+            let path = format!(
+                "{out}/failure-{name}-{}.png",
+                id.replace("interior-mapping/", "")
+            );
             image::save_buffer(&path, &bytes, size, size, color)?;
             println!("wrote {path}");
         }

@@ -1,4 +1,4 @@
-//! Real room geometry for the `interior/polygons` baseline: a facade with a window hole per
+//! Real room geometry for the `interior-mapping/polygons` baseline: a facade with a window hole per
 //! room cell and planes spanning the hull's inside (floors, ceilings, two wall families),
 //! textured per room. These are the `city` scene's own generators (`scene::city`), so the
 //! baseline draws exactly the rooms the reference traces.

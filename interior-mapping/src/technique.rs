@@ -1,18 +1,19 @@
-//! The interior-mapping techniques (`interior/...`) and the polygon baseline.
+//! The interior-mapping techniques (`interior-mapping/...`) and the polygon baseline.
 
 use crate::textures::{self, FURNITURE_FRAMES, FURNITURE_LAYER, VARIANTS};
 use glam::{Mat4, Vec3};
-use gpu::cube::{CubeTarget, cube_face_view_proj};
+use gpu::cube::CubeTarget;
+use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
-use gpu::{Context, Target, Vertex};
-use scene::technique::check_param;
+use gpu::{Context, Target, Uniform, Vertex, bind};
+use scene::technique::{check_param, not_prepared};
 use scene::{
     Frame, GpuScene, Material, Object, ObjectFilter, Param, RasterTarget, Roles, Scene, Technique,
     TechniqueResult, View,
 };
 
 const TECHNIQUE_WGSL: &str = include_str!("shaders/technique.wgsl");
-/// Face size of the reflection cube map of `interior/exterior` and `interior/reflection-only`.
+/// Face size of the reflection cube map of `interior-mapping/exterior` and `interior-mapping/reflection-only`.
 pub const ENV_MAP_SIZE: u32 = 64;
 /// Refractive index of the window glass (Fresnel weight of the reflection).
 pub const GLASS_IOR: f32 = 1.5;
@@ -135,7 +136,7 @@ struct State {
     hull_boxes: Vec<(Mat4, Vec3, Vec3)>,
     prepass: Option<wgpu::RenderPipeline>,
     bind_group: wgpu::BindGroup,
-    settings: wgpu::Buffer,
+    settings: Uniform<SettingsGpu>,
     hull_vertices: wgpu::Buffer,
     hull_indices: wgpu::Buffer,
     /// (object, Some(first index, count, base vertex) for an own bounding box, None: its mesh)
@@ -165,7 +166,7 @@ impl InteriorMapping {
 impl Technique for InteriorMapping {
     fn id(&self) -> String {
         format!(
-            "interior/{}{}",
+            "interior-mapping/{}{}",
             self.variant.name(),
             if self.prepass { "-prepass" } else { "" }
         )
@@ -229,7 +230,7 @@ impl Technique for InteriorMapping {
                 min: 0.0,
                 max: 1.0,
                 integer: true,
-                help: "1: rooms of box hulls lit only through their windows (exact); 0: the scene's shadow maps, like interior/polygons",
+                help: "1: rooms of box hulls lit only through their windows (exact); 0: the scene's shadow maps, like interior-mapping/polygons",
             },
             Param {
                 name: "interior_light",
@@ -359,13 +360,13 @@ impl Technique for InteriorMapping {
             bytemuck::cast_slice(&records),
             wgpu::BufferUsages::STORAGE,
         );
-        let settings = buffer(
+        let settings = Uniform::new(
+            ctx,
             "interior settings",
-            bytemuck::bytes_of(&SettingsGpu {
+            &SettingsGpu {
                 a: [0.0; 4],
                 b: [0.0; 4],
-            }),
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            },
         );
         let hull_vertices = buffer(
             "interior hulls",
@@ -393,14 +394,6 @@ impl Technique for InteriorMapping {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("interior sampler"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
         let atlas_view = single_texture_view(ctx, self.variant, size);
         let env_size = if self.variant.uses_env_map() {
             ENV_MAP_SIZE
@@ -413,41 +406,37 @@ impl Technique for InteriorMapping {
             wgpu::TextureFormat::Rgba16Float,
             "interior reflection map",
         )?;
-        let layout = bind_group_layout(ctx);
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("interior mapping"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: buildings.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: settings.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&texture_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::Sampler(&sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&env.cube_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::Sampler(&sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: wgpu::BindingResource::TextureView(&atlas_view),
-                },
+        let layout = bind::layout(
+            ctx,
+            "interior mapping",
+            wgpu::ShaderStages::FRAGMENT,
+            &[
+                bind::storage(true),      // buildings
+                bind::uniform(),          // settings
+                bind::texture_2d_array(), // room_textures
+                bind::sampler(),          // room_sampler
+                bind::texture_cube(),     // env_map
+                bind::sampler(),          // env_sampler
+                bind::texture_2d(),       // single_texture
             ],
-        });
+        );
+        // Room textures tile (repeat); the reflection map is a cube map, whose sampling
+        // ignores the address modes.
+        let samplers = &ctx.samplers;
+        let bind_group = bind::group(
+            ctx,
+            "interior mapping",
+            &layout,
+            &[
+                buildings.as_entire_binding(),
+                settings.binding(),
+                bind::view(&texture_view),
+                bind::sampler_resource(&samplers.linear_repeat),
+                bind::view(&env.cube_view),
+                bind::sampler_resource(&samplers.linear_clamp),
+                bind::view(&atlas_view),
+            ],
+        );
         let source = format!(
             "{}\n{}\n{}",
             scene::SCENE_WGSL,
@@ -495,25 +484,13 @@ impl Technique for InteriorMapping {
         view: &View,
         target: &Target,
     ) -> TechniqueResult<()> {
-        let state = self.state.as_ref().ok_or_else(|| {
-            scene::TechniqueError::Unsupported("prepare() runs before render()".into())
-        })?;
+        let state = self.state.as_ref().ok_or_else(|| not_prepared(self))?;
         let eye = view.camera.eye;
         if let Some(env) = &state.env {
             // The reflection map: the scene around the eye (buildings' hulls included as drawn by
             // the shared pass), regenerated every frame.
             frame.timer.begin(frame.encoder, "regenerate");
-            for face in 0..6 {
-                let view_proj =
-                    cube_face_view_proj(face, eye, 0.01, 2.0 * scene::BACKGROUND_DISTANCE);
-                let t = RasterTarget {
-                    color: &env.face_views[face],
-                    depth: &env.depth_face_views[face],
-                    format: env.format,
-                    clear: true,
-                };
-                scene.raster(frame, &t, view_proj, eye, &ObjectFilter::All, true);
-            }
+            scene.raster_cube(frame, env, eye, &ObjectFilter::All, true);
             frame.timer.end(frame.encoder, "regenerate");
         }
         let frame_index = ((view.time * FURNITURE_FPS).floor().max(0.0) as u32) % FURNITURE_FRAMES;
@@ -531,10 +508,7 @@ impl Technique for InteriorMapping {
                 0.0,
             ],
         };
-        frame
-            .gpu
-            .queue
-            .write_buffer(&state.settings, 0, bytemuck::bytes_of(&settings));
+        state.settings.write(frame.gpu, &settings);
 
         let view_proj = view.camera.view_proj(view.width, view.height);
         let main = RasterTarget {
@@ -556,23 +530,13 @@ impl Technique for InteriorMapping {
         // raster pass as span "interior" (encoder timestamps around the passes).
         frame.timer.begin(frame.encoder, "interior");
         if let Some(prepass) = &state.prepass {
-            let mut pass = frame
-                .encoder
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("interior depth pre-pass"),
-                    color_attachments: &[],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &target.depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+            let mut pass = pass::begin(
+                frame.encoder,
+                "interior depth pre-pass",
+                &[],
+                Some(pass::depth(&target.depth_view, Load::Keep)),
+                None,
+            );
             pass.set_pipeline(prepass);
             pass.set_bind_group(0, &camera, &[]);
             pass.set_bind_group(1, scene.bind_group(), &[]);
@@ -645,11 +609,7 @@ fn hull_pipeline(
     write_depth: bool,
 ) -> wgpu::RenderPipeline {
     let shade = fragment_entry.is_some();
-    let targets = [Some(wgpu::ColorTargetState {
-        format: gpu::HDR_FORMAT,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    })];
+    let targets = [pass::color_target(gpu::HDR_FORMAT, None)];
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(if shade {
@@ -674,24 +634,21 @@ fn hull_pipeline(
                 cull_mode: None,
                 ..Default::default()
             },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: gpu::DEPTH_FORMAT,
-                depth_write_enabled: Some(write_depth),
-                depth_compare: Some(if write_depth {
+            depth_stencil: Some(pass::depth_state(
+                write_depth,
+                if write_depth {
                     wgpu::CompareFunction::Less
                 } else {
                     wgpu::CompareFunction::LessEqual
-                }),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+                },
+            )),
             multisample: Default::default(),
             multiview_mask: None,
             cache: None,
         })
 }
 
-/// The one texture of `interior/single-texture` (the 2 x 2 atlas of `textures::single_atlas`);
+/// The one texture of `interior-mapping/single-texture` (the 2 x 2 atlas of `textures::single_atlas`);
 /// a 1 x 1 placeholder for the other variants, which bind but never read it.
 fn single_texture_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::TextureView {
     let (side, data) = if variant == Variant::SingleTexture {
@@ -726,70 +683,6 @@ fn srgb_texture(ctx: &Context, label: &str, side: u32, layers: u32, data: &[u8])
     )
 }
 
-fn bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    let f = wgpu::ShaderStages::FRAGMENT;
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: f,
-        ty,
-        count: None,
-    };
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("interior mapping"),
-            entries: &[
-                entry(
-                    0,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
-                entry(
-                    1,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
-                entry(
-                    2,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                ),
-                entry(
-                    3,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                ),
-                entry(
-                    4,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::Cube,
-                        multisampled: false,
-                    },
-                ),
-                entry(
-                    5,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                ),
-                entry(
-                    6,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
-            ],
-        })
-}
-
 /// The baseline: the same rooms as real geometry (a facade with window holes and planes
 /// spanning each box hull, as the paper's polygonised building), drawn by the shared raster
 /// pass. Box hulls that already have real interiors in the scene are kept as they are;
@@ -810,7 +703,7 @@ impl Default for PolygonInteriors {
     }
 }
 
-/// The scene with real room geometry in every box building (what `interior/polygons` draws).
+/// The scene with real room geometry in every box building (what `interior-mapping/polygons` draws).
 pub fn polygon_scene(scene: &Scene, room_scale: f32, texture_resolution: u32) -> Scene {
     let mut out = scene.clone();
     let base = out.textures.len();
@@ -853,7 +746,7 @@ pub fn polygon_scene(scene: &Scene, room_scale: f32, texture_resolution: u32) ->
 
 impl Technique for PolygonInteriors {
     fn id(&self) -> String {
-        "interior/polygons".into()
+        "interior-mapping/polygons".into()
     }
     fn description(&self) -> String {
         "baseline: the same rooms as real geometry (facade with window holes, room planes) through the shared raster pass".into()
@@ -901,9 +794,9 @@ impl Technique for PolygonInteriors {
         view: &View,
         target: &Target,
     ) -> TechniqueResult<()> {
-        let state = self.state.as_mut().ok_or_else(|| {
-            scene::TechniqueError::Unsupported("prepare() runs before render()".into())
-        })?;
+        let Some(state) = self.state.as_mut() else {
+            return Err(not_prepared(self));
+        };
         state.set_time(frame, view.time);
         let view_proj: Mat4 = view.camera.view_proj(view.width, view.height);
         let main = RasterTarget {

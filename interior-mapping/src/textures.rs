@@ -98,7 +98,7 @@ pub fn scene_textures(size: u32) -> Vec<Texture> {
     .collect()
 }
 
-/// The one texture of `interior/single-texture` (section 5.3.2, "reading the colours of all
+/// The one texture of `interior-mapping/single-texture` (section 5.3.2, "reading the colours of all
 /// walls and ceilings from a single texture"): the four plain surfaces of
 /// [`texture_layers`] as tiles of a `2 size` x `2 size` RGBA8 image, surface `s` at tile
 /// column `s % 2`, row `s / 2`.

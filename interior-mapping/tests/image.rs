@@ -38,13 +38,13 @@ fn interior_variants_against_reference_and_polygons() {
         images.push((id, image, m));
     }
     let get = |id: &str| images.iter().find(|(i, ..)| i == id).unwrap();
-    let (_, _, tm) = get("interior/textured");
-    let (_, polygons, pm) = get("interior/polygons");
+    let (_, _, tm) = get("interior-mapping/textured");
+    let (_, polygons, pm) = get("interior-mapping/polygons");
 
     // The empty-room variant, lit like the polygons (room_shadows=0: the scene's shadow maps),
     // against the same rooms as polygons: the only differences are the partial rooms at the
     // hull's edges and the 1 cm floor slab.
-    let mut t = technique("interior/textured");
+    let mut t = technique("interior-mapping/textured");
     t.set_param("room_shadows", 0.0).unwrap();
     let shadow_mapped = render(&scene, t.as_mut(), &view);
     dump("interior_textured_shadow_maps", &shadow_mapped);
@@ -87,13 +87,13 @@ fn interior_variants_against_reference_and_polygons() {
     // basic: the unlit rooms' ceilings are dark), single-texture 0.0109 (as textured),
     // reflection-only 0.2428; bounds about 1.5x.
     for (id, bound) in [
-        ("interior/ceiling-only", 0.04),
-        ("interior/single-texture", 0.02),
+        ("interior-mapping/ceiling-only", 0.04),
+        ("interior-mapping/single-texture", 0.02),
     ] {
         let m = get(id).2.flip_mean_masked;
         assert!(m < bound, "{id} vs reference: masked FLIP {m} >= {bound}");
     }
-    let reflection = get("interior/reflection-only").2.flip_mean_masked;
+    let reflection = get("interior-mapping/reflection-only").2.flip_mean_masked;
     assert!(
         reflection > 5.0 * tm.flip_mean_masked,
         "reflection-only (no rooms) {reflection} should be far worse than textured {}",
@@ -113,8 +113,8 @@ fn interior_variants_against_reference_and_polygons() {
         "single-texture",
         "reflection-only",
     ] {
-        let (_, a, _) = get(&format!("interior/{v}"));
-        let (_, b, _) = get(&format!("interior/{v}-prepass"));
+        let (_, a, _) = get(&format!("interior-mapping/{v}"));
+        let (_, b, _) = get(&format!("interior-mapping/{v}-prepass"));
         let differ = a
             .pixels
             .iter()
@@ -133,10 +133,10 @@ fn interior_variants_against_reference_and_polygons() {
         t.set_param("interior_light", 0.5).unwrap();
         render(&scene, t.as_mut(), &view)
     };
-    let lit_textured = lit("interior/textured");
+    let lit_textured = lit("interior-mapping/textured");
     dump("interior_textured_lit", &lit_textured);
     for v in ["basic", "exterior", "furniture", "varied", "ceiling-only"] {
-        let a = lit(&format!("interior/{v}"));
+        let a = lit(&format!("interior-mapping/{v}"));
         dump(&format!("interior_{v}_lit"), &a);
         let (m, _) = scene::metrics::compare(&a, &lit_textured, None);
         assert!(
@@ -158,9 +158,9 @@ fn any_hull_and_extreme_room_counts_are_finite() {
     ] {
         let scene = scene::load(spec).expect("city");
         for id in [
-            "interior/textured",
-            "interior/varied-prepass",
-            "interior/furniture",
+            "interior-mapping/textured",
+            "interior-mapping/varied-prepass",
+            "interior-mapping/furniture",
         ] {
             let mut t = technique(id);
             let mut view = view(48, 1.0);
@@ -187,7 +187,11 @@ fn camera_inside_a_room_matches_reference() {
     };
     let reference = reference(&scene, &view);
     dump("inside_reference", &reference.image);
-    let image = render(&scene, technique("interior/textured").as_mut(), &view);
+    let image = render(
+        &scene,
+        technique("interior-mapping/textured").as_mut(),
+        &view,
+    );
     dump("inside_textured", &image);
     assert_eq!(image.non_finite_count(), 0);
     let (m, _) = scene::metrics::compare(&image, &reference.image, Some(&reference.mask));
@@ -222,7 +226,7 @@ fn camera_inside_a_room_matches_reference() {
 fn furniture_is_animated() {
     let scene = scene::load("city").expect("city scene");
     let frame_at = |time: f32| {
-        let mut t = technique("interior/furniture");
+        let mut t = technique("interior-mapping/furniture");
         t.set_param("interior_light", 0.5).unwrap();
         render(&scene, t.as_mut(), &view(64, time))
     };
@@ -242,7 +246,7 @@ fn baselines_of_5_3_2() {
     let mask = Some(&reference.mask[..]);
     let lit = |id: &str| {
         let mut t = technique(id);
-        if id != "interior/reflection-only" {
+        if id != "interior-mapping/reflection-only" {
             t.set_param("interior_light", 0.5).unwrap();
         }
         let image = render(&scene, t.as_mut(), &view);
@@ -257,7 +261,7 @@ fn baselines_of_5_3_2() {
         "single-texture",
         "reflection-only",
     ]
-    .map(|v| lit(&format!("interior/{v}")));
+    .map(|v| lit(&format!("interior-mapping/{v}")));
     let flip = |a: &gpu::HdrImage, b: &gpu::HdrImage| {
         scene::metrics::compare(a, b, mask).0.flip_mean_masked
     };

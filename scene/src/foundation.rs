@@ -30,17 +30,21 @@ pub fn image_checks() -> Vec<crate::ImageCheck> {
             technique: "raster",
             scene: "cornell-sphere:material=diffuse",
             size: 64,
-            max_flip_mean: 1.0,
-            max_rmse: 1.0,
-            reason: "MEASURE",
+            max_flip_mean: 0.002,
+            max_rmse: 0.005,
+            reason: "nothing specular: the raster pass computes the reference's model and differs \
+                     only at shadow edges (shadow map vs shadow ray); measured FLIP 0.0006, RMSE \
+                     0.0026 (64 x 64, worst of t = 0, 1, 2)",
         },
         crate::ImageCheck {
             technique: "envmap/classic",
             scene: "cornell-sphere:material=mirror",
             size: 64,
-            max_flip_mean: 1.0,
-            max_rmse: 1.0,
-            reason: "MEASURE",
+            max_flip_mean: 0.09,
+            max_rmse: 0.46,
+            reason: "a baseline: the direction-only lookup misplaces the room in the mirror, and \
+                     the reference's light-traced caustics from the mirror are in no GPU \
+                     technique; measured FLIP 0.071, RMSE 0.361 (worst of t = 0, 1, 2)",
         },
     ]
 }

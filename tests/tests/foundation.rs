@@ -2,17 +2,18 @@
 //! nothing is specular, and the classic environment map renders every specular scene.
 
 use scene::foundation::{ClassicEnvMap, RasterTechnique};
-use workspace_tests::{reference, render};
+use testkit::{Shot, reference, render};
 
 /// Where nothing is specular, `raster` and `reference` compute the same diffuse model; they
 /// differ only at shadow edges (shadow map vs shadow ray) and silhouettes (one sample per
 /// pixel in both, but triangle rasterization rules vs exact BVH hits).
 #[test]
 fn raster_matches_reference_on_diffuse_cornell_sphere() {
-    let scene = scene::load("cornell-sphere:material=diffuse").unwrap();
-    let size = 128;
-    let truth = reference(&scene, size, 0);
-    let image = render(&mut RasterTechnique, &scene, size);
+    let spec = "cornell-sphere:material=diffuse";
+    let scene = scene::load(spec).unwrap();
+    let shot = Shot::default_camera(&scene, 0.0, 128);
+    let truth = reference(spec, &scene, shot, 0);
+    let image = render(&mut RasterTechnique, &scene, shot);
     let (m, _) = scene::metrics::compare(&image, &truth.image, None);
     println!("raster vs reference, diffuse cornell-sphere 128^2: {m:?}");
     assert_eq!(m.nan_pixels, 0);
@@ -48,9 +49,10 @@ fn classic_envmap_renders_every_specular_scene() {
     let size = 64;
     for spec in specs {
         let scene = scene::load(spec).unwrap();
-        let image = render(&mut ClassicEnvMap::default(), &scene, size);
+        let shot = Shot::default_camera(&scene, 0.0, size);
+        let image = render(&mut ClassicEnvMap::default(), &scene, shot);
         assert_eq!(image.non_finite_count(), 0, "{spec}: non-finite pixels");
-        let truth = reference(&scene, size, 0);
+        let truth = reference(spec, &scene, shot, 0);
         let special = scene.special_objects();
         let lit = (0..image.pixels.len())
             .filter(|&i| {
@@ -66,10 +68,11 @@ fn classic_envmap_renders_every_specular_scene() {
 /// least be in the right range on the sphere (a sanity bound, not a quality claim).
 #[test]
 fn classic_envmap_is_near_reference_on_mirror_sphere() {
-    let scene = scene::load("cornell-sphere:material=mirror").unwrap();
-    let size = 96;
-    let truth = reference(&scene, size, 0);
-    let image = render(&mut ClassicEnvMap::default(), &scene, size);
+    let spec = "cornell-sphere:material=mirror";
+    let scene = scene::load(spec).unwrap();
+    let shot = Shot::default_camera(&scene, 0.0, 96);
+    let truth = reference(spec, &scene, shot, 0);
+    let image = render(&mut ClassicEnvMap::default(), &scene, shot);
     let (m, _) = scene::metrics::compare(&image, &truth.image, Some(&truth.mask));
     println!("classic vs reference, mirror cornell-sphere 96^2: {m:?}");
     assert!(m.masked_pixels > 500);

@@ -1,7 +1,7 @@
 //! Every registered technique on every built-in scene it supports, at a tiny size: it must
 //! prepare, render and produce finite pixels (NaN or infinity is always a defect).
 
-use workspace_tests::context;
+use testkit::{Shot, context};
 
 #[test]
 fn every_technique_renders_finite_pixels_on_every_supported_scene() {
@@ -16,7 +16,8 @@ fn every_technique_renders_finite_pixels_on_every_supported_scene() {
             if context().require(technique.required_features()).is_err() {
                 continue;
             }
-            let image = workspace_tests::render(technique.as_mut(), &scene, size);
+            let shot = Shot::default_camera(&scene, 0.0, size);
+            let image = testkit::render(technique.as_mut(), &scene, shot);
             let bad = image.non_finite_count();
             if bad > 0 {
                 failures.push(format!(

@@ -1,17 +1,12 @@
 //! Shared helpers of the image tests: one GPU context per test binary, a small close view of
 //! building 0 of the `city` scene, and rendering a technique into an `HdrImage`.
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
 
 use glam::Vec3;
-use scene::{Camera, Frame, GpuScene, Scene, Technique, View};
-use std::sync::OnceLock;
+use scene::{Camera, Scene, Technique, View};
+use testkit::Shot;
 
-pub fn ctx() -> &'static gpu::Context {
-    static CTX: OnceLock<gpu::Context> = OnceLock::new();
-    CTX.get_or_init(|| {
-        gpu::Context::new().unwrap_or_else(|e| panic!("image tests need a GPU adapter: {e}"))
-    })
-}
+pub use testkit::context as ctx;
 
 /// A camera on the street, 7 m from building 0's +x facade, seeing that face and the +z face
 /// with the corner between them (the building has real interiors in the default `city`).
@@ -35,45 +30,25 @@ pub fn view(size: u32, time: f32) -> View {
 
 /// Renders one frame of `technique` (prepared on the spot) and reads it back.
 pub fn render(scene: &Scene, technique: &mut dyn Technique, view: &View) -> gpu::HdrImage {
-    let ctx = ctx();
-    let mut gpu_scene = GpuScene::new(ctx, scene).expect("upload");
-    let target = gpu::Target::new(ctx, view.width, view.height).expect("target");
-    let mut timer = gpu::GpuTimer::new(ctx, 64);
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    let mut frame = Frame {
-        gpu: ctx,
-        encoder: &mut encoder,
-        timer: &mut timer,
-    };
-    gpu_scene.set_time(&mut frame, view.time);
-    technique.prepare(&mut frame, &gpu_scene).expect("prepare");
-    technique
-        .render(&mut frame, &gpu_scene, view, &target)
-        .expect("render");
-    ctx.queue.submit([encoder.finish()]);
-    target.read(ctx).expect("read back")
+    testkit::render(technique, scene, shot(view))
 }
 
+/// The reference of `view` on the default `city` (cached under that spec: load it with
+/// `scene::load("city")`), without caustic photons (the city has no caustic casters).
 pub fn reference(scene: &Scene, view: &View) -> scene::reference::ReferenceImage {
-    let opts = scene::reference::ReferenceOptions {
-        photons: 0,
-        ..Default::default()
-    };
-    scene::reference::render(
-        scene,
-        &view.camera,
-        view.time,
-        view.width,
-        view.height,
-        &opts,
-    )
+    testkit::reference("city", scene, shot(view), 0)
+}
+
+fn shot(view: &View) -> Shot {
+    Shot {
+        camera: view.camera,
+        time: view.time,
+        size: view.width,
+    }
 }
 
 pub fn technique(id: &str) -> Box<dyn Technique> {
-    interior_mapping::techniques()
-        .into_iter()
-        .find(|t| t.id() == id)
-        .unwrap_or_else(|| panic!("no technique {id}"))
+    testkit::technique(interior_mapping::techniques(), id)
 }
 
 /// Writes a PNG (sRGB of the clamped value) when INTERIOR_TEST_PNG names a folder.
@@ -81,14 +56,6 @@ pub fn dump(name: &str, image: &gpu::HdrImage) {
     let Ok(dir) = std::env::var("INTERIOR_TEST_PNG") else {
         return;
     };
-    let gpu::HdrImage { width, height, .. } = *image;
-    let bytes = scene::metrics::to_srgb8(image);
     let path = std::path::Path::new(&dir).join(format!("{}.png", name.replace('/', "_")));
-    let channels = bytes.len() / (width * height) as usize;
-    let color = if channels == 4 {
-        image::ExtendedColorType::Rgba8
-    } else {
-        image::ExtendedColorType::Rgb8
-    };
-    image::save_buffer(path, &bytes, width, height, color).expect("png");
+    testkit::save_png(image, &path);
 }

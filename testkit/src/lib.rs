@@ -1,0 +1,210 @@
+//! What every test and example of the workspace needs and no technique should carry: one GPU
+//! context per process (with a lock that keeps lavapipe's threads from being oversubscribed),
+//! "render technique T on scene S at time t", the reference of the same view (cached per
+//! process), and PNG/strip writing with the workspace's conventions.
+//!
+//! A dev-dependency only: technique crates lifted into someone's renderer never compile it.
+
+use gpu::{Context, GpuTimer, HdrImage, Target};
+use scene::{Camera, Frame, GpuScene, Scene, Technique, View};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, OnceLock};
+
+/// The process's GPU context (lavapipe on CI); a missing adapter panics with its one-line
+/// reason (how to install the software driver).
+pub fn context() -> &'static Context {
+    static CTX: OnceLock<Context> = OnceLock::new();
+    CTX.get_or_init(|| {
+        Context::new().unwrap_or_else(|e| panic!("these tests need a GPU adapter: {e}"))
+    })
+}
+
+/// Serialises the GPU work of the tests of one binary (they run on parallel threads): on a
+/// small machine lavapipe's own threads are oversubscribed otherwise.
+pub fn gpu_lock() -> MutexGuard<'static, ()> {
+    static LOCK: Mutex<()> = Mutex::new(());
+    LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Records one submission through `f`, with the scene moved to `time` first, submits it and
+/// returns the timer's spans (name, milliseconds).
+pub fn submit(
+    ctx: &Context,
+    gpu_scene: &mut GpuScene,
+    time: f32,
+    f: impl FnOnce(&mut Frame, &GpuScene),
+) -> Vec<(String, f64)> {
+    let mut timer = GpuTimer::new(ctx, 64);
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    {
+        let mut frame = Frame {
+            gpu: ctx,
+            encoder: &mut encoder,
+            timer: &mut timer,
+        };
+        gpu_scene.set_time(&mut frame, time);
+        f(&mut frame, gpu_scene);
+    }
+    timer.submit_and_collect(ctx, encoder).expect("submit")
+}
+
+/// One frame of a test: the camera, the time along the scene's path and the image size.
+#[derive(Clone, Copy, Debug)]
+pub struct Shot {
+    pub camera: Camera,
+    pub time: f32,
+    pub size: u32,
+}
+
+impl Shot {
+    /// The scene's camera path at `time` (its default camera for a still scene).
+    pub fn along_path(scene: &Scene, time: f32, size: u32) -> Self {
+        Self {
+            camera: scene.camera_at(time),
+            time,
+            size,
+        }
+    }
+
+    /// The scene's default camera with the scene at `time`.
+    pub fn default_camera(scene: &Scene, time: f32, size: u32) -> Self {
+        Self {
+            camera: scene.camera,
+            time,
+            size,
+        }
+    }
+
+    pub fn view(&self) -> View {
+        View {
+            camera: self.camera,
+            time: self.time,
+            width: self.size,
+            height: self.size,
+        }
+    }
+}
+
+/// Renders `technique` on `scene`: prepares it at the first shot's time, renders every shot
+/// in turn (a map made at an earlier time is reused when the technique allows it) and
+/// returns the last image. Validation errors fail the test. Tests that run in parallel hold
+/// [`gpu_lock`] around it.
+pub fn render_shots(technique: &mut dyn Technique, scene: &Scene, shots: &[Shot]) -> HdrImage {
+    let first = shots.first().expect("at least one shot");
+    let ctx = context();
+    let mut gpu_scene = GpuScene::new(ctx, scene).expect("scene uploads");
+    let target = Target::new(ctx, first.size, first.size).expect("target");
+    ctx.validated(|| {
+        submit(ctx, &mut gpu_scene, first.time, |frame, s| {
+            technique.prepare(frame, s).expect("prepare")
+        });
+        for shot in shots {
+            submit(ctx, &mut gpu_scene, shot.time, |frame, s| {
+                technique
+                    .render(frame, s, &shot.view(), &target)
+                    .expect("render")
+            });
+        }
+    })
+    .expect("GPU validation");
+    target.read(ctx).expect("read back")
+}
+
+/// Renders one shot of `technique` on `scene`.
+pub fn render(technique: &mut dyn Technique, scene: &Scene, shot: Shot) -> HdrImage {
+    render_shots(technique, scene, &[shot])
+}
+
+/// The reference image of `shot` with `photons` caustic photons (0: none; they only add light
+/// under specular objects and cost most of the reference's time), computed once per process
+/// for the same scene spec, shot and photon count.
+pub fn reference(
+    spec: &str,
+    scene: &Scene,
+    shot: Shot,
+    photons: u64,
+) -> scene::reference::ReferenceImage {
+    type Key = (String, [u32; 11], u64);
+    static CACHE: OnceLock<Mutex<HashMap<Key, scene::reference::ReferenceImage>>> = OnceLock::new();
+    let c = shot.camera;
+    let key = (
+        spec.to_string(),
+        [
+            c.eye.x,
+            c.eye.y,
+            c.eye.z,
+            c.target.x,
+            c.target.y,
+            c.target.z,
+            c.up.x,
+            c.up.y,
+            c.fov_y_deg,
+            shot.time,
+            shot.size as f32,
+        ]
+        .map(f32::to_bits),
+        photons,
+    );
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(image) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return image.clone();
+    }
+    let options = scene::reference::ReferenceOptions {
+        photons,
+        ..Default::default()
+    };
+    let image = scene::reference::render(scene, &c, shot.time, shot.size, shot.size, &options);
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key, image.clone());
+    image
+}
+
+/// The variant `id` among `techniques` (a crate's `techniques()`), or a panic naming it.
+pub fn technique(techniques: Vec<Box<dyn Technique>>, id: &str) -> Box<dyn Technique> {
+    techniques
+        .into_iter()
+        .find(|t| t.id() == id)
+        .unwrap_or_else(|| panic!("no technique {id}"))
+}
+
+/// `target/<name>/` of the workspace, created: where tests write the images they make.
+pub fn out_dir(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../target")
+        .join(name);
+    std::fs::create_dir_all(&dir).expect("output dir");
+    dir
+}
+
+/// Writes `image` as an sRGB PNG (the workspace's convention: clamp, sRGB, no tone mapping).
+pub fn save_png(image: &HdrImage, path: &Path) {
+    let bytes = scene::metrics::to_srgb8(image);
+    image::save_buffer(
+        path,
+        &bytes,
+        image.width,
+        image.height,
+        image::ExtendedColorType::Rgb8,
+    )
+    .unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+}
+
+/// Images side by side, each scaled up `scale` times (nearest), as one image.
+pub fn strip(images: &[&HdrImage], scale: u32) -> HdrImage {
+    let h = images.iter().map(|i| i.height).max().unwrap_or(0) * scale;
+    let w: u32 = images.iter().map(|i| i.width * scale).sum();
+    let mut strip = HdrImage::new(w, h);
+    let mut x0 = 0;
+    for img in images {
+        for y in 0..img.height * scale {
+            for x in 0..img.width * scale {
+                strip.set(x0 + x, y, img.get(x / scale, y / scale));
+            }
+        }
+        x0 += img.width * scale;
+    }
+    strip
+}

@@ -1,0 +1,84 @@
+//! Every image check the technique crates declare (`harness::image_checks`, one line per
+//! crate), run against the reference along the camera path: the generic "each technique is
+//! within its stated error" test, like the wgpu examples' image tests.
+//!
+//! Each check renders its technique at the start, middle and end of the scene's camera path
+//! (`scene::technique::check_times`) and compares every frame with the CPU reference of the
+//! same view (photon density of the harness, `ReferenceOptions::for_image`). A failure names
+//! the check, the frame and both measured values; the check's `reason` says where its bound
+//! comes from.
+
+use scene::technique::check_times;
+use std::collections::BTreeMap;
+use testkit::{Shot, context, render};
+
+#[test]
+fn every_declared_image_check_holds_along_the_camera_path() {
+    let checks = harness::image_checks();
+    assert!(!checks.is_empty(), "no image checks declared");
+    let mut references: BTreeMap<(String, u32, u32), gpu::HdrImage> = BTreeMap::new();
+    let mut failures = Vec::new();
+    for check in &checks {
+        let scene = scene::load(check.scene).unwrap_or_else(|e| panic!("{check:?}: {e}"));
+        let mut technique = harness::registry()
+            .into_iter()
+            .find(|t| t.id() == check.technique)
+            .unwrap_or_else(|| panic!("image check names unknown technique {}", check.technique));
+        assert!(
+            technique.supports(&scene),
+            "{} does not support {}",
+            check.technique,
+            check.scene
+        );
+        if let Err(e) = context().require(technique.required_features()) {
+            println!("skipped {} on {}: {e}", check.technique, check.scene);
+            continue;
+        }
+        for time in check_times(scene.camera_path.duration()) {
+            let camera = scene.camera_at(time);
+            let key = (check.scene.to_string(), check.size, time.to_bits());
+            let truth = references.entry(key).or_insert_with(|| {
+                let options = scene::reference::ReferenceOptions::for_image(check.size, check.size);
+                scene::reference::render(&scene, &camera, time, check.size, check.size, &options)
+                    .image
+            });
+            let image = render(
+                technique.as_mut(),
+                &scene,
+                Shot {
+                    camera,
+                    time,
+                    size: check.size,
+                },
+            );
+            let (m, _) = scene::metrics::compare(&image, truth, None);
+            println!(
+                "{} on {} at t={time}: FLIP {:.4} (bound {}), RMSE {:.4} (bound {})",
+                check.technique,
+                check.scene,
+                m.flip_mean,
+                check.max_flip_mean,
+                m.rmse,
+                check.max_rmse
+            );
+            if m.nan_pixels > 0
+                || m.flip_mean > check.max_flip_mean as f64
+                || m.rmse > check.max_rmse as f64
+            {
+                failures.push(format!(
+                    "{} on {} at t={time}: FLIP {:.4} > {} or RMSE {:.4} > {} or {} NaN pixels \
+                     ({})",
+                    check.technique,
+                    check.scene,
+                    m.flip_mean,
+                    check.max_flip_mean,
+                    m.rmse,
+                    check.max_rmse,
+                    m.nan_pixels,
+                    check.reason
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
