@@ -720,7 +720,7 @@ fn no_panic_on_corrupted_input() {
 
     let mut small = scene::load("cornell-sphere").unwrap();
     small.objects.last_mut().unwrap().mesh = scene::mesh::uv_sphere(0.3, 4, 8);
-    small.textures.push(scene::builtin::checker_texture(
+    small.textures.push(scene::builtin::textures::checker_texture(
         "t",
         4,
         2,

@@ -300,7 +300,7 @@ fn textured_plane_multiplies_albedo_by_texture() {
         Vec2::splat(40.0),
     );
     let mut scene = scene_with(vec![plane], camera);
-    scene.textures.push(scene::builtin::checker_texture(
+    scene.textures.push(scene::builtin::textures::checker_texture(
         "checker",
         16,
         4,
