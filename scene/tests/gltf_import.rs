@@ -720,13 +720,15 @@ fn no_panic_on_corrupted_input() {
 
     let mut small = scene::load("cornell-sphere").unwrap();
     small.objects.last_mut().unwrap().mesh = scene::mesh::uv_sphere(0.3, 4, 8);
-    small.textures.push(scene::builtin::textures::checker_texture(
-        "t",
-        4,
-        2,
-        [0, 0, 0],
-        [255, 255, 255],
-    ));
+    small
+        .textures
+        .push(scene::builtin::textures::checker_texture(
+            "t",
+            4,
+            2,
+            [0, 0, 0],
+            [255, 255, 255],
+        ));
     small.objects[0].material = Material::Diffuse {
         albedo: Vec3::ONE,
         texture: Some(0),

@@ -300,13 +300,15 @@ fn textured_plane_multiplies_albedo_by_texture() {
         Vec2::splat(40.0),
     );
     let mut scene = scene_with(vec![plane], camera);
-    scene.textures.push(scene::builtin::textures::checker_texture(
-        "checker",
-        16,
-        4,
-        [250, 40, 40],
-        [30, 60, 200],
-    ));
+    scene
+        .textures
+        .push(scene::builtin::textures::checker_texture(
+            "checker",
+            16,
+            4,
+            [250, 40, 40],
+            [30, 60, 200],
+        ));
     let size = 48;
     let opts = ReferenceOptions {
         photons: 0,

@@ -22,9 +22,10 @@ use crate::path_length::{
     OpacityFn, PATH_LENGTH_WGSL, Primitive, THICKNESS_TEXTURE_SIZE, bake_thickness,
 };
 use glam::Vec3;
+use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
-use gpu::{Context, Target};
-use scene::technique::check_param;
+use gpu::{Context, Target, bind};
+use scene::technique::{check_param, not_prepared};
 use scene::{
     BACKGROUND_DISTANCE, Camera, Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene,
     Technique, TechniqueResult, View, Volume,
@@ -398,7 +399,6 @@ struct Resources {
     resolve_pipeline: wgpu::RenderPipeline,
     distance_pipeline: wgpu::RenderPipeline,
     thickness_view: wgpu::TextureView,
-    sampler: wgpu::Sampler,
     dummy_distance_view: wgpu::TextureView,
     dummy_depth_view: wgpu::TextureView,
 }
@@ -465,15 +465,15 @@ impl VolumeTechnique {
         }
     }
 
-    fn ensure_buffers(&mut self, ctx: &Context, width: u32, height: u32) {
+    fn ensure_buffers(&mut self, ctx: &Context, width: u32, height: u32) -> TechniqueResult<()> {
         if self
             .buffers
             .as_ref()
             .is_some_and(|b| b.width == width && b.height == height)
         {
-            return;
+            return Ok(());
         }
-        let res = self.gpu.as_ref().expect("prepare() runs before render()");
+        let res = self.gpu.as_ref().ok_or_else(|| not_prepared(self))?;
         let texture = |label: &str, format: wgpu::TextureFormat| {
             ctx.device
                 .create_texture(&wgpu::TextureDescriptor {
@@ -501,14 +501,7 @@ impl VolumeTechnique {
             gpu::depth_texture(ctx, width, height, 1, "volumes depth pre-pass depth")
                 .create_view(&Default::default());
         let copy_bind_group = |view: &wgpu::TextureView| {
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("volumes copy"),
-                layout: &res.copy_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(view),
-                }],
-            })
+            bind::group(ctx, "volumes copy", &res.copy_layout, &[bind::view(view)])
         };
         let to_bytes_bind_group = bytes_view
             .as_ref()
@@ -524,6 +517,7 @@ impl VolumeTechnique {
             to_bytes_bind_group,
             resolve_bind_group,
         });
+        Ok(())
     }
 }
 
@@ -624,8 +618,8 @@ impl Technique for VolumeTechnique {
             self.gpu = Some(ctx.validated(|| self.create_resources(ctx, scene))?);
             self.buffers = None;
         }
-        self.ensure_buffers(ctx, target.width, target.height);
-        let res = self.gpu.as_ref().expect("prepare() runs before render()");
+        self.ensure_buffers(ctx, target.width, target.height)?;
+        let res = self.gpu.as_ref().ok_or_else(|| not_prepared(self))?;
         let buffers = self.buffers.as_ref().expect("ensure_buffers made them");
         let camera = &view.camera;
         let view_proj = camera.view_proj(target.width, target.height);
@@ -635,36 +629,19 @@ impl Technique for VolumeTechnique {
             frame.timer.begin(frame.encoder, "scene-depth");
             {
                 let camera_group = scene.camera_bind_group(ctx, view_proj, camera.eye);
-                let mut pass = frame
-                    .encoder
-                    .begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("volumes scene distance"),
-                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view: &buffers.distance_view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color {
-                                    r: BACKGROUND_DISTANCE as f64,
-                                    g: 0.0,
-                                    b: 0.0,
-                                    a: 0.0,
-                                }),
-                                store: wgpu::StoreOp::Store,
-                            },
-                        })],
-                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                            view: &buffers.distance_depth_view,
-                            depth_ops: Some(wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(1.0),
-                                store: wgpu::StoreOp::Store,
-                            }),
-                            stencil_ops: None,
-                        }),
-                        timestamp_writes: None,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
+                let background = Load::Clear(wgpu::Color {
+                    r: BACKGROUND_DISTANCE as f64,
+                    g: 0.0,
+                    b: 0.0,
+                    a: 0.0,
+                });
+                let mut pass = pass::begin(
+                    frame.encoder,
+                    "volumes scene distance",
+                    &[pass::color(&buffers.distance_view, background)],
+                    Some(pass::depth(&buffers.distance_depth_view, pass::CLEAR_FAR)),
+                    None,
+                );
                 pass.set_pipeline(&res.distance_pipeline);
                 pass.set_bind_group(0, &camera_group, &[]);
                 pass.set_bind_group(1, scene.bind_group(), &[]);
@@ -695,7 +672,13 @@ impl Technique for VolumeTechnique {
             &res.to_bytes_pipeline,
             &buffers.to_bytes_bind_group,
         ) {
-            let mut pass = colour_pass(frame.encoder, bytes_view, "volumes to 8-bit", false);
+            let mut pass = pass::begin(
+                frame.encoder,
+                "volumes to 8-bit",
+                &[pass::color(bytes_view, CLEAR_OPAQUE_BLACK)],
+                None,
+                None,
+            );
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, group, &[]);
             gpu::fullscreen::draw(&mut pass);
@@ -718,13 +701,7 @@ impl Technique for VolumeTechnique {
                 .iter()
                 .map(|v| self.volume_record(v, &scene.scene.volumes))
                 .collect();
-            let globals_buffer = ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("volumes globals"),
-                    contents: bytemuck::bytes_of(&globals),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
+            let globals = gpu::Uniform::new(ctx, "volumes globals", &globals);
             let volume_buffer = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -743,61 +720,35 @@ impl Technique for VolumeTechnique {
             } else {
                 &res.dummy_depth_view
             };
-            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("volumes"),
-                layout: &res.volume_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: globals_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: volume_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: wgpu::BindingResource::TextureView(&res.thickness_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: wgpu::BindingResource::Sampler(&res.sampler),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: wgpu::BindingResource::TextureView(distance_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 5,
-                        resource: wgpu::BindingResource::TextureView(depth_view),
-                    },
+            let group = bind::group(
+                ctx,
+                "volumes",
+                &res.volume_layout,
+                &[
+                    globals.binding(),
+                    volume_buffer.as_entire_binding(),
+                    bind::view(&res.thickness_view),
+                    bind::sampler_resource(&ctx.samplers.linear_clamp),
+                    bind::view(distance_view),
+                    bind::view(depth_view),
                 ],
-            });
+            );
             frame.timer.begin(frame.encoder, "volumes");
             {
+                // Billboards and slices test against the scene's depth without writing it: a
+                // read-only attachment (no depth ops), which `pass::depth` does not make.
                 let depth_test = (!raytraced).then_some(wgpu::RenderPassDepthStencilAttachment {
                     view: &target.depth_view,
                     depth_ops: None,
                     stencil_ops: None,
                 });
-                let mut pass = frame
-                    .encoder
-                    .begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("volumes"),
-                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view: work_view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Load,
-                                store: wgpu::StoreOp::Store,
-                            },
-                        })],
-                        depth_stencil_attachment: depth_test,
-                        timestamp_writes: None,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
+                let mut pass = pass::begin(
+                    frame.encoder,
+                    "volumes",
+                    &[pass::color(work_view, Load::Keep)],
+                    depth_test,
+                    None,
+                );
                 pass.set_pipeline(&res.volume_pipeline);
                 pass.set_bind_group(0, &group, &[]);
                 pass.draw(0..6, 0..placed.len() as u32 * self.slice_count());
@@ -806,7 +757,13 @@ impl Technique for VolumeTechnique {
         }
 
         // 5. Into the HDR target.
-        let mut pass = colour_pass(frame.encoder, &target.color_view, "volumes resolve", false);
+        let mut pass = pass::begin(
+            frame.encoder,
+            "volumes resolve",
+            &[pass::color(&target.color_view, CLEAR_OPAQUE_BLACK)],
+            None,
+            None,
+        );
         pass.set_pipeline(&res.resolve_pipeline);
         pass.set_bind_group(0, &buffers.resolve_bind_group, &[]);
         gpu::fullscreen::draw(&mut pass);
@@ -906,90 +863,49 @@ pub fn billboard_extent(v: &PlacedVolume, scale: f32, fit: bool) -> (f32, bool) 
     (cover.max(scale * r), false)
 }
 
-fn colour_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    view: &wgpu::TextureView,
-    label: &str,
-    load: bool,
-) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: if load {
-                    wgpu::LoadOp::Load
-                } else {
-                    wgpu::LoadOp::Clear(wgpu::Color::BLACK)
-                },
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
-}
+/// The clear of the full-screen copies' targets (which the copies then overwrite): opaque
+/// black, not [`pass::CLEAR_BLACK`]'s transparent black.
+const CLEAR_OPAQUE_BLACK: Load<wgpu::Color> = Load::Clear(wgpu::Color::BLACK);
+
+/// Premultiplied "over" on rgb; the destination's alpha is kept. (Not wgpu's
+/// `PREMULTIPLIED_ALPHA_BLENDING`, which also blends alpha.)
+const PREMULTIPLIED_OVER_KEEP_ALPHA: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
 
 impl VolumeTechnique {
     fn create_resources(&self, ctx: &Context, scene: &GpuScene) -> Resources {
+        use wgpu::TextureViewDimension::D2;
         let device = &ctx.device;
-        let fragment = wgpu::ShaderStages::FRAGMENT;
-        let both = wgpu::ShaderStages::VERTEX_FRAGMENT;
-        let texture_entry = |binding, sample_type| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: fragment,
-            ty: wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let volume_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("volumes"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: both,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: both,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                texture_entry(2, wgpu::TextureSampleType::Float { filterable: true }),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: fragment,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-                texture_entry(4, wgpu::TextureSampleType::Float { filterable: false }),
-                texture_entry(5, wgpu::TextureSampleType::Depth),
+        let fragment = bind::ShaderStages::FRAGMENT;
+        let both = bind::ShaderStages::VERTEX_FRAGMENT;
+        let volume_layout = bind::layout_with_stages(
+            ctx,
+            "volumes",
+            &[
+                (both, bind::uniform()),                     // globals
+                (both, bind::storage(true)),                 // volumes
+                (fragment, bind::texture_2d()),              // thickness_texture
+                (fragment, bind::sampler()),                 // thickness_sampler
+                (fragment, bind::texture_2d_unfilterable()), // scene_distance_texture
+                (fragment, bind::depth_texture(D2)),         // scene_depth_texture
             ],
-        });
-        let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("volumes copy"),
-            entries: &[texture_entry(
-                0,
-                wgpu::TextureSampleType::Float { filterable: false },
-            )],
-        });
+        );
+        let copy_layout = bind::layout(
+            ctx,
+            "volumes copy",
+            fragment,
+            &[bind::texture_2d_unfilterable()], // copy_source
+        );
 
         // The volume pass.
         let source = format!("{PATH_LENGTH_WGSL}\n{VOLUMES_WGSL}");
@@ -1014,25 +930,8 @@ impl VolumeTechnique {
             constants: &constants,
             zero_initialize_workgroup_memory: true,
         };
-        let depth_stencil = (!self.is_raytraced()).then(|| wgpu::DepthStencilState {
-            format: gpu::DEPTH_FORMAT,
-            depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        });
-        let premultiplied_over = wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-                operation: wgpu::BlendOperation::Add,
-            },
-            alpha: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::Zero,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            },
-        };
+        let depth_stencil =
+            (!self.is_raytraced()).then(|| pass::depth_state(false, wgpu::CompareFunction::Less));
         let volume_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("volumes"),
             layout: Some(&layout),
@@ -1046,11 +945,10 @@ impl VolumeTechnique {
                 module: &module,
                 entry_point: Some(fragment_entry),
                 compilation_options: options,
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: self.buffer_format(),
-                    blend: Some(premultiplied_over),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
+                targets: &[pass::color_target(
+                    self.buffer_format(),
+                    Some(PREMULTIPLIED_OVER_KEEP_ALPHA),
+                )],
             }),
             primitive: wgpu::PrimitiveState {
                 cull_mode: None,
@@ -1100,7 +998,8 @@ impl VolumeTechnique {
             DISTANCE_FORMAT,
         );
 
-        // The thickness texture (the alpha of the billboard texture) and its sampler.
+        // The thickness texture (the alpha of the billboard texture), read through the shared
+        // bilinear clamp-to-edge sampler.
         let size = THICKNESS_TEXTURE_SIZE;
         let (texels, baked) = self.bake(&scene.scene);
         let thickness = device.create_texture_with_data(
@@ -1122,14 +1021,6 @@ impl VolumeTechnique {
             wgpu::util::TextureDataOrder::LayerMajor,
             &texels,
         );
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("volumes thickness sampler"),
-            address_mode_u: wgpu::AddressMode::ClampToEdge,
-            address_mode_v: wgpu::AddressMode::ClampToEdge,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
         let dummy_distance_view = device
             .create_texture(&wgpu::TextureDescriptor {
                 label: Some("volumes unused distance"),
@@ -1158,7 +1049,6 @@ impl VolumeTechnique {
             resolve_pipeline,
             distance_pipeline,
             thickness_view: thickness.create_view(&Default::default()),
-            sampler,
             dummy_distance_view,
             dummy_depth_view,
         }
