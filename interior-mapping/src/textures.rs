@@ -1,11 +1,11 @@
 //! The interior textures: floors, ceilings, two wallpapers (the `city` scene's own
-//! `scene::city::room_texel`, so a technique at 64 texels samples exactly what the
+//! `scene::builtin::city::room_texel`, so a technique at 64 texels samples exactly what the
 //! reference's room planes carry), tinted variants for the per-room atlas (section 5.4.2)
 //! and the animated furniture sprite (section 5.2.4).
 
 use scene::Texture;
 
-pub use scene::city::{RoomSurface, room_texel, room_texture};
+pub use scene::builtin::city::{RoomSurface, room_texel, room_texture};
 
 /// Number of tinted variants per surface in the atlas (variant 0 is the plain texture).
 pub const VARIANTS: u32 = 4;

@@ -3,9 +3,7 @@
 //! metrics, the GPU upload with the shared raster pass, and the `Technique` trait.
 
 pub mod builtin;
-mod bunny;
 pub mod bvh;
-pub mod city;
 pub mod foundation;
 pub mod gltf_io;
 mod gpu_scene;

@@ -5,6 +5,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
+use scene::builtin::textures::checker_texture;
 use scene::mesh::{quad, uv_sphere};
 use scene::reference::{ReferenceOptions, render};
 use scene::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, Volume};
@@ -300,7 +301,7 @@ fn textured_plane_multiplies_albedo_by_texture() {
         Vec2::splat(40.0),
     );
     let mut scene = scene_with(vec![plane], camera);
-    scene.textures.push(scene::builtin::checker_texture(
+    scene.textures.push(checker_texture(
         "checker",
         16,
         4,

@@ -30,7 +30,7 @@
 //! Interior mapping (the `interior-mapping` crate) must produce the same window pattern and
 //! textures; its tests check that its generators agree with this file.
 
-use crate::builtin::checker_texture;
+use super::textures::{checker_texture, from_texels};
 use crate::mesh::{cuboid, cylinder, quad, uv_sphere};
 use crate::{
     Building, Camera, CameraPath, Material, Mesh, Object, PointLight, Roles, Scene, SceneError,
@@ -51,6 +51,8 @@ pub const MAX_REAL_ROOMS: f32 = 100_000.0;
 /// Resolution of the interior textures.
 pub const ROOM_TEXTURE_SIZE: u32 = 64;
 
+/// `city` with `buildings` hulls of `rooms_per_building` rooms each; `interiors` 1 gives the
+/// buildings beside the start of the street real rooms (see the module documentation), 0 none.
 pub fn city(
     buildings: usize,
     rooms_per_building: f32,
@@ -362,23 +364,8 @@ pub fn room_texel(surface: RoomSurface, s: f32, t: f32) -> [u8; 3] {
 
 /// A room texture of `size` x `size` texels sampled at texel centres.
 pub fn room_texture(name: &str, surface: RoomSurface, size: u32) -> Texture {
-    let mut rgba8 = Vec::with_capacity((size * size * 4) as usize);
-    for j in 0..size {
-        for i in 0..size {
-            let c = room_texel(
-                surface,
-                (i as f32 + 0.5) / size as f32,
-                (j as f32 + 0.5) / size as f32,
-            );
-            rgba8.extend_from_slice(&[c[0], c[1], c[2], 255]);
-        }
-    }
-    Texture {
-        name: name.to_string(),
-        width: size,
-        height: size,
-        rgba8,
-    }
+    let at = |k: u32| (k as f32 + 0.5) / size as f32;
+    from_texels(name, size, |i, j| room_texel(surface, at(i), at(j)))
 }
 
 #[cfg(test)]

@@ -6,18 +6,19 @@
 //! on x = z = 0; see `assets/README.md` for its source, licence and conversion), embedded
 //! in the crate and read with the glTF importer.
 
-use crate::builtin::checker_texture;
+use super::textures::checker_texture;
 use crate::mesh::{cuboid, quad};
 use crate::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError};
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 /// The bunny asset: one object whose mesh has height 1 and its base at y = 0.
-const BUNNY_GLB: &[u8] = include_bytes!("../assets/bunny.glb");
+const BUNNY_GLB: &[u8] = include_bytes!("../../assets/bunny.glb");
 
 /// Height of the bunny in the scene, metres.
 const BUNNY_HEIGHT: f32 = 0.6;
 
-pub(crate) fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
+/// `refraction-bunny` with the bunny's index of refraction `ior` (in (0, 10]).
+pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
     if !(ior > 0.0 && ior <= 10.0) {
         return Err(SceneError::BadParam(format!("ior={ior} is not in (0, 10]")));
     }

@@ -1,0 +1,156 @@
+//! The `cornell-sphere` and `cornell-box` scenes: a closed 2 m room with red and green side
+//! walls and one point light under the ceiling, holding one sphere of a chosen material that
+//! moves 0.5 m along x over the camera path; `cornell-box` adds a tall box that makes the room
+//! concave (the distance-impostor paper's hard case).
+
+use crate::mesh::{cuboid, quad, uv_sphere};
+use crate::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError};
+use glam::{Mat4, Quat, Vec2, Vec3};
+
+/// The values of the `material` parameter.
+pub const MATERIAL_HELP: &str = "sphere material: glass-1.5, glass-1.1, glass-0.75, mirror, gold, \
+                                 copper, diffuse";
+
+/// `cornell-sphere`: the room and the sphere (`material` one of [`MATERIAL_HELP`], centre at
+/// `x = sphere_x`).
+pub fn cornell_sphere(material: &str, sphere_x: f32) -> Result<Scene, SceneError> {
+    cornell(false, material, sphere_x)
+}
+
+/// `cornell-box`: [`cornell_sphere`] plus a tall box.
+pub fn cornell_box(material: &str, sphere_x: f32) -> Result<Scene, SceneError> {
+    cornell(true, material, sphere_x)
+}
+
+fn sphere_material(name: &str) -> Result<(Material, Roles), SceneError> {
+    let refr = Roles::REFRACTOR | Roles::CAUSTIC_CASTER;
+    let refl = Roles::REFLECTOR | Roles::CAUSTIC_CASTER;
+    Ok(match name {
+        "glass-1.5" => (Material::glass(1.5), refr),
+        "glass-1.1" => (Material::glass(1.1), refr),
+        "glass-0.75" => (Material::glass(0.75), refr),
+        "mirror" => (Material::perfect_mirror(), refl),
+        "gold" => (Material::gold(), refl),
+        "copper" => (Material::copper(), refl),
+        "diffuse" => (Material::diffuse(0.7, 0.7, 0.7), Roles::NONE),
+        other => {
+            return Err(SceneError::BadParam(format!(
+                "unknown material \"{other}\" ({MATERIAL_HELP})"
+            )));
+        }
+    })
+}
+
+/// Room interior: x in [-1, 1], y in [0, 2], z in [-1, 1], walls facing inwards.
+fn room_objects() -> Vec<Object> {
+    let id = Mat4::IDENTITY;
+    let white = Material::diffuse(0.75, 0.75, 0.75);
+    let wall = |name: &str, origin: Vec3, u: Vec3, v: Vec3, m: Material| {
+        Object::new(name, quad(origin, u, v, Vec2::ONE), m, id)
+    };
+    vec![
+        wall(
+            "floor",
+            Vec3::new(-1.0, 0.0, 1.0),
+            Vec3::X * 2.0,
+            Vec3::NEG_Z * 2.0,
+            white.clone(),
+        ),
+        wall(
+            "ceiling",
+            Vec3::new(-1.0, 2.0, -1.0),
+            Vec3::X * 2.0,
+            Vec3::Z * 2.0,
+            white.clone(),
+        ),
+        wall(
+            "back wall",
+            Vec3::new(-1.0, 0.0, -1.0),
+            Vec3::X * 2.0,
+            Vec3::Y * 2.0,
+            white.clone(),
+        ),
+        wall(
+            "front wall",
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::NEG_X * 2.0,
+            Vec3::Y * 2.0,
+            Material::diffuse(0.55, 0.55, 0.75),
+        ),
+        wall(
+            "left wall",
+            Vec3::new(-1.0, 0.0, 1.0),
+            Vec3::NEG_Z * 2.0,
+            Vec3::Y * 2.0,
+            Material::diffuse(0.75, 0.15, 0.12),
+        ),
+        wall(
+            "right wall",
+            Vec3::new(1.0, 0.0, -1.0),
+            Vec3::Z * 2.0,
+            Vec3::Y * 2.0,
+            Material::diffuse(0.15, 0.65, 0.15),
+        ),
+    ]
+}
+
+fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, SceneError> {
+    let (mat, roles) = sphere_material(material)?;
+    let mut objects = room_objects();
+    if tall_box {
+        let bx = cuboid(Vec3::new(-0.25, 0.0, -0.25), Vec3::new(0.25, 1.3, 0.25));
+        let t = Mat4::from_rotation_translation(
+            Quat::from_rotation_y(0.35),
+            Vec3::new(0.5, 0.0, -0.45),
+        );
+        objects.push(Object::new(
+            "tall box",
+            bx,
+            Material::diffuse(0.8, 0.75, 0.3),
+            t,
+        ));
+    }
+    let center = Vec3::new(sphere_x, 0.55, -0.1);
+    let mut sphere = Object::new(
+        "sphere",
+        uv_sphere(0.3, 48, 96),
+        mat,
+        Mat4::from_translation(center),
+    )
+    .with_roles(roles);
+    // Over the camera path the sphere moves 0.5 m along x and back (paper, figure 5).
+    sphere.motion = Motion {
+        keys: vec![
+            (0.0, Vec3::ZERO),
+            (1.0, Vec3::new(-0.5, 0.0, 0.0)),
+            (2.0, Vec3::ZERO),
+        ],
+    };
+    objects.push(sphere);
+    let camera = Camera {
+        eye: Vec3::new(0.0, 1.0, 0.95),
+        target: Vec3::new(0.0, 0.5, -0.5),
+        up: Vec3::Y,
+        fov_y_deg: 62.0,
+    };
+    let moved = Camera {
+        eye: Vec3::new(0.3, 1.1, 0.9),
+        ..camera
+    };
+    Ok(Scene {
+        name: String::new(),
+        objects,
+        textures: vec![],
+        lights: vec![PointLight {
+            name: "ceiling light".into(),
+            position: Vec3::new(0.0, 1.85, 0.0),
+            intensity: Vec3::splat(2.5),
+        }],
+        camera,
+        camera_path: CameraPath {
+            keys: vec![(0.0, camera), (1.0, moved), (2.0, camera)],
+        },
+        volumes: vec![],
+        background: Vec3::ZERO,
+    })
+}

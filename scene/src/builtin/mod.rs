@@ -1,0 +1,226 @@
+//! The built-in named scenes: the equal ground every technique is compared on.
+//!
+//! A scene is named by a spec `name` or `name:key=value,key=value`, for example
+//! `cornell-sphere:material=mirror` or `city:buildings=64`. Each scene declares its
+//! parameters (name, default, meaning) so `harness list --params` and `harness sweep` can
+//! read them.
+//!
+//! # Layout: one file per scene (family)
+//!
+//! | file | scenes |
+//! | --- | --- |
+//! | [`cornell`] | `cornell-sphere`, `cornell-box` (one room, two variants) |
+//! | [`bunny`] | `refraction-bunny` |
+//! | [`city`] | `city` (and the interior generators the `interior-mapping` crate reuses) |
+//! | [`smoke`] | `smoke` |
+//! | [`textures`] | texture helpers any scene may use (`checker_texture`, `from_texels`) |
+//! | this file | the registry ([`builtin_scenes`], [`build`]) and spec parsing |
+//!
+//! A scene file builds its scene from typed arguments and imports only from [`textures`],
+//! [`crate::mesh`] and the scene model, never from another scene file or from this registry.
+//! **Adding a scene is one new file plus one registry entry**: write `chess.rs` with a
+//! `pub fn chess(..) -> Result<Scene, SceneError>`, add `pub mod chess;` below and one
+//! [`Builtin`] to `registry()` (its [`SceneInfo`] with the declared parameters, and the
+//! function that reads them from [`SceneArgs`] and calls the scene file). Everything else
+//! (`scene::load`, `harness list`, `harness compare`'s default scene list, the registry tests)
+//! picks the new entry up from there.
+
+pub mod bunny;
+pub mod city;
+pub mod cornell;
+pub mod smoke;
+pub mod textures;
+
+use crate::{Scene, SceneError};
+use std::collections::BTreeMap;
+
+/// A declared scene parameter.
+#[derive(Clone, Debug)]
+pub struct SceneParam {
+    pub name: &'static str,
+    pub default: &'static str,
+    pub help: &'static str,
+}
+
+/// A built-in scene and what can be changed about it.
+#[derive(Clone, Debug)]
+pub struct SceneInfo {
+    pub name: &'static str,
+    pub description: &'static str,
+    pub params: Vec<SceneParam>,
+}
+
+/// One registry entry: what the scene declares and how it is built from its parameters.
+struct Builtin {
+    info: SceneInfo,
+    build: fn(&SceneArgs) -> Result<Scene, SceneError>,
+}
+
+/// A scene's parameters as given in its spec, with the declared defaults for the rest.
+pub struct SceneArgs<'a> {
+    info: &'a SceneInfo,
+    params: &'a BTreeMap<String, String>,
+}
+
+impl SceneArgs<'_> {
+    /// The value of `key`: the spec's, else the declared default (empty if undeclared).
+    pub fn get(&self, key: &str) -> String {
+        self.params.get(key).cloned().unwrap_or_else(|| {
+            self.info
+                .params
+                .iter()
+                .find(|p| p.name == key)
+                .map(|p| p.default.to_string())
+                .unwrap_or_default()
+        })
+    }
+
+    /// The value of `key` as a finite number.
+    pub fn num(&self, key: &str) -> Result<f32, SceneError> {
+        num(&self.get(key), key)
+    }
+}
+
+fn param(name: &'static str, default: &'static str, help: &'static str) -> SceneParam {
+    SceneParam {
+        name,
+        default,
+        help,
+    }
+}
+
+/// The registry: every built-in scene, in the order `harness list` shows them.
+fn registry() -> Vec<Builtin> {
+    let material = |default| param("material", default, cornell::MATERIAL_HELP);
+    let sphere_x = || param("sphere_x", "0", "sphere centre x (m), -0.6..0.6");
+    vec![
+        Builtin {
+            info: SceneInfo {
+                name: "cornell-sphere",
+                description: "closed Cornell-style room, one point light, one sphere that moves \
+                              along x over the camera path",
+                params: vec![material("glass-1.5"), sphere_x()],
+            },
+            build: |a| cornell::cornell_sphere(&a.get("material"), a.num("sphere_x")?),
+        },
+        Builtin {
+            info: SceneInfo {
+                name: "cornell-box",
+                description: "the same room with a tall box that makes it concave (the distance-\
+                              impostor paper's hard case)",
+                params: vec![material("mirror"), sphere_x()],
+            },
+            build: |a| cornell::cornell_box(&a.get("material"), a.num("sphere_x")?),
+        },
+        Builtin {
+            info: SceneInfo {
+                name: "refraction-bunny",
+                description: "a glass Stanford bunny in front of a checker wall with nearby boxes",
+                params: vec![param("ior", "1.5", "bunny index of refraction")],
+            },
+            build: |a| bunny::refraction_bunny(a.num("ior")?),
+        },
+        Builtin {
+            info: SceneInfo {
+                name: "city",
+                description: "a grid of box buildings plus a cylinder and a sphere building; \
+                              camera path along a street",
+                params: vec![
+                    param("buildings", "16", "number of buildings (>= 2)"),
+                    param(
+                        "rooms_per_building",
+                        "1000",
+                        "rooms per building; sets the room size of each hull",
+                    ),
+                    param(
+                        "interiors",
+                        "1",
+                        "1: the (at most 3) box buildings beside the start of the street get \
+                         real interiors (window holes, room planes) when rooms_per_building <= \
+                         100000; 0: none",
+                    ),
+                ],
+            },
+            build: |a| {
+                city::city(
+                    a.num("buildings")? as usize,
+                    a.num("rooms_per_building")?,
+                    a.num("interiors")?,
+                )
+            },
+        },
+        Builtin {
+            info: SceneInfo {
+                name: "smoke",
+                description: "ground plane and posts/logs crossing a large soft volume, plus a \
+                              particle cloud",
+                params: vec![param("particles", "24", "particles in the cloud")],
+            },
+            build: |a| Ok(smoke::smoke(a.num("particles")? as usize)),
+        },
+    ]
+}
+
+/// Every built-in scene.
+pub fn builtin_scenes() -> Vec<SceneInfo> {
+    registry().into_iter().map(|b| b.info).collect()
+}
+
+/// Parses `name` or `name:key=value,...` into the name and its parameters.
+pub fn parse_spec(spec: &str) -> Result<(String, BTreeMap<String, String>), SceneError> {
+    let (name, rest) = spec.split_once(':').unwrap_or((spec, ""));
+    let mut params = BTreeMap::new();
+    for pair in rest.split(',').filter(|s| !s.is_empty()) {
+        let (k, v) = pair
+            .split_once('=')
+            .ok_or_else(|| SceneError::BadParam(format!("\"{pair}\" is not key=value")))?;
+        params.insert(k.trim().to_string(), v.trim().to_string());
+    }
+    Ok((name.to_string(), params))
+}
+
+/// Builds a built-in scene by name with the given parameters (unknown parameters are errors).
+pub fn build(name: &str, params: &BTreeMap<String, String>) -> Result<Scene, SceneError> {
+    let entry = registry()
+        .into_iter()
+        .find(|s| s.info.name == name)
+        .ok_or_else(|| SceneError::UnknownScene(name.to_string(), scene_names()))?;
+    let info = &entry.info;
+    for key in params.keys() {
+        if !info.params.iter().any(|p| p.name == key) {
+            let known: Vec<_> = info.params.iter().map(|p| p.name).collect();
+            return Err(SceneError::BadParam(format!(
+                "scene {name} has no parameter \"{key}\" (it has: {})",
+                known.join(", ")
+            )));
+        }
+    }
+    let mut scene = (entry.build)(&SceneArgs { info, params })?;
+    scene.name = spec_string(name, params);
+    scene.validate()?;
+    Ok(scene)
+}
+
+fn spec_string(name: &str, params: &BTreeMap<String, String>) -> String {
+    if params.is_empty() {
+        return name.to_string();
+    }
+    let kv: Vec<String> = params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    format!("{name}:{}", kv.join(","))
+}
+
+fn scene_names() -> String {
+    builtin_scenes()
+        .iter()
+        .map(|s| s.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn num(value: &str, key: &str) -> Result<f32, SceneError> {
+    value
+        .parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| SceneError::BadParam(format!("{key}={value} is not a finite number")))
+}
