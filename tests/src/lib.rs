@@ -41,10 +41,10 @@ pub fn render(technique: &mut dyn Technique, scene: &Scene, size: u32) -> gpu::H
 
 /// The ground truth at the default view, with caustics off unless asked (they only add light
 /// under specular objects, and cost most of the reference's time).
-pub fn reference(scene: &Scene, size: u32, photons: u64) -> scene::reference::ReferenceImage {
-    let options = scene::reference::ReferenceOptions {
+pub fn reference(scene: &Scene, size: u32, photons: u64) -> truth::reference::ReferenceImage {
+    let options = truth::reference::ReferenceOptions {
         photons,
         ..Default::default()
     };
-    scene::reference::render(scene, &scene.camera, 0.0, size, size, &options)
+    truth::reference::render(scene, &scene.camera, 0.0, size, size, &options)
 }

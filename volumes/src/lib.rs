@@ -8,7 +8,7 @@
 //! - [`technique`]: the variants (the 17 of the thesis's figure 6.23 plus particle-system
 //!   versions) behind `scene::Technique`.
 //! - [`ground_truth`]: what the variants are measured against: the scene's reference with its
-//!   participating media (`scene::media`), and, as a second figure for tests, each variant's
+//!   participating media (`truth::media`), and, as a second figure for tests, each variant's
 //!   own model (uniform spheres with its opacity function).
 //!
 //! See `README.md` for how each variant maps to the thesis and where it departs from it.
@@ -35,7 +35,7 @@ mod tests {
     use super::*;
 
     /// Each opacity function, with its scale, gives the true centre opacity of the built-in
-    /// smoke over the diameter (closed form of the `k = 1` chord, `scene::media`).
+    /// smoke over the diameter (closed form of the `k = 1` chord, `scene::density`).
     #[test]
     fn opacity_scale_matches_the_true_centre_opacity() {
         let smoke = scene::load("smoke").unwrap();
@@ -44,7 +44,7 @@ mod tests {
             noise: 0.0,
             ..v.profile
         };
-        let tau = scene::media::chord_optical_depth(v.density, v.radius, &smooth, 0.0).unwrap();
+        let tau = scene::density::chord_optical_depth(v.density, v.radius, &smooth, 0.0).unwrap();
         assert!(
             (technique::centre_optical_depth(v) - tau).abs() < 1e-4,
             "{tau}"

@@ -1,8 +1,8 @@
 //! Image tests on the `smoke` scene on the software adapter.
 //!
 //! **Primary figure: every variant against the ground truth**, the scene's participating
-//! media (`scene::media`, what `scene::reference` renders) composited over the raster pass's
-//! image of the volume-free scene (`ground_truth::with_reference_media`; the raster pass
+//! media (`truth::media`, what `truth::reference` renders) composited over the raster pass's
+//! image of the volume-free scene (`truth::composite::with_reference_media`; the raster pass
 //! rather than the CPU surfaces, so that shadow-map edges, which no volume technique owns,
 //! stay out of the error). The 17 thesis variants draw the large volume only and are measured
 //! on `smoke:particles=0`; the particle versions on the built-in `smoke` (24 particles).
@@ -107,7 +107,8 @@ impl Bench {
             })
             .collect();
         let (s, c) = (&bench.scene, &bench.view.camera);
-        bench.truth = ground_truth::with_reference_media(s, c, time, &bench.base, &bench.distances);
+        bench.truth =
+            truth::composite::with_reference_media(s, c, time, &bench.base, &bench.distances);
         bench.mask = ground_truth::volume_mask(s, c, time, W, H, &bench.distances, VolumeSet::All);
         bench
     }
@@ -134,7 +135,7 @@ impl Bench {
     }
 
     fn error(&self, image: &HdrImage, truth: &HdrImage) -> Error {
-        let (m, _) = scene::metrics::compare(image, truth, Some(&self.mask));
+        let (m, _) = truth::metrics::compare(image, truth, Some(&self.mask));
         Error {
             rmse: m.rmse,
             flip_masked: m.flip_mean_masked,
@@ -438,7 +439,7 @@ fn bvh_distances_agree_with_the_raster_pass() {
             None => scene.camera,
         };
         let bench = Bench::new(scene, camera, 0.0);
-        let bvh = ground_truth::primary_distances(&bench.scene, &camera, 0.0, W, H);
+        let bvh = truth::composite::primary_distances(&bench.scene, &camera, 0.0, W, H);
         let agree = bvh
             .iter()
             .zip(&bench.distances)
@@ -468,7 +469,7 @@ fn free_depth_matches_the_depth_prepass() {
         let (e0, a) = bench.measure(id, &[]);
         let (e1, b) = bench.measure(id, &[("free_depth", 1.0)]);
         let (e0, e1) = (e0.rmse, e1.rmse);
-        let (m, _) = scene::metrics::compare(&a, &b, None);
+        let (m, _) = truth::metrics::compare(&a, &b, None);
         assert!(
             m.rmse < 1e-3,
             "{id}: the two depth sources differ by RMSE {}",

@@ -93,7 +93,7 @@ pub fn out_dir() -> PathBuf {
 
 /// Writes `image` as an sRGB PNG (the workspace's convention: clamp, sRGB, no tone mapping).
 pub fn save_png(image: &HdrImage, name: &str) -> PathBuf {
-    let bytes = scene::metrics::to_srgb8(image);
+    let bytes = truth::metrics::to_srgb8(image);
     let path = out_dir().join(name);
     image::save_buffer(
         &path,

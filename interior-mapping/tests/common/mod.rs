@@ -54,12 +54,12 @@ pub fn render(scene: &Scene, technique: &mut dyn Technique, view: &View) -> gpu:
     target.read(ctx).expect("read back")
 }
 
-pub fn reference(scene: &Scene, view: &View) -> scene::reference::ReferenceImage {
-    let opts = scene::reference::ReferenceOptions {
+pub fn reference(scene: &Scene, view: &View) -> truth::reference::ReferenceImage {
+    let opts = truth::reference::ReferenceOptions {
         photons: 0,
         ..Default::default()
     };
-    scene::reference::render(
+    truth::reference::render(
         scene,
         &view.camera,
         view.time,
@@ -82,7 +82,7 @@ pub fn dump(name: &str, image: &gpu::HdrImage) {
         return;
     };
     let gpu::HdrImage { width, height, .. } = *image;
-    let bytes = scene::metrics::to_srgb8(image);
+    let bytes = truth::metrics::to_srgb8(image);
     let path = std::path::Path::new(&dir).join(format!("{}.png", name.replace('/', "_")));
     let channels = bytes.len() / (width * height) as usize;
     let color = if channels == 4 {

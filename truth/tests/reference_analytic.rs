@@ -7,9 +7,9 @@ use glam::{Mat4, Vec2, Vec3};
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
 use scene::builtin::textures::checker_texture;
 use scene::mesh::{quad, uv_sphere};
-use scene::reference::{ReferenceOptions, render};
 use scene::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, Volume};
 use std::f32::consts::FRAC_1_PI;
+use truth::reference::{ReferenceOptions, render};
 
 const FLOOR_HALF: f32 = 50.0;
 const FLOOR_ALBEDO: Vec3 = Vec3::new(0.6, 0.55, 0.5);
