@@ -20,11 +20,14 @@
 //! scene cuts a volume (its first surface lies inside a sphere: where slices staircase); `volumes` and `scene-depth` are the spans of the
 //! volume pass and of the depth pre-pass inside the frame.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use gpu::{GpuTimer, HdrImage, Target, TimeStats};
 use scene::foundation::RasterTechnique;
 use scene::{Camera, Frame, GpuScene, Technique, View};
 use std::collections::BTreeMap;
-use volumes::{VolumeSet, ground_truth};
+use volumes::VolumeSet;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut spec = "smoke".to_string();
@@ -193,8 +196,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         timer.submit_and_collect(&ctx, encoder)?;
         let image = target.read(&ctx)?;
-        let spec_truth = ground_truth::spec_for(&id).expect("every id has a variant model");
-        let mask = ground_truth::volume_mask(
+        let spec_truth = common::spec_for(&id).expect("every id has a variant model");
+        let mask = common::volume_mask(
             &scene,
             &camera,
             view.time,

@@ -10,10 +10,12 @@
 //! must beat, by a stated factor, the image without any volume: a variant that draws nothing
 //! fails.
 //!
-//! **Second figure: the variant model** (`ground_truth::variant_model`: uniform spheres with
+//! **Second figure: the variant model** (`common::variant_model`: uniform spheres with
 //! the variant's own opacity function and scale, exact path lengths). It isolates the GPU
 //! geometry: the ray-traced sphere must match its own model to RMSE 0.002 from every eye
 //! position with `fit_silhouette`, whatever the error of that model against the truth.
+
+mod common;
 
 use glam::Vec3;
 use gpu::{GpuTimer, HdrImage, Target};
@@ -22,7 +24,6 @@ use scene::{Camera, Frame, GpuScene, Scene, Technique, View};
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
 use volumes::VolumeSet;
-use volumes::ground_truth;
 use volumes::technique::{VolumeTechnique, all_variants};
 
 const W: u32 = 96;
@@ -109,7 +110,7 @@ impl Bench {
         let (s, c) = (&bench.scene, &bench.view.camera);
         bench.truth =
             truth::composite::with_reference_media(s, c, time, &bench.base, &bench.distances);
-        bench.mask = ground_truth::volume_mask(s, c, time, W, H, &bench.distances, VolumeSet::All);
+        bench.mask = common::volume_mask(s, c, time, W, H, &bench.distances, VolumeSet::All);
         bench
     }
 
@@ -165,9 +166,9 @@ impl Bench {
     /// Technique `id` against its own variant model (the second figure).
     fn measure_model(&mut self, id: &str, params: &[(&str, f64)]) -> Error {
         let image = self.image(id, params);
-        let spec = ground_truth::spec_for(id).unwrap();
+        let spec = common::spec_for(id).unwrap();
         let (s, c, t) = (&self.scene, &self.view.camera, self.view.time);
-        let model = ground_truth::variant_model(s, c, t, &self.base, &self.distances, spec);
+        let model = common::variant_model(s, c, t, &self.base, &self.distances, spec);
         self.error(&image, &model)
     }
 
@@ -558,5 +559,15 @@ fn follows_the_target_size() {
         }
         timer.submit_and_collect(ctx, encoder).unwrap();
         assert_eq!(target.read(ctx).unwrap().non_finite_count(), 0);
+    }
+}
+
+/// Every technique id of the crate has a variant model (the second figure of these tests).
+#[test]
+fn every_variant_has_a_variant_model() {
+    let ids: Vec<String> = volumes::techniques().iter().map(|t| t.id()).collect();
+    assert!(!ids.is_empty());
+    for id in &ids {
+        assert!(common::spec_for(id).is_some(), "{id} has a variant model");
     }
 }
