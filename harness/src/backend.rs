@@ -1,13 +1,14 @@
-//! The one place where the harness calls the scene crate's renderers and file writers (the CPU
-//! reference renderer, glTF export, the GPU upload and its per-frame update). Every other
-//! module goes through these functions, so following a changed scene API is a change here.
+//! The one place where the harness calls the renderers and file writers of the `scene` and
+//! `truth` crates (the CPU reference renderer, glTF export, the GPU upload and its per-frame
+//! update). Every other module goes through these functions, so following a changed scene or
+//! reference API is a change here.
 
 use crate::{Reference, ReferenceStats};
 use anyhow::Result;
 use gpu::Context;
-use scene::reference::ReferenceOptions;
 use scene::{Camera, Frame, GpuScene, Scene};
 use std::path::Path;
+use truth::reference::ReferenceOptions;
 
 /// Uploads a scene to the GPU (validated first); GPU validation errors become the error.
 pub fn upload_scene(ctx: &Context, scene: &Scene) -> Result<GpuScene> {
@@ -36,7 +37,7 @@ pub fn render_reference(
     height: u32,
     options: &ReferenceOptions,
 ) -> Result<Reference> {
-    let r = scene::reference::render(scene, camera, time, width, height, options);
+    let r = truth::reference::render(scene, camera, time, width, height, options);
     Ok(Reference {
         image: r.image,
         object_ids: r.object_ids,

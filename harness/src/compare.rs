@@ -91,7 +91,7 @@ pub(crate) struct Outcome {
     pub row: ResultRow,
     pub run: Option<TechniqueRun>,
     /// FLIP maps of the error frames, in their order (empty without a reference).
-    pub flips: Vec<scene::metrics::FlipMap>,
+    pub flips: Vec<truth::metrics::FlipMap>,
 }
 
 /// Runs one technique on an uploaded scene at the row's size, measures each error frame
@@ -185,7 +185,7 @@ fn score(
         };
         let reference = &r.reference;
         let truth = technique.ground_truth(scene, &view, &reference.image);
-        let (m, map) = scene::metrics::compare(
+        let (m, map) = truth::metrics::compare(
             &frame.image,
             truth.as_ref().unwrap_or(&reference.image),
             Some(&reference.mask),

@@ -26,7 +26,7 @@ pub fn write_png(path: &Path, image: &HdrImage) -> Result<()> {
         path,
         image.width,
         image.height,
-        &scene::metrics::to_srgb8(image),
+        &truth::metrics::to_srgb8(image),
     )
 }
 
@@ -134,7 +134,7 @@ mod tests {
         write_by_extension(&png_path, &img).unwrap();
         let decoded = image::open(&png_path).unwrap().into_rgb8();
         assert_eq!(decoded.dimensions(), (5, 3));
-        assert_eq!(decoded.into_raw(), scene::metrics::to_srgb8(&img));
+        assert_eq!(decoded.into_raw(), truth::metrics::to_srgb8(&img));
         assert!(write_by_extension(&dir.join("a.jpg"), &img).is_err());
 
         let ids = vec![-1, 0, 1, 2, 3, 4];

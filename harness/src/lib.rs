@@ -10,8 +10,8 @@
 //!   technique on one uploaded scene (prepare, error frame, warm-up, timed frames).
 //! - [`cache`]: the on-disk reference cache; [`images`]: PNG/EXR writing and reading;
 //!   [`report`]: the result rows and their CSV/JSON/markdown forms; [`plot`]: `sweep.png`.
-//! - [`backend`]: the adapters onto scene-crate APIs (reference renderer, glTF export, GPU
-//!   upload).
+//! - [`backend`]: the adapters onto scene- and truth-crate APIs (reference renderer, glTF
+//!   export, GPU upload).
 
 pub mod backend;
 pub mod bench;
@@ -36,6 +36,8 @@ use std::str::FromStr;
 pub fn registry() -> Vec<Box<dyn Technique>> {
     let mut techniques: Vec<Box<dyn Technique>> = Vec::new();
     // ---- REGISTRY: one line per technique crate (and add the crate to harness/Cargo.toml) ----
+    // The ground truth as a technique (`reference`), then the foundation's baselines:
+    techniques.extend(truth::techniques());
     techniques.extend(scene::foundation::techniques());
     // Technique crates:
     techniques.extend(impostors::techniques());
@@ -99,10 +101,10 @@ pub trait GroundTruth {
     ) -> Result<Reference>;
 }
 
-/// The CPU reference renderer (`scene::reference`) with its options.
+/// The CPU reference renderer (`truth::reference`) with its options.
 #[derive(Clone, Debug, Default)]
 pub struct CpuReference {
-    pub options: scene::reference::ReferenceOptions,
+    pub options: truth::reference::ReferenceOptions,
 }
 
 impl GroundTruth for CpuReference {

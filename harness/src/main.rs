@@ -61,7 +61,7 @@ struct RefArgs {
 
 impl RefArgs {
     fn reference(self) -> harness::CpuReference {
-        let mut options = scene::reference::ReferenceOptions::default();
+        let mut options = truth::reference::ReferenceOptions::default();
         if let Some(d) = self.ref_depth {
             options.max_depth = d;
         }

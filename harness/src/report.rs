@@ -15,9 +15,9 @@
 //! (then `rmse` is 0). `flip_mean_masked` is empty/`null` when the reference mask is empty.
 
 use crate::run::TechniqueRun;
-use scene::metrics::Metrics;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+use truth::metrics::Metrics;
 
 /// One (scene, technique[, parameter value]) result.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]

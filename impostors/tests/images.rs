@@ -1,5 +1,5 @@
-//! Image tests against the CPU reference (`scene::reference`, caustic photons on) on small
-//! images, metrics from `scene::metrics::compare` with the reference's mask (the pixels that
+//! Image tests against the CPU reference (`truth::reference`, caustic photons on) on small
+//! images, metrics from `truth::metrics::compare` with the reference's mask (the pixels that
 //! show the sphere). Each test prints its table (`--nocapture`) and writes a strip PNG
 //! (reference, then the techniques in table order) under `target/impostors-tests/`.
 //!
@@ -29,8 +29,8 @@ mod common;
 use std::sync::OnceLock;
 
 use gpu::HdrImage;
-use scene::metrics::{Metrics, compare};
-use scene::reference::{ReferenceImage, ReferenceOptions};
+use truth::metrics::{Metrics, compare};
+use truth::reference::{ReferenceImage, ReferenceOptions};
 
 const SIZE: u32 = 96;
 
@@ -49,7 +49,7 @@ fn reference_at(spec: &str, time: f32) -> &'static ReferenceImage {
     }
     let scene = scene::load(spec).unwrap();
     let opts = ReferenceOptions::for_image(SIZE, SIZE);
-    let r: &'static ReferenceImage = Box::leak(Box::new(scene::reference::render(
+    let r: &'static ReferenceImage = Box::leak(Box::new(truth::reference::render(
         &scene,
         &scene.camera,
         time,

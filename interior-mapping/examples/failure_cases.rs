@@ -65,7 +65,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             timer.submit_and_collect(&ctx, encoder)?;
             let image = target_image.read(&ctx)?;
-            let bytes = scene::metrics::to_srgb8(&image);
+            let bytes = truth::metrics::to_srgb8(&image);
             let channels = bytes.len() / (size * size) as usize;
             let color = if channels == 4 {
                 image::ExtendedColorType::Rgba8

@@ -29,7 +29,7 @@ fn interior_variants_against_reference_and_polygons() {
         let image = render(&scene, t.as_mut(), &view);
         let ms = start.elapsed().as_secs_f64() * 1e3;
         assert_eq!(image.non_finite_count(), 0, "{id}: non-finite pixels");
-        let (m, _) = scene::metrics::compare(&image, &reference.image, Some(&reference.mask));
+        let (m, _) = truth::metrics::compare(&image, &reference.image, Some(&reference.mask));
         eprintln!(
             "{id:28} flip {:.4} masked {:.4} rmse {:.4} ({ms:.0} ms incl. prepare, wall)",
             m.flip_mean, m.flip_mean_masked, m.rmse
@@ -48,7 +48,7 @@ fn interior_variants_against_reference_and_polygons() {
     t.set_param("room_shadows", 0.0).unwrap();
     let shadow_mapped = render(&scene, t.as_mut(), &view);
     dump("interior_textured_shadow_maps", &shadow_mapped);
-    let (vs_poly, _) = scene::metrics::compare(&shadow_mapped, polygons, Some(&reference.mask));
+    let (vs_poly, _) = truth::metrics::compare(&shadow_mapped, polygons, Some(&reference.mask));
     eprintln!(
         "textured vs polygons: flip masked {:.4}, rmse {:.4}",
         vs_poly.flip_mean_masked, vs_poly.rmse
@@ -138,7 +138,7 @@ fn interior_variants_against_reference_and_polygons() {
     for v in ["basic", "exterior", "furniture", "varied", "ceiling-only"] {
         let a = lit(&format!("interior-mapping/{v}"));
         dump(&format!("interior_{v}_lit"), &a);
-        let (m, _) = scene::metrics::compare(&a, &lit_textured, None);
+        let (m, _) = truth::metrics::compare(&a, &lit_textured, None);
         assert!(
             m.rmse > 1e-3,
             "{v} renders the same image as textured (rmse {})",
@@ -194,7 +194,7 @@ fn camera_inside_a_room_matches_reference() {
     );
     dump("inside_textured", &image);
     assert_eq!(image.non_finite_count(), 0);
-    let (m, _) = scene::metrics::compare(&image, &reference.image, Some(&reference.mask));
+    let (m, _) = truth::metrics::compare(&image, &reference.image, Some(&reference.mask));
     eprintln!(
         "inside: flip masked {:.4}, rmse {:.4}, masked pixels {}",
         m.flip_mean_masked, m.rmse, m.masked_pixels
@@ -232,7 +232,7 @@ fn furniture_is_animated() {
     };
     let (a, b, c) = (frame_at(0.0), frame_at(0.2), frame_at(0.6));
     assert_eq!(a.pixels, b.pixels, "same frame within half a second");
-    let (m, _) = scene::metrics::compare(&a, &c, None);
+    let (m, _) = truth::metrics::compare(&a, &c, None);
     assert!(m.rmse > 1e-4, "frame 0 and frame 1 render the same image");
 }
 
@@ -263,7 +263,7 @@ fn baselines_of_5_3_2() {
     ]
     .map(|v| lit(&format!("interior-mapping/{v}")));
     let flip = |a: &gpu::HdrImage, b: &gpu::HdrImage| {
-        scene::metrics::compare(a, b, mask).0.flip_mean_masked
+        truth::metrics::compare(a, b, mask).0.flip_mean_masked
     };
 
     // Ceiling-only: the ceilings of textured, the walls and floors of basic, so it differs from

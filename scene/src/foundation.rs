@@ -1,23 +1,21 @@
-//! The foundation's techniques: `reference` (the ground truth itself), `raster` (the shared
-//! raster pass with special objects drawn as plain diffuse) and `envmap/classic` (special
-//! objects reflect/refract a classic environment cube map taken from the object's centre:
-//! the baseline every later technique must beat). They live here, not in a technique crate,
-//! so technique crates (which depend on `gpu` and `scene` only) can reuse the classic map.
+//! The foundation's techniques: `raster` (the shared raster pass with special objects drawn
+//! as plain diffuse) and `envmap/classic` (special objects reflect/refract a classic
+//! environment cube map taken from the object's centre: the baseline every later technique
+//! must beat). They live here, not in a technique crate, so technique crates (which depend on
+//! `gpu` and `scene` only) can reuse the classic map. The ground truth as a technique,
+//! `reference`, is the `truth` crate's (`truth::techniques()`).
 
-use crate::reference::{self, ReferenceOptions};
 use crate::technique::{check_param, not_prepared};
 use crate::{
-    Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueResult, Timing,
-    View,
+    Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueResult, View,
 };
 use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Context, Target, bind};
 
-/// The foundation's variants, fresh: `reference`, `raster`, `envmap/classic`.
+/// The foundation's variants, fresh: `raster`, `envmap/classic`.
 pub fn techniques() -> Vec<Box<dyn Technique>> {
     vec![
-        Box::new(ReferenceTechnique::default()),
         Box::new(RasterTechnique),
         Box::new(ClassicEnvMap::default()),
     ]
@@ -55,84 +53,6 @@ fn main_target(target: &Target) -> RasterTarget<'_> {
         depth: &target.depth_view,
         format: gpu::HDR_FORMAT,
         clear: true,
-    }
-}
-
-/// The ground truth as a technique: renders on the CPU and uploads the image.
-pub struct ReferenceTechnique {
-    pub options: ReferenceOptions,
-}
-
-impl Default for ReferenceTechnique {
-    fn default() -> Self {
-        Self {
-            options: ReferenceOptions::default(),
-        }
-    }
-}
-
-impl Technique for ReferenceTechnique {
-    fn id(&self) -> String {
-        "reference".into()
-    }
-    fn description(&self) -> String {
-        "CPU ground truth: Whitted specular chains split by Fresnel + light-traced caustics".into()
-    }
-    fn params(&self) -> Vec<Param> {
-        vec![
-            Param {
-                name: "max_depth",
-                default: 8.0,
-                min: 0.0,
-                max: 64.0,
-                integer: true,
-                help: "specular bounces followed",
-            },
-            Param {
-                name: "photons",
-                default: ReferenceOptions::default().photons as f64,
-                min: 0.0,
-                max: 1e9,
-                integer: true,
-                help: "caustic photons per frame (0: no caustics)",
-            },
-        ]
-    }
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id(), &self.params(), name, value)?;
-        match name {
-            "max_depth" => self.options.max_depth = value as u32,
-            _ => self.options.photons = value as u64,
-        }
-        Ok(())
-    }
-    fn supports(&self, _scene: &Scene) -> bool {
-        true
-    }
-    fn timing(&self) -> Timing {
-        Timing::Cpu
-    }
-    fn prepare(&mut self, _frame: &mut Frame, _scene: &GpuScene) -> TechniqueResult<()> {
-        Ok(())
-    }
-    fn render(
-        &mut self,
-        frame: &mut Frame,
-        scene: &GpuScene,
-        view: &View,
-        target: &Target,
-    ) -> TechniqueResult<()> {
-        let image = reference::render(
-            &scene.scene,
-            &view.camera,
-            view.time,
-            view.width,
-            view.height,
-            &self.options,
-        )
-        .image;
-        upload_image(frame.gpu, target, &image.pixels);
-        Ok(())
     }
 }
 

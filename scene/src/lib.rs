@@ -1,18 +1,18 @@
-//! The scene side of the workspace: the scene model, built-in scenes, glTF import/export,
-//! the BVH with exact ray queries, the CPU reference renderer (the ground truth), image
-//! metrics, the GPU upload with the shared raster pass, and the `Technique` trait.
+//! The scene side of the workspace: the scene model (with the volumes' density field),
+//! built-in scenes, glTF import/export, the BVH with exact ray queries, the GPU upload with the
+//! shared raster pass, and the `Technique` trait. The CPU reference renderer (the ground
+//! truth) and the image metrics are the `truth` crate's, so that a technique crate, which
+//! depends on this crate, compiles neither rayon nor nv-flip.
 
 pub mod builtin;
 pub mod bvh;
+pub mod density;
 pub mod foundation;
 pub mod gltf_io;
 mod gpu_scene;
 pub mod lightmap;
-pub mod media;
 pub mod mesh;
-pub mod metrics;
 mod model;
-pub mod reference;
 pub mod technique;
 
 pub use gpu_scene::{

@@ -360,7 +360,8 @@ fn sample_keys<T: Copy>(
 
 /// How a volume's extinction varies inside its bounding sphere: a smooth radial falloff
 /// modulated by a deterministic 3D noise (the thesis's smoke with a diffuse texture, figure
-/// 6.22). [`crate::media`] evaluates it; every technique is measured against that.
+/// 6.22). [`crate::density`] evaluates it; the reference (`truth::media`) integrates it, and
+/// every technique is measured against that.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DensityProfile {
     /// Exponent `k` of the radial falloff `(1 - (r/R)^2)^k`: 0 is a uniform ball, 1 falls to

@@ -88,7 +88,7 @@ pub trait Technique {
     /// alone; computed on the CPU from `reference` (the scene's reference image of `view`).
     /// `None` (every technique in the workspace today) means the reference. A technique must
     /// not return its own model here: the reference already renders everything the scene
-    /// defines, volumes included (participating media, `crate::media`), and the harness's
+    /// defines, volumes included (participating media, `truth::media`), and the harness's
     /// primary error is against it.
     fn ground_truth(
         &self,

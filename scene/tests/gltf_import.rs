@@ -8,6 +8,7 @@
 //! external files beside the `.gltf` for the path import.
 
 use glam::{Mat4, Quat, Vec2, Vec3};
+use scene::builtin::textures::checker_texture;
 use scene::gltf_io::{import, import_slice, to_glb_bytes};
 use scene::{Material, Roles, SceneError};
 use serde_json::{Value, json};
@@ -722,13 +723,7 @@ fn no_panic_on_corrupted_input() {
     small.objects.last_mut().unwrap().mesh = scene::mesh::uv_sphere(0.3, 4, 8);
     small
         .textures
-        .push(scene::builtin::textures::checker_texture(
-            "t",
-            4,
-            2,
-            [0, 0, 0],
-            [255, 255, 255],
-        ));
+        .push(checker_texture("t", 4, 2, [0, 0, 0], [255, 255, 255]));
     small.objects[0].material = Material::Diffuse {
         albedo: Vec3::ONE,
         texture: Some(0),

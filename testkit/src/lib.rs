@@ -124,9 +124,9 @@ pub fn reference(
     scene: &Scene,
     shot: Shot,
     photons: u64,
-) -> scene::reference::ReferenceImage {
+) -> truth::reference::ReferenceImage {
     type Key = (String, [u32; 11], u64);
-    static CACHE: OnceLock<Mutex<HashMap<Key, scene::reference::ReferenceImage>>> = OnceLock::new();
+    static CACHE: OnceLock<Mutex<HashMap<Key, truth::reference::ReferenceImage>>> = OnceLock::new();
     let c = shot.camera;
     let key = (
         spec.to_string(),
@@ -150,11 +150,11 @@ pub fn reference(
     if let Some(image) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
         return image.clone();
     }
-    let options = scene::reference::ReferenceOptions {
+    let options = truth::reference::ReferenceOptions {
         photons,
         ..Default::default()
     };
-    let image = scene::reference::render(scene, &c, shot.time, shot.size, shot.size, &options);
+    let image = truth::reference::render(scene, &c, shot.time, shot.size, shot.size, &options);
     cache
         .lock()
         .unwrap_or_else(|e| e.into_inner())
@@ -181,7 +181,7 @@ pub fn out_dir(name: &str) -> PathBuf {
 
 /// Writes `image` as an sRGB PNG (the workspace's convention: clamp, sRGB, no tone mapping).
 pub fn save_png(image: &HdrImage, path: &Path) {
-    let bytes = scene::metrics::to_srgb8(image);
+    let bytes = truth::metrics::to_srgb8(image);
     image::save_buffer(
         path,
         &bytes,

@@ -14,7 +14,7 @@ fn raster_matches_reference_on_diffuse_cornell_sphere() {
     let shot = Shot::default_camera(&scene, 0.0, 128);
     let truth = reference(spec, &scene, shot, 0);
     let image = render(&mut RasterTechnique, &scene, shot);
-    let (m, _) = scene::metrics::compare(&image, &truth.image, None);
+    let (m, _) = truth::metrics::compare(&image, &truth.image, None);
     println!("raster vs reference, diffuse cornell-sphere 128^2: {m:?}");
     assert_eq!(m.nan_pixels, 0);
     // Measured 2026-11: FLIP 0.00085, RMSE 0.0025, 0.24% of pixels over 0.1 (shadow edges).
@@ -73,7 +73,7 @@ fn classic_envmap_is_near_reference_on_mirror_sphere() {
     let shot = Shot::default_camera(&scene, 0.0, 96);
     let truth = reference(spec, &scene, shot, 0);
     let image = render(&mut ClassicEnvMap::default(), &scene, shot);
-    let (m, _) = scene::metrics::compare(&image, &truth.image, Some(&truth.mask));
+    let (m, _) = truth::metrics::compare(&image, &truth.image, Some(&truth.mask));
     println!("classic vs reference, mirror cornell-sphere 96^2: {m:?}");
     assert!(m.masked_pixels > 500);
     assert!(

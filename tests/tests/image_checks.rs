@@ -38,8 +38,8 @@ fn every_declared_image_check_holds_along_the_camera_path() {
             let camera = scene.camera_at(time);
             let key = (check.scene.to_string(), check.size, time.to_bits());
             let truth = references.entry(key).or_insert_with(|| {
-                let options = scene::reference::ReferenceOptions::for_image(check.size, check.size);
-                scene::reference::render(&scene, &camera, time, check.size, check.size, &options)
+                let options = truth::reference::ReferenceOptions::for_image(check.size, check.size);
+                truth::reference::render(&scene, &camera, time, check.size, check.size, &options)
                     .image
             });
             let image = render(
@@ -51,7 +51,7 @@ fn every_declared_image_check_holds_along_the_camera_path() {
                     size: check.size,
                 },
             );
-            let (m, _) = scene::metrics::compare(&image, truth, None);
+            let (m, _) = truth::metrics::compare(&image, truth, None);
             println!(
                 "{} on {} at t={time}: FLIP {:.4} (bound {}), RMSE {:.4} (bound {})",
                 check.technique,

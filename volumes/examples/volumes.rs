@@ -1,6 +1,6 @@
 //! Renders the volume variants on a scene, measures their frame times and their error
 //! against the ground truth (the reference's participating media composited over the raster
-//! pass, `ground_truth::with_reference_media`), and writes PNGs: the table of the thesis's figure 6.23 without
+//! pass, `truth::composite::with_reference_media`), and writes PNGs: the table of the thesis's figure 6.23 without
 //! the harness.
 //!
 //! ```text
@@ -20,11 +20,14 @@
 //! scene cuts a volume (its first surface lies inside a sphere: where slices staircase); `volumes` and `scene-depth` are the spans of the
 //! volume pass and of the depth pre-pass inside the frame.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use gpu::{GpuTimer, HdrImage, Target, TimeStats};
 use scene::foundation::RasterTechnique;
 use scene::{Camera, Frame, GpuScene, Technique, View};
 use std::collections::BTreeMap;
-use volumes::{VolumeSet, ground_truth};
+use volumes::VolumeSet;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut spec = "smoke".to_string();
@@ -105,9 +108,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &view,
         &target,
     )?;
-    let distances = ground_truth::primary_distances(&scene, &camera, view.time, size, size);
+    let distances = truth::composite::primary_distances(&scene, &camera, view.time, size, size);
     // The reference's media over the raster pass: every variant's truth.
-    let truth = ground_truth::with_reference_media(&scene, &camera, view.time, &base, &distances);
+    let truth =
+        truth::composite::with_reference_media(&scene, &camera, view.time, &base, &distances);
 
     println!(
         "| id | thesis test | frame ms (median) | p95 | volumes ms | scene-depth ms | RMSE | RMSE cut | FLIP | FLIP masked | non-finite |"
@@ -192,8 +196,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         timer.submit_and_collect(&ctx, encoder)?;
         let image = target.read(&ctx)?;
-        let spec_truth = ground_truth::spec_for(&id).expect("every id has a variant model");
-        let mask = ground_truth::volume_mask(
+        let spec_truth = common::spec_for(&id).expect("every id has a variant model");
+        let mask = common::volume_mask(
             &scene,
             &camera,
             view.time,
@@ -202,7 +206,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &distances,
             VolumeSet::All,
         );
-        let (m, _) = scene::metrics::compare(&image, &truth, Some(&mask));
+        let (m, _) = truth::metrics::compare(&image, &truth, Some(&mask));
         let cut = cut_mask(&scene, &camera, view.time, size, &distances, spec_truth.set);
         let rmse_cut = rmse_over(&image, &truth, &cut);
         let frame_label = if timer.kind() == gpu::TimerKind::Wall {
@@ -346,7 +350,7 @@ fn rmse_over(a: &HdrImage, b: &HdrImage, mask: &[bool]) -> f64 {
 }
 
 fn write_png(image: &HdrImage, path: &str) -> Result<(), Box<dyn std::error::Error>> {
-    let bytes: Vec<u8> = scene::metrics::to_srgb8(image);
+    let bytes: Vec<u8> = truth::metrics::to_srgb8(image);
     image::save_buffer(
         path,
         &bytes,

@@ -7,17 +7,17 @@
 //!   `shaders/path_length.wgsl` is its twin.
 //! - [`technique`]: the variants (the 17 of the thesis's figure 6.23 plus particle-system
 //!   versions) behind `scene::Technique`.
-//! - [`ground_truth`]: what the variants are measured against: the scene's reference with its
-//!   participating media (`scene::media`), and, as a second figure for tests, each variant's
-//!   own model (uniform spheres with its opacity function).
+//!
+//! What the variants are measured against is not in the library: the scene's reference with
+//! its participating media (the `truth` crate, a dev-dependency), and, as a second figure for
+//! tests, each variant's own model (uniform spheres with its opacity function) in
+//! `tests/common/mod.rs`, which the tests and the example share.
 //!
 //! See `README.md` for how each variant maps to the thesis and where it departs from it.
 
-pub mod ground_truth;
 pub mod path_length;
 pub mod technique;
 
-pub use ground_truth::TruthSpec;
 pub use path_length::{OpacityFn, Primitive};
 pub use technique::{Method, Variant, VolumeSet, VolumeTechnique};
 
@@ -72,7 +72,7 @@ mod tests {
     use super::*;
 
     /// Each opacity function, with its scale, gives the true centre opacity of the built-in
-    /// smoke over the diameter (closed form of the `k = 1` chord, `scene::media`).
+    /// smoke over the diameter (closed form of the `k = 1` chord, `scene::density`).
     #[test]
     fn opacity_scale_matches_the_true_centre_opacity() {
         let smoke = scene::load("smoke").unwrap();
@@ -81,7 +81,7 @@ mod tests {
             noise: 0.0,
             ..v.profile
         };
-        let tau = scene::media::chord_optical_depth(v.density, v.radius, &smooth, 0.0).unwrap();
+        let tau = scene::density::chord_optical_depth(v.density, v.radius, &smooth, 0.0).unwrap();
         assert!(
             (technique::centre_optical_depth(v) - tau).abs() < 1e-4,
             "{tau}"
@@ -129,11 +129,5 @@ mod tests {
         assert_eq!(unique.len(), all.len(), "ids are unique: {all:?}");
         assert!(all.contains(&"volumes/particles-billboard".to_string()));
         assert!(all.contains(&"volumes/particles-raytraced-sphere-log".to_string()));
-        for id in &all {
-            assert!(
-                ground_truth::spec_for(id).is_some(),
-                "{id} has a variant model"
-            );
-        }
     }
 }

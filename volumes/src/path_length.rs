@@ -4,8 +4,8 @@
 //!
 //! Same names, same constants, same branches as the WGSL; `tests/conformance.rs` runs the
 //! WGSL in a compute shader on random inputs and compares it with these, and
-//! `tests/path_length_properties.rs` states their properties with proptest. The CPU ground
-//! truth ([`crate::ground_truth`]) uses [`sphere_path_length`] and [`opacity_from_length`].
+//! `tests/path_length_properties.rs` states their properties with proptest. The tests' variant
+//! model (`tests/common/mod.rs`) uses [`sphere_path_length`] and [`opacity_from_length`].
 //!
 //! A ray is `o + t d` with `d` unit length, so `t` is metres. `t_scene` is the distance along
 //! the ray to the first opaque surface (`f32::INFINITY` or [`gpu::prelude::BIG`] when there is

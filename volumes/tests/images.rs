@@ -1,8 +1,8 @@
 //! Image tests on the `smoke` scene on the software adapter.
 //!
 //! **Primary figure: every variant against the ground truth**, the scene's participating
-//! media (`scene::media`, what `scene::reference` renders) composited over the raster pass's
-//! image of the volume-free scene (`ground_truth::with_reference_media`; the raster pass
+//! media (`truth::media`, what `truth::reference` renders) composited over the raster pass's
+//! image of the volume-free scene (`truth::composite::with_reference_media`; the raster pass
 //! rather than the CPU surfaces, so that shadow-map edges, which no volume technique owns,
 //! stay out of the error). The 17 thesis variants draw the large volume only and are measured
 //! on `smoke:particles=0`; the particle versions on the built-in `smoke` (24 particles).
@@ -10,10 +10,12 @@
 //! must beat, by a stated factor, the image without any volume: a variant that draws nothing
 //! fails.
 //!
-//! **Second figure: the variant model** (`ground_truth::variant_model`: uniform spheres with
+//! **Second figure: the variant model** (`common::variant_model`: uniform spheres with
 //! the variant's own opacity function and scale, exact path lengths). It isolates the GPU
 //! geometry: the ray-traced sphere must match its own model to RMSE 0.002 from every eye
 //! position with `fit_silhouette`, whatever the error of that model against the truth.
+
+mod common;
 
 use glam::Vec3;
 use gpu::{GpuTimer, HdrImage, Target};
@@ -22,7 +24,6 @@ use scene::{Camera, Frame, GpuScene, Scene, Technique, View};
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
 use volumes::VolumeSet;
-use volumes::ground_truth;
 use volumes::technique::{VolumeTechnique, all_variants};
 
 const W: u32 = 96;
@@ -107,8 +108,9 @@ impl Bench {
             })
             .collect();
         let (s, c) = (&bench.scene, &bench.view.camera);
-        bench.truth = ground_truth::with_reference_media(s, c, time, &bench.base, &bench.distances);
-        bench.mask = ground_truth::volume_mask(s, c, time, W, H, &bench.distances, VolumeSet::All);
+        bench.truth =
+            truth::composite::with_reference_media(s, c, time, &bench.base, &bench.distances);
+        bench.mask = common::volume_mask(s, c, time, W, H, &bench.distances, VolumeSet::All);
         bench
     }
 
@@ -134,7 +136,7 @@ impl Bench {
     }
 
     fn error(&self, image: &HdrImage, truth: &HdrImage) -> Error {
-        let (m, _) = scene::metrics::compare(image, truth, Some(&self.mask));
+        let (m, _) = truth::metrics::compare(image, truth, Some(&self.mask));
         Error {
             rmse: m.rmse,
             flip_masked: m.flip_mean_masked,
@@ -164,9 +166,9 @@ impl Bench {
     /// Technique `id` against its own variant model (the second figure).
     fn measure_model(&mut self, id: &str, params: &[(&str, f64)]) -> Error {
         let image = self.image(id, params);
-        let spec = ground_truth::spec_for(id).unwrap();
+        let spec = common::spec_for(id).unwrap();
         let (s, c, t) = (&self.scene, &self.view.camera, self.view.time);
-        let model = ground_truth::variant_model(s, c, t, &self.base, &self.distances, spec);
+        let model = common::variant_model(s, c, t, &self.base, &self.distances, spec);
         self.error(&image, &model)
     }
 
@@ -438,7 +440,7 @@ fn bvh_distances_agree_with_the_raster_pass() {
             None => scene.camera,
         };
         let bench = Bench::new(scene, camera, 0.0);
-        let bvh = ground_truth::primary_distances(&bench.scene, &camera, 0.0, W, H);
+        let bvh = truth::composite::primary_distances(&bench.scene, &camera, 0.0, W, H);
         let agree = bvh
             .iter()
             .zip(&bench.distances)
@@ -468,7 +470,7 @@ fn free_depth_matches_the_depth_prepass() {
         let (e0, a) = bench.measure(id, &[]);
         let (e1, b) = bench.measure(id, &[("free_depth", 1.0)]);
         let (e0, e1) = (e0.rmse, e1.rmse);
-        let (m, _) = scene::metrics::compare(&a, &b, None);
+        let (m, _) = truth::metrics::compare(&a, &b, None);
         assert!(
             m.rmse < 1e-3,
             "{id}: the two depth sources differ by RMSE {}",
@@ -557,5 +559,15 @@ fn follows_the_target_size() {
         }
         timer.submit_and_collect(ctx, encoder).unwrap();
         assert_eq!(target.read(ctx).unwrap().non_finite_count(), 0);
+    }
+}
+
+/// Every technique id of the crate has a variant model (the second figure of these tests).
+#[test]
+fn every_variant_has_a_variant_model() {
+    let ids: Vec<String> = volumes::techniques().iter().map(|t| t.id()).collect();
+    assert!(!ids.is_empty());
+    for id in &ids {
+        assert!(common::spec_for(id).is_some(), "{id} has a variant model");
     }
 }

@@ -22,10 +22,10 @@
 //!   tests; `-p NAME` in ARGS replaces `--workspace`);
 //! - `compare`: `cargo run -p harness -- compare --out out [ARGS...]` (`--out DIR` in ARGS
 //!   replaces `--out out`). It uses the dev profile on purpose: the workspace's dev profile
-//!   optimizes the dependencies and the `scene` crate at opt-level 3 (the CPU reference, FLIP,
-//!   wgpu), so it runs as fast as a release build for this job while reusing the build
-//!   `cargo xtask test` made, instead of a separate release build of several minutes (see the
-//!   README for the measurements). `cargo xtask compare --release` asks for a release build.
+//!   optimizes the dependencies and the `truth` and `scene` crates at opt-level 3 (the CPU
+//!   reference and its BVH, FLIP, wgpu), so it runs as fast as a release build for this job
+//!   while reusing the build `cargo xtask test` made, instead of a separate release build of
+//!   several minutes (see the README for the measurements). `cargo xtask compare --release` asks for a release build.
 //!
 //! Every command is printed before it runs; the exit status is the child's.
 

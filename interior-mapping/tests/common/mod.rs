@@ -35,7 +35,7 @@ pub fn render(scene: &Scene, technique: &mut dyn Technique, view: &View) -> gpu:
 
 /// The reference of `view` on the default `city` (cached under that spec: load it with
 /// `scene::load("city")`), without caustic photons (the city has no caustic casters).
-pub fn reference(scene: &Scene, view: &View) -> scene::reference::ReferenceImage {
+pub fn reference(scene: &Scene, view: &View) -> truth::reference::ReferenceImage {
     testkit::reference("city", scene, shot(view), 0)
 }
 

@@ -1,7 +1,7 @@
 //! The reference is deterministic: the same seed gives the same bits, whatever the number of
 //! threads; another seed gives another (but close) caustic.
 
-use scene::reference::{ReferenceImage, ReferenceOptions, render};
+use truth::reference::{ReferenceImage, ReferenceOptions, render};
 
 fn render_in_pool(threads: usize, opts: &ReferenceOptions) -> ReferenceImage {
     let scene = scene::load("cornell-sphere").unwrap();

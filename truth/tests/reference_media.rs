@@ -4,8 +4,8 @@
 use glam::{Mat4, Vec2, Vec3};
 use gpu::prelude::ray_sphere;
 use scene::mesh::quad;
-use scene::reference::{ReferenceImage, ReferenceOptions, render};
 use scene::{Camera, CameraPath, DensityProfile, Material, Motion, Object, Scene, Volume};
+use truth::reference::{ReferenceImage, ReferenceOptions, render};
 
 fn opts() -> ReferenceOptions {
     ReferenceOptions {

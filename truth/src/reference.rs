@@ -66,7 +66,7 @@
 //! # Participating media
 //!
 //! The scene's volumes are emission-absorption media whose density fields are defined in
-//! [`crate::media`] (independently of any technique). Every eye-pass ray, primary or
+//! [`scene::density`] (independently of any technique). Every eye-pass ray, primary or
 //! reflected or refracted, is composited through the media between its origin and its
 //! first surface (or to infinity on a miss): `L = L_medium + T L_behind`, with `T` the
 //! Beer-Lambert transmittance and `L_medium` the medium's emission (its `color` per unit
@@ -178,13 +178,13 @@
 //!   anti-aliasing beyond `samples_per_pixel` (the default samples pixel centres only, like
 //!   a rasterizer without MSAA).
 
-use crate::bvh::{Hit, SceneBvh};
 use crate::media::Media;
-use crate::{Camera, Material, Roles, Scene};
 use glam::{Vec2, Vec3};
 use gpu::HdrImage;
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
 use rayon::prelude::*;
+use scene::bvh::{Hit, SceneBvh};
+use scene::{Camera, Material, Roles, Scene};
 use std::f32::consts::{FRAC_1_PI, PI};
 use std::time::Instant;
 

@@ -1,13 +1,15 @@
-//! What the volume variants are measured against, on the CPU.
+//! What the volume variants are measured against, on the CPU: shared by the tests
+//! (`mod common;`) and the example (`#[path = "../tests/common/mod.rs"] mod common;`). It is not
+//! part of the library, which depends on neither this nor the `truth` crate.
 //!
-//! **The ground truth** is the scene's reference (`scene::reference`), which renders the
-//! volumes as participating media (`scene::media`: Beer-Lambert emission-absorption of the
-//! density field defined in `scene::Volume`, independently of any technique). The harness
-//! compares every `volumes/*` variant with that image; this crate does not implement
+//! **The ground truth** is the scene's reference (`truth::reference`), which renders the
+//! volumes as participating media (`truth::media`: Beer-Lambert emission-absorption of the
+//! density field defined in `scene::density`, independently of any technique). The harness
+//! compares every `volumes/*` variant with that image; the crate does not implement
 //! `Technique::ground_truth`. For tests that want the truth over the raster pass's image
 //! instead of the CPU surfaces (so that shadow-map edges, which no volume technique owns, stay
-//! out of the error), [`with_reference_media`] composites exactly the reference's media for
-//! the primary ray of each pixel over a volume-free image.
+//! out of the error), `truth::composite::with_reference_media` composites exactly the
+//! reference's media for the primary ray of each pixel over a volume-free image.
 //!
 //! **The variant model** ([`variant_model`]) is a second, clearly separate figure: every
 //! volume as a *uniform* sphere composited with the variant's own opacity function and its
@@ -16,81 +18,15 @@
 //! primitive, depth source, buffer precision); the error against the ground truth adds what
 //! its model of the medium leaves out (the falloff, the texture, Beer-Lambert). Tests use it to
 //! check the GPU paths; it is never the harness's error.
+#![allow(dead_code)] // each test binary and the example use a part
 
-use crate::path_length::{OpacityFn, sphere_path_length};
-use crate::technique::{VolumeSet, all_variants, opacity_scale};
 use glam::Vec3;
 use gpu::HdrImage;
 use gpu::prelude::ray_sphere;
-use scene::bvh::SceneBvh;
-use scene::media::Media;
 use scene::{Camera, Scene};
-
-/// Per pixel (row 0 at the top), the distance along the primary ray through the pixel centre
-/// to the first surface of the scene at `time`, `f32::INFINITY` where it sees none. These are
-/// the reference's primary hits.
-pub fn primary_distances(
-    scene: &Scene,
-    camera: &Camera,
-    time: f32,
-    width: u32,
-    height: u32,
-) -> Vec<f32> {
-    let bvh = SceneBvh::build(scene, time);
-    let mut out = Vec::with_capacity((width * height) as usize);
-    for y in 0..height {
-        for x in 0..width {
-            let dir = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, width, height);
-            out.push(
-                bvh.closest_hit(camera.eye, dir, f32::INFINITY)
-                    .map_or(f32::INFINITY, |h| h.t),
-            );
-        }
-    }
-    out
-}
-
-/// Applies `f(pixel index, primary ray direction, base radiance)` to every pixel of `base`
-/// (alpha kept).
-fn per_pixel(camera: &Camera, base: &HdrImage, f: impl Fn(usize, Vec3, Vec3) -> Vec3) -> HdrImage {
-    let (w, h) = (base.width, base.height);
-    let mut out = base.clone();
-    for y in 0..h {
-        for x in 0..w {
-            let i = (y * w + x) as usize;
-            let dir = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, w, h);
-            let p = base.pixels[i];
-            let c = f(i, dir, Vec3::new(p[0], p[1], p[2]));
-            out.pixels[i] = [c.x, c.y, c.z, p[3]];
-        }
-    }
-    out
-}
-
-/// `base` (an image of the scene without volumes) seen through the scene's media along each
-/// primary ray, clipped at `distances` ([`primary_distances`], or the raster pass's): what
-/// `scene::reference` does to the primary rays of its pixels. Every volume of the scene is
-/// included, whatever the variant draws.
-///
-/// # Panics
-/// If `distances` does not have one entry per pixel of `base`.
-pub fn with_reference_media(
-    scene: &Scene,
-    camera: &Camera,
-    time: f32,
-    base: &HdrImage,
-    distances: &[f32],
-) -> HdrImage {
-    assert_eq!(
-        distances.len(),
-        base.pixels.len(),
-        "with_reference_media: one distance per pixel"
-    );
-    let media = Media::new(scene, time);
-    per_pixel(camera, base, |i, dir, behind| {
-        media.composite(camera.eye, dir, distances[i], behind)
-    })
-}
+use truth::composite::per_pixel;
+use volumes::path_length::{OpacityFn, sphere_path_length};
+use volumes::technique::{VolumeSet, all_variants, opacity_scale};
 
 /// Per pixel: whether the primary ray crosses a volume of `set` in front of its first
 /// surface (the pixels a volume technique changes; use as the metrics mask).

@@ -6,8 +6,8 @@
 use glam::{Mat4, Vec2, Vec3};
 use gpu::prelude::{fresnel_dielectric, ray_sphere, reflect_dir, refract_dir};
 use scene::mesh::{quad, uv_sphere};
-use scene::reference::{PhotonSetup, ReferenceOptions, light_trace, render};
 use scene::{Camera, CameraPath, Material, Object, PointLight, Roles, Scene};
+use truth::reference::{PhotonSetup, ReferenceOptions, light_trace, render};
 
 fn scene_with(objects: Vec<Object>, light: Vec3, intensity: Vec3, camera: Camera) -> Scene {
     Scene {

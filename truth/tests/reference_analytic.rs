@@ -5,10 +5,11 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
+use scene::builtin::textures::checker_texture;
 use scene::mesh::{quad, uv_sphere};
-use scene::reference::{ReferenceOptions, render};
 use scene::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, Volume};
 use std::f32::consts::FRAC_1_PI;
+use truth::reference::{ReferenceOptions, render};
 
 const FLOOR_HALF: f32 = 50.0;
 const FLOOR_ALBEDO: Vec3 = Vec3::new(0.6, 0.55, 0.5);
@@ -300,15 +301,13 @@ fn textured_plane_multiplies_albedo_by_texture() {
         Vec2::splat(40.0),
     );
     let mut scene = scene_with(vec![plane], camera);
-    scene
-        .textures
-        .push(scene::builtin::textures::checker_texture(
-            "checker",
-            16,
-            4,
-            [250, 40, 40],
-            [30, 60, 200],
-        ));
+    scene.textures.push(checker_texture(
+        "checker",
+        16,
+        4,
+        [250, 40, 40],
+        [30, 60, 200],
+    ));
     let size = 48;
     let opts = ReferenceOptions {
         photons: 0,

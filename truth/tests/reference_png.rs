@@ -2,12 +2,12 @@
 //! 256x256, prints the ray throughput, and writes PNGs (linear -> sRGB, clamped) to look at.
 //!
 //! ```text
-//! cargo test -p scene --test reference_png -- --ignored --nocapture
-//! REFERENCE_PNG_DIR=/tmp/out REFERENCE_PHOTONS=8000000 cargo test -p scene --test reference_png -- --ignored --nocapture
+//! cargo test -p truth --test reference_png -- --ignored --nocapture
+//! REFERENCE_PNG_DIR=/tmp/out REFERENCE_PHOTONS=8000000 cargo test -p truth --test reference_png -- --ignored --nocapture
 //! ```
 
-use scene::reference::{ReferenceOptions, render};
 use std::path::PathBuf;
+use truth::reference::{ReferenceOptions, render};
 
 fn linear_to_srgb8(c: f32) -> u8 {
     let c = if c.is_finite() {
@@ -142,7 +142,7 @@ fn bvh_throughput_single_thread() {
 #[test]
 #[ignore = "prints light-pass throughput; run by hand"]
 fn light_pass_throughput() {
-    use scene::reference::{PhotonSetup, light_trace};
+    use truth::reference::{PhotonSetup, light_trace};
     let scene = scene::load("cornell-sphere").unwrap();
     for threads in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()

@@ -1,0 +1,31 @@
+//! The CPU ground truth and the image metrics: what every technique is measured against.
+//!
+//! - [`reference`]: the CPU reference renderer (Whitted specular chains split by Fresnel,
+//!   light-traced caustics, participating media), deterministic, on all cores with rayon; its
+//!   module documentation states exactly what it computes and what it leaves out.
+//! - [`media`]: the emission-absorption ray marcher the reference composites every eye ray
+//!   through (the density field it integrates is the scene model's, `scene::density`).
+//! - [`composite`]: the reference's media along the primary rays over another renderer's
+//!   image (for tests that want the truth of the media alone).
+//! - [`metrics`]: RMSE, PSNR, FLIP (nv-flip), masked FLIP, NaN count, sRGB conversion.
+//! - [`techniques`]: the reference as a `scene::Technique` (`reference`), for the harness's
+//!   registry.
+//!
+//! This is its own crate, beside `scene`, so that a technique crate (which depends on `gpu` and
+//! `scene` only) never compiles rayon or nv-flip: technique crates use `truth` as a
+//! dev-dependency only, in their tests and examples; the harness and the workspace tests use
+//! it as a normal dependency.
+
+pub mod composite;
+pub mod media;
+pub mod metrics;
+pub mod reference;
+mod technique;
+
+pub use technique::ReferenceTechnique;
+
+/// This crate's technique, fresh: `reference` (the ground truth rendered on the CPU and
+/// uploaded).
+pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
+    vec![Box::new(ReferenceTechnique::default())]
+}
