@@ -30,16 +30,9 @@ pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
 /// The image checks of this crate (run by the tests crate against the reference along the
 /// camera path).
 pub fn image_checks() -> Vec<scene::ImageCheck> {
-    let check = |technique, scene, max_flip_mean, max_rmse, reason| scene::ImageCheck {
-        technique,
-        scene,
-        size: 64,
-        max_flip_mean,
-        max_rmse,
-        reason,
-    };
+    use scene::ImageCheck;
     vec![
-        check(
+        ImageCheck::new(
             "impostors/false-position-4",
             "cornell-box",
             0.068,
@@ -47,7 +40,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             "the paper's claim: localized reflections of a concave room are close to exact; \
              measured FLIP 0.054, RMSE 0.018 (64 x 64, worst of t = 0, 1, 2)",
         ),
-        check(
+        ImageCheck::new(
             "impostors/classic",
             "cornell-box",
             0.11,
@@ -55,7 +48,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             "the classic map the paper improves on: measured FLIP 0.087, RMSE 0.361; the \
              false-position check above must stay well below it",
         ),
-        check(
+        ImageCheck::new(
             "impostors/double-refraction",
             "cornell-sphere",
             0.09,
@@ -63,7 +56,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             "RMSE is dominated by the reference's caustic under the glass sphere, which this \
              variant does not render (impostors/caustics does); measured FLIP 0.072, RMSE 0.487",
         ),
-        check(
+        ImageCheck::new(
             "impostors/caustics",
             "cornell-sphere",
             0.02,
@@ -71,7 +64,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             "light-map caustics: FLIP 0.016 at t = 0 and 2 (RMSE 0.059); at t = 1, where the \
              sphere has moved, RMSE reaches 0.305 (FLIP 0.012)",
         ),
-        check(
+        ImageCheck::new(
             "impostors/false-position-4",
             "cornell-sphere:material=gold",
             0.05,

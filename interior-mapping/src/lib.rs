@@ -25,14 +25,9 @@ pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
 /// The image checks of this crate (run by the tests crate against the reference along the
 /// camera path).
 pub fn image_checks() -> Vec<scene::ImageCheck> {
-    let check = |technique, max_flip_mean, max_rmse, reason| scene::ImageCheck {
-        technique,
-        scene: "city",
-        size: 64,
-        max_flip_mean,
-        max_rmse,
-        reason,
-    };
+    use scene::ImageCheck;
+    let check =
+        |technique, flip, rmse, reason| ImageCheck::new(technique, "city", flip, rmse, reason);
     vec![
         check(
             "interior-mapping/textured",

@@ -24,26 +24,24 @@ pub fn techniques() -> Vec<Box<dyn Technique>> {
 /// The foundation's image checks (run by the tests crate against the reference).
 pub fn image_checks() -> Vec<crate::ImageCheck> {
     vec![
-        crate::ImageCheck {
-            technique: "raster",
-            scene: "cornell-sphere:material=diffuse",
-            size: 64,
-            max_flip_mean: 0.002,
-            max_rmse: 0.005,
-            reason: "nothing specular: the raster pass computes the reference's model and differs \
-                     only at shadow edges (shadow map vs shadow ray); measured FLIP 0.0006, RMSE \
-                     0.0026 (64 x 64, worst of t = 0, 1, 2)",
-        },
-        crate::ImageCheck {
-            technique: "envmap/classic",
-            scene: "cornell-sphere:material=mirror",
-            size: 64,
-            max_flip_mean: 0.09,
-            max_rmse: 0.46,
-            reason: "a baseline: the direction-only lookup misplaces the room in the mirror, and \
-                     the reference's light-traced caustics from the mirror are in no GPU \
-                     technique; measured FLIP 0.071, RMSE 0.361 (worst of t = 0, 1, 2)",
-        },
+        crate::ImageCheck::new(
+            "raster",
+            "cornell-sphere:material=diffuse",
+            0.002,
+            0.005,
+            "nothing specular: the raster pass computes the reference's model and differs \
+             only at shadow edges (shadow map vs shadow ray); measured FLIP 0.0006, RMSE \
+             0.0026 (64 x 64, worst of t = 0, 1, 2)",
+        ),
+        crate::ImageCheck::new(
+            "envmap/classic",
+            "cornell-sphere:material=mirror",
+            0.09,
+            0.46,
+            "a baseline: the direction-only lookup misplaces the room in the mirror, and \
+             the reference's light-traced caustics from the mirror are in no GPU \
+             technique; measured FLIP 0.071, RMSE 0.361 (worst of t = 0, 1, 2)",
+        ),
     ]
 }
 

@@ -159,6 +159,29 @@ pub struct ImageCheck {
     pub reason: &'static str,
 }
 
+impl ImageCheck {
+    /// The default image size of a check: small enough for the software rasterizer of CI.
+    pub const SIZE: u32 = 64;
+
+    /// A check at [`ImageCheck::SIZE`] x [`ImageCheck::SIZE`].
+    pub const fn new(
+        technique: &'static str,
+        scene: &'static str,
+        max_flip_mean: f32,
+        max_rmse: f32,
+        reason: &'static str,
+    ) -> Self {
+        Self {
+            technique,
+            scene,
+            size: Self::SIZE,
+            max_flip_mean,
+            max_rmse,
+            reason,
+        }
+    }
+}
+
 /// The times an image check renders: start, middle and end of a camera path of `duration`
 /// seconds (a still scene: time 0 only).
 pub fn check_times(duration: f32) -> Vec<f32> {

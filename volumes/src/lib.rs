@@ -33,14 +33,9 @@ pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
 /// The image checks of this crate (run by the tests crate against the reference, participating
 /// media included, along the camera path).
 pub fn image_checks() -> Vec<scene::ImageCheck> {
-    let check = |technique, max_flip_mean, max_rmse, reason| scene::ImageCheck {
-        technique,
-        scene: "smoke",
-        size: 64,
-        max_flip_mean,
-        max_rmse,
-        reason,
-    };
+    use scene::ImageCheck;
+    let check =
+        |technique, flip, rmse, reason| ImageCheck::new(technique, "smoke", flip, rmse, reason);
     vec![
         check(
             "volumes/slices-19-float",
