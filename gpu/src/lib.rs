@@ -1,15 +1,14 @@
 //! The shared GPU layer of the workspace: one headless wgpu [`Context`] with its shared
 //! samplers, bind-group lists ([`bind`]), one-line attachments and passes ([`pass`]), the
 //! per-frame recording context [`Frame`], HDR render targets and read-back, cube-map targets,
-//! the distance-map search `Hit()` ([`distance_map`], Rust twin of `shaders/hit.wgsl`), depth
-//! peeling, a full-screen pass, GPU timers, and the WGSL prelude (with its Rust twin in
+//! the distance-map search `Hit()` ([`distance_map`], Rust twin of `shaders/hit.wgsl`), a
+//! full-screen pass, GPU timers, and the WGSL prelude (with its Rust twin in
 //! [`prelude`]) that every technique's shaders include.
 
 pub mod bind;
 pub mod compute;
 mod context;
 pub mod cube;
-pub mod depth_peel;
 pub mod distance_map;
 pub mod fullscreen;
 pub mod pass;
@@ -19,7 +18,6 @@ mod timer;
 
 pub use bind::{Samplers, Uniform};
 pub use context::{AdapterSummary, Context};
-pub use depth_peel::DepthPeeler;
 pub use target::{
     DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, depth_texture, layer_view, map_buffer, read_buffer,
     read_texture_bytes, read_texture_f32, read_texture_f32x4,
@@ -63,8 +61,8 @@ pub enum GpuError {
     InvalidInput(String),
 }
 
-/// The vertex layout shared by the scene upload, depth peeling and every technique:
-/// world-space position, shading normal, texture coordinate.
+/// The vertex layout shared by the scene upload and every technique: position, shading
+/// normal, texture coordinate.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {

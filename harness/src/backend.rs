@@ -1,25 +1,18 @@
 //! The one place where the harness calls the renderers and file writers of the `scene` and
-//! `truth` crates (the CPU reference renderer, glTF export, the GPU upload and its per-frame
-//! update). Every other module goes through these functions, so following a changed scene or
+//! `truth` crates (the CPU reference renderer, glTF export, the GPU upload; the per-frame scene update
+//! is `scene::runner`'s). Every other module goes through these functions, so following a changed scene or
 //! reference API is a change here.
 
 use crate::{Reference, ReferenceStats};
 use anyhow::Result;
 use gpu::Context;
-use scene::{Camera, Frame, GpuScene, Scene};
+use scene::{Camera, GpuScene, Scene};
 use std::path::Path;
 use truth::reference::ReferenceOptions;
 
 /// Uploads a scene to the GPU (validated first); GPU validation errors become the error.
 pub fn upload_scene(ctx: &Context, scene: &Scene) -> Result<GpuScene> {
     Ok(ctx.validated(|| GpuScene::new(ctx, scene))??)
-}
-
-/// Moves the uploaded scene's objects to `time` (and re-renders its shadow maps when something
-/// moved), recording into `frame`. The harness calls this in its own submission before each
-/// frame, so the shared scene update is not part of any technique's frame time.
-pub fn set_scene_time(scene: &mut GpuScene, frame: &mut Frame, time: f32) {
-    scene.set_time(frame, time);
 }
 
 /// A string that changes whenever the reference renderer's options change: part of the

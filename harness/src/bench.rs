@@ -138,7 +138,7 @@ fn span_ms(sample: &Sample, span: &str, technique: &dyn Technique, timer: &GpuTi
         return sample.time("frame", technique.timing(), timer.kind());
     }
     sample
-        .spans
+        .spans()
         .iter()
         .find(|(label, _)| label == span)
         .map_or(f64::NAN, |(_, ms)| *ms)

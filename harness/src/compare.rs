@@ -34,8 +34,12 @@ pub struct CompareOptions {
     pub out: PathBuf,
     /// Scene specs (built-in or paths); every built-in scene when empty.
     pub scenes: Vec<String>,
-    /// Technique ids or families; every registered technique when `None`.
+    /// Technique ids or families; when `None`, every registered technique that is
+    /// [`Technique::representative`], or every one with `all_variants`.
     pub techniques: Option<Vec<String>>,
+    /// Run every variant of every family, not just the representative ones (ignored when
+    /// `techniques` names them).
+    pub all_variants: bool,
     pub size: Size,
     pub frames: Frames,
 }
@@ -301,8 +305,17 @@ pub(crate) fn path_references(
 
 /// Runs the comparison (see the module documentation) and writes every file.
 pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
-    let all_ids: Vec<String> = (env.techniques)().iter().map(|t| t.id()).collect();
-    let selected = crate::select_techniques(&all_ids, opts.techniques.as_deref())?;
+    let registered = (env.techniques)();
+    let all_ids: Vec<String> = registered.iter().map(|t| t.id()).collect();
+    let selected = match &opts.techniques {
+        Some(wanted) => crate::select_techniques(&all_ids, Some(wanted))?,
+        None if opts.all_variants => all_ids,
+        None => registered
+            .iter()
+            .filter(|t| t.representative())
+            .map(|t| t.id())
+            .collect(),
+    };
     let specs = if opts.scenes.is_empty() {
         crate::builtin_scene_names()
     } else {

@@ -91,9 +91,14 @@ enum Command {
         /// Scene specs or .gltf/.glb paths, comma separated (default: every built-in scene).
         #[arg(long, value_name = "A,B")]
         scenes: Option<String>,
-        /// Technique ids or families, comma separated (default: every technique).
+        /// Technique ids or families, comma separated (default: every family's representative
+        /// variants; see --all-variants).
         #[arg(long, value_name = "X,Y", value_delimiter = ',')]
         techniques: Option<Vec<String>>,
+        /// Every variant of every family (the default runs each family's representative
+        /// variants; the exhaustive rest, every iteration or slice count, is for sweeps).
+        #[arg(long)]
+        all_variants: bool,
         /// Image size.
         #[arg(long, default_value = "256x256", value_name = "WxH")]
         size: Size,
@@ -234,6 +239,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             out,
             scenes,
             techniques,
+            all_variants,
             size,
             frames,
             reference,
@@ -256,6 +262,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 out: out.clone(),
                 scenes,
                 techniques,
+                all_variants,
                 size,
                 frames: frames.frames(),
             };
@@ -397,12 +404,16 @@ fn list(params: bool) -> Result<ExitCode> {
     }
     println!();
     let techniques = harness::registry();
-    println!("Techniques ({}):", techniques.len());
+    println!(
+        "Techniques ({}; * = in the default compare, the rest with --all-variants):",
+        techniques.len()
+    );
     if techniques.is_empty() {
         println!("  (none registered)");
     }
     for t in &techniques {
-        println!("  {:<32} {}", t.id(), t.description());
+        let mark = if t.representative() { '*' } else { ' ' };
+        println!("{mark} {:<32} {}", t.id(), t.description());
         if params {
             for p in t.params() {
                 let kind = if p.integer { "integer" } else { "real" };

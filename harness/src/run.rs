@@ -1,7 +1,8 @@
 //! Running one technique on one uploaded scene: prepare, the error frame, warm-up and timed
 //! frames, each in its own command encoder bracketed by the timer.
 //!
-//! Per frame the harness creates an encoder, calls `timer.begin(enc, "frame")`,
+//! The per-step recording is `scene::runner`'s (shared with `testkit`, so tests render what the
+//! harness measures): per frame it creates an encoder, calls `timer.begin(enc, "frame")`,
 //! `technique.render(...)`, `timer.end(enc, "frame")` and `timer.submit_and_collect(ctx, enc)`.
 //! The frame time is the "frame" span when the timer has GPU timestamps ("gpu-timestamp"), the
 //! "wall" span (CPU clock around submit + wait) when it has not ("wall"), and the wall-clock
@@ -23,12 +24,12 @@
 //! would have rendered before it, not by a jump. A GPU validation error in any frame is the
 //! technique's error.
 
-use crate::{Frames, Size, backend};
+use crate::{Frames, Size};
 use anyhow::{Result, anyhow};
 use gpu::{Context, GpuTimer, HdrImage, Target, TimeStats, TimerKind};
-use scene::{Frame, GpuScene, Technique, TechniqueResult, Timing, View};
+use scene::runner::{self, Recorded};
+use scene::{GpuScene, Technique, Timing, View};
 use std::collections::BTreeMap;
-use std::time::Instant;
 
 /// What a frame of a run is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,66 +74,29 @@ impl TechniqueRun {
 /// Spans a timer can return that are not a technique's own.
 const HARNESS_LABELS: &[&str] = &["frame", "prepare", "wall", "scene_update"];
 
-pub(crate) struct Sample {
-    pub(crate) spans: Vec<(String, f64)>,
-    /// Wall clock of the technique's call alone.
-    call_ms: f64,
-    /// Wall clock of the call plus submission and wait.
-    total_ms: f64,
-}
+/// One recorded step (`scene::runner::Recorded`) read the harness's way.
+pub(crate) struct Sample(Recorded);
 
 impl Sample {
     /// The figure for `label` under this timer kind (see the module documentation).
     pub(crate) fn time(&self, label: &str, timing: Timing, kind: TimerKind) -> f64 {
-        let span = |l: &str| self.spans.iter().find(|(s, _)| s == l).map(|(_, v)| *v);
+        let r = &self.0;
         match (timing, kind) {
-            (Timing::Cpu, _) => self.call_ms,
-            (Timing::Gpu, TimerKind::GpuTimestamp) => span(label).unwrap_or(self.total_ms),
-            (Timing::Gpu, TimerKind::Wall) => span("wall").unwrap_or(self.total_ms),
+            (Timing::Cpu, _) => r.call_ms,
+            (Timing::Gpu, TimerKind::GpuTimestamp) => r.span(label).unwrap_or(r.total_ms),
+            (Timing::Gpu, TimerKind::Wall) => r.span("wall").unwrap_or(r.total_ms),
         }
+    }
+
+    pub(crate) fn spans(&self) -> &[(String, f64)] {
+        &self.0.spans
     }
 
     pub(crate) fn extra(&self) -> impl Iterator<Item = &(String, f64)> {
-        self.spans
+        self.0
+            .spans
             .iter()
             .filter(|(l, _)| !HARNESS_LABELS.contains(&l.as_str()))
-    }
-}
-
-/// Records one timed submission: encoder, `begin(label)`, `f`, `end(label)`, submit, collect;
-/// GPU validation errors raised meanwhile become the error.
-fn record(
-    ctx: &Context,
-    timer: &mut GpuTimer,
-    label: &str,
-    f: impl FnOnce(&mut Frame) -> TechniqueResult<()>,
-) -> Result<Sample> {
-    let result = ctx.validated(|| -> Result<Sample> {
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&gpu::wgpu::CommandEncoderDescriptor { label: Some(label) });
-        timer.begin(&mut encoder, label);
-        let start = Instant::now();
-        {
-            let mut frame = Frame {
-                gpu: ctx,
-                encoder: &mut encoder,
-                timer: &mut *timer,
-            };
-            f(&mut frame)?;
-        }
-        let call_ms = start.elapsed().as_secs_f64() * 1e3;
-        timer.end(&mut encoder, label);
-        let spans = timer.submit_and_collect(ctx, encoder)?;
-        Ok(Sample {
-            spans,
-            call_ms,
-            total_ms: start.elapsed().as_secs_f64() * 1e3,
-        })
-    });
-    match result {
-        Ok(inner) => inner,
-        Err(validation) => Err(anyhow!(validation)),
     }
 }
 
@@ -143,12 +107,8 @@ pub(crate) fn update_scene(
     scene: &mut GpuScene,
     time: f32,
 ) -> Result<()> {
-    record(ctx, timer, "scene_update", |frame| {
-        backend::set_scene_time(scene, frame, time);
-        Ok(())
-    })
-    .map(|_| ())
-    .map_err(|e| e.context("moving the scene to the frame's time"))
+    runner::update_scene(ctx, timer, scene, time)
+        .map_err(|e| anyhow!(e).context("moving the scene to the frame's time"))
 }
 
 /// Runs `technique` on `scene` (see the module documentation). `on_frame` is told each step.
@@ -236,7 +196,7 @@ pub fn run_technique(
         },
         frame: TimeStats::from_samples(&times),
         prepare_ms: prep.time("prepare", timing, kind),
-        prepare_wall_ms: prep.total_ms,
+        prepare_wall_ms: prep.0.total_ms,
         spans_ms,
     })
 }
@@ -248,10 +208,9 @@ pub(crate) fn prepare(
     technique: &mut dyn Technique,
     scene: &GpuScene,
 ) -> Result<Sample> {
-    record(ctx, timer, "prepare", |frame| {
-        technique.prepare(frame, scene)
-    })
-    .map_err(|e| e.context("prepare"))
+    runner::prepare(ctx, timer, technique, scene)
+        .map(Sample)
+        .map_err(|e| anyhow!(e).context("prepare"))
 }
 
 /// Moves the scene to the view's time and renders one timed frame.
@@ -263,10 +222,7 @@ pub(crate) fn render_frame(
     view: &View,
     target: &Target,
 ) -> Result<Sample> {
-    update_scene(ctx, timer, scene, view.time)?;
-    let scene = &*scene;
-    record(ctx, timer, "frame", |frame| {
-        technique.render(frame, scene, view, target)
-    })
-    .map_err(|e| e.context(format!("frame at time {}", view.time)))
+    runner::render_frame(ctx, timer, technique, scene, view, target)
+        .map(Sample)
+        .map_err(|e| anyhow!(e).context(format!("frame at time {}", view.time)))
 }

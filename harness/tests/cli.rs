@@ -274,37 +274,68 @@ fn list_shows_scenes_and_parameters() {
 fn compare_with_the_registered_techniques_at_32x32() {
     let out = tmp("real-compare");
     let _ = std::fs::remove_dir_all(&out);
-    let run = harness(&[
-        "compare",
-        "--out",
-        &out.display().to_string(),
-        "--scenes",
-        "cornell-sphere",
-        "--size",
-        "32x32",
-        "--frames",
-        "2",
-        "--warmup",
-        "0",
-        "--ref-photons",
-        "20000",
-        "--strict",
-    ]);
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    assert!(run.status.success(), "stdout: {stdout}\nstderr: {stderr}");
-    assert!(stdout.contains("| scene | technique |"), "{stdout}");
-    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
-    let registered = harness::registry();
-    let supported = registered
+    let compare = |extra: &[&str]| {
+        let mut args = vec![
+            "compare".to_string(),
+            "--out".to_string(),
+            out.display().to_string(),
+        ];
+        args.extend(
+            [
+                "--scenes",
+                "cornell-sphere",
+                "--size",
+                "32x32",
+                "--frames",
+                "2",
+                "--warmup",
+                "0",
+                "--ref-photons",
+                "20000",
+                "--strict",
+            ]
+            .map(String::from),
+        );
+        args.extend(extra.iter().map(|a| a.to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let run = harness(&args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert!(run.status.success(), "stdout: {stdout}\nstderr: {stderr}");
+        assert!(stdout.contains("| scene | technique |"), "{stdout}");
+        let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+        for line in csv.lines().skip(1) {
+            assert!(line.ends_with(','), "a row has an error: {line}");
+        }
+        csv
+    };
+    let scene = scene::load("cornell-sphere").unwrap();
+    let supported: Vec<_> = harness::registry()
+        .into_iter()
+        .filter(|t| t.supports(&scene))
+        .collect();
+    let representative: Vec<String> = supported
         .iter()
-        .filter(|t| t.supports(&scene::load("cornell-sphere").unwrap()))
-        .count();
-    assert_eq!(csv.lines().count(), 1 + supported, "{csv}");
+        .filter(|t| t.representative())
+        .map(|t| t.id())
+        .collect();
+    assert!(representative.len() < supported.len());
+
+    // The default: each family's representative variants, and only those.
+    let csv = compare(&[]);
+    assert_eq!(csv.lines().count(), 1 + representative.len(), "{csv}");
     for line in csv.lines().skip(1) {
-        assert!(line.ends_with(','), "a row has an error: {line}");
+        let id = line.split(',').nth(1).unwrap();
+        assert!(
+            representative.iter().any(|r| r == id),
+            "{id} is not representative"
+        );
     }
     assert!(out.join("images/cornell-sphere/reference.exr").is_file());
+
+    // --all-variants: every supported variant (the references come from the cache).
+    let csv = compare(&["--all-variants"]);
+    assert_eq!(csv.lines().count(), 1 + supported.len(), "{csv}");
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -59,7 +59,9 @@ impl Mode {
 /// Parameters of an [`Impostor`] (all settable by name through [`Technique::set_param`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
+    /// How the radiance a ray leaves with is found (direction only, `Hit()`, double refraction).
     pub mode: Mode,
+    /// The `Hit()` search: secant or false position.
     pub method: Method,
     /// Refinement steps after the two initial guesses (`iterations` parameter).
     pub iterations: u32,
@@ -95,6 +97,7 @@ impl Default for Settings {
 pub struct Impostor {
     id: String,
     description: String,
+    /// The variant's parameters; [`Technique::set_param`] changes them by name.
     pub settings: Settings,
     state: Option<State>,
 }
@@ -133,6 +136,8 @@ struct ObjectMaps {
 }
 
 impl Impostor {
+    /// A variant named `id` (`impostors/<variant>`) with its one-line `description` and
+    /// `settings`; [`crate::techniques`] lists the configured ones.
     pub fn new(id: &str, description: &str, settings: Settings) -> Self {
         Self {
             id: id.into(),
@@ -269,6 +274,29 @@ fn param(
 impl Technique for Impostor {
     fn id(&self) -> String {
         self.id.clone()
+    }
+    /// The default compare shows the classic map, the guess, secant 4, false position 1, 4
+    /// and 8, double refraction and both caustic paths; the other iteration counts and the
+    /// split layout are for `harness sweep` (or `compare --all-variants`).
+    fn representative(&self) -> bool {
+        let exhaustive = [
+            "secant-1",
+            "secant-2",
+            "secant-3",
+            "secant-5",
+            "secant-6",
+            "secant-7",
+            "secant-8",
+            "false-position-2",
+            "false-position-3",
+            "false-position-5",
+            "false-position-6",
+            "false-position-7",
+            "false-position-4-split",
+        ];
+        !exhaustive
+            .iter()
+            .any(|v| self.id == format!("impostors/{v}"))
     }
     fn description(&self) -> String {
         self.description.clone()

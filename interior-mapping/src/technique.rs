@@ -46,6 +46,7 @@ pub enum Variant {
 }
 
 impl Variant {
+    /// Every variant, in the order of `interior_mapping::techniques()` (without pre-pass).
     pub const ALL: [Variant; 8] = [
         Variant::Basic,
         Variant::Textured,
@@ -114,13 +115,24 @@ type HullRange = (u32, u32, i32);
 
 /// One interior-mapping variant, with or without a depth pre-pass.
 pub struct InteriorMapping {
+    /// What the rooms show (flat colours, textures, reflections, furniture...).
     pub variant: Variant,
+    /// Depth-only pass over the hulls first, then shading with `LessEqual` (the `-prepass`
+    /// ids): each pixel is shaded once.
     pub prepass: bool,
+    /// Multiplies each building's room size (parameter `room_scale`).
     pub room_scale: f32,
+    /// Interior texture size, texels per side (parameter `texture_resolution`).
     pub texture_resolution: u32,
+    /// `varied`: probability that a room's light is on (parameter `light_probability`).
     pub light_probability: f32,
+    /// Unshadowed room light, radiance = albedo x value (parameter `interior_light`; 0 matches
+    /// the reference).
     pub interior_light: f32,
+    /// `furniture`: depth of the furniture plane behind the facade, in rooms (parameter
+    /// `furniture_depth`).
     pub furniture_depth: f32,
+    /// `varied`: largest wall displacement, in rooms (parameter `displacement`).
     pub displacement: f32,
     /// Room surfaces of box hulls lit only through the windows (exact); false: the scene's
     /// shadow maps, as the polygon baseline.
@@ -146,6 +158,8 @@ struct State {
 }
 
 impl InteriorMapping {
+    /// The technique of `variant` (with a depth pre-pass if `prepass`) with the default
+    /// parameters.
     pub fn new(variant: Variant, prepass: bool) -> Self {
         let varied = variant == Variant::Varied;
         Self {
@@ -170,6 +184,11 @@ impl Technique for InteriorMapping {
             self.variant.name(),
             if self.prepass { "-prepass" } else { "" }
         )
+    }
+    /// The depth pre-pass only changes the cost: the default compare shows it once
+    /// (`textured-prepass`); the other `-prepass` variants run with `compare --all-variants`.
+    fn representative(&self) -> bool {
+        !self.prepass || self.variant == Variant::Textured
     }
     fn description(&self) -> String {
         let what = match self.variant {
@@ -688,7 +707,9 @@ fn srgb_texture(ctx: &Context, label: &str, side: u32, layers: u32, data: &[u8])
 /// pass. Box hulls that already have real interiors in the scene are kept as they are;
 /// curved hulls (cylinder, sphere) stay solid.
 pub struct PolygonInteriors {
+    /// Multiplies each building's room size (parameter `room_scale`).
     pub room_scale: f32,
+    /// Interior texture size, texels per side (parameter `texture_resolution`).
     pub texture_resolution: u32,
     state: Option<GpuScene>,
 }

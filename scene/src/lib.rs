@@ -1,20 +1,24 @@
 //! The scene side of the workspace: the scene model (with the volumes' density field),
 //! built-in scenes, glTF import/export, the BVH with exact ray queries, the GPU upload with the
-//! shared raster pass, and the `Technique` trait. The CPU reference renderer (the ground
-//! truth) and the image metrics are the `truth` crate's, so that a technique crate, which
-//! depends on this crate, compiles neither rayon nor nv-flip.
+//! shared raster pass, depth peeling of the uploaded scene ([`DepthPeeler`]), and the
+//! `Technique` trait. The CPU reference renderer (the ground truth) and the image metrics are
+//! the `truth` crate's, so that a technique crate, which depends on this crate, compiles
+//! neither rayon nor nv-flip.
 
 pub mod builtin;
 pub mod bvh;
 pub mod density;
+pub mod depth_peel;
 pub mod foundation;
 pub mod gltf_io;
 mod gpu_scene;
 pub mod lightmap;
 pub mod mesh;
 mod model;
+pub mod runner;
 pub mod technique;
 
+pub use depth_peel::DepthPeeler;
 pub use gpu_scene::{
     BACKGROUND_DISTANCE, CubeFace, DrawRange, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL,
     begin_scene_pass, scene_pipeline,

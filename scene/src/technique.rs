@@ -74,6 +74,12 @@ pub trait Technique {
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         check_param(&self.id(), &self.params(), name, value)
     }
+    /// Whether the default `harness compare` runs this variant. A family's exhaustive rest
+    /// (every iteration count, every slice count: what `harness sweep` covers) says `false`;
+    /// `harness compare --all-variants`, or naming the variant in `--techniques`, runs it.
+    fn representative(&self) -> bool {
+        true
+    }
     /// Device features without which the technique cannot run (the harness skips it, with
     /// the reason, on an adapter that lacks them).
     fn required_features(&self) -> gpu::wgpu::Features {

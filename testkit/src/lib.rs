@@ -1,12 +1,15 @@
 //! What every test and example of the workspace needs and no technique should carry: one GPU
 //! context per process (with a lock that keeps lavapipe's threads from being oversubscribed),
 //! "render technique T on scene S at time t", the reference of the same view (cached per
-//! process), and PNG/strip writing with the workspace's conventions.
+//! process), PNG/strip writing with the workspace's conventions, and the proptest strategies
+//! the property tests share ([`strategies`]).
 //!
 //! A dev-dependency only: technique crates lifted into someone's renderer never compile it.
 
+pub mod gpu_time;
+pub mod strategies;
 use gpu::{Context, GpuTimer, HdrImage, Target};
-use scene::{Camera, Frame, GpuScene, Scene, Technique, View};
+use scene::{Camera, Frame, GpuScene, Scene, Technique, View, runner};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, OnceLock};
@@ -88,26 +91,29 @@ impl Shot {
 
 /// Renders `technique` on `scene`: prepares it at the first shot's time, renders every shot
 /// in turn (a map made at an earlier time is reused when the technique allows it) and
-/// returns the last image. Validation errors fail the test. Tests that run in parallel hold
-/// [`gpu_lock`] around it.
+/// returns the last image, with the harness's own steps (`scene::runner`). Errors, GPU
+/// validation errors included, fail the test. Tests that run in parallel hold [`gpu_lock`]
+/// around it.
 pub fn render_shots(technique: &mut dyn Technique, scene: &Scene, shots: &[Shot]) -> HdrImage {
     let first = shots.first().expect("at least one shot");
     let ctx = context();
     let mut gpu_scene = GpuScene::new(ctx, scene).expect("scene uploads");
     let target = Target::new(ctx, first.size, first.size).expect("target");
-    ctx.validated(|| {
-        submit(ctx, &mut gpu_scene, first.time, |frame, s| {
-            technique.prepare(frame, s).expect("prepare")
-        });
-        for shot in shots {
-            submit(ctx, &mut gpu_scene, shot.time, |frame, s| {
-                technique
-                    .render(frame, s, &shot.view(), &target)
-                    .expect("render")
-            });
-        }
-    })
-    .expect("GPU validation");
+    let mut timer = GpuTimer::new(ctx, 64);
+    // The harness's own steps (scene::runner): what a test renders is what compare measures.
+    runner::update_scene(ctx, &mut timer, &mut gpu_scene, first.time).expect("scene update");
+    runner::prepare(ctx, &mut timer, technique, &gpu_scene).expect("prepare");
+    for shot in shots {
+        runner::render_frame(
+            ctx,
+            &mut timer,
+            technique,
+            &mut gpu_scene,
+            &shot.view(),
+            &target,
+        )
+        .expect("render");
+    }
     target.read(ctx).expect("read back")
 }
 

@@ -53,6 +53,7 @@ pub enum VolumeSet {
 }
 
 impl VolumeSet {
+    /// Whether a variant drawing this set draws volume `v`.
     pub fn includes(self, v: &Volume) -> bool {
         match self {
             VolumeSet::Single => !v.particle,
@@ -96,7 +97,12 @@ pub enum Method {
     Billboard,
     /// 6.3.2: `count` parallel slices; `float_buffer` blends them in Rgba16Float instead of
     /// Rgba8Unorm.
-    Slices { count: u32, float_buffer: bool },
+    Slices {
+        /// Number of slices (the thesis tests 5, 9, 19, 39 and 79).
+        count: u32,
+        /// Blend the slices in `FLOAT_BUFFER_FORMAT` (true) or `BYTE_BUFFER_FORMAT` (false).
+        float_buffer: bool,
+    },
     /// 6.3.3: a billboard that ray-traces a volume primitive against the scene distance.
     Raytraced(Primitive),
 }
@@ -104,8 +110,11 @@ pub enum Method {
 /// One technique variant: method, opacity function and which volumes it draws.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Variant {
+    /// How each volume is drawn (billboard, slices, ray-traced primitive).
     pub method: Method,
+    /// How the visible path length becomes opacity (thesis figure 6.21).
     pub opacity: OpacityFn,
+    /// Which of the scene's volumes are drawn.
     pub set: VolumeSet,
 }
 
@@ -296,15 +305,21 @@ struct VolumeGpu {
 pub struct PlacedVolume {
     /// Index of the volume in `Scene::volumes`.
     pub index: usize,
+    /// World-space centre at the frame's time (motion applied).
     pub center: Vec3,
+    /// Radius of the bounding sphere (metres).
     pub radius: f32,
+    /// Linear RGB radiance of the medium where it is opaque (`Volume::color`).
     pub color: Vec3,
     /// [`opacity_scale`] with the logarithmic function; [`VolumeTechnique`] recomputes it
     /// for its own function.
     pub density: f32,
-    /// Unit billboard axes: right and up in the plane, normal toward the eye.
+    /// Unit billboard right axis, in the plane (the camera's right made perpendicular to the
+    /// normal).
     pub right: Vec3,
+    /// Unit billboard up axis, in the plane.
     pub up: Vec3,
+    /// Unit billboard normal, from the centre toward the eye.
     pub normal: Vec3,
     /// Distance from the eye to the centre (the sort key).
     pub distance: f32,
@@ -415,6 +430,8 @@ struct FrameBuffers {
 }
 
 impl VolumeTechnique {
+    /// The technique of `variant` with the default parameters (`billboard_scale`
+    /// [`DEFAULT_BILLBOARD_SCALE`], `fit_silhouette`, `free_depth` and `depth_prepass` off).
     pub fn new(variant: Variant) -> Self {
         Self {
             variant,
@@ -427,6 +444,7 @@ impl VolumeTechnique {
         }
     }
 
+    /// The variant this technique renders.
     pub fn variant(&self) -> Variant {
         self.variant
     }
@@ -528,6 +546,28 @@ pub const DEFAULT_BILLBOARD_SCALE: f32 = 1.1;
 impl Technique for VolumeTechnique {
     fn id(&self) -> String {
         self.variant.id()
+    }
+
+    /// The default compare shows one variant of each method and precision (billboard; 9,
+    /// 19 and 39 slices; 19 float slices; three opacity functions of the ray-traced sphere)
+    /// and three particle variants; the other slice counts and opacity functions are for
+    /// `harness sweep` (or `compare --all-variants`).
+    fn representative(&self) -> bool {
+        let exhaustive = [
+            "slices-5",
+            "slices-79",
+            "slices-5-float",
+            "slices-9-float",
+            "slices-39-float",
+            "slices-79-float",
+            "raytraced-linear",
+            "raytraced-sphere-linear",
+            "raytraced-sphere-sqrt",
+            "particles-slices-9-float",
+            "particles-raytraced-sphere-log",
+        ];
+        let id = self.id();
+        !exhaustive.iter().any(|v| id == format!("volumes/{v}"))
     }
 
     fn description(&self) -> String {
@@ -848,7 +888,7 @@ impl VolumeTechnique {
 /// Half size (metres) of a volume's billboard, and whether a screen-filling quad replaces it.
 /// Without `fit`: `scale * R` (thesis). With `fit`: the plane through the centre facing the eye
 /// meets the silhouette cone of the sphere at radius `R D / sqrt(D^2 - R^2)` (D the eye
-/// distance); 1% more covers it. Closer than [`FIT_MIN_DISTANCE`] R (or inside) no billboard
+/// distance); 1% more covers it. Closer than `FIT_MIN_DISTANCE` (1.05) R (or inside) no billboard
 /// through the centre can cover the sphere, so the whole screen is drawn.
 pub fn billboard_extent(v: &PlacedVolume, scale: f32, fit: bool) -> (f32, bool) {
     let r = v.radius;

@@ -18,14 +18,18 @@
 //! Then, with `NODEVICE_SELECT=1` (silences Mesa's device-select layer), it runs
 //!
 //! - `test`: `cargo fmt --all --check` (the style of `rustfmt.toml`), then
-//!   `cargo test --workspace [ARGS...]` (every member: unit, integration and doc
-//!   tests; `-p NAME` in ARGS replaces `--workspace`);
-//! - `compare`: `cargo run -p harness -- compare --out out [ARGS...]` (`--out DIR` in ARGS
-//!   replaces `--out out`). It uses the dev profile on purpose: the workspace's dev profile
-//!   optimizes the dependencies and the `truth` and `scene` crates at opt-level 3 (the CPU
-//!   reference and its BVH, FLIP, wgpu), so it runs as fast as a release build for this job
-//!   while reusing the build `cargo xtask test` made, instead of a separate release build of
-//!   several minutes (see the README for the measurements). `cargo xtask compare --release` asks for a release build.
+//!   `cargo test --workspace [ARGS...]` (every member: unit, integration and doc tests; `-p
+//!   NAME` in ARGS replaces `--workspace`); after a full run it checks that the build `compare`
+//!   uses is exactly this one (`cargo test --workspace --no-run` reports every artifact fresh)
+//!   and fails naming what would be compiled otherwise;
+//! - `compare`: the same test build (`cargo test --workspace --no-run`: nothing to compile
+//!   after `cargo xtask test`), then the `harness` binary it contains: `harness compare --out
+//!   out [ARGS...]` (`--out DIR` in ARGS replaces `--out out`). `cargo run -p harness` would
+//!   unify features over the harness's dependencies alone and recompile the wgpu stack (3-6
+//!   min on the 2-core machine). The dev profile optimizes the dependencies and the `truth`
+//!   and `scene` crates at opt-level 3 (the CPU reference and its BVH, FLIP, wgpu), so it runs
+//!   as fast as a release build for this job (see the README for the measurements).
+//!   `cargo xtask compare --release` builds and runs a release harness instead.
 //!
 //! Every command is printed before it runs; the exit status is the child's.
 
@@ -42,7 +46,7 @@ fn usage() -> ExitCode {
     eprintln!(
         "usage: cargo xtask <test|compare> [ARGS...]\n\
          \x20 test      cargo test --workspace [ARGS...]\n\
-         \x20 compare   cargo run -p harness -- compare --out out [ARGS...]   (--release for a release build)"
+         \x20 compare   harness compare --out out [ARGS...] on the test build   (--release for a release build)"
     );
     ExitCode::from(2)
 }
@@ -53,9 +57,11 @@ fn main() -> ExitCode {
         return usage();
     };
     let rest: Vec<String> = args.collect();
+    let release = rest.iter().any(|a| a == "--release");
     let command = match job.as_str() {
         "test" => test_command(&rest),
-        "compare" => compare_command(&rest),
+        "compare" if release => compare_command(&rest),
+        "compare" => Vec::new(),
         "-h" | "--help" | "help" => {
             usage();
             return ExitCode::SUCCESS;
@@ -68,13 +74,174 @@ fn main() -> ExitCode {
     if let Err(code) = ensure_prerequisites() {
         return code;
     }
-    if job == "test" {
-        let status = check_format();
-        if status != ExitCode::SUCCESS {
-            return status;
+    match job.as_str() {
+        "test" => {
+            let status = check_format();
+            if status != ExitCode::SUCCESS {
+                return status;
+            }
+            let status = run(&command);
+            if status != ExitCode::SUCCESS || selects_packages(&rest) {
+                return status;
+            }
+            check_compare_build_is_fresh()
         }
+        "compare" if !release => compare_with_test_build(&rest),
+        _ => run(&command),
     }
-    run(&command)
+}
+
+/// The build `cargo xtask test` makes and `cargo xtask compare` reuses: every test target of
+/// the workspace, which includes the `harness` binary built with the workspace's unified
+/// features (`cargo run -p harness` would unify features over harness's dependencies only
+/// and recompile the wgpu stack).
+fn test_build_command() -> Vec<String> {
+    [
+        cargo().as_str(),
+        "test",
+        "--workspace",
+        "--no-run",
+        "--message-format=json-render-diagnostics",
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
+/// The artifacts of a `--message-format=json` build: (target name, kinds, fresh, executable).
+struct Artifact {
+    name: String,
+    bin: bool,
+    test_profile: bool,
+    fresh: bool,
+    executable: Option<String>,
+}
+
+/// Pulls the few fields we need out of cargo's JSON messages (one object per line) without a
+/// JSON dependency: `"key":value` of the first occurrence after a marker.
+fn json_field<'a>(line: &'a str, key: &str) -> Option<&'a str> {
+    let start = line.find(&format!("\"{key}\":"))? + key.len() + 3;
+    let rest = &line[start..];
+    if let Some(stripped) = rest.strip_prefix('"') {
+        stripped.find('"').map(|end| &stripped[..end])
+    } else {
+        let end = rest.find([',', '}']).unwrap_or(rest.len());
+        Some(&rest[..end])
+    }
+}
+
+fn parse_artifacts(stdout: &str) -> Vec<Artifact> {
+    stdout
+        .lines()
+        .filter(|l| l.contains("\"reason\":\"compiler-artifact\""))
+        .map(|l| {
+            let target = &l[l.find("\"target\":").unwrap_or(0)..];
+            let profile = &l[l.find("\"profile\":").unwrap_or(0)..];
+            Artifact {
+                name: json_field(target, "name").unwrap_or("?").to_string(),
+                bin: json_field(target, "kind").is_some_and(|k| k.starts_with("[\"bin\"")),
+                test_profile: json_field(profile, "test") == Some("true"),
+                fresh: json_field(l, "fresh") == Some("true"),
+                executable: json_field(l, "executable")
+                    .filter(|e| *e != "null")
+                    .map(String::from),
+            }
+        })
+        .collect()
+}
+
+/// Runs the test build and returns its artifacts (cargo's diagnostics go to stderr).
+fn test_build() -> Result<Vec<Artifact>, ExitCode> {
+    let cmd = test_build_command();
+    print_command(&cmd);
+    let output = Command::new(&cmd[0])
+        .args(&cmd[1..])
+        .current_dir(workspace_root())
+        .stderr(std::process::Stdio::inherit())
+        .output()
+        .map_err(|e| {
+            eprintln!("error: cannot run {}: {e}", cmd[0]);
+            ExitCode::FAILURE
+        })?;
+    if !output.status.success() {
+        return Err(ExitCode::FAILURE);
+    }
+    Ok(parse_artifacts(&String::from_utf8_lossy(&output.stdout)))
+}
+
+/// `compare`: the test build (nothing to compile right after `cargo xtask test`), then the
+/// `harness` binary it contains, `harness compare --out out ARGS`.
+fn compare_with_test_build(rest: &[String]) -> ExitCode {
+    let artifacts = match test_build() {
+        Ok(a) => a,
+        Err(code) => return code,
+    };
+    let compiled: Vec<&str> = artifacts
+        .iter()
+        .filter(|a| !a.fresh)
+        .map(|a| a.name.as_str())
+        .collect();
+    eprintln!(
+        "xtask: the test build compiled {} target(s){}",
+        compiled.len(),
+        if compiled.is_empty() {
+            " (it was up to date)".to_string()
+        } else {
+            format!(": {}", compiled.join(", "))
+        }
+    );
+    let Some(harness) = artifacts
+        .iter()
+        .find(|a| a.name == "harness" && a.bin && !a.test_profile)
+        .and_then(|a| a.executable.clone())
+    else {
+        eprintln!("error: the test build made no harness binary");
+        return ExitCode::FAILURE;
+    };
+    let mut cmd = vec![harness, "compare".to_string()];
+    if !has_flag(rest, &["--out"]) {
+        cmd.extend(["--out", "out"].map(String::from));
+    }
+    cmd.extend(rest.iter().cloned());
+    run(&cmd)
+}
+
+/// After the tests: the build `compare` uses must be exactly the one the tests made (every
+/// artifact fresh), so that `cargo xtask compare` right after `cargo xtask test` compiles
+/// nothing. Fails naming what would be compiled.
+fn check_compare_build_is_fresh() -> ExitCode {
+    let artifacts = match test_build() {
+        Ok(a) => a,
+        Err(code) => return code,
+    };
+    let stale: Vec<&str> = artifacts
+        .iter()
+        .filter(|a| !a.fresh)
+        .map(|a| a.name.as_str())
+        .collect();
+    if stale.is_empty() {
+        eprintln!(
+            "xtask: cargo xtask compare reuses this build: all {} artifacts are fresh",
+            artifacts.len()
+        );
+        ExitCode::SUCCESS
+    } else {
+        eprintln!(
+            "error: cargo xtask compare would compile again after the tests: {}",
+            stale.join(", ")
+        );
+        ExitCode::FAILURE
+    }
+}
+
+/// Whether ARGS pick packages (then the test run is partial and there is no full build to
+/// check).
+fn selects_packages(rest: &[String]) -> bool {
+    let before_separator = rest
+        .iter()
+        .position(|a| a == "--")
+        .map_or(rest, |i| &rest[..i]);
+    has_flag(before_separator, &["-p", "--package", "--exclude"])
+        || before_separator.iter().any(|a| a.starts_with("--no-run"))
 }
 
 /// `cargo fmt --all --check`: one style for the workspace (`rustfmt.toml`), checked before the
@@ -124,7 +291,7 @@ fn test_command(rest: &[String]) -> Vec<String> {
     cmd
 }
 
-/// `cargo run [--release] -p harness -- compare --out out ARGS`.
+/// `cargo run --release -p harness -- compare --out out ARGS` (a release build of its own).
 fn compare_command(rest: &[String]) -> Vec<String> {
     let mut cmd = vec![cargo(), "run".to_string()];
     let mut pass: Vec<String> = Vec::new();
@@ -376,6 +543,24 @@ mod tests {
             test_command(&strings(&["--", "-p"]))[1..],
             strings(&["test", "--workspace", "--", "-p"])
         );
+    }
+
+    #[test]
+    fn artifacts_are_read_from_cargo_json() {
+        let stdout = concat!(
+            r#"{"reason":"compiler-artifact","package_id":"x","target":{"kind":["bin"],"crate_types":["bin"],"name":"harness","test":true},"profile":{"opt_level":"1","test":false},"features":[],"filenames":["/t/harness"],"executable":"/t/harness","fresh":true}"#,
+            "\n",
+            r#"{"reason":"compiler-artifact","package_id":"y","target":{"kind":["lib"],"crate_types":["lib"],"name":"scene","test":true},"profile":{"opt_level":"3","test":true},"features":[],"filenames":["/t/libscene.rlib"],"executable":null,"fresh":false}"#,
+            "\n",
+            r#"{"reason":"build-finished","success":true}"#
+        );
+        let a = parse_artifacts(stdout);
+        assert_eq!(a.len(), 2);
+        assert!(a[0].bin && !a[0].test_profile && a[0].fresh);
+        assert_eq!(a[0].name, "harness");
+        assert_eq!(a[0].executable.as_deref(), Some("/t/harness"));
+        assert!(!a[1].bin && a[1].test_profile && !a[1].fresh);
+        assert_eq!(a[1].executable, None);
     }
 
     #[test]

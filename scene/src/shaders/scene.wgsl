@@ -65,7 +65,9 @@ struct SceneVertexIn {
 };
 
 struct SceneVertexOut {
-    @builtin(position) clip: vec4f,
+    // Invariant so that passes re-drawing the same objects (depth peeling) get bit-identical
+    // depths.
+    @invariant @builtin(position) clip: vec4f,
     @location(0) world: vec3f,
     @location(1) normal: vec3f,
     @location(2) uv: vec2f,
