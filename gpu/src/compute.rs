@@ -4,6 +4,8 @@
 //! Kernel convention: `@group(0) @binding(0) var<storage, read> inputs: array<I>;`,
 //! `@group(0) @binding(1) var<storage, read_write> outputs: array<O>;`, entry point with
 //! `@workgroup_size(64)` indexed by `global_invocation_id.x` (guard `i < arrayLength(&inputs)`).
+//! [`kernel_header`] and [`kernel_entry`] write those lines, so that a test writes only what
+//! its kernel computes.
 
 use crate::{Context, GpuError};
 use wgpu::util::DeviceExt;
@@ -83,4 +85,48 @@ pub fn run_kernel<I: bytemuck::Pod, O: bytemuck::Pod>(
     })?;
     let bytes = crate::read_buffer(ctx, &output)?;
     Ok(bytemuck::pod_collect_to_vec(&bytes))
+}
+
+/// The binding header of a kernel for [`run_kernel`]: `inputs: array<input_type>` (read-only
+/// storage, `@group(0) @binding(0)`) and `outputs: array<output_type>` (read-write storage,
+/// `@binding(1)`), where the types are WGSL type names whose layout matches the Rust `I` and
+/// `O` given to [`run_kernel`] (`vec4f` for `[f32; 4]`, `array<vec4f, 4>` for `[[f32; 4]; 4]`,
+/// a struct declared by the caller). Entry points follow with [`kernel_entry`].
+///
+/// ```no_run
+/// use gpu::compute::{kernel_entry, kernel_header, run_kernel};
+/// # fn main() -> Result<(), gpu::GpuError> {
+/// let ctx = gpu::Context::new()?;
+/// // One `vec2f` in, one `f32` out per case.
+/// let source = format!(
+///     "{}{}",
+///     kernel_header("vec2f", "f32"),
+///     kernel_entry("sum", "outputs[i] = inputs[i].x + inputs[i].y;"),
+/// );
+/// let sums: Vec<f32> = run_kernel(&ctx, &source, "sum", &[[1.0f32, 2.0], [3.0, 4.0]], 1)?;
+/// assert_eq!(sums, [3.0, 7.0]);
+/// # Ok(())
+/// # }
+/// ```
+pub fn kernel_header(input_type: &str, output_type: &str) -> String {
+    format!(
+        "@group(0) @binding(0) var<storage, read> inputs: array<{input_type}>;\n\
+         @group(0) @binding(1) var<storage, read_write> outputs: array<{output_type}>;\n"
+    )
+}
+
+/// A compute entry point `name` of the kernel convention: `@workgroup_size(64)`, one
+/// invocation per input, `i` the index of the input (`global_invocation_id.x`), returning
+/// before `body` when `i` is past the end of `inputs` (the last workgroup's spare
+/// invocations). `body` is WGSL statements using `i`, `inputs` and `outputs`, inserted as
+/// written (see [`kernel_header`], whose example uses it).
+pub fn kernel_entry(name: &str, body: &str) -> String {
+    format!(
+        "@compute @workgroup_size({WORKGROUP_SIZE})\n\
+         fn {name}(@builtin(global_invocation_id) g: vec3u) {{\n    \
+         let i = g.x;\n    \
+         if (i >= arrayLength(&inputs)) {{ return; }}\n\
+         {body}\n\
+         }}\n"
+    )
 }

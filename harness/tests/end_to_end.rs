@@ -3,7 +3,7 @@
 //! and a constant ground truth, so the numbers are known exactly.
 
 use gpu::wgpu;
-use gpu::{Context, HdrImage, Target};
+use gpu::{HdrImage, Target};
 use harness::compare::CompareOptions;
 use harness::sweep::SweepOptions;
 use harness::{Env, Frames, GroundTruth, Reference, ReferenceStats, Size};
@@ -11,13 +11,7 @@ use scene::{
     Camera, Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
 };
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-fn ctx() -> &'static Context {
-    static CTX: OnceLock<Context> = OnceLock::new();
-    CTX.get_or_init(|| Context::new().expect("a GPU adapter (run `cargo xtask test`)"))
-}
 
 fn out_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("harness-e2e-{}-{name}", std::process::id()));
@@ -236,7 +230,7 @@ impl GroundTruth for HalfGrey {
 /// The harness environment of these tests: the test techniques against `truth`.
 fn test_env(truth: &HalfGrey) -> Env<'_> {
     Env {
-        ctx: ctx(),
+        ctx: testkit::context(),
         techniques: &techniques,
         ground_truth: truth,
         progress: false,
@@ -258,6 +252,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         out: out.clone(),
         scenes: vec!["cornell-sphere".into()],
         techniques: None,
+        all_variants: false,
         size: SIZE,
         frames: FRAMES,
     };

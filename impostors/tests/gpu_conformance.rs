@@ -30,6 +30,7 @@ mod common;
 use std::cell::Cell;
 
 use glam::Vec3;
+use gpu::compute::{kernel_entry, kernel_header};
 use gpu::cube::CubeTarget;
 use gpu::distance_map::{CubeDistanceMap, DistanceMap, Method, hit};
 use gpu::wgpu::{self, util::DeviceExt};
@@ -58,39 +59,40 @@ const LINEAR_TOLERANCE: f32 = 1e-5;
 /// 2.8% (116) are excused with 0 iterations, 1.2% (50) with 8.
 const MAX_EXCUSED_SHARE: usize = 25;
 
-const KERNEL: &str = r#"
-@group(0) @binding(0) var<storage, read> rays: array<vec4f>;
-@group(0) @binding(1) var<storage, read_write> results: array<vec4f>;
+/// The bindings past the two of `gpu::compute`'s kernel convention: the distance map, its
+/// sampler and the run's method and iteration count.
+const MAP_BINDINGS: &str = r#"
 @group(0) @binding(2) var dist_map: texture_cube<f32>;
 @group(0) @binding(3) var dist_sampler: sampler;
 
 struct Run { method: u32, iterations: u32, _a: u32, _b: u32 };
 @group(0) @binding(4) var<uniform> run: Run;
-
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= arrayLength(&results)) { return; }
-    let x = rays[2u * i].xyz;
-    let r = rays[2u * i + 1u].xyz;
-    results[i] = hit(x, r, dist_map, dist_sampler, 3u, run.method, run.iterations);
-}
 "#;
 
-/// One lookup per direction, with [`KERNEL`]'s bindings (`rays` holds directions).
-const LOOKUP_KERNEL: &str = r#"
-@group(0) @binding(0) var<storage, read> rays: array<vec4f>;
-@group(0) @binding(1) var<storage, read_write> results: array<vec4f>;
-@group(0) @binding(2) var dist_map: texture_cube<f32>;
-@group(0) @binding(3) var dist_sampler: sampler;
-
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= arrayLength(&results)) { return; }
-    results[i] = textureSampleLevel(dist_map, dist_sampler, rays[i].xyz, 0.0);
+/// `Hit()` per ray (two `vec4f` in: the point `x` and the direction `R`; one `vec4f` out).
+fn kernel() -> String {
+    format!(
+        "{}{MAP_BINDINGS}{}",
+        kernel_header("array<vec4f, 2>", "vec4f"),
+        kernel_entry(
+            "main",
+            "    outputs[i] = hit(inputs[i][0].xyz, inputs[i][1].xyz, dist_map, dist_sampler, 3u, \
+             run.method, run.iterations);"
+        )
+    )
 }
-"#;
+
+/// One lookup per direction, with [`kernel`]'s bindings (`inputs` holds directions).
+fn lookup_kernel() -> String {
+    format!(
+        "{}{MAP_BINDINGS}{}",
+        kernel_header("vec4f", "vec4f"),
+        kernel_entry(
+            "main",
+            "    outputs[i] = textureSampleLevel(dist_map, dist_sampler, inputs[i].xyz, 0.0);"
+        )
+    )
+}
 
 /// The GPU sampler's filter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -244,7 +246,7 @@ fn run_gpu(f: &Fixture, filter: Filter, method: Method, iterations: u32) -> Vec<
         .iter()
         .flat_map(|(x, r)| [x.extend(0.0).to_array(), r.extend(0.0).to_array()])
         .collect();
-    let source = format!("{}\n{}", gpu::distance_map::HIT_WGSL, KERNEL);
+    let source = format!("{}\n{}", gpu::distance_map::HIT_WGSL, kernel());
     dispatch(
         f,
         &source,
@@ -258,10 +260,10 @@ fn run_gpu(f: &Fixture, filter: Filter, method: Method, iterations: u32) -> Vec<
 /// One `textureSampleLevel` of the map per direction, through a `filter` sampler.
 fn sample_gpu(f: &Fixture, filter: Filter, dirs: &[Vec3]) -> Vec<[f32; 4]> {
     let data: Vec<[f32; 4]> = dirs.iter().map(|d| d.extend(0.0).to_array()).collect();
-    dispatch(f, LOOKUP_KERNEL, filter, &data, dirs.len(), [0; 4])
+    dispatch(f, &lookup_kernel(), filter, &data, dirs.len(), [0; 4])
 }
 
-/// Runs `main` of `source` (the bindings of [`KERNEL`]) over `count` results.
+/// Runs `main` of `source` (the bindings of [`kernel`]) over `count` results.
 fn dispatch(
     f: &Fixture,
     source: &str,

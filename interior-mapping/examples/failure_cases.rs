@@ -5,12 +5,13 @@
 //! `cargo run -p interior-mapping --example failure_cases -- interior-mapping/docs`
 
 use glam::Vec3;
-use scene::{Camera, Frame, GpuScene, View};
+use scene::Camera;
+use std::path::Path;
+use testkit::Shot;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = std::env::args().nth(1).unwrap_or_else(|| ".".into());
     let size = 192;
-    let ctx = gpu::Context::new()?;
     let scene = scene::load("city")?;
     // Building 0 is a box at the origin (20 x 40 x 20 m), building 1 the cylinder at x = 32,
     // building 2 the sphere (radius 10) centred at (64, 10, 0).
@@ -39,45 +40,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             fov_y_deg: 60.0,
         };
         for id in ["interior-mapping/textured", "interior-mapping/furniture"] {
-            let mut technique = interior_mapping::techniques()
-                .into_iter()
-                .find(|t| t.id() == id)
-                .ok_or("technique missing")?;
-            let mut gpu_scene = GpuScene::new(&ctx, &scene)?;
-            let target_image = gpu::Target::new(&ctx, size, size)?;
-            let mut timer = gpu::GpuTimer::new(&ctx, 64);
-            let view = View {
+            let mut technique = testkit::technique(interior_mapping::techniques(), id);
+            let shot = Shot {
                 camera,
                 time: 0.0,
-                width: size,
-                height: size,
+                size,
             };
-            let mut encoder = ctx.device.create_command_encoder(&Default::default());
-            {
-                let mut frame = Frame {
-                    gpu: &ctx,
-                    encoder: &mut encoder,
-                    timer: &mut timer,
-                };
-                gpu_scene.set_time(&mut frame, 0.0);
-                technique.prepare(&mut frame, &gpu_scene)?;
-                technique.render(&mut frame, &gpu_scene, &view, &target_image)?;
-            }
-            timer.submit_and_collect(&ctx, encoder)?;
-            let image = target_image.read(&ctx)?;
-            let bytes = truth::metrics::to_srgb8(&image);
-            let channels = bytes.len() / (size * size) as usize;
-            let color = if channels == 4 {
-                image::ExtendedColorType::Rgba8
-            } else {
-                image::ExtendedColorType::Rgb8
-            };
-            let path = format!(
-                "{out}/failure-{name}-{}.png",
+            let image = testkit::render(technique.as_mut(), &scene, shot);
+            let path = Path::new(&out).join(format!(
+                "failure-{name}-{}.png",
                 id.replace("interior-mapping/", "")
-            );
-            image::save_buffer(&path, &bytes, size, size, color)?;
-            println!("wrote {path}");
+            ));
+            testkit::save_png(&image, &path);
+            println!("wrote {}", path.display());
         }
     }
     Ok(())

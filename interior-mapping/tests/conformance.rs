@@ -8,28 +8,30 @@
 //! `ROOM_EPS` threshold), since a GPU may fuse multiply-adds; at most 1% of the cases.
 
 use glam::{IVec3, Vec3};
-use gpu::wgpu;
-use gpu::wgpu::util::DeviceExt;
+use gpu::compute::{kernel_entry, kernel_header, run_kernel};
 use interior_mapping::rooms::*;
 
-const KERNEL: &str = r#"
-@group(0) @binding(0) var<storage, read> cases: array<vec4f>;
-@group(0) @binding(1) var<storage, read_write> results: array<vec4u>;
+/// A case: (origin, seed bits), direction, room size, displacement.
+type Input = [[f32; 4]; 4];
+/// (family, t bits, plane, -), (hit point, -) bits, (room, -).
+type Output = [[u32; 4]; 3];
 
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= arrayLength(&results) / 3u) { return; }
-    let o = cases[4u * i];
-    let d = cases[4u * i + 1u];
-    let s = cases[4u * i + 2u];
-    let m = cases[4u * i + 3u];
+/// `cast_rooms` on each case, `main` of the kernel convention of `gpu::compute`.
+fn kernel() -> String {
+    kernel_header("array<vec4f, 4>", "array<vec4u, 3>")
+        + &kernel_entry(
+            "main",
+            r#"
+    let o = inputs[i][0];
+    let d = inputs[i][1];
+    let s = inputs[i][2];
+    let m = inputs[i][3];
     let hit = cast_rooms(o.xyz, d.xyz, s.xyz, m.xyz, bitcast<u32>(o.w));
-    results[3u * i] = vec4u(hit.family, bitcast<u32>(hit.t), bitcast<u32>(hit.plane), 0u);
-    results[3u * i + 1u] = bitcast<vec4u>(vec4f(hit.point, 0.0));
-    results[3u * i + 2u] = bitcast<vec4u>(vec4i(hit.room, 0));
+    outputs[i][0] = vec4u(hit.family, bitcast<u32>(hit.t), bitcast<u32>(hit.plane), 0u);
+    outputs[i][1] = bitcast<vec4u>(vec4f(hit.point, 0.0));
+    outputs[i][2] = bitcast<vec4u>(vec4i(hit.room, 0));"#,
+        )
 }
-"#;
 
 struct Case {
     origin: Vec3,
@@ -79,68 +81,37 @@ fn cases() -> Vec<Case> {
 
 #[test]
 fn wgsl_cast_rooms_matches_twin() {
-    let ctx =
-        gpu::Context::new().unwrap_or_else(|e| panic!("conformance test needs a GPU adapter: {e}"));
     let cases = cases();
-    let mut input: Vec<[f32; 4]> = Vec::new();
-    for c in &cases {
-        input.push([c.origin.x, c.origin.y, c.origin.z, f32::from_bits(c.seed)]);
-        input.push(c.dir.extend(0.0).to_array());
-        input.push(c.size.extend(0.0).to_array());
-        input.push(c.disp.extend(0.0).to_array());
-    }
-    let device = &ctx.device;
-    let module = gpu::shader_with_prelude(
-        &ctx,
-        "interior conformance",
-        &format!("{}\n{KERNEL}", interior_mapping::INTERIOR_WGSL),
+    let input: Vec<Input> = cases
+        .iter()
+        .map(|c| {
+            [
+                [c.origin.x, c.origin.y, c.origin.z, f32::from_bits(c.seed)],
+                c.dir.extend(0.0).to_array(),
+                c.size.extend(0.0).to_array(),
+                c.disp.extend(0.0).to_array(),
+            ]
+        })
+        .collect();
+    let source = format!(
+        "{}\n{}\n{}",
+        gpu::prelude::PRELUDE_WGSL,
+        interior_mapping::INTERIOR_WGSL,
+        kernel()
     );
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("interior conformance"),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let cases_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("cases"),
-        contents: bytemuck::cast_slice(&input),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let results = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("results"),
-        size: (cases.len() * 48) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let bind = gpu::bind::group(
-        &ctx,
-        "interior conformance",
-        &pipeline.get_bind_group_layout(0),
-        &[cases_buf.as_entire_binding(), results.as_entire_binding()],
-    );
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
-    }
-    ctx.queue.submit([encoder.finish()]);
-    let bytes = gpu::read_buffer(&ctx, &results).expect("read back");
-    let words: &[u32] = bytemuck::cast_slice(&bytes);
+    let results: Vec<Output> = run_kernel(testkit::context(), &source, "main", &input, 1)
+        .unwrap_or_else(|e| panic!("interior conformance kernel: {e}"));
 
     let mut disagreements = 0;
     for (i, c) in cases.iter().enumerate() {
-        let w = &words[12 * i..12 * i + 12];
+        let [w, p, r] = results[i];
         let (family, t, plane) = (w[0], f32::from_bits(w[1]), w[2] as i32);
         let point = Vec3::new(
-            f32::from_bits(w[4]),
-            f32::from_bits(w[5]),
-            f32::from_bits(w[6]),
+            f32::from_bits(p[0]),
+            f32::from_bits(p[1]),
+            f32::from_bits(p[2]),
         );
-        let room = IVec3::new(w[8] as i32, w[9] as i32, w[10] as i32);
+        let room = IVec3::new(r[0] as i32, r[1] as i32, r[2] as i32);
         let cpu = cast_rooms(c.origin, c.dir, c.size, c.disp, c.seed);
         assert!(
             t.is_finite() && point.is_finite(),

@@ -43,22 +43,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("{spans:?}");
 
     let image = target.read(&ctx)?;
-    let bytes: Vec<u8> = image
-        .pixels
-        .iter()
-        .flat_map(|p| {
-            let srgb = |c: f32| {
-                let c = c.clamp(0.0, 1.0);
-                let s = if c <= 0.0031308 {
-                    12.92 * c
-                } else {
-                    1.055 * c.powf(1.0 / 2.4) - 0.055
-                };
-                (s * 255.0 + 0.5) as u8
-            };
-            [srgb(p[0]), srgb(p[1]), srgb(p[2]), 255]
-        })
-        .collect();
-    image::save_buffer(out, &bytes, size, size, image::ExtendedColorType::Rgba8)?;
+    // sRGB of the clamped value, the workspace's PNG convention.
+    testkit::save_png(&image, std::path::Path::new(out));
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! Not a check but a tool: renders `cornell-sphere` with the reference at 128x128 and
-//! 256x256, prints the ray throughput, and writes PNGs (linear -> sRGB, clamped) to look at.
+//! 256x256, prints the ray throughput, and writes PNGs (linear -> sRGB, clamped:
+//! `testkit::save_png`) to look at.
 //!
 //! ```text
 //! cargo test -p truth --test reference_png -- --ignored --nocapture
@@ -8,40 +9,6 @@
 
 use std::path::PathBuf;
 use truth::reference::{ReferenceOptions, render};
-
-fn linear_to_srgb8(c: f32) -> u8 {
-    let c = if c.is_finite() {
-        c.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let s = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
-}
-
-fn save_png(img: &gpu::HdrImage, path: &std::path::Path) {
-    let mut bytes = Vec::with_capacity((img.width * img.height * 4) as usize);
-    for p in &img.pixels {
-        bytes.extend_from_slice(&[
-            linear_to_srgb8(p[0]),
-            linear_to_srgb8(p[1]),
-            linear_to_srgb8(p[2]),
-            255,
-        ]);
-    }
-    image::save_buffer(
-        path,
-        &bytes,
-        img.width,
-        img.height,
-        image::ExtendedColorType::Rgba8,
-    )
-    .unwrap();
-}
 
 #[test]
 #[ignore = "writes PNGs and prints timings; run by hand"]
@@ -77,7 +44,7 @@ fn cornell_sphere_png_and_throughput() {
             );
             assert_eq!(r.image.non_finite_count(), 0);
             let name = format!("{}-{size}-{label}.png", spec.replace([':', '=', ','], "_"));
-            save_png(&r.image, &dir.join(name));
+            testkit::save_png(&r.image, &dir.join(name));
         }
     }
     println!("PNGs in {}", dir.display());

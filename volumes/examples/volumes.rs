@@ -27,6 +27,7 @@ use gpu::{GpuTimer, HdrImage, Target, TimeStats};
 use scene::foundation::RasterTechnique;
 use scene::{Camera, Frame, GpuScene, Technique, View};
 use std::collections::BTreeMap;
+use std::path::Path;
 use volumes::VolumeSet;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -63,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         std::fs::create_dir_all(dir)?;
     }
 
-    let ctx = gpu::Context::new()?;
+    let ctx = testkit::context();
     let mut scene = scene::load(&spec)?;
     if let Some(d) = density {
         scene
@@ -90,9 +91,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         width: size,
         height: size,
     };
-    let mut gpu_scene = GpuScene::new(&ctx, &scene)?;
-    let target = Target::new(&ctx, size, size)?;
-    let mut timer = GpuTimer::new(&ctx, 64);
+    let mut gpu_scene = GpuScene::new(ctx, &scene)?;
+    let target = Target::new(ctx, size, size)?;
+    let mut timer = GpuTimer::new(ctx, 64);
     println!(
         "adapter: {}; timer: {}; scene {spec}, {size}x{size}, {frames} frames, best of {rounds} rounds",
         ctx.summary,
@@ -101,7 +102,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // The scene without volumes, and the exact distances, for the ground truth.
     let base = render_once(
-        &ctx,
+        ctx,
         &mut timer,
         &mut gpu_scene,
         &mut RasterTechnique,
@@ -135,14 +136,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
             let mut frame = Frame {
-                gpu: &ctx,
+                gpu: ctx,
                 encoder: &mut encoder,
                 timer: &mut timer,
             };
             gpu_scene.set_time(&mut frame, view.time);
             technique.prepare(&mut frame, &gpu_scene)?;
         }
-        timer.submit_and_collect(&ctx, encoder)?;
+        timer.submit_and_collect(ctx, encoder)?;
         runs.push(Run {
             technique,
             best: BTreeMap::new(),
@@ -158,7 +159,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 timer.begin(&mut encoder, "frame");
                 {
                     let mut frame = Frame {
-                        gpu: &ctx,
+                        gpu: ctx,
                         encoder: &mut encoder,
                         timer: &mut timer,
                     };
@@ -166,7 +167,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         .render(&mut frame, &gpu_scene, &view, &target)?;
                 }
                 timer.end(&mut encoder, "frame");
-                let measured = timer.submit_and_collect(&ctx, encoder)?;
+                let measured = timer.submit_and_collect(ctx, encoder)?;
                 if i >= 3 {
                     for (label, ms) in measured {
                         spans.entry(label).or_default().push(ms);
@@ -187,15 +188,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
             let mut frame = Frame {
-                gpu: &ctx,
+                gpu: ctx,
                 encoder: &mut encoder,
                 timer: &mut timer,
             };
             run.technique
                 .render(&mut frame, &gpu_scene, &view, &target)?;
         }
-        timer.submit_and_collect(&ctx, encoder)?;
-        let image = target.read(&ctx)?;
+        timer.submit_and_collect(ctx, encoder)?;
+        let image = target.read(ctx)?;
         let spec_truth = common::spec_for(&id).expect("every id has a variant model");
         let mask = common::volume_mask(
             &scene,
@@ -259,16 +260,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
         if let Some(dir) = &out {
+            let dir = Path::new(dir);
             let name = id.replace('/', "_");
-            write_png(&image, &format!("{dir}/{name}.png"))?;
-            write_png(&truth, &format!("{dir}/{name}.truth.png"))?;
+            testkit::save_png(&image, &dir.join(format!("{name}.png")));
+            testkit::save_png(&truth, &dir.join(format!("{name}.truth.png")));
             let mut diff = image.clone();
             for (d, t) in diff.pixels.iter_mut().zip(&truth.pixels) {
                 for c in 0..3 {
                     d[c] = 4.0 * (d[c] - t[c]).abs();
                 }
             }
-            write_png(&diff, &format!("{dir}/{name}.diff4.png"))?;
+            testkit::save_png(&diff, &dir.join(format!("{name}.diff4.png")));
         }
     }
     Ok(())
@@ -347,16 +349,4 @@ fn rmse_over(a: &HdrImage, b: &HdrImage, mask: &[bool]) -> f64 {
     } else {
         (sum / n as f64).sqrt()
     }
-}
-
-fn write_png(image: &HdrImage, path: &str) -> Result<(), Box<dyn std::error::Error>> {
-    let bytes: Vec<u8> = truth::metrics::to_srgb8(image);
-    image::save_buffer(
-        path,
-        &bytes,
-        image.width,
-        image.height,
-        image::ExtendedColorType::Rgb8,
-    )?;
-    Ok(())
 }

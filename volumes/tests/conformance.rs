@@ -13,78 +13,22 @@
 //! | billboard primitive lengths | 2e-4 (|o - c| + r); where uv lies within 1e-3 of the disc's edge or the pyramid's diagonals the mask may flip and any value in [0, 2R] is accepted |
 //! | `slice_alpha` | 1e-4 + 1e-5 / (1 - a_near); when `a_near` is within 1e-4 of 1 (the clamp to an opaque front) any value in [0, 1] is accepted |
 
-use std::sync::OnceLock;
-
 use glam::{Vec2, Vec3, Vec4};
+use gpu::compute::{kernel_entry, kernel_header};
 use gpu::prelude::hash_to_unit;
 use volumes::path_length::*;
 
 const RANDOM_CASES: u32 = 4096;
 const EPS: f32 = f32::EPSILON;
 
-fn ctx() -> &'static gpu::Context {
-    static CTX: OnceLock<gpu::Context> = OnceLock::new();
-    CTX.get_or_init(|| {
-        gpu::Context::new()
-            .unwrap_or_else(|e| panic!("the conformance test needs a GPU adapter: {e}"))
-    })
-}
-
 /// Four `vec4` arguments per case; two `vec4` results.
 type Case = [Vec4; 4];
 type Output = [Vec4; 2];
 
-const KERNELS: &str = r#"
-@group(0) @binding(0) var<storage, read> cases: array<vec4f>;
-@group(0) @binding(1) var<storage, read_write> results: array<vec4f>;
-
-fn arg(i: u32, k: u32) -> vec4f { return cases[4u * i + k]; }
-fn put(i: u32, k: u32, v: vec4f) { results[2u * i + k] = v; }
-fn case_count() -> u32 { return arrayLength(&results) / 2u; }
-
-// a0 = (len, density, kind, -)
-@compute @workgroup_size(64)
-fn k_opacity(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= case_count()) { return; }
-    let a = arg(i, 0u);
-    put(i, 0u, vec4f(opacity_from_length(u32(a.z), a.x, a.y), 0.0, 0.0, 0.0));
-}
-
-// a0 = (t_front, t_back, t_scene, -)
-@compute @workgroup_size(64)
-fn k_visible(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= case_count()) { return; }
-    let a = arg(i, 0u);
-    put(i, 0u, vec4f(visible_length(a.x, a.y, a.z), 0.0, 0.0, 0.0));
-}
-
-// a0 = (o, t_scene), a1 = (d, -), a2 = (c, r)
-@compute @workgroup_size(64)
-fn k_sphere(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= case_count()) { return; }
-    let a0 = arg(i, 0u); let a1 = arg(i, 1u); let a2 = arg(i, 2u);
-    put(i, 0u, vec4f(sphere_path_length(a0.xyz, a1.xyz, a2.xyz, a2.w, a0.w), 0.0, 0.0, 0.0));
-}
-
-// a0 = (o, t_scene), a1 = (d, texture value), a2 = (c, r), a3 = (normal, angle of right)
-@compute @workgroup_size(64)
-fn k_billboard(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= case_count()) { return; }
-    let a0 = arg(i, 0u); let a1 = arg(i, 1u); let a2 = arg(i, 2u); let a3 = arg(i, 3u);
-    let n = a3.xyz;
-    let axes = billboard_axes(n, a3.w);
-    let b = billboard_coords(a0.xyz, a1.xyz, a2.xyz, axes[0], axes[1], n, a2.w);
-    let r = a2.w;
-    let l_const = billboard_path_length(b.z, r * half_thickness(PRIMITIVE_CONSTANT, b.xy, a1.w), a0.w);
-    let l_lin = billboard_path_length(b.z, r * half_thickness(PRIMITIVE_LINEAR, b.xy, a1.w), a0.w);
-    let l_tex = billboard_path_length(b.z, r * half_thickness(PRIMITIVE_TEXTURE, b.xy, a1.w), a0.w);
-    put(i, 0u, vec4f(b, half_thickness_sphere(b.xy)));
-    put(i, 1u, vec4f(l_const, l_lin, l_tex, 0.0));
-}
+/// What the kernels share: argument `k` and result `k` of case `i`, and the billboard's axes.
+const HELPERS: &str = r#"
+fn arg(i: u32, k: u32) -> vec4f { return inputs[i][k]; }
+fn put(i: u32, k: u32, v: vec4f) { outputs[i][k] = v; }
 
 // In-plane axes of a billboard with normal n, rotated by `angle` (the same construction as the
 // Rust side of this test).
@@ -96,16 +40,65 @@ fn billboard_axes(n: vec3f, angle: f32) -> array<vec3f, 2> {
     let right = r0 * cos(angle) + u0 * sin(angle);
     return array<vec3f, 2>(right, cross(n, right));
 }
-
-// a0 = (kind, density, half_len, obliquity), a1 = (slab_near, slab_far, -, -)
-@compute @workgroup_size(64)
-fn k_slice(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= case_count()) { return; }
-    let a0 = arg(i, 0u); let a1 = arg(i, 1u);
-    put(i, 0u, vec4f(slice_alpha(u32(a0.x), a0.y, a0.z, a1.x, a1.y, a0.w), 0.0, 0.0, 0.0));
-}
 "#;
+
+/// One kernel per function: (entry point, body for case `i`).
+const KERNELS: [(&str, &str); 5] = [
+    // a0 = (len, density, kind, -)
+    (
+        "k_opacity",
+        r#"
+    let a = arg(i, 0u);
+    put(i, 0u, vec4f(opacity_from_length(u32(a.z), a.x, a.y), 0.0, 0.0, 0.0));"#,
+    ),
+    // a0 = (t_front, t_back, t_scene, -)
+    (
+        "k_visible",
+        r#"
+    let a = arg(i, 0u);
+    put(i, 0u, vec4f(visible_length(a.x, a.y, a.z), 0.0, 0.0, 0.0));"#,
+    ),
+    // a0 = (o, t_scene), a1 = (d, -), a2 = (c, r)
+    (
+        "k_sphere",
+        r#"
+    let a0 = arg(i, 0u); let a1 = arg(i, 1u); let a2 = arg(i, 2u);
+    put(i, 0u, vec4f(sphere_path_length(a0.xyz, a1.xyz, a2.xyz, a2.w, a0.w), 0.0, 0.0, 0.0));"#,
+    ),
+    // a0 = (o, t_scene), a1 = (d, texture value), a2 = (c, r), a3 = (normal, angle of right)
+    (
+        "k_billboard",
+        r#"
+    let a0 = arg(i, 0u); let a1 = arg(i, 1u); let a2 = arg(i, 2u); let a3 = arg(i, 3u);
+    let n = a3.xyz;
+    let axes = billboard_axes(n, a3.w);
+    let b = billboard_coords(a0.xyz, a1.xyz, a2.xyz, axes[0], axes[1], n, a2.w);
+    let r = a2.w;
+    let l_const = billboard_path_length(b.z, r * half_thickness(PRIMITIVE_CONSTANT, b.xy, a1.w), a0.w);
+    let l_lin = billboard_path_length(b.z, r * half_thickness(PRIMITIVE_LINEAR, b.xy, a1.w), a0.w);
+    let l_tex = billboard_path_length(b.z, r * half_thickness(PRIMITIVE_TEXTURE, b.xy, a1.w), a0.w);
+    put(i, 0u, vec4f(b, half_thickness_sphere(b.xy)));
+    put(i, 1u, vec4f(l_const, l_lin, l_tex, 0.0));"#,
+    ),
+    // a0 = (kind, density, half_len, obliquity), a1 = (slab_near, slab_far, -, -)
+    (
+        "k_slice",
+        r#"
+    let a0 = arg(i, 0u); let a1 = arg(i, 1u);
+    put(i, 0u, vec4f(slice_alpha(u32(a0.x), a0.y, a0.z, a1.x, a1.y, a0.w), 0.0, 0.0, 0.0));"#,
+    ),
+];
+
+/// The kernels' WGSL: the binding header of `gpu::compute::run_kernel` for [`Case`] and
+/// [`Output`], the helpers and one entry point per function.
+fn kernels() -> String {
+    let mut source = kernel_header("array<vec4f, 4>", "array<vec4f, 2>");
+    source.push_str(HELPERS);
+    for (entry, body) in KERNELS {
+        source.push_str(&kernel_entry(entry, body));
+    }
+    source
+}
 
 /// The Rust side of `billboard_axes` in the kernel.
 fn billboard_axes(n: Vec3, angle: f32) -> (Vec3, Vec3) {
@@ -122,10 +115,11 @@ fn run_kernel(entry: &str, cases: &[Case]) -> Vec<Output> {
 
 fn run_kernel_with(path_length_wgsl: &str, entry: &str, cases: &[Case]) -> Vec<Output> {
     let source = format!(
-        "{}\n{path_length_wgsl}\n{KERNELS}",
-        gpu::prelude::PRELUDE_WGSL
+        "{}\n{path_length_wgsl}\n{}",
+        gpu::prelude::PRELUDE_WGSL,
+        kernels()
     );
-    gpu::compute::run_kernel(ctx(), &source, entry, cases, 1)
+    gpu::compute::run_kernel(testkit::context(), &source, entry, cases, 1)
         .unwrap_or_else(|e| panic!("kernel {entry}: {e}"))
 }
 
@@ -157,6 +151,16 @@ fn check(
             failures.push(format!("{entry}: {msg} (case {case:?}, gpu {o:?})"));
         }
     }
+}
+
+/// Fails the test with the number of mismatches and the first 20 of them.
+fn assert_no_mismatches(failures: &[String]) {
+    assert!(
+        failures.is_empty(),
+        "{} mismatches:\n{}",
+        failures.len(),
+        failures[..failures.len().min(20)].join("\n")
+    );
 }
 
 fn close(gpu: f32, cpu: f32, tol: f32) -> bool {
@@ -224,12 +228,7 @@ fn opacity_and_visible_length_match_the_twin() {
             .then_some(())
             .ok_or_else(|| format!("visible {} vs {cpu}", o[0].x))
     });
-    assert!(
-        failures.is_empty(),
-        "{} mismatches:\n{}",
-        failures.len(),
-        failures[..failures.len().min(20)].join("\n")
-    );
+    assert_no_mismatches(&failures);
 }
 
 #[test]
@@ -302,12 +301,7 @@ fn sphere_path_length_matches_the_twin() {
             .then_some(())
             .ok_or_else(|| format!("length {} vs {cpu} (tol {tol})", o[0].x))
     });
-    assert!(
-        failures.is_empty(),
-        "{} mismatches:\n{}",
-        failures.len(),
-        failures[..failures.len().min(20)].join("\n")
-    );
+    assert_no_mismatches(&failures);
 }
 
 #[test]
@@ -388,12 +382,7 @@ fn billboard_primitives_match_the_twin() {
         Ok(())
     });
     assert!(cases.len() > 3000);
-    assert!(
-        failures.is_empty(),
-        "{} mismatches:\n{}",
-        failures.len(),
-        failures[..failures.len().min(20)].join("\n")
-    );
+    assert_no_mismatches(&failures);
 }
 
 #[test]
@@ -437,12 +426,7 @@ fn slice_alpha_matches_the_twin() {
             .then_some(())
             .ok_or_else(|| format!("alpha {gpu} vs {cpu}"))
     });
-    assert!(
-        failures.is_empty(),
-        "{} mismatches:\n{}",
-        failures.len(),
-        failures[..failures.len().min(20)].join("\n")
-    );
+    assert_no_mismatches(&failures);
 }
 
 /// The comparison can fail: a copy of the WGSL with the logarithmic function's argument 1%

@@ -18,23 +18,15 @@
 mod common;
 
 use glam::Vec3;
-use gpu::{GpuTimer, HdrImage, Target};
+use gpu::{HdrImage, Target};
 use scene::foundation::RasterTechnique;
-use scene::{Camera, Frame, GpuScene, Scene, Technique, View};
+use scene::{Camera, GpuScene, Scene, Technique, View};
 use std::collections::BTreeMap;
-use std::sync::OnceLock;
 use volumes::VolumeSet;
 use volumes::technique::{VolumeTechnique, all_variants};
 
 const W: u32 = 96;
 const H: u32 = 72;
-
-fn ctx() -> &'static gpu::Context {
-    static CTX: OnceLock<gpu::Context> = OnceLock::new();
-    CTX.get_or_init(|| {
-        gpu::Context::new().unwrap_or_else(|e| panic!("the image tests need a GPU adapter: {e}"))
-    })
-}
 
 fn smoke() -> Scene {
     scene::load("smoke").expect("the built-in smoke scene")
@@ -51,7 +43,6 @@ struct Bench {
     scene: Scene,
     gpu_scene: GpuScene,
     target: Target,
-    timer: GpuTimer,
     view: View,
     base: HdrImage,
     distances: Vec<f32>,
@@ -69,10 +60,9 @@ struct Error {
 
 impl Bench {
     fn new(scene: Scene, camera: Camera, time: f32) -> Self {
-        let ctx = ctx();
+        let ctx = testkit::context();
         let gpu_scene = GpuScene::new(ctx, &scene).expect("upload");
         let target = Target::new(ctx, W, H).expect("target");
-        let timer = GpuTimer::new(ctx, 16);
         let view = View {
             camera,
             time,
@@ -84,7 +74,6 @@ impl Bench {
             scene,
             gpu_scene,
             target,
-            timer,
             view,
             base: empty.clone(),
             distances: vec![],
@@ -115,24 +104,17 @@ impl Bench {
     }
 
     fn render(&mut self, technique: &mut dyn Technique) -> HdrImage {
-        let ctx = ctx();
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        {
-            let mut frame = Frame {
-                gpu: ctx,
-                encoder: &mut encoder,
-                timer: &mut self.timer,
-            };
-            self.gpu_scene.set_time(&mut frame, self.view.time);
+        let ctx = testkit::context();
+        let (view, target) = (&self.view, &self.target);
+        testkit::submit(ctx, &mut self.gpu_scene, view.time, |frame, gpu_scene| {
             technique
-                .prepare(&mut frame, &self.gpu_scene)
+                .prepare(frame, gpu_scene)
                 .unwrap_or_else(|e| panic!("{}: prepare: {e}", technique.id()));
             technique
-                .render(&mut frame, &self.gpu_scene, &self.view, &self.target)
+                .render(frame, gpu_scene, view, target)
                 .unwrap_or_else(|e| panic!("{}: render: {e}", technique.id()));
-        }
-        self.timer.submit_and_collect(ctx, encoder).expect("submit");
-        self.target.read(ctx).expect("read back")
+        });
+        target.read(ctx).expect("read back")
     }
 
     fn error(&self, image: &HdrImage, truth: &HdrImage) -> Error {
@@ -526,9 +508,8 @@ fn parameters_are_declared_and_checked() {
 #[test]
 fn follows_the_target_size() {
     let scene = single_smoke();
-    let ctx = ctx();
+    let ctx = testkit::context();
     let mut gpu_scene = GpuScene::new(ctx, &scene).unwrap();
-    let mut timer = GpuTimer::new(ctx, 16);
     let variant = all_variants()
         .into_iter()
         .find(|v| v.id() == "volumes/slices-9")
@@ -542,22 +523,12 @@ fn follows_the_target_size() {
             width: w,
             height: h,
         };
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        {
-            let mut frame = Frame {
-                gpu: ctx,
-                encoder: &mut encoder,
-                timer: &mut timer,
-            };
-            gpu_scene.set_time(&mut frame, 0.0);
+        testkit::submit(ctx, &mut gpu_scene, 0.0, |frame, gpu_scene| {
             if i == 0 {
-                technique.prepare(&mut frame, &gpu_scene).unwrap();
+                technique.prepare(frame, gpu_scene).unwrap();
             }
-            technique
-                .render(&mut frame, &gpu_scene, &view, &target)
-                .unwrap();
-        }
-        timer.submit_and_collect(ctx, encoder).unwrap();
+            technique.render(frame, gpu_scene, &view, &target).unwrap();
+        });
         assert_eq!(target.read(ctx).unwrap().non_finite_count(), 0);
     }
 }

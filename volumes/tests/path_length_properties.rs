@@ -5,18 +5,8 @@
 use glam::{Vec2, Vec3};
 use gpu::prelude::ray_sphere;
 use proptest::prelude::*;
+use testkit::strategies::{unit_vector, vec3_in};
 use volumes::path_length::*;
-
-fn unit_vec() -> impl Strategy<Value = Vec3> {
-    (-1.0f32..=1.0, 0.0f32..std::f32::consts::TAU).prop_map(|(z, phi)| {
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z).normalize()
-    })
-}
-
-fn vec3_in(lo: f32, hi: f32) -> impl Strategy<Value = Vec3> {
-    (lo..hi, lo..hi, lo..hi).prop_map(|(x, y, z)| Vec3::new(x, y, z))
-}
 
 /// A ray aimed near a sphere: origin anywhere around it, direction toward a point of the
 /// sphere's bounding box (so that most rays hit), plus the sphere.
@@ -26,7 +16,7 @@ fn ray_and_sphere() -> impl Strategy<Value = (Vec3, Vec3, Vec3, f32)> {
         0.05f32..3.0,
         vec3_in(-8.0, 8.0),
         vec3_in(-1.2, 1.2),
-        unit_vec(),
+        unit_vector(),
     )
         .prop_map(|(c, r, o, aim, fallback)| {
             let d = (c + aim * r - o).normalize_or(fallback);
@@ -41,7 +31,7 @@ fn ray_hitting_sphere() -> impl Strategy<Value = (Vec3, Vec3, Vec3, f32)> {
         0.05f32..3.0,
         vec3_in(-8.0, 8.0),
         vec3_in(-1.0, 1.0),
-        unit_vec(),
+        unit_vector(),
     )
         .prop_map(|(c, r, o, aim, fallback)| {
             let d = (c + aim.clamp_length_max(0.98) * r - o).normalize_or(fallback);
@@ -109,7 +99,7 @@ proptest! {
 
     /// With the eye inside the volume the path starts at the eye: min(t_far, t_scene).
     #[test]
-    fn sphere_camera_inside(c in vec3_in(-5.0, 5.0), r in 0.1f32..3.0, p in vec3_in(-1.0, 1.0), d in unit_vec(), s in 0.0f32..10.0) {
+    fn sphere_camera_inside(c in vec3_in(-5.0, 5.0), r in 0.1f32..3.0, p in vec3_in(-1.0, 1.0), d in unit_vector(), s in 0.0f32..10.0) {
         let o = c + p.clamp_length_max(0.95) * r;
         let t = ray_sphere(o, d, c, r);
         prop_assert!(t.x <= 0.0 && t.y >= 0.0);
@@ -121,7 +111,7 @@ proptest! {
 
     /// A ray tangent to the sphere sees (almost) nothing, and nothing non-finite.
     #[test]
-    fn sphere_tangent_ray(c in vec3_in(-5.0, 5.0), r in 0.05f32..3.0, n in unit_vec(), d0 in unit_vec(), back in 0.0f32..10.0, s in scene_distance()) {
+    fn sphere_tangent_ray(c in vec3_in(-5.0, 5.0), r in 0.05f32..3.0, n in unit_vector(), d0 in unit_vector(), back in 0.0f32..10.0, s in scene_distance()) {
         let d = (d0 - n * d0.dot(n)).normalize_or(n.any_orthonormal_vector());
         let touch = c + n * r;
         let o = touch - d * back;
