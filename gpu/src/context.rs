@@ -5,6 +5,11 @@
 //! `Rgba32Float` targets); `WGPU_ADAPTER_NAME` picks an adapter by case-insensitive substring;
 //! otherwise a discrete GPU is preferred, then an integrated one, then anything else, and a
 //! software adapter (lavapipe) last.
+//!
+//! An application that owns its wgpu device (an engine using one technique crate) does not
+//! let the context choose: it wraps its own instance, adapter, device and queue with
+//! [`Context::from_parts`]. Both constructors end in the same code (adapter summary, shared
+//! samplers, the `Rgba32Float` render check).
 
 use crate::GpuError;
 
@@ -22,10 +27,15 @@ const WANTED_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
 /// What a user sees about the adapter in every results table.
 #[derive(Clone, Debug)]
 pub struct AdapterSummary {
+    /// The adapter's name (`llvmpipe (LLVM 15.0.6, 256 bits)`, a GPU's product name).
     pub name: String,
+    /// The backend, lower case (`vulkan`, `metal`, `dx12`, `gl`).
     pub backend: String,
+    /// `DiscreteGpu`, `IntegratedGpu`, `VirtualGpu`, `Cpu` or `Other`.
     pub device_type: String,
+    /// Driver name and version, as the adapter reports them.
     pub driver: String,
+    /// Whether the adapter is a software rasterizer (lavapipe): timings are then CPU timings.
     pub is_software: bool,
 }
 
@@ -37,10 +47,15 @@ impl std::fmt::Display for AdapterSummary {
 
 /// The shared GPU context: adapter, device and queue, plus what the adapter can do.
 pub struct Context {
+    /// The instance the adapter came from.
     pub instance: wgpu::Instance,
+    /// The adapter the device was created on.
     pub adapter: wgpu::Adapter,
+    /// The device every resource of the workspace is created on.
     pub device: wgpu::Device,
+    /// The device's queue: every submission and upload.
     pub queue: wgpu::Queue,
+    /// What results tables print about the adapter.
     pub summary: AdapterSummary,
     /// The shared samplers, made once with the device.
     pub samplers: crate::bind::Samplers,
@@ -64,7 +79,6 @@ impl Context {
             .map(|s| s.to_lowercase());
         let adapter = choose_adapter(adapters, wanted_name.as_deref())?;
 
-        let info = adapter.get_info();
         let features = adapter.features() & WANTED_FEATURES;
         // The adapter's own limits: big cube maps and storage buffers on real GPUs, and
         // `check_size` reports the true bound to the user.
@@ -80,6 +94,46 @@ impl Context {
             })
             .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
+        Self::from_parts(instance, adapter, device, queue)
+    }
+
+    /// Wraps a device the application created itself: what an engine that already owns its
+    /// wgpu instance, adapter, device and queue passes to this workspace's crates (see
+    /// `impostors/examples/standalone.rs`). Computes the same [`AdapterSummary`] and shared
+    /// samplers as [`Context::new`], which ends here too.
+    ///
+    /// Use [`Context::new`] when this workspace may choose the adapter (the harness, the
+    /// tests): it honours `WGPU_BACKEND` and `WGPU_ADAPTER_NAME`, prefers a hardware adapter,
+    /// and turns on every optional feature the adapter has that the workspace uses
+    /// (timestamps, 32-bit float filtering and blending, ...). Use `from_parts` in your own
+    /// renderer: the device keeps exactly the features and limits you requested, so request at
+    /// least the technique's `scene::Technique::required_features()` (a technique checks what
+    /// it needs with [`Context::require`]); [`GpuTimer`](crate::GpuTimer) falls back to
+    /// wall-clock times without `TIMESTAMP_QUERY`.
+    ///
+    /// `device` and `queue` must come from `adapter`, and `adapter` from `instance`. Fails,
+    /// with one sentence, when the adapter cannot render into [`HDR_FORMAT`](crate::HDR_FORMAT)
+    /// targets (OpenGL on llvmpipe, for example), which every technique renders into.
+    pub fn from_parts(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+    ) -> Result<Self, GpuError> {
+        let info = adapter.get_info();
+        let hdr = adapter.get_texture_format_features(crate::HDR_FORMAT);
+        if !hdr
+            .allowed_usages
+            .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+        {
+            return Err(GpuError::Device(format!(
+                "adapter {} ({:?}) cannot render into {:?} targets, which every technique \
+                 renders into; use a Vulkan, Metal or DX12 adapter",
+                info.name,
+                info.backend,
+                crate::HDR_FORMAT
+            )));
+        }
         let summary = AdapterSummary {
             name: info.name.clone(),
             backend: format!("{:?}", info.backend).to_lowercase(),
@@ -182,4 +236,35 @@ fn choose_adapter(
     }
     candidates.sort_by_key(|a| adapter_rank(a.get_info().device_type));
     Ok(candidates.remove(0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An application's own device, wrapped: the same summary as `Context::new` on the same
+    /// adapter, exactly the requested features, and a target renders and reads back on it.
+    #[test]
+    fn from_parts_wraps_an_application_device() {
+        let shared = Context::new().expect("a GPU adapter (lavapipe will do)");
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::VULKAN,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        let adapter = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN))
+            .into_iter()
+            .find(|a| a.get_info().name == shared.summary.name)
+            .expect("the shared context's adapter");
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default()))
+                .expect("a device with default features and limits");
+        let ctx = Context::from_parts(instance, adapter, device, queue).expect("wrapped");
+        assert_eq!(ctx.summary.name, shared.summary.name);
+        assert_eq!(ctx.summary.backend, shared.summary.backend);
+        assert_eq!(ctx.summary.driver, shared.summary.driver);
+        assert_eq!(ctx.summary.is_software, shared.summary.is_software);
+        assert!(ctx.features().is_empty(), "exactly the features requested");
+        let target = crate::Target::new(&ctx, 4, 4).expect("a target on the wrapped device");
+        assert_eq!(target.read(&ctx).expect("read back").pixels.len(), 16);
+    }
 }

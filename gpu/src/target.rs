@@ -10,12 +10,16 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// A linear RGBA float image read back from the GPU (row 0 is the top).
 #[derive(Clone, Debug, PartialEq)]
 pub struct HdrImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Linear RGBA, row by row from the top, `width * height` entries.
     pub pixels: Vec<[f32; 4]>,
 }
 
 impl HdrImage {
+    /// A black, transparent image of `width` x `height` pixels.
     pub fn new(width: u32, height: u32) -> Self {
         Self {
             width,
@@ -23,9 +27,11 @@ impl HdrImage {
             pixels: vec![[0.0; 4]; (width * height) as usize],
         }
     }
+    /// The pixel in column `x` of row `y` (row 0 is the top).
     pub fn get(&self, x: u32, y: u32) -> [f32; 4] {
         self.pixels[(y * self.width + x) as usize]
     }
+    /// Sets the pixel in column `x` of row `y`.
     pub fn set(&mut self, x: u32, y: u32, value: [f32; 4]) {
         self.pixels[(y * self.width + x) as usize] = value;
     }
@@ -38,17 +44,27 @@ impl HdrImage {
     }
 }
 
-/// The colour + depth pair a technique renders a frame into.
+/// The colour + depth pair a technique renders a frame into: [`Target::new`] makes both
+/// textures, [`Target::from_textures`] wraps textures an application made itself.
 pub struct Target {
+    /// Width in pixels (of both textures).
     pub width: u32,
+    /// Height in pixels (of both textures).
     pub height: u32,
+    /// The colour texture ([`HDR_FORMAT`]): linear radiance.
     pub color: wgpu::Texture,
+    /// The view a technique renders the colour into (mip level 0).
     pub color_view: wgpu::TextureView,
+    /// The depth texture ([`DEPTH_FORMAT`]).
     pub depth: wgpu::Texture,
+    /// The view a technique renders the depth into (mip level 0).
     pub depth_view: wgpu::TextureView,
 }
 
 impl Target {
+    /// A colour target of [`HDR_FORMAT`] (usable as attachment, copy source and destination,
+    /// sampled and storage texture) and a [`depth_texture`] of [`DEPTH_FORMAT`], both
+    /// `width` x `height` (checked against the device limit).
     pub fn new(ctx: &crate::Context, width: u32, height: u32) -> Result<Self, GpuError> {
         ctx.check_size(width, height)?;
         let color = ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -80,8 +96,89 @@ impl Target {
         })
     }
 
-    /// Copies the colour attachment back to the CPU.
+    /// Wraps a colour and a depth texture that the application created itself (its own
+    /// render target, which it then samples, copies or presents as it likes).
+    ///
+    /// `color` must have the format [`HDR_FORMAT`] (linear radiance) and `depth`
+    /// [`DEPTH_FORMAT`]; both must be 2D, one array layer, one sample, of the same width and
+    /// height, and usable as `RENDER_ATTACHMENT` (the mip level 0 is rendered into). Anything
+    /// else is an error naming what is wrong, not a validation panic in a later frame.
+    ///
+    /// Usages the techniques need beyond `RENDER_ATTACHMENT` on both textures:
+    ///
+    /// | usage | on | needed by |
+    /// | --- | --- | --- |
+    /// | `COPY_SRC` | colour | [`Target::read`] (checked there) |
+    /// | `TEXTURE_BINDING` | depth | `volumes` ray-traced variants with `free_depth = 1` (they sample the depth the scene pass wrote) |
+    /// | `COPY_DST` | colour | the CPU reference (`truth`'s `reference` technique, `scene::foundation::upload_image`) |
+    ///
+    /// Every other technique (`impostors/*`, `interior-mapping/*`, the other `volumes/*`,
+    /// `raster`, `envmap/classic`) only renders into the two attachments.
+    pub fn from_textures(color: wgpu::Texture, depth: wgpu::Texture) -> Result<Self, GpuError> {
+        let bad = |what: String| Err(GpuError::InvalidInput(what));
+        if color.format() != HDR_FORMAT {
+            return bad(format!(
+                "the colour texture of a Target has format {:?}, not {HDR_FORMAT:?} (gpu::HDR_FORMAT)",
+                color.format()
+            ));
+        }
+        if depth.format() != DEPTH_FORMAT {
+            return bad(format!(
+                "the depth texture of a Target has format {:?}, not {DEPTH_FORMAT:?} (gpu::DEPTH_FORMAT)",
+                depth.format()
+            ));
+        }
+        for (name, t) in [("colour", &color), ("depth", &depth)] {
+            if t.dimension() != wgpu::TextureDimension::D2
+                || t.depth_or_array_layers() != 1
+                || t.sample_count() != 1
+            {
+                return bad(format!(
+                    "the {name} texture of a Target must be 2D with one layer and one sample, \
+                     not {:?} with {} layers and {} samples",
+                    t.dimension(),
+                    t.depth_or_array_layers(),
+                    t.sample_count()
+                ));
+            }
+            if !t.usage().contains(wgpu::TextureUsages::RENDER_ATTACHMENT) {
+                return bad(format!(
+                    "the {name} texture of a Target lacks the RENDER_ATTACHMENT usage (it has {:?})",
+                    t.usage()
+                ));
+            }
+        }
+        if (color.width(), color.height()) != (depth.width(), depth.height()) {
+            return bad(format!(
+                "the colour texture of a Target is {}x{} but its depth texture is {}x{}",
+                color.width(),
+                color.height(),
+                depth.width(),
+                depth.height()
+            ));
+        }
+        let level0 = wgpu::TextureViewDescriptor {
+            mip_level_count: Some(1),
+            ..Default::default()
+        };
+        Ok(Self {
+            width: color.width(),
+            height: color.height(),
+            color_view: color.create_view(&level0),
+            depth_view: depth.create_view(&level0),
+            color,
+            depth,
+        })
+    }
+
+    /// Copies the colour attachment back to the CPU (the colour texture needs `COPY_SRC`).
     pub fn read(&self, ctx: &crate::Context) -> Result<HdrImage, GpuError> {
+        if !self.color.usage().contains(wgpu::TextureUsages::COPY_SRC) {
+            return Err(GpuError::InvalidInput(format!(
+                "cannot read the Target back: its colour texture lacks the COPY_SRC usage (it has {:?})",
+                self.color.usage()
+            )));
+        }
         let texels = read_texture_f32x4(ctx, &self.color, 0)?;
         Ok(HdrImage {
             width: self.width,
@@ -237,4 +334,80 @@ pub fn read_buffer(ctx: &crate::Context, buffer: &wgpu::Buffer) -> Result<Vec<u8
     encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
     ctx.queue.submit([encoder.finish()]);
     map_buffer(ctx, &staging)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texture(
+        ctx: &crate::Context,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+    ) -> wgpu::Texture {
+        ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("test"),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    }
+
+    fn message(result: Result<Target, GpuError>) -> String {
+        match result {
+            Ok(_) => panic!("accepted a bad pair of textures"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn from_textures_checks_formats_sizes_and_usages() {
+        let ctx = crate::Context::new().expect("a GPU adapter (lavapipe will do)");
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let color = |size, format, usage| texture(&ctx, size, format, usage);
+        let depth = |size| texture(&ctx, size, DEPTH_FORMAT, attach);
+
+        let ok = Target::from_textures(
+            color((8, 4), HDR_FORMAT, attach | wgpu::TextureUsages::COPY_SRC),
+            depth((8, 4)),
+        )
+        .expect("a valid pair");
+        assert_eq!((ok.width, ok.height), (8, 4));
+        assert_eq!(ok.read(&ctx).expect("read back").pixels.len(), 32);
+
+        let e = message(Target::from_textures(
+            color((8, 4), wgpu::TextureFormat::Rgba8Unorm, attach),
+            depth((8, 4)),
+        ));
+        assert!(e.contains("Rgba8Unorm") && e.contains("HDR_FORMAT"), "{e}");
+        let e = message(Target::from_textures(
+            color((8, 4), HDR_FORMAT, attach),
+            texture(&ctx, (8, 4), HDR_FORMAT, attach),
+        ));
+        assert!(e.contains("DEPTH_FORMAT"), "{e}");
+        let e = message(Target::from_textures(
+            color((8, 4), HDR_FORMAT, attach),
+            depth((4, 8)),
+        ));
+        assert!(e.contains("8x4") && e.contains("4x8"), "{e}");
+        let e = message(Target::from_textures(
+            color((8, 4), HDR_FORMAT, wgpu::TextureUsages::TEXTURE_BINDING),
+            depth((8, 4)),
+        ));
+        assert!(e.contains("RENDER_ATTACHMENT"), "{e}");
+
+        let unreadable = Target::from_textures(color((8, 4), HDR_FORMAT, attach), depth((8, 4)))
+            .expect("COPY_SRC is only needed to read back");
+        let e = unreadable.read(&ctx).expect_err("no COPY_SRC").to_string();
+        assert!(e.contains("COPY_SRC"), "{e}");
+    }
 }

@@ -23,7 +23,13 @@ use gpu::{Context, GpuError, Uniform, bind};
 use scene::lightmap::{CHART_WGSL, ChartAtlas, QuadSplatter};
 use scene::{Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
 
+/// WGSL of the receivers' light-map charts: the chart and atlas uv under a fragment of a
+/// diffuse object (after the `gpu` prelude, `scene::SCENE_WGSL` and
+/// `scene::lightmap::CHART_WGSL`).
 pub const LIGHTMAP_WGSL: &str = include_str!("shaders/lightmap.wgsl");
+/// WGSL of the caustic maps (paper section 5): photon tracing from the light
+/// (`trace_photon`), the caustic-map and receiver-cube shaders of both paths and the apply
+/// passes (after the prelude, `scene.wgsl`, `Hit()`, `localized.wgsl` and the chart WGSL).
 pub const CAUSTIC_WGSL: &str = include_str!("shaders/caustic.wgsl");
 const SPLAT_WGSL: &str = include_str!("shaders/splat.wgsl");
 
@@ -49,6 +55,7 @@ pub enum CausticPath {
 /// parameters).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CausticSettings {
+    /// How photons become caustic radiance (light maps or the direction grid).
     pub path: CausticPath,
     /// Caustic map size C: C x C photons per light and object.
     pub resolution: u32,
@@ -65,6 +72,8 @@ pub struct CausticSettings {
 }
 
 impl CausticSettings {
+    /// The default settings of `path` (128 x 128 photons, 64-texel grid faces, a 1024-texel
+    /// atlas, splat radius 3 texels, caustics not seen in lookups).
     pub fn new(path: CausticPath) -> Self {
         Self {
             path,

@@ -1,6 +1,6 @@
 //! The CPU ground truth and the image metrics: what every technique is measured against.
 //!
-//! - [`reference`]: the CPU reference renderer (Whitted specular chains split by Fresnel,
+//! - [`reference`](mod@reference): the CPU reference renderer (Whitted specular chains split by Fresnel,
 //!   light-traced caustics, participating media), deterministic, on all cores with rayon; its
 //!   module documentation states exactly what it computes and what it leaves out.
 //! - [`media`]: the emission-absorption ray marcher the reference composites every eye ray

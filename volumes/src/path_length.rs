@@ -18,13 +18,20 @@ use gpu::prelude::{ray_plane, ray_sphere};
 /// The WGSL of this module (needs the `gpu` prelude before it).
 pub const PATH_LENGTH_WGSL: &str = include_str!("shaders/path_length.wgsl");
 
+/// WGSL code of [`OpacityFn::Linear`] (the `OPACITY` pipeline constant).
 pub const OPACITY_LINEAR: u32 = 0;
+/// WGSL code of [`OpacityFn::Log`].
 pub const OPACITY_LOG: u32 = 1;
+/// WGSL code of [`OpacityFn::Sqrt`].
 pub const OPACITY_SQRT: u32 = 2;
 
+/// WGSL code of [`Primitive::Constant`] (the `PRIMITIVE` pipeline constant).
 pub const PRIMITIVE_CONSTANT: u32 = 0;
+/// WGSL code of [`Primitive::Linear`].
 pub const PRIMITIVE_LINEAR: u32 = 1;
+/// WGSL code of [`Primitive::Sphere`].
 pub const PRIMITIVE_SPHERE: u32 = 2;
+/// WGSL code of [`Primitive::Texture`].
 pub const PRIMITIVE_TEXTURE: u32 = 3;
 
 /// How the length of the visible path becomes opacity (thesis figure 6.21).
@@ -47,6 +54,7 @@ impl OpacityFn {
             OpacityFn::Sqrt => OPACITY_SQRT,
         }
     }
+    /// The function's name in variant ids (`raytraced-sphere-log`) and tables.
     pub fn name(self) -> &'static str {
         match self {
             OpacityFn::Linear => "linear",
@@ -289,7 +297,7 @@ const BAKE_STEPS: u32 = 48;
 /// `-basis[2]` (billboard axes `right`, `up`, `normal` toward the eye, as
 /// `technique::placed_volumes` gives them): per texel, the true opacity `alpha(uv) = 1 -
 /// exp(-tau)` of the column through the point `c + R (u right + v up)` along the normal
-/// (`tau` by the midpoint rule, [`BAKE_STEPS`] steps, with the scene's own density field
+/// (`tau` by the midpoint rule, `BAKE_STEPS` (48) steps, with the scene's own density field
 /// `Volume::extinction_at` at time 0), stored as the half thickness `h = L / 2R` at which
 /// `opacity` reaches it, `L = opacity.length_for(alpha, scale)`. `scale` (returned) is chosen
 /// so that the densest column has `h = 1`: nothing is clipped by the 8-bit range, and a

@@ -20,7 +20,7 @@
 //! [`crate::mesh`] and the scene model, never from another scene file or from this registry.
 //! **Adding a scene is one new file plus one registry entry**: write `chess.rs` with a
 //! `pub fn chess(..) -> Result<Scene, SceneError>`, add `pub mod chess;` below and one
-//! [`Builtin`] to `registry()` (its [`SceneInfo`] with the declared parameters, and the
+//! `Builtin` to `registry()` (its [`SceneInfo`] with the declared parameters, and the
 //! function that reads them from [`SceneArgs`] and calls the scene file). Everything else
 //! (`scene::load`, `harness list`, `harness compare`'s default scene list, the registry tests)
 //! picks the new entry up from there.
