@@ -14,6 +14,9 @@
 //!
 //! See `README.md` for the mapping of variants to the paper, departures and failure cases.
 
+// Every public item says what it is for: users lift this crate into their own renderers.
+#![warn(missing_docs)]
+
 pub mod caustics;
 pub mod technique;
 

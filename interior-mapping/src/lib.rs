@@ -7,6 +7,9 @@
 //! * [`geometry`], [`textures`]: real room geometry and interior textures, identical to the
 //!   `city` scene's real interiors.
 
+// Every public item says what it is for: users lift this crate into their own renderers.
+#![warn(missing_docs)]
+
 pub mod geometry;
 pub mod rooms;
 pub mod technique;

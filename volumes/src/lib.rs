@@ -15,6 +15,9 @@
 //!
 //! See `README.md` for how each variant maps to the thesis and where it departs from it.
 
+// Every public item says what it is for: users lift this crate into their own renderers.
+#![warn(missing_docs)]
+
 pub mod path_length;
 pub mod technique;
 
