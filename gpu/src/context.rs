@@ -191,6 +191,23 @@ impl Context {
         let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
     }
 
+    /// Runs `f`, which creates resources, with out-of-memory and validation errors captured:
+    /// a texture or buffer the device cannot give is a [`GpuError::OutOfMemory`] naming
+    /// `what`, never the default handler's panic.
+    pub fn allocating<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let out_of_memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f();
+        let invalid = pollster::block_on(validation.pop());
+        if let Some(err) = pollster::block_on(out_of_memory.pop()) {
+            return Err(GpuError::OutOfMemory(format!("{what}: {err}")));
+        }
+        match invalid {
+            Some(err) => Err(GpuError::Validation(format!("{what}: {err}"))),
+            None => Ok(value),
+        }
+    }
+
     /// Runs `f` with validation errors captured, turning them into a `GpuError` instead of the
     /// default panic handler.
     pub fn validated<T>(&self, f: impl FnOnce() -> T) -> Result<T, GpuError> {

@@ -56,6 +56,13 @@ pub struct CubeTarget {
 }
 
 impl CubeTarget {
+    /// GPU memory of a cube target of `size` texels per side and colour `format`: six colour
+    /// faces and six depth faces ([`crate::DEPTH_FORMAT`]).
+    pub fn bytes(size: u32, format: wgpu::TextureFormat) -> u64 {
+        let texel = format.block_copy_size(None).unwrap_or(16) as u64 + 4;
+        6 * size as u64 * size as u64 * texel
+    }
+
     pub fn new(
         ctx: &crate::Context,
         size: u32,

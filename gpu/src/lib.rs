@@ -59,6 +59,8 @@ pub enum GpuError {
     Validation(String),
     #[error("invalid input: {0}")]
     InvalidInput(String),
+    #[error("the GPU is out of memory: {0}")]
+    OutOfMemory(String),
 }
 
 /// The vertex layout shared by the scene upload and every technique: position, shading

@@ -65,8 +65,16 @@ impl Target {
     /// A colour target of [`HDR_FORMAT`] (usable as attachment, copy source and destination,
     /// sampled and storage texture) and a [`depth_texture`] of [`DEPTH_FORMAT`], both
     /// `width` x `height` (checked against the device limit).
+    ///
+    /// A device that cannot give the memory is a [`GpuError::OutOfMemory`], not a panic.
     pub fn new(ctx: &crate::Context, width: u32, height: u32) -> Result<Self, GpuError> {
         ctx.check_size(width, height)?;
+        let megabytes = (width as f64 * height as f64 * 20.0 / 1e6).ceil();
+        let what = format!("a {width}x{height} target ({megabytes} MB)");
+        ctx.allocating(&what, || Self::create(ctx, width, height))
+    }
+
+    fn create(ctx: &crate::Context, width: u32, height: u32) -> Self {
         let color = ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("target colour"),
             size: wgpu::Extent3d {
@@ -86,14 +94,14 @@ impl Target {
             view_formats: &[],
         });
         let depth = depth_texture(ctx, width, height, 1, "target depth");
-        Ok(Self {
+        Self {
             width,
             height,
             color_view: color.create_view(&Default::default()),
             depth_view: depth.create_view(&Default::default()),
             color,
             depth,
-        })
+        }
     }
 
     /// Wraps a colour and a depth texture that the application created itself (its own

@@ -373,6 +373,18 @@ impl Caustics {
         &self.atlas
     }
 
+    /// GPU memory of one object's [`GeneratorMaps`] (two photon targets, their depth, the
+    /// grid), for the per-object map budget.
+    pub fn generator_bytes(&self) -> u64 {
+        let size = self.settings.resolution as u64;
+        let texel = PHOTON_FORMAT.block_copy_size(None).unwrap_or(16) as u64;
+        let grid = match self.settings.path {
+            CausticPath::Grid => 6 * 3 * 4 * (self.settings.grid as u64).pow(2),
+            CausticPath::LightMap => 4,
+        };
+        size * size * (2 * texel + 4) + grid
+    }
+
     /// Resources of one caustic generator whose impostor has face size `env_size`.
     pub fn generator_maps(&self, ctx: &Context, env_size: u32) -> Result<GeneratorMaps, GpuError> {
         let size = self.settings.resolution;

@@ -485,33 +485,58 @@ impl Technique for Impostor {
             None,
         );
 
+        // Every specular object keeps its own maps: refuse, naming the limit, a scene whose
+        // maps exceed the shared per-object budget (200 glass spheres took 5.9 GB and 219 s
+        // for one caustics frame before this check).
+        let res = self.settings.resolution;
+        let double_refraction = self.settings.mode == Mode::DoubleRefraction;
+        let split = self.settings.split && self.uses_distance();
+        let per_object = CubeTarget::bytes(res, IMPOSTOR_FORMAT)
+            + if split {
+                CubeTarget::bytes(res, SPLIT_DISTANCE_FORMAT)
+            } else {
+                0
+            }
+            + if double_refraction {
+                CubeTarget::bytes(res, IMPOSTOR_FORMAT)
+            } else {
+                0
+            }
+            + caustic.as_ref().map_or(0, |c| c.generator_bytes());
+        let specular = scene
+            .scene
+            .objects
+            .iter()
+            .filter(|o| o.material.is_specular())
+            .count();
+        scene::technique::check_map_budget(&self.id, specular, per_object, "resolution")?;
+        let refractor_pipeline = double_refraction.then(|| {
+            scene::scene_pipeline(
+                ctx,
+                "refractor map",
+                &scene.pipeline_layout_with(ctx, &[]),
+                &module,
+                "refractor_map_fs",
+                IMPOSTOR_FORMAT,
+            )
+        });
         let mut maps = Vec::new();
         for (object, o) in scene.scene.objects.iter().enumerate() {
             if !o.material.is_specular() {
                 continue;
             }
-            let res = self.settings.resolution;
             let env = CubeTarget::new(ctx, res, IMPOSTOR_FORMAT, "distance impostor")?;
-            let split = (self.settings.split && self.uses_distance())
+            let split = split
                 .then(|| split_distance(ctx, &env, &split_layout))
                 .transpose()?;
-            let refractor = if self.settings.mode == Mode::DoubleRefraction
-                && matches!(o.material, Material::Glass { .. })
-            {
-                let cube = CubeTarget::new(ctx, res, IMPOSTOR_FORMAT, "refractor map")?;
-                let center = o.center_at(scene.time());
-                let refractor_pipeline = scene::scene_pipeline(
-                    ctx,
-                    "refractor map",
-                    &scene.pipeline_layout_with(ctx, &[]),
-                    &module,
-                    "refractor_map_fs",
-                    IMPOSTOR_FORMAT,
-                );
-                render_refractor_map(frame, scene, &refractor_pipeline, &cube, object, center);
-                Some(cube)
-            } else {
-                None
+            let refractor = match (&refractor_pipeline, &o.material) {
+                (Some(pipeline), Material::Glass { .. }) => {
+                    let cube = CubeTarget::new(ctx, res, IMPOSTOR_FORMAT, "refractor map")?;
+                    let center = o.center_at(scene.time());
+                    render_refractor_map(frame, scene, pipeline, &cube, object, center);
+                    Some(cube)
+                }
+                _ => None,
             };
             let caustics = match &caustic {
                 Some(c) => Some(c.generator_maps(ctx, res)?),

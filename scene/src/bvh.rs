@@ -190,7 +190,7 @@ impl SceneBvh {
         accept: impl Fn(usize) -> bool,
     ) -> Option<Hit> {
         let bvh = self.bvh.as_ref()?;
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+        let ray = ray(origin, dir, t_max)?;
         let mut hit = RayHit::none();
         let found = bvh.ray_traverse(ray, &mut hit, |r, id| {
             if accept(self.info[id].object as usize) {
@@ -235,10 +235,9 @@ impl SceneBvh {
         t_max: f32,
         blocks: impl Fn(usize) -> bool,
     ) -> bool {
-        let Some(bvh) = self.bvh.as_ref() else {
+        let (Some(bvh), Some(ray)) = (self.bvh.as_ref(), ray(origin, dir, t_max)) else {
             return false;
         };
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
         !bvh.ray_traverse_miss(ray, |r, id| {
             if blocks(self.info[id].object as usize) {
                 intersect(&self.triangles[id], r)
@@ -251,7 +250,7 @@ impl SceneBvh {
     /// World-space vertices of the triangle behind a hit (for tests and debugging).
     pub fn hit_triangle_vertices(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<[Vec3; 3]> {
         let bvh = self.bvh.as_ref()?;
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+        let ray = ray(origin, dir, t_max)?;
         let mut hit = RayHit::none();
         if !bvh.ray_traverse(ray, &mut hit, |r, id| intersect(&self.triangles[id], r)) {
             return None;
@@ -260,6 +259,16 @@ impl SceneBvh {
         let v0: Vec3A = t.v0;
         Some([v0.into(), (v0 - t.e1).into(), (v0 + t.e2).into()])
     }
+}
+
+/// The obvhs ray for a query, or `None` (the query misses) for a ray no traversal can follow:
+/// a non-finite or zero direction, a non-finite origin, or a NaN or negative `t_max`. Zero
+/// direction *components* are fine: obvhs stores their inverse as a large finite number
+/// (`safe_inverse`), never an infinity. A NaN ray would fail obvhs' debug assertion on the
+/// inverse direction instead of missing, so no caller may pass one; this is the last guard.
+fn ray(origin: Vec3, dir: Vec3, t_max: f32) -> Option<Ray> {
+    let usable = origin.is_finite() && dir.is_finite() && dir != Vec3::ZERO && t_max >= 0.0;
+    usable.then(|| Ray::new(origin.into(), dir.into(), 0.0, t_max))
 }
 
 /// Möller-Trumbore on obvhs' `RtTriangle` layout (`e1 = v0 - v1`, `e2 = v2 - v0`,

@@ -184,16 +184,24 @@ impl Technique for ClassicEnvMap {
         let ctx = frame.gpu;
         let layout = envmap_layout(ctx);
         self.maps.clear();
+        let specular = scene
+            .scene
+            .objects
+            .iter()
+            .filter(|o| o.material.is_specular())
+            .count();
+        let format = wgpu::TextureFormat::Rgba16Float;
+        crate::technique::check_map_budget(
+            &self.id(),
+            specular,
+            CubeTarget::bytes(self.resolution, format),
+            "resolution",
+        )?;
         for (object, o) in scene.scene.objects.iter().enumerate() {
             if !o.material.is_specular() {
                 continue;
             }
-            let cube = CubeTarget::new(
-                ctx,
-                self.resolution,
-                wgpu::TextureFormat::Rgba16Float,
-                "classic environment map",
-            )?;
+            let cube = CubeTarget::new(ctx, self.resolution, format, "classic environment map")?;
             let bind_group = bind::group(
                 ctx,
                 "environment map",

@@ -157,8 +157,16 @@ pub const LUMENS_PER_WATT: f32 = 683.0;
 /// Imports a `.gltf` (with its external buffers and images, resolved relative to it) or a
 /// `.glb` file.
 pub fn import(path: &Path) -> Result<Scene, SceneError> {
-    let shown = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| SceneError::Io(shown.clone(), e.to_string()))?;
+    import_noted(path).map(|(scene, _)| scene)
+}
+
+/// [`import`], with the notes of what the importer supplied or repaired (default lighting
+/// for a file without lights, replaced degenerate normals), one sentence each: the harness
+/// prints them as warnings and writes them to `results.json`.
+pub fn import_noted(path: &Path) -> Result<(Scene, Vec<String>), SceneError> {
+    let shown = shown_path(path);
+    let bytes = read_regular_file(path, MAX_FILE_BYTES, false)
+        .map_err(|e| SceneError::Io(shown.clone(), e))?;
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -174,6 +182,11 @@ pub fn import(path: &Path) -> Result<Scene, SceneError> {
 /// scene name when the file has none. External file references are errors (there is no
 /// folder to resolve them against); `data:` URIs and `.glb` buffers work.
 pub fn import_slice(bytes: &[u8], name: &str) -> Result<Scene, SceneError> {
+    import_slice_noted(bytes, name).map(|(scene, _)| scene)
+}
+
+/// [`import_slice`] with the importer's notes (see [`import_noted`]).
+pub fn import_slice_noted(bytes: &[u8], name: &str) -> Result<(Scene, Vec<String>), SceneError> {
     let stem = name
         .strip_suffix(".glb")
         .or_else(|| name.strip_suffix(".gltf"))
@@ -182,14 +195,13 @@ pub fn import_slice(bytes: &[u8], name: &str) -> Result<Scene, SceneError> {
         .file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    finish(import_impl(bytes, &stem, None), name)
+    finish(import_impl(bytes, &stem, None), &printable(name))
 }
 
 /// Writes `scene` as a binary glTF file.
 pub fn export_glb(scene: &Scene, path: &Path) -> Result<(), SceneError> {
     let bytes = to_glb_bytes(scene)?;
-    std::fs::write(path, bytes)
-        .map_err(|e| SceneError::Io(path.display().to_string(), e.to_string()))
+    std::fs::write(path, bytes).map_err(|e| SceneError::Write(shown_path(path), e.to_string()))
 }
 
 /// Encodes `scene` as binary glTF (see the module documentation for the layout).
@@ -199,8 +211,11 @@ pub fn to_glb_bytes(scene: &Scene) -> Result<Vec<u8>, SceneError> {
     Exporter::default().run(scene)
 }
 
-fn finish(result: Result<Scene, String>, shown: &str) -> Result<Scene, SceneError> {
-    let scene = result.map_err(|m| SceneError::Gltf(shown.to_string(), m))?;
+fn finish(
+    result: Result<(Scene, Vec<String>), String>,
+    shown: &str,
+) -> Result<(Scene, Vec<String>), SceneError> {
+    let (scene, notes) = result.map_err(|m| SceneError::Gltf(shown.to_string(), m))?;
     let invalid =
         |m: String| SceneError::Gltf(shown.to_string(), format!("the scene is invalid: {m}"));
     scene.validate().map_err(|e| match e {
@@ -209,7 +224,56 @@ fn finish(result: Result<Scene, String>, shown: &str) -> Result<Scene, SceneErro
     })?;
     // What `validate` does not look at (volumes, motion keys, the camera path, ...).
     check_finite_extras(&scene).map_err(invalid)?;
-    Ok(scene)
+    Ok((scene, notes))
+}
+
+/// Largest `.gltf`/`.glb` file, and largest external buffer or image file, the importer reads
+/// (1 GiB): a bound on what a path to `/dev/zero` or a runaway file can cost.
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
+/// Largest width or height of a decoded texture, and most bytes its decoder may allocate.
+pub const MAX_TEXTURE_SIDE: u32 = 16384;
+const MAX_IMAGE_DECODE_BYTES: u64 = 512 << 20;
+
+/// A path as messages show it: control characters (a NUL from `%00`) escaped.
+fn shown_path(path: &Path) -> String {
+    printable(&path.display().to_string())
+}
+
+/// `text` with control characters escaped (`\0`, `\n`), so no message prints raw bytes.
+fn printable(text: &str) -> String {
+    text.chars()
+        .flat_map(|c| {
+            let escaped: Vec<char> = if c.is_control() {
+                c.escape_debug().collect()
+            } else {
+                vec![c]
+            };
+            escaped
+        })
+        .collect()
+}
+
+/// Reads a regular file: all of it when it holds at most `limit` bytes, else, with
+/// `first_bytes`, its first `limit` bytes (a buffer's declared byteLength) and without, an
+/// error. FIFOs, devices and folders are refused before they are opened (a FIFO would block
+/// forever, `/dev/zero` never ends).
+fn read_regular_file(path: &Path, limit: u64, first_bytes: bool) -> Result<Vec<u8>, String> {
+    use std::io::Read as _;
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if !meta.is_file() {
+        return Err("it is not a regular file (a folder, device or FIFO)".into());
+    }
+    if meta.len() > limit && !first_bytes {
+        return Err(format!(
+            "it holds {} bytes, more than the {limit} the importer reads",
+            meta.len()
+        ));
+    }
+    let mut bytes = Vec::with_capacity(meta.len().min(limit) as usize);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(limit).read_to_end(&mut bytes))
+        .map_err(|e| e.to_string())?;
+    Ok(bytes)
 }
 
 // ---------------------------------------------------------------------------------------
@@ -394,7 +458,11 @@ fn read_extras<T: for<'de> Deserialize<'de>>(
 /// Largest number of components an accessor without a buffer view (all zeros) may have.
 const MAX_ZERO_COMPONENTS: usize = 1 << 28;
 
-fn import_impl(bytes: &[u8], fallback_name: &str, base: Option<&Path>) -> Result<Scene, String> {
+fn import_impl(
+    bytes: &[u8],
+    fallback_name: &str,
+    base: Option<&Path>,
+) -> Result<(Scene, Vec<String>), String> {
     let (json_bytes, bin) = if bytes.starts_with(b"glTF") {
         split_glb(bytes)?
     } else {
@@ -413,6 +481,7 @@ fn import_impl(bytes: &[u8], fallback_name: &str, base: Option<&Path>) -> Result
         pending: vec![],
         lights: vec![],
         camera: None,
+        notes: vec![],
     }
     .run(fallback_name)
 }
@@ -514,7 +583,17 @@ fn split_glb(b: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
 }
 
 /// Reads the bytes a URI points at: a base64 `data:` URI, or a file relative to `base`.
-fn read_uri(uri: &str, base: Option<&Path>, what: &str) -> Result<Vec<u8>, String> {
+///
+/// A file must be a regular file inside `base` once `..` and symbolic links are resolved
+/// (absolute paths, `../`, `%2e%2e/` and links out of the folder are refused, so a glTF file
+/// cannot make the importer read `/etc/passwd`), and at most `limit` bytes are read from it.
+fn read_uri(
+    uri: &str,
+    base: Option<&Path>,
+    what: &str,
+    limit: u64,
+    first_bytes: bool,
+) -> Result<Vec<u8>, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (_, payload) = rest
             .split_once(";base64,")
@@ -522,23 +601,57 @@ fn read_uri(uri: &str, base: Option<&Path>, what: &str) -> Result<Vec<u8>, Strin
         return base64_decode(payload)
             .map_err(|e| format!("{what} has a malformed base64 data URI: {e}"));
     }
+    let shown = printable(uri);
     if uri.contains(':') {
         return Err(format!(
-            "{what} refers to \"{uri}\", whose URI scheme is not supported (only data: URIs and relative paths)"
+            "{what} refers to \"{shown}\", whose URI scheme is not supported (only data: URIs and relative paths)"
         ));
     }
     let relative =
-        percent_decode(uri).ok_or_else(|| format!("{what} has a malformed URI \"{uri}\""))?;
+        percent_decode(uri).ok_or_else(|| format!("{what} has a malformed URI \"{shown}\""))?;
+    if relative.chars().any(char::is_control) {
+        return Err(format!(
+            "{what} refers to \"{}\", a file name with control characters",
+            printable(&relative)
+        ));
+    }
     let Some(base) = base else {
         return Err(format!(
             "{what} refers to the external file \"{relative}\", which cannot be resolved when importing from memory"
         ));
     };
+    if Path::new(&relative).has_root() {
+        return Err(format!(
+            "{what} refers to the absolute path \"{relative}\"; only files inside the glTF's folder are read"
+        ));
+    }
+    let outside = || {
+        format!(
+            "{what} refers to \"{relative}\", outside the glTF's folder; only files inside it are read"
+        )
+    };
+    let folder = base
+        .canonicalize()
+        .map_err(|e| format!("the glTF's folder {} cannot be read: {e}", shown_path(base)))?;
     let full = base.join(&relative);
-    std::fs::read(&full).map_err(|e| {
+    let resolved = match full.canonicalize() {
+        Ok(p) => p,
+        // A missing file: say so, unless the name climbs out of the folder.
+        Err(_) if relative.split(['/', '\\']).any(|c| c == "..") => return Err(outside()),
+        Err(e) => {
+            return Err(format!(
+                "{what} refers to {}, which cannot be read: {e}",
+                shown_path(&full)
+            ));
+        }
+    };
+    if !resolved.starts_with(&folder) {
+        return Err(outside());
+    }
+    read_regular_file(&resolved, limit, first_bytes).map_err(|e| {
         format!(
             "{what} refers to {}, which cannot be read: {e}",
-            full.display()
+            shown_path(&full)
         )
     })
 }
@@ -599,7 +712,14 @@ fn load_buffers(
                 .take()
                 .ok_or_else(|| format!("{what} refers to the .glb binary chunk, which is missing"))?
                 .to_vec(),
-            gltf::buffer::Source::Uri(uri) => read_uri(uri, base, &what)?,
+            // No more than the declared length is read: the rest of a file is not the buffer.
+            gltf::buffer::Source::Uri(uri) => read_uri(
+                uri,
+                base,
+                &what,
+                (buffer.length() as u64).min(MAX_FILE_BYTES),
+                true,
+            )?,
         };
         if data.len() < buffer.length() {
             return Err(format!(
@@ -816,6 +936,8 @@ struct Importer<'a> {
     pending: Vec<Pending>,
     lights: Vec<PointLight>,
     camera: Option<FoundCamera>,
+    /// What the importer supplied or repaired, one sentence each.
+    notes: Vec<String>,
 }
 
 /// The first perspective camera: exact from the extras, or from the node (its target is
@@ -831,7 +953,7 @@ enum FoundCamera {
 }
 
 impl Importer<'_> {
-    fn run(mut self, fallback_name: &str) -> Result<Scene, String> {
+    fn run(mut self, fallback_name: &str) -> Result<(Scene, Vec<String>), String> {
         let doc = self.doc;
         let gscene = doc.default_scene().or_else(|| doc.scenes().next());
         let roots: Vec<gltf::Node> = match &gscene {
@@ -966,7 +1088,7 @@ impl Importer<'_> {
                 vec![],
             ),
         };
-        Ok(Scene {
+        let mut scene = Scene {
             name,
             objects: self.objects,
             textures,
@@ -975,7 +1097,12 @@ impl Importer<'_> {
             camera_path,
             volumes,
             background,
-        })
+        };
+        let mut notes = self.notes;
+        if scene.lights.is_empty() {
+            notes.push(scene.add_default_lighting());
+        }
+        Ok((scene, notes))
     }
 
     fn visit(&mut self, node: &gltf::Node, world: Mat4) -> Result<(), String> {
@@ -1155,7 +1282,7 @@ impl Importer<'_> {
     }
 
     fn primitive_mesh(
-        &self,
+        &mut self,
         prim: &gltf::Primitive,
         uv_set: u32,
         what: &str,
@@ -1227,12 +1354,21 @@ impl Importer<'_> {
             ));
         }
         Ok(match normals {
-            Some(normals) => Mesh {
-                positions,
-                normals,
-                uvs,
-                indices,
-            },
+            Some(normals) => {
+                let mut mesh = Mesh {
+                    positions,
+                    normals,
+                    uvs,
+                    indices,
+                };
+                let repaired = mesh.repair_normals();
+                if repaired > 0 {
+                    self.notes.push(format!(
+                        "{what}: {repaired} zero-length or non-finite normals replaced by geometric normals"
+                    ));
+                }
+                mesh
+            }
             None => flat_shaded(&positions, &uvs, &indices),
         })
     }
@@ -1247,10 +1383,32 @@ impl Importer<'_> {
             .and_then(|v| self.doc.views().nth(v.value()));
         let bytes: Cow<[u8]> = match (view, &json.uri) {
             (Some(view), _) => Cow::Borrowed(view_bytes(&self.buffers, &view)?),
-            (None, Some(uri)) => Cow::Owned(read_uri(uri, self.base, &what)?),
+            (None, Some(uri)) => {
+                Cow::Owned(read_uri(uri, self.base, &what, MAX_FILE_BYTES, false)?)
+            }
             (None, None) => return Err(format!("{what} has neither a bufferView nor a uri")),
         };
-        let decoded = image::load_from_memory(&bytes)
+        let reader = || {
+            image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
+                .with_guessed_format()
+                .map_err(|e| format!("{what} cannot be decoded: {e}"))
+        };
+        let (width, height) = reader()?
+            .into_dimensions()
+            .map_err(|e| format!("{what} cannot be decoded: {e}"))?;
+        if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
+            return Err(format!(
+                "{what} is {width}x{height} texels; textures may have at most {MAX_TEXTURE_SIDE} per side"
+            ));
+        }
+        let mut reader = reader()?;
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_TEXTURE_SIDE);
+        limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+        limits.max_alloc = Some(MAX_IMAGE_DECODE_BYTES);
+        reader.limits(limits);
+        let decoded = reader
+            .decode()
             .map_err(|e| format!("{what} cannot be decoded: {e}"))?;
         let rgba = decoded.to_rgba8();
         Ok(Texture {

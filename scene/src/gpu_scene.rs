@@ -22,8 +22,44 @@ use gpu::{Context, Uniform, Vertex, bind};
 /// Scene bindings and the shared diffuse shading model, in WGSL (needs the `gpu` prelude).
 pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
 const RASTER_WGSL: &str = include_str!("shaders/raster.wgsl");
-/// Resolution of each face of the shadow cube maps, and of each fitted 2D shadow map.
+/// Resolution of each face of the shadow cube maps, and of each fitted 2D shadow map, while
+/// the lights' maps fit [`SHADOW_BUDGET_BYTES`].
 pub const SHADOW_MAP_SIZE: u32 = 1024;
+/// GPU memory the shadow maps of all lights may take together (a cube map of six R32Float
+/// faces and one fitted 2D map per light). Past it the maps get coarser, halving their side
+/// down to [`MIN_SHADOW_MAP_SIZE`]: 1024 texels per side up to 18 lights, 128 for 300.
+pub const SHADOW_BUDGET_BYTES: u64 = 512 << 20;
+/// The coarsest shadow map side; a scene needing coarser maps is refused (see
+/// [`shadow_map_size`]).
+pub const MIN_SHADOW_MAP_SIZE: u32 = 64;
+
+/// The side of the shadow maps for `lights` point lights on a device whose texture arrays
+/// hold at most `max_layers` layers: the largest power of two up to [`SHADOW_MAP_SIZE`] whose
+/// maps fit [`SHADOW_BUDGET_BYTES`]. Fails, naming the limit, when even
+/// [`MIN_SHADOW_MAP_SIZE`] does not fit or the cube maps need more layers than the device has
+/// (six per light): the GPU techniques then cannot render the scene, while the CPU reference,
+/// which traces shadow rays, has no such limit.
+pub fn shadow_map_size(lights: usize, max_layers: u32) -> Result<u32, SceneError> {
+    let bytes = |size: u64| lights.max(1) as u64 * 7 * 4 * size * size;
+    let max_lights = (max_layers / 6) as usize;
+    let mut size = SHADOW_MAP_SIZE;
+    while size > MIN_SHADOW_MAP_SIZE && bytes(size as u64) > SHADOW_BUDGET_BYTES {
+        size /= 2;
+    }
+    if lights > max_lights || bytes(size as u64) > SHADOW_BUDGET_BYTES {
+        let by_budget =
+            SHADOW_BUDGET_BYTES / bytes(MIN_SHADOW_MAP_SIZE as u64) * lights.max(1) as u64;
+        return Err(SceneError::Invalid(format!(
+            "the scene has {lights} point lights; the GPU scene keeps a shadow cube map per \
+             light and takes at most {} on this adapter ({max_layers} texture array layers, \
+             six per light; {} MB of shadow maps at {MIN_SHADOW_MAP_SIZE} texels per side); \
+             the CPU reference has no such limit",
+            max_lights.min(by_budget as usize),
+            SHADOW_BUDGET_BYTES >> 20
+        )));
+    }
+    Ok(size)
+}
 const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Distance written for texels that see no geometry (must match scene.wgsl).
 pub const BACKGROUND_DISTANCE: f32 = 60000.0;
@@ -137,6 +173,16 @@ impl GpuScene {
     /// Uploads `scene` (validated first).
     pub fn new(ctx: &Context, scene: &Scene) -> Result<Self, SceneError> {
         scene.validate()?;
+        let shadow_size = shadow_map_size(
+            scene.lights.len(),
+            ctx.device.limits().max_texture_array_layers,
+        )?;
+        ctx.allocating("uploading the scene", || {
+            Self::upload(ctx, scene, shadow_size)
+        })?
+    }
+
+    fn upload(ctx: &Context, scene: &Scene, shadow_size: u32) -> Result<Self, SceneError> {
         let device = &ctx.device;
         let (vertices, indices, draws) = pack_meshes(&scene.objects);
         let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -192,7 +238,7 @@ impl GpuScene {
         });
         let info = |specular_as_diffuse: u32| SceneInfoGpu {
             light_count,
-            shadow_size: SHADOW_MAP_SIZE as f32,
+            shadow_size: shadow_size as f32,
             specular_as_diffuse,
             _pad: 0,
             background: scene.background.extend(0.0).to_array(),
@@ -205,8 +251,8 @@ impl GpuScene {
         let shadow = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("shadow cube maps"),
             size: wgpu::Extent3d {
-                width: SHADOW_MAP_SIZE,
-                height: SHADOW_MAP_SIZE,
+                width: shadow_size,
+                height: shadow_size,
                 depth_or_array_layers: shadow_layers,
             },
             mip_level_count: 1,
@@ -216,8 +262,7 @@ impl GpuScene {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
-        let shadow_depth =
-            gpu::depth_texture(ctx, SHADOW_MAP_SIZE, SHADOW_MAP_SIZE, 6, "shadow depth");
+        let shadow_depth = gpu::depth_texture(ctx, shadow_size, shadow_size, 6, "shadow depth");
         let shadow_face_views = (0..shadow_layers)
             .map(|l| gpu::layer_view(&shadow, l))
             .collect();
@@ -228,7 +273,7 @@ impl GpuScene {
         });
         // One 2D layer per light for lights outside the scene (1 texel when there are none).
         let fitted_size = if fitted.iter().any(Option::is_some) {
-            SHADOW_MAP_SIZE
+            shadow_size
         } else {
             1
         };
@@ -766,28 +811,33 @@ fn object_records(scene: &Scene, time: f32) -> Vec<ObjectGpu> {
         .collect()
 }
 
+/// Width and height of the layers of the albedo texture array that holds `textures`: the
+/// widest texture's width and the tallest one's height (1 x 1 without textures).
+pub fn albedo_array_extent(textures: &[crate::Texture]) -> (u32, u32) {
+    let width = textures.iter().map(|t| t.width).max().unwrap_or(1);
+    let height = textures.iter().map(|t| t.height).max().unwrap_or(1);
+    (width, height)
+}
+
 /// Uploads all diffuse textures as layers of one `Rgba8UnormSrgb` array (the GPU decodes
-/// sRGB then filters bilinearly, exactly what `Texture::sample` does). Textures of other
-/// sizes than the largest are resampled to it (nearest), which only imported glTF scenes
-/// with mixed sizes hit.
+/// sRGB then filters bilinearly, exactly what `Texture::sample` does). The array is as wide
+/// as the widest texture and as tall as the tallest (never padded to a square: a 16384 x 2
+/// texture costs 128 KiB, not 1 GiB); textures of other sizes are resampled to it (nearest),
+/// which only imported glTF scenes with mixed sizes hit.
 fn upload_textures(ctx: &Context, scene: &Scene) -> Result<wgpu::TextureView, SceneError> {
-    let size = scene
-        .textures
-        .iter()
-        .map(|t| t.width.max(t.height))
-        .max()
-        .unwrap_or(1);
-    ctx.check_size(size, size)?;
+    let (width, height) = albedo_array_extent(&scene.textures);
+    ctx.check_size(width, height)?;
     let layers = scene.textures.len().max(1) as u32;
-    let mut data = Vec::with_capacity((size * size * 4 * layers) as usize);
+    let mut data = Vec::with_capacity(width as usize * height as usize * 4 * layers as usize);
     if scene.textures.is_empty() {
         data.extend_from_slice(&[255, 255, 255, 255]);
     }
     for t in &scene.textures {
-        for j in 0..size {
-            for i in 0..size {
-                let (x, y) = (i * t.width / size, j * t.height / size);
-                let o = 4 * (y * t.width + x) as usize;
+        for j in 0..height as u64 {
+            for i in 0..width as u64 {
+                let x = i * t.width as u64 / width as u64;
+                let y = j * t.height as u64 / height as u64;
+                let o = 4 * (y * t.width as u64 + x) as usize;
                 data.extend_from_slice(&t.rgba8[o..o + 4]);
             }
         }
@@ -797,8 +847,8 @@ fn upload_textures(ctx: &Context, scene: &Scene) -> Result<wgpu::TextureView, Sc
         &wgpu::TextureDescriptor {
             label: Some("albedo textures"),
             size: wgpu::Extent3d {
-                width: size,
-                height: size,
+                width,
+                height,
                 depth_or_array_layers: layers,
             },
             mip_level_count: 1,

@@ -20,8 +20,9 @@ pub mod technique;
 
 pub use depth_peel::DepthPeeler;
 pub use gpu_scene::{
-    BACKGROUND_DISTANCE, CubeFace, DrawRange, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL,
-    begin_scene_pass, scene_pipeline,
+    BACKGROUND_DISTANCE, CubeFace, DrawRange, GpuScene, MIN_SHADOW_MAP_SIZE, ObjectFilter,
+    RasterTarget, SCENE_WGSL, SHADOW_BUDGET_BYTES, SHADOW_MAP_SIZE, albedo_array_extent,
+    begin_scene_pass, scene_pipeline, shadow_map_size,
 };
 pub use model::*;
 pub use technique::{
@@ -39,6 +40,8 @@ pub enum SceneError {
     BadParam(String),
     #[error("cannot read {0}: {1}")]
     Io(String, String),
+    #[error("cannot write {0}: {1}")]
+    Write(String, String),
     #[error("cannot load glTF {0}: {1}")]
     Gltf(String, String),
     #[error("invalid scene: {0}")]
@@ -50,12 +53,24 @@ pub enum SceneError {
 /// Loads a scene from a spec: a built-in name (`cornell-sphere`, `city:buildings=64`, see
 /// [`builtin::builtin_scenes`]) or a path to a `.gltf` / `.glb` file.
 pub fn load(spec: &str) -> Result<Scene, SceneError> {
-    let lower = spec.to_lowercase();
-    if lower.ends_with(".gltf") || lower.ends_with(".glb") || Path::new(spec).exists() {
-        let scene = gltf_io::import(Path::new(spec))?;
+    load_noted(spec).map(|(scene, _)| scene)
+}
+
+/// [`load`], with the notes of what the glTF importer supplied or repaired (default lighting,
+/// replaced normals; see [`gltf_io::import_noted`]); built-in scenes have none.
+pub fn load_noted(spec: &str) -> Result<(Scene, Vec<String>), SceneError> {
+    if is_file_spec(spec) {
+        let (scene, notes) = gltf_io::import_noted(Path::new(spec))?;
         scene.validate()?;
-        return Ok(scene);
+        return Ok((scene, notes));
     }
     let (name, params) = builtin::parse_spec(spec)?;
-    builtin::build(&name, &params)
+    Ok((builtin::build(&name, &params)?, Vec::new()))
+}
+
+/// Whether a scene spec names a file (`.gltf`, `.glb`, or an existing path) rather than a
+/// built-in scene.
+pub fn is_file_spec(spec: &str) -> bool {
+    let lower = spec.to_lowercase();
+    lower.ends_with(".gltf") || lower.ends_with(".glb") || Path::new(spec).exists()
 }

@@ -48,6 +48,36 @@ pub enum TechniqueError {
     Unsupported(String),
     #[error("technique {0} rendered before prepare(): call prepare() once per scene first")]
     NotPrepared(String),
+    #[error("{0}")]
+    OverBudget(String),
+}
+
+/// GPU memory the per-object maps of one technique (environment cube maps, distance
+/// impostors, refractor maps) may take together.
+pub const MAP_BUDGET_BYTES: u64 = 1 << 30;
+
+/// Fails, naming the limit, when `objects` per-object maps of `bytes_each` bytes exceed
+/// [`MAP_BUDGET_BYTES`]: the documented strategy of every technique that keeps a map per
+/// object is this clear refusal (the reference and the raster pass have no such limit), with
+/// the largest object count that fits and the parameter that trades resolution for it.
+pub fn check_map_budget(
+    technique: &str,
+    objects: usize,
+    bytes_each: u64,
+    resolution_param: &str,
+) -> TechniqueResult<()> {
+    let total = objects as u64 * bytes_each;
+    if total <= MAP_BUDGET_BYTES {
+        return Ok(());
+    }
+    Err(TechniqueError::OverBudget(format!(
+        "{technique} keeps {:.1} MB of maps per specular object; the scene's {objects} need \
+         {:.2} GB, over its {} MB budget (at most {} objects fit; lower `{resolution_param}` to fit more)",
+        bytes_each as f64 / 1e6,
+        total as f64 / 1e9,
+        MAP_BUDGET_BYTES >> 20,
+        MAP_BUDGET_BYTES / bytes_each.max(1)
+    )))
 }
 
 pub type TechniqueResult<T> = Result<T, TechniqueError>;

@@ -90,7 +90,8 @@ fn builtin_variants_round_trip_exactly() {
     }
 }
 
-/// Values the built-in scenes do not exercise: albedo above 1, awkward floats, a scaled and
+/// Values the built-in scenes do not exercise: albedo at the ends of its range (1 and -0.0),
+/// awkward floats, a scaled and
 /// rotated transform, a tilted camera, odd texture sizes with alpha, empty and non-ASCII
 /// names, an empty camera path.
 #[test]
@@ -103,7 +104,7 @@ fn awkward_values_round_trip_exactly() {
     s.camera_path.keys.clear();
     s.objects[0].name = String::new();
     s.objects[0].material = Material::Diffuse {
-        albedo: Vec3::new(1.7, 0.1, -0.0),
+        albedo: Vec3::new(1.0, 0.1, -0.0),
         texture: Some(1),
     };
     s.objects[1].transform = Mat4::from_scale_rotation_translation(

@@ -336,9 +336,7 @@ pub fn placed_volumes(
     camera: &Camera,
     time: f32,
 ) -> Vec<PlacedVolume> {
-    let forward = (camera.target - camera.eye).normalize();
-    let cam_right = forward.cross(camera.up).normalize();
-    let cam_up = cam_right.cross(forward);
+    let (forward, cam_right, cam_up) = camera.basis();
     let mut out: Vec<PlacedVolume> = volumes
         .iter()
         .enumerate()

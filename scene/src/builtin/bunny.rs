@@ -17,10 +17,16 @@ const BUNNY_GLB: &[u8] = include_bytes!("../../assets/bunny.glb");
 /// Height of the bunny in the scene, metres.
 const BUNNY_HEIGHT: f32 = 0.6;
 
-/// `refraction-bunny` with the bunny's index of refraction `ior` (in (0, 10]).
+/// `refraction-bunny` with the bunny's index of refraction `ior` (in
+/// [`Material::IOR_RANGE`]).
 pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
-    if !(ior > 0.0 && ior <= 10.0) {
-        return Err(SceneError::BadParam(format!("ior={ior} is not in (0, 10]")));
+    if !Material::IOR_RANGE.contains(&ior) {
+        let r = Material::IOR_RANGE;
+        return Err(SceneError::BadParam(format!(
+            "ior={ior} is outside [{}, {}]",
+            r.start(),
+            r.end()
+        )));
     }
     let asset = crate::gltf_io::import_slice(BUNNY_GLB, "assets/bunny.glb")?;
     let mesh = asset

@@ -58,9 +58,10 @@ pub fn city(
     rooms_per_building: f32,
     interiors: f32,
 ) -> Result<Scene, SceneError> {
-    if !(2..=100_000).contains(&buildings) {
+    if !(2..=super::MAX_BUILDINGS).contains(&buildings) {
         return Err(SceneError::BadParam(format!(
-            "buildings={buildings} is not in 2..=100000"
+            "buildings={buildings} is not in 2..={}",
+            super::MAX_BUILDINGS
         )));
     }
     if !(1.0..=1e8).contains(&rooms_per_building) {

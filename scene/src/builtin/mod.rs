@@ -40,6 +40,22 @@ pub struct SceneParam {
     pub name: &'static str,
     pub default: &'static str,
     pub help: &'static str,
+    /// The accepted values of a numeric parameter, inclusive; `None` for a word (`material`),
+    /// which its scene checks against its own list.
+    pub range: Option<(f64, f64)>,
+    /// Only whole numbers are accepted.
+    pub integer: bool,
+}
+
+impl SceneParam {
+    /// The declared range as `harness list --params` shows it (`[2, 4096] integer`).
+    pub fn range_text(&self) -> String {
+        match self.range {
+            Some((lo, hi)) if self.integer => format!("[{lo}, {hi}] integer"),
+            Some((lo, hi)) => format!("[{lo}, {hi}]"),
+            None => "word".into(),
+        }
+    }
 }
 
 /// A built-in scene and what can be changed about it.
@@ -75,24 +91,77 @@ impl SceneArgs<'_> {
         })
     }
 
-    /// The value of `key` as a finite number.
+    /// The value of `key` as a finite number within the parameter's declared range (and
+    /// whole, for an integer parameter).
     pub fn num(&self, key: &str) -> Result<f32, SceneError> {
-        num(&self.get(key), key)
+        let text = self.get(key);
+        let value = num(&text, key)?;
+        let Some(declared) = self.info.params.iter().find(|p| p.name == key) else {
+            return Ok(value);
+        };
+        if let Some((lo, hi)) = declared.range
+            && !(lo..=hi).contains(&(value as f64))
+        {
+            return Err(SceneError::BadParam(format!(
+                "{key}={text} is outside its range [{lo}, {hi}]"
+            )));
+        }
+        if declared.integer && value.fract() != 0.0 {
+            return Err(SceneError::BadParam(format!(
+                "{key}={text} is not a whole number"
+            )));
+        }
+        Ok(value)
     }
 }
 
-fn param(name: &'static str, default: &'static str, help: &'static str) -> SceneParam {
+/// A parameter that is a word (checked by its scene).
+fn word(name: &'static str, default: &'static str, help: &'static str) -> SceneParam {
     SceneParam {
         name,
         default,
         help,
+        range: None,
+        integer: false,
     }
 }
 
+/// A real parameter accepted in `[min, max]`.
+fn real(
+    name: &'static str,
+    default: &'static str,
+    (min, max): (f64, f64),
+    help: &'static str,
+) -> SceneParam {
+    SceneParam {
+        range: Some((min, max)),
+        ..word(name, default, help)
+    }
+}
+
+/// A whole-number parameter accepted in `[min, max]`.
+fn integer(
+    name: &'static str,
+    default: &'static str,
+    (min, max): (f64, f64),
+    help: &'static str,
+) -> SceneParam {
+    SceneParam {
+        integer: true,
+        ..real(name, default, (min, max), help)
+    }
+}
+
+/// Most buildings in `city`: a 64 x 64 grid, 2 km across.
+pub const MAX_BUILDINGS: usize = 4096;
+/// Most particles in `smoke`'s cloud (each one is a volume every renderer visits).
+pub const MAX_PARTICLES: usize = 1024;
+
 /// The registry: every built-in scene, in the order `harness list` shows them.
 fn registry() -> Vec<Builtin> {
-    let material = |default| param("material", default, cornell::MATERIAL_HELP);
-    let sphere_x = || param("sphere_x", "0", "sphere centre x (m), -0.6..0.6");
+    let material = |default| word("material", default, cornell::MATERIAL_HELP);
+    let sphere_x = || real("sphere_x", "0", (-0.6, 0.6), "sphere centre x (m)");
+    let ior = crate::Material::IOR_RANGE;
     vec![
         Builtin {
             info: SceneInfo {
@@ -116,7 +185,12 @@ fn registry() -> Vec<Builtin> {
             info: SceneInfo {
                 name: "refraction-bunny",
                 description: "a glass Stanford bunny in front of a checker wall with nearby boxes",
-                params: vec![param("ior", "1.5", "bunny index of refraction")],
+                params: vec![real(
+                    "ior",
+                    "1.5",
+                    (*ior.start() as f64, *ior.end() as f64),
+                    "bunny index of refraction",
+                )],
             },
             build: |a| bunny::refraction_bunny(a.num("ior")?),
         },
@@ -126,15 +200,22 @@ fn registry() -> Vec<Builtin> {
                 description: "a grid of box buildings plus a cylinder and a sphere building; \
                               camera path along a street",
                 params: vec![
-                    param("buildings", "16", "number of buildings (>= 2)"),
-                    param(
+                    integer(
+                        "buildings",
+                        "16",
+                        (2.0, MAX_BUILDINGS as f64),
+                        "number of buildings",
+                    ),
+                    real(
                         "rooms_per_building",
                         "1000",
+                        (1.0, 1e8),
                         "rooms per building; sets the room size of each hull",
                     ),
-                    param(
+                    integer(
                         "interiors",
                         "1",
+                        (0.0, 1.0),
                         "1: the (at most 3) box buildings beside the start of the street get \
                          real interiors (window holes, room planes) when rooms_per_building <= \
                          100000; 0: none",
@@ -154,7 +235,12 @@ fn registry() -> Vec<Builtin> {
                 name: "smoke",
                 description: "ground plane and posts/logs crossing a large soft volume, plus a \
                               particle cloud",
-                params: vec![param("particles", "24", "particles in the cloud")],
+                params: vec![integer(
+                    "particles",
+                    "24",
+                    (0.0, MAX_PARTICLES as f64),
+                    "particles in the cloud",
+                )],
             },
             build: |a| Ok(smoke::smoke(a.num("particles")? as usize)),
         },
