@@ -24,7 +24,7 @@
 
 use crate::compare::write_text;
 use crate::run::{Sample, render_frame, update_scene};
-use crate::{Env, Size, backend};
+use crate::{Env, Frames, Size, backend};
 use anyhow::{Context as _, Result, anyhow, bail};
 use gpu::{GpuTimer, Target};
 use scene::{Technique, View};
@@ -182,7 +182,11 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
         bail!("bench needs at least 2 rounds of at least 1 frame to state a spread");
     }
     let scene = crate::load_scene(&opts.scene)?;
-    env.ctx.check_size(opts.size.width, opts.size.height)?;
+    let one_image = Frames {
+        errors: 1,
+        ..Frames::default()
+    };
+    crate::limits::check_memory(env.ctx, opts.size, one_image)?;
     let mut techniques = opts
         .techniques
         .iter()
@@ -308,7 +312,7 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
     };
     report.markdown = to_markdown(&report);
     if let Some(out) = &opts.out {
-        std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+        let _lock = crate::OutputLock::acquire(out)?;
         write_text(&out.join("bench.md"), &report.markdown)?;
         let json = serde_json::to_string_pretty(&report)
             .map_err(|e| anyhow!("cannot encode the bench report: {e}"))?;

@@ -21,8 +21,7 @@ use crate::cache::{self, RefView};
 use crate::report::{self, AdapterJson, ErrorAt, ResultRow, Skipped};
 use crate::run::{self, ErrorFrame, TechniqueRun};
 use crate::{
-    Env, Frames, Reference, ReferenceStats, Size, backend, file_name, images, scene_dir_name,
-    time_suffix,
+    Env, Frames, Reference, ReferenceStats, Size, backend, file_name, images, time_suffix,
 };
 use anyhow::{Context as _, Result, anyhow};
 use scene::{GpuScene, Scene, Technique};
@@ -68,20 +67,57 @@ pub struct CompareReport {
     pub rows: Vec<ResultRow>,
     pub skipped: Vec<Skipped>,
     pub references: Vec<ReferenceInfo>,
+    /// Per scene spec: the folder under `images/` its images are in (unique within the run).
+    pub image_dirs: std::collections::BTreeMap<String, String>,
+    /// What the glTF importer supplied or repaired, per scene ("scene: note"): default
+    /// lighting for a file without lights, replaced normals.
+    pub scene_notes: Vec<String>,
     /// Every error of the run, one line each ("scene / technique: message").
     pub errors: Vec<String>,
+    /// The rows whose technique panicked ("scene / technique: message"). A panic is a defect
+    /// even where it is caught: the binary exits non-zero when this is not empty.
+    pub panics: Vec<String>,
     #[serde(skip)]
     pub markdown: String,
 }
 
-/// A one-line message of a caught panic.
+/// The start of the error of a row whose technique panicked.
+pub const PANICKED: &str = "panicked: ";
+
+/// A one-line message of a caught panic (it starts with [`PANICKED`]).
 pub(crate) fn panic_message(payload: Box<dyn std::any::Any + Send>) -> String {
     let text = payload
         .downcast_ref::<&str>()
         .map(|s| s.to_string())
         .or_else(|| payload.downcast_ref::<String>().cloned())
         .unwrap_or_else(|| "unknown panic".into());
-    format!("panicked: {}", text.lines().next().unwrap_or(""))
+    format!("{PANICKED}{}", text.lines().next().unwrap_or(""))
+}
+
+/// Share of pixels that must show light (a channel above [`LIT_RADIANCE`]) for a reference
+/// to be scored against: below it the reference is (nearly) black, and every technique that
+/// draws black too would score a perfect, meaningless, 0 error.
+pub const MIN_LIT_SHARE: f64 = 0.01;
+/// Linear radiance above which a reference pixel counts as lit (sRGB 8-bit value 3).
+pub const LIT_RADIANCE: f32 = 1e-3;
+
+/// `Some(reason)` when `image` is too dark to score against (see [`MIN_LIT_SHARE`]).
+pub fn black_reference(image: &gpu::HdrImage) -> Option<String> {
+    let lit = image
+        .pixels
+        .iter()
+        .filter(|p| p[..3].iter().any(|&c| c > LIT_RADIANCE))
+        .count();
+    let share = lit as f64 / image.pixels.len().max(1) as f64;
+    (share < MIN_LIT_SHARE).then(|| {
+        format!(
+            "invalid comparison: the reference is (nearly) black ({:.2}% of pixels above \
+             {LIT_RADIANCE} radiance, {}% needed), so no error is scored; does the scene \
+             have lights that reach what the camera sees?",
+            share * 100.0,
+            MIN_LIT_SHARE * 100.0
+        )
+    })
 }
 
 /// The reference at one error-frame time.
@@ -171,6 +207,16 @@ fn score(
             flips: Vec::new(),
         };
     }
+    if let Some(reason) = references
+        .iter()
+        .find_map(|r| black_reference(&r.reference.image))
+    {
+        return Outcome {
+            row: row.with_error(reason),
+            run: Some(run),
+            flips: Vec::new(),
+        };
+    }
     let mut errors = Vec::new();
     let mut flips = Vec::new();
     for frame in &run.error_frames {
@@ -255,11 +301,24 @@ pub(crate) fn write_reference_images(
     Ok(())
 }
 
+/// A loaded scene of a run: its spec, the model, the importer's notes.
+pub(crate) struct LoadedScene {
+    pub spec: String,
+    pub scene: Scene,
+    pub notes: Vec<String>,
+}
+
 /// Loads every scene spec first, so a bad one fails before any GPU work.
-pub(crate) fn load_scenes(specs: &[String]) -> Result<Vec<(String, Scene)>> {
+pub(crate) fn load_scenes(specs: &[String]) -> Result<Vec<LoadedScene>> {
     specs
         .iter()
-        .map(|s| crate::load_scene(s).map(|scene| (s.clone(), scene)))
+        .map(|s| {
+            crate::load_scene_noted(s).map(|(scene, notes)| LoadedScene {
+                spec: s.clone(),
+                scene,
+                notes,
+            })
+        })
         .collect()
 }
 
@@ -322,9 +381,9 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
         opts.scenes.clone()
     };
     let scenes = load_scenes(&specs)?;
-    env.ctx.check_size(opts.size.width, opts.size.height)?;
-    std::fs::create_dir_all(&opts.out)
-        .with_context(|| format!("cannot create {}", opts.out.display()))?;
+    crate::limits::check_memory(env.ctx, opts.size, opts.frames)?;
+    let _lock = crate::OutputLock::acquire(&opts.out)?;
+    let dir_names = crate::scene_dir_names(&specs);
 
     let adapter = AdapterJson::of(env.ctx);
     let adapter_name = env.ctx.summary.name.clone();
@@ -337,14 +396,26 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
         rows: Vec::new(),
         skipped: Vec::new(),
         references: Vec::new(),
+        image_dirs: specs
+            .iter()
+            .cloned()
+            .zip(dir_names.iter().cloned())
+            .collect(),
+        scene_notes: Vec::new(),
         errors: Vec::new(),
+        panics: Vec::new(),
         markdown: String::new(),
     };
     let bar = crate::progress_bar(env.progress, (scenes.len() * (selected.len() + 1)) as u64);
     let say = |bar: &indicatif::ProgressBar, line: String| bar.suspend(|| eprintln!("{line}"));
 
-    for (spec, scene) in &scenes {
-        let dir = opts.out.join("images").join(scene_dir_name(spec));
+    for (loaded, dir_name) in scenes.iter().zip(&dir_names) {
+        let (spec, scene) = (&loaded.spec, &loaded.scene);
+        for note in &loaded.notes {
+            say(&bar, format!("warning: {spec}: {note}"));
+            report.scene_notes.push(format!("{spec}: {note}"));
+        }
+        let dir = opts.out.join("images").join(dir_name);
         bar.set_message(format!("{spec}: reference"));
         let references = match path_references(env, &opts.out, spec, scene, opts.size, opts.frames)
         {
@@ -445,6 +516,9 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
             if let Some(err) = &outcome.row.error {
                 let msg = format!("{spec} / {id}: {err}");
                 say(&bar, format!("error: {msg}"));
+                if err.starts_with(PANICKED) {
+                    report.panics.push(msg.clone());
+                }
                 report.errors.push(msg);
             } else if let Some(n) = outcome.row.nan_pixels.filter(|&n| n > 0) {
                 say(

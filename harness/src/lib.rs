@@ -18,6 +18,7 @@ pub mod bench;
 pub mod cache;
 pub mod compare;
 pub mod images;
+pub mod limits;
 pub mod plot;
 pub mod report;
 pub mod run;
@@ -211,6 +212,10 @@ impl Default for Frames {
 impl Frames {
     /// Most error frames a run may ask for (each needs a CPU reference).
     pub const MAX_ERRORS: u32 = 64;
+    /// Most timed frames a run may ask for.
+    pub const MAX_TIMED: u32 = 10_000;
+    /// Most warm-up frames a run may ask for.
+    pub const MAX_WARMUP: u32 = 1_000;
 
     /// The times of the error frames on a camera path of `duration` seconds: `errors` times
     /// from 0 to `duration` evenly spaced (3: start, middle, end), duplicates removed, so a
@@ -269,8 +274,7 @@ pub fn file_name(id: &str) -> String {
 
 /// Whether a scene spec names a file rather than a built-in scene.
 pub fn is_scene_path(spec: &str) -> bool {
-    let lower = spec.to_lowercase();
-    lower.ends_with(".gltf") || lower.ends_with(".glb") || std::path::Path::new(spec).exists()
+    scene::is_file_spec(spec)
 }
 
 /// The folder name of a scene's images: the file name for a glTF path, the spec otherwise.
@@ -282,6 +286,65 @@ pub fn scene_dir_name(spec: &str) -> String {
         return file_name(&name.unwrap_or_else(|| spec.to_string()));
     }
     file_name(spec)
+}
+
+/// The image folder names of a run's scenes, unique within the run: [`scene_dir_name`] of
+/// each, and where two specs would share a folder (`x/scene.glb` and `y/scene.glb`), the
+/// whole spec made a file name (`x__scene.glb`), then `-2`, `-3`, ... if still equal.
+pub fn scene_dir_names(specs: &[String]) -> Vec<String> {
+    let base: Vec<String> = specs.iter().map(|s| scene_dir_name(s)).collect();
+    let mut names: Vec<String> = specs
+        .iter()
+        .zip(&base)
+        .map(
+            |(spec, name)| match base.iter().filter(|b| *b == name).count() {
+                1 => name.clone(),
+                _ => file_name(spec.trim_start_matches("./")),
+            },
+        )
+        .collect();
+    for i in 0..names.len() {
+        let mut k = 2;
+        while names[..i].contains(&names[i]) {
+            names[i] = format!("{}-{k}", names[i].trim_end_matches(&format!("-{}", k - 1)));
+            k += 1;
+        }
+    }
+    names
+}
+
+/// The lock a run holds on its output folder (`<out>/.lock`) while it writes there: a second
+/// run into the same folder fails at once with one sentence instead of mixing its rows and
+/// images with the first's. The operating system releases it when the process ends, however
+/// it ends.
+pub struct OutputLock {
+    _file: std::fs::File,
+}
+
+impl OutputLock {
+    /// Creates `out` and takes its lock, or fails when another run holds it.
+    pub fn acquire(out: &std::path::Path) -> Result<Self> {
+        std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+        let path = out.join(".lock");
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .with_context(|| format!("cannot create the lock file {}", path.display()))?;
+        match file.try_lock() {
+            Ok(()) => Ok(OutputLock { _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => bail!(
+                "another harness run is writing to {} (it holds {}); wait for it to finish or \
+                 choose another --out",
+                out.display(),
+                path.display()
+            ),
+            Err(std::fs::TryLockError::Error(e)) => {
+                Err(anyhow::anyhow!(e).context(format!("cannot lock {}", path.display())))
+            }
+        }
+    }
 }
 
 /// Splits a `--scenes` list on commas, keeping `key=value` pieces with the spec before them:
@@ -311,8 +374,19 @@ pub fn builtin_scene_names() -> Vec<String> {
 
 /// Loads a scene spec (built-in or .gltf/.glb path) with a one-line error.
 pub fn load_scene(spec: &str) -> Result<Scene> {
-    let scene = scene::load(spec).with_context(|| format!("scene \"{spec}\""))?;
-    Ok(scene)
+    load_scene_noted(spec).map(|(scene, _)| scene)
+}
+
+/// [`load_scene`] with the importer's notes (default lighting added, normals repaired): what
+/// `compare` prints as warnings and records in `results.json`.
+pub fn load_scene_noted(spec: &str) -> Result<(Scene, Vec<String>)> {
+    // A file's errors name the file already (`cannot load glTF x.glb: ...`); a built-in
+    // spec's parameter errors do not, so they get the spec in front.
+    if scene::is_file_spec(spec) {
+        return Ok(scene::load_noted(spec)?);
+    }
+    let loaded = scene::load_noted(spec).with_context(|| format!("scene \"{spec}\""))?;
+    Ok(loaded)
 }
 
 /// Resolves `--techniques` names against the ids a factory offers: an exact id, or a family
@@ -412,6 +486,24 @@ mod tests {
         assert_eq!(file_name("a b/c"), "a_b__c");
         assert_eq!(file_name("../x"), "_..__x");
         assert_eq!(file_name(""), "_");
+    }
+
+    #[test]
+    fn scene_folders_are_unique() {
+        let specs: Vec<String> = ["x/scene.glb", "y/scene.glb", "cornell-sphere", "z/a.glb"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        assert_eq!(
+            scene_dir_names(&specs),
+            vec!["x__scene.glb", "y__scene.glb", "cornell-sphere", "a.glb"]
+        );
+        let same: Vec<String> = ["a.glb", "./a.glb", "a.glb"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let names = scene_dir_names(&same);
+        assert_eq!(names, vec!["a.glb", "a.glb-2", "a.glb-3"]);
     }
 
     #[test]

@@ -23,10 +23,12 @@ struct Cli {
 #[derive(Args, Clone, Copy)]
 struct FrameArgs {
     /// Timed frames along the scene's camera path (time = i * duration / N).
-    #[arg(long, default_value_t = 16, value_name = "N")]
+    #[arg(long, default_value_t = 16, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=Frames::MAX_TIMED as i64))]
     frames: u32,
     /// Untimed warm-up frames before them.
-    #[arg(long, default_value_t = 3, value_name = "N")]
+    #[arg(long, default_value_t = 3, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(0..=Frames::MAX_WARMUP as i64))]
     warmup: u32,
     /// Error frames: times spread evenly over the camera path, start and end included, at
     /// which the image is measured against a reference of its own (1: time 0 only).
@@ -49,13 +51,16 @@ impl FrameArgs {
 #[derive(Args, Clone, Copy, Default)]
 struct RefArgs {
     /// Reference: specular interactions followed per path [default: the renderer's, 8].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(0..=harness::limits::MAX_REF_DEPTH as i64))]
     ref_depth: Option<u32>,
     /// Reference: caustic photons in total; 0 disables caustics [default: the renderer's].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N",
+          value_parser = clap::value_parser!(u64).range(0..=harness::limits::MAX_REF_PHOTONS))]
     ref_photons: Option<u64>,
     /// Reference: eye samples per pixel [default: 1, the pixel centre].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=harness::limits::MAX_REF_SPP as i64))]
     ref_spp: Option<u32>,
 }
 
@@ -190,6 +195,10 @@ fn print_table(ctx: &gpu::Context, timer_kind: &str, markdown: &str) {
     print!("{markdown}");
 }
 
+/// Exit status of a compare or sweep in which a technique panicked (the harness caught it,
+/// wrote every file, and still fails: a panic is a defect, never a result).
+const PANIC_EXIT: u8 = 4;
+
 /// An error as one line.
 fn one_line(text: &str) -> String {
     text.lines()
@@ -245,9 +254,18 @@ fn run(cli: Cli) -> Result<ExitCode> {
             reference,
             strict,
         } => {
-            let scenes = scenes
-                .map(|s| harness::split_scene_list(&s))
-                .unwrap_or_default();
+            let scenes = match scenes {
+                Some(list) => {
+                    let specs = harness::split_scene_list(&list);
+                    if specs.is_empty() {
+                        bail!(
+                            "--scenes \"{list}\" names no scene; leave it out to run every built-in scene"
+                        );
+                    }
+                    specs
+                }
+                None => Vec::new(),
+            };
             // Check names and scenes before creating the GPU context (seconds on a software
             // adapter); the runner checks them again.
             let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
@@ -278,6 +296,14 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     "{} error(s), printed above and listed in results.json",
                     report.errors.len()
                 );
+            }
+            if !report.panics.is_empty() {
+                eprintln!(
+                    "error: {} technique run(s) panicked (a defect, whatever --strict says): {}",
+                    report.panics.len(),
+                    report.panics.join("; ")
+                );
+                return Ok(ExitCode::from(PANIC_EXIT));
             }
             let nan = report.rows.iter().any(|r| r.nan_pixels.unwrap_or(0) > 0);
             if strict && (!report.errors.is_empty() || nan) {
@@ -323,6 +349,14 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     "{} error(s), printed above and listed in sweep.json",
                     report.errors.len()
                 );
+            }
+            if !report.panics.is_empty() {
+                eprintln!(
+                    "error: {} technique run(s) panicked: {}",
+                    report.panics.len(),
+                    report.panics.join("; ")
+                );
+                return Ok(ExitCode::from(PANIC_EXIT));
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -391,7 +425,13 @@ fn list(params: bool) -> Result<ExitCode> {
         println!("  {:<18} {}", s.name, s.description);
         if params {
             for p in &s.params {
-                println!("      {:<20} default {:<10} {}", p.name, p.default, p.help);
+                println!(
+                    "      {:<20} default {:<10} range {:<20} {}",
+                    p.name,
+                    p.default,
+                    p.range_text(),
+                    p.help
+                );
             }
         } else if !s.params.is_empty() {
             let names: Vec<String> = s
@@ -445,7 +485,9 @@ fn render(
         );
     }
     let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
-    let use_ground_truth = technique == "reference" && !all_ids.iter().any(|id| id == "reference");
+    // `reference` is the ground truth itself, rendered with the --ref-* options (the
+    // registry's `reference` technique renders with the defaults; it is there for compare).
+    let use_ground_truth = technique == "reference";
     let id = if use_ground_truth {
         String::new()
     } else {
@@ -458,9 +500,17 @@ fn render(
             ),
         }
     };
-    let scene = harness::load_scene(spec)?;
+    let (scene, notes) = harness::load_scene_noted(spec)?;
+    for note in notes {
+        eprintln!("warning: {spec}: {note}");
+    }
     let ctx = context()?;
-    ctx.check_size(size.width, size.height)?;
+    let one_image = Frames {
+        timed: 0,
+        warmup: 0,
+        errors: 1,
+    };
+    harness::limits::check_memory(&ctx, size, one_image)?;
     let image = if use_ground_truth {
         harness::backend::render_reference(
             &scene,

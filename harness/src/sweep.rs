@@ -52,6 +52,8 @@ pub struct SweepReport {
     pub warmup: u32,
     pub rows: Vec<ResultRow>,
     pub errors: Vec<String>,
+    /// The values whose technique panicked (a defect: the binary exits non-zero).
+    pub panics: Vec<String>,
     /// Whether `sweep.png` has text (false when no font could be loaded).
     pub plot_has_text: bool,
     #[serde(skip)]
@@ -159,14 +161,14 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
     env.ctx
         .require(probe.required_features())
         .with_context(|| format!("technique {id}"))?;
-    env.ctx.check_size(opts.size.width, opts.size.height)?;
-    std::fs::create_dir_all(&opts.out)
-        .with_context(|| format!("cannot create {}", opts.out.display()))?;
+    crate::limits::check_memory(env.ctx, opts.size, opts.frames)?;
+    let _lock = crate::OutputLock::acquire(&opts.out)?;
     let image_dir = opts.out.join("images");
 
     let adapter_name = env.ctx.summary.name.clone();
     let mut rows = Vec::new();
     let mut errors = Vec::new();
+    let mut panics = Vec::new();
     let bar = crate::progress_bar(env.progress, opts.values.len() as u64);
     let say = |line: String| bar.suspend(|| eprintln!("{line}"));
     let mut shared: Option<(Vec<compare::TimedReference>, Option<scene::GpuScene>)> = None;
@@ -262,6 +264,9 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         if let Some(err) = &outcome.row.error {
             let msg = format!("{suffix}: {err}");
             say(format!("error: {msg}"));
+            if err.starts_with(compare::PANICKED) {
+                panics.push(msg.clone());
+            }
             errors.push(msg);
         }
         rows.push(outcome.row);
@@ -293,6 +298,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         markdown: report::to_markdown(&rows, true),
         rows,
         errors,
+        panics,
         plot_has_text: text == PlotText::Drawn,
     };
     write_text(
