@@ -6,6 +6,7 @@
 //!
 //! A dev-dependency only: technique crates lifted into someone's renderer never compile it.
 
+pub mod gltf;
 pub mod gpu_time;
 pub mod strategies;
 use gpu::{Context, GpuTimer, HdrImage, Target};
