@@ -9,6 +9,28 @@ use harness::{Env, Frames, Size, images};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// `println!` for the program's output, except that a closed stdout (`harness list | head`)
+/// ends the program quietly with status 0, as it does other Unix tools, instead of
+/// `println!`'s panic ("failed printing to stdout: Broken pipe").
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if writeln!(std::io::stdout(), $($arg)*).is_err() {
+            std::process::exit(0);
+        }
+    }};
+}
+
+/// `print!` with [`outln!`]'s handling of a closed stdout.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if write!(std::io::stdout(), $($arg)*).is_err() {
+            std::process::exit(0);
+        }
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "harness",
@@ -190,9 +212,9 @@ enum Command {
 
 /// The adapter line and a markdown table, as compare, sweep and bench print them.
 fn print_table(ctx: &gpu::Context, timer_kind: &str, markdown: &str) {
-    println!("adapter: {} (timer: {timer_kind})", ctx.summary);
-    println!();
-    print!("{markdown}");
+    outln!("adapter: {} (timer: {timer_kind})", ctx.summary);
+    outln!();
+    out!("{markdown}");
 }
 
 /// Exit status of a compare or sweep in which a technique panicked (the harness caught it,
@@ -286,8 +308,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
             };
             let report = harness::compare::run(&env, &opts)?;
             print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
-            println!();
-            println!(
+            outln!();
+            outln!(
                 "wrote {0}/results.csv, {0}/results.json, {0}/results.md and {0}/images/",
                 out.display()
             );
@@ -339,8 +361,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
             };
             let report = harness::sweep::run(&env, &opts)?;
             print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
-            println!();
-            println!(
+            outln!();
+            outln!(
                 "wrote {0}/sweep.csv, {0}/sweep.json, {0}/sweep.png and {0}/images/",
                 out.display()
             );
@@ -392,8 +414,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let report = harness::bench::run(&env, &opts)?;
             print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
             if let Some(out) = out {
-                println!();
-                println!("wrote {0}/bench.json and {0}/bench.md", out.display());
+                outln!();
+                outln!("wrote {0}/bench.json and {0}/bench.md", out.display());
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -413,19 +435,19 @@ fn run(cli: Cli) -> Result<ExitCode> {
             }
             let model = harness::load_scene(&scene)?;
             harness::backend::export_glb(&model, &out)?;
-            println!("wrote {}", out.display());
+            outln!("wrote {}", out.display());
             Ok(ExitCode::SUCCESS)
         }
     }
 }
 
 fn list(params: bool) -> Result<ExitCode> {
-    println!("Scenes (spec: name or name:key=value,...; or a path to a .gltf/.glb file):");
+    outln!("Scenes (spec: name or name:key=value,...; or a path to a .gltf/.glb file):");
     for s in scene::builtin::builtin_scenes() {
-        println!("  {:<18} {}", s.name, s.description);
+        outln!("  {:<18} {}", s.name, s.description);
         if params {
             for p in &s.params {
-                println!(
+                outln!(
                     "      {:<20} default {:<10} range {:<20} {}",
                     p.name,
                     p.default,
@@ -439,27 +461,31 @@ fn list(params: bool) -> Result<ExitCode> {
                 .iter()
                 .map(|p| format!("{}={}", p.name, p.default))
                 .collect();
-            println!("      params: {}", names.join(", "));
+            outln!("      params: {}", names.join(", "));
         }
     }
-    println!();
+    outln!();
     let techniques = harness::registry();
-    println!(
+    outln!(
         "Techniques ({}; * = in the default compare, the rest with --all-variants):",
         techniques.len()
     );
     if techniques.is_empty() {
-        println!("  (none registered)");
+        outln!("  (none registered)");
     }
     for t in &techniques {
         let mark = if t.representative() { '*' } else { ' ' };
-        println!("{mark} {:<32} {}", t.id(), t.description());
+        outln!("{mark} {:<32} {}", t.id(), t.description());
         if params {
             for p in t.params() {
                 let kind = if p.integer { "integer" } else { "real" };
-                println!(
+                outln!(
                     "      {:<20} default {:<8} range [{}, {}] {kind}  {}",
-                    p.name, p.default, p.min, p.max, p.help
+                    p.name,
+                    p.default,
+                    p.min,
+                    p.max,
+                    p.help
                 );
             }
         }
@@ -551,6 +577,6 @@ fn render(
     if bad > 0 {
         eprintln!("warning: {bad} NaN or infinite pixels");
     }
-    println!("wrote {}", out.display());
+    outln!("wrote {}", out.display());
     Ok(ExitCode::SUCCESS)
 }

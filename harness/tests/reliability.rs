@@ -411,3 +411,23 @@ fn files_without_lights_warn_and_are_recorded() {
     assert!(row["error"].is_null(), "{row}");
     assert!(row["psnr_db"].as_f64().is_some_and(f64::is_finite), "{row}");
 }
+
+/// `harness list | head`: a closed stdout ends the program quietly (before: `println!`
+/// panicked with "failed printing to stdout: Broken pipe", exit 101).
+#[test]
+fn closed_stdout_is_not_a_panic() {
+    for args in [&["list", "--params"][..], &["list"][..]] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_harness"))
+            .args(args)
+            .env("NODEVICE_SELECT", "1")
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        let stderr = text(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(out.status.success(), "{args:?}: {:?} {stderr}", out.status);
+    }
+}

@@ -44,7 +44,11 @@
 //! - **Lights**: each `KHR_lights_punctual` point light becomes a [`PointLight`] at its
 //!   node's world position with intensity (W/sr) = colour * intensity (cd) / 683, 683 lm/W
 //!   being the luminous efficacy of 555 nm light that defines the candela. `range` is
-//!   ignored; spot and directional lights are skipped.
+//!   ignored; spot and directional lights are skipped. A file without any point light gets
+//!   the default lighting of [`Scene::add_default_lighting`] (a key light from the camera's
+//!   upper side and a uniform sky), and a note says so ([`import_noted`]).
+//! - **Normals**: zero-length or non-finite normals are replaced by geometric ones
+//!   ([`Mesh::repair_normals`]), with a note.
 //! - **Camera**: the first perspective camera node met becomes [`Scene::camera`]: eye = the
 //!   node's origin, looking down its -Z with its +Y up, fov = `yfov` in degrees, target on
 //!   the view direction at the distance of the centre of the objects' bounds. Orthographic
@@ -127,6 +131,14 @@
 //! element. Exporting a scene that fails [`Scene::validate`], has a non-finite value that
 //! `validate` does not check, or has an empty mesh is [`SceneError::Invalid`].
 //!
+//! Files: the `.gltf`/`.glb` itself and every external buffer or image must be a regular file
+//! (a FIFO, a device or a folder is refused before it is opened) of at most
+//! [`MAX_FILE_BYTES`]; external files must lie inside the glTF's folder once `..`, `%2e%2e` and
+//! symbolic links are resolved (absolute paths are refused), so a file cannot make the importer
+//! read `/etc/passwd`; of a buffer only its declared `byteLength` is read; images may have at
+//! most [`MAX_TEXTURE_SIDE`] texels per side. Messages escape control characters (a `%00` in a
+//! URI prints as `\0`).
+//!
 //! No malformed input may panic, and no `catch_unwind` is used: the importer parses the
 //! `.glb` container, resolves URIs and reads accessors with its own code, checking every
 //! offset and length before touching buffer data. The `gltf` crate (1.4.1) is used for the
@@ -134,7 +146,9 @@
 //! its validation, which are avoided: its validation indexes `accessors[POSITION]` without
 //! a bounds check (checked here first), and `Image::source` and `Camera::projection` unwrap
 //! optional fields (their JSON is read directly). `tests/gltf_import.rs` fuzzes the
-//! importer structurally (every JSON value removed or replaced) and with bit flips.
+//! importer structurally (every JSON value removed or replaced) and with bit flips;
+//! `tests/gltf_fuzz.rs` by random byte- and JSON-level mutations under an allocation cap, and
+//! replays `tests/corpus/`.
 
 use crate::{
     Building, Camera, CameraPath, DensityProfile, Material, Mesh, Motion, Object, PointLight,
