@@ -59,15 +59,19 @@ struct Case {
     args: Vec<String>,
 }
 
-fn run(case: &Case) -> (Outcome, String) {
+fn run(case: &Case, logs: &Path) -> (Outcome, String) {
+    // Output goes to files, not pipes: a child that writes more than a pipe holds (a panic's
+    // backtrace from several threads) would block on its write and look like a hang.
+    let stdout_path = logs.join("stdout.txt");
+    let stderr_path = logs.join("stderr.txt");
     // CAMPAIGN_HARNESS runs another build (an older commit's, for the counts before a fix).
     let binary = std::env::var("CAMPAIGN_HARNESS").unwrap_or(env!("CARGO_BIN_EXE_harness").into());
     let mut child = Command::new(binary)
         .args(&case.args)
         .env("NODEVICE_SELECT", "1")
         .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
+        .stdout(std::fs::File::create(&stdout_path).unwrap())
+        .stderr(std::fs::File::create(&stderr_path).unwrap())
         .spawn()
         .expect("start the harness");
     let start = Instant::now();
@@ -82,8 +86,7 @@ fn run(case: &Case) -> (Outcome, String) {
         }
         std::thread::sleep(Duration::from_millis(20));
     };
-    let output = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    let stderr = String::from_utf8_lossy(&std::fs::read(&stderr_path).unwrap()).into_owned();
     let Some(status) = status else {
         return (Outcome::Hang, format!("killed after {:?}", timeout()));
     };
@@ -735,7 +738,7 @@ fn campaign() {
     let start = Instant::now();
     let mut results = Vec::new();
     for (i, case) in cases.iter().enumerate() {
-        let (outcome, detail) = run(case);
+        let (outcome, detail) = run(case, &dir);
         if i % 50 == 0 {
             eprintln!(
                 "{i}/{} ({:.0} s)",

@@ -257,6 +257,8 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         frames: FRAMES,
     };
     let report = harness::compare::run(&env, &opts).unwrap();
+    // A caught panic is a failure of the technique, whatever else the test checks.
+    assert!(report.panics.is_empty(), "{:?}", report.panics);
     let row = |id: &str| {
         report
             .rows
@@ -375,6 +377,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         ..opts
     };
     let again = harness::compare::run(&env, &opts).unwrap();
+    assert!(again.panics.is_empty(), "{:?}", again.panics);
     assert_eq!(truth.renders.load(Ordering::SeqCst), 3);
     assert!(again.references[0].cached);
     assert_eq!(again.rows.len(), 1);
@@ -399,6 +402,7 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
         frames: FRAMES,
     };
     let report = harness::sweep::run(&env, &opts).unwrap();
+    assert!(report.panics.is_empty(), "{:?}", report.panics);
     let rmse: Vec<f64> = report.rows.iter().map(|r| r.rmse.unwrap()).collect();
     assert!(
         (rmse[0] - 0.25).abs() < 1e-6 && rmse[1] == 0.0 && (rmse[2] - 0.5).abs() < 1e-6,
@@ -431,6 +435,7 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
         ..opts
     };
     let report = harness::sweep::run(&env, &opts).unwrap();
+    assert!(report.panics.is_empty(), "{:?}", report.panics);
     let scenes: Vec<&str> = report.rows.iter().map(|r| r.scene.as_str()).collect();
     assert_eq!(
         scenes,

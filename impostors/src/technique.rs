@@ -503,12 +503,7 @@ impl Technique for Impostor {
                 0
             }
             + caustic.as_ref().map_or(0, |c| c.generator_bytes());
-        let specular = scene
-            .scene
-            .objects
-            .iter()
-            .filter(|o| o.material.is_specular())
-            .count();
+        let specular = scene.scene.specular_objects().len();
         scene::technique::check_map_budget(&self.id, specular, per_object, "resolution")?;
         let refractor_pipeline = double_refraction.then(|| {
             scene::scene_pipeline(

@@ -184,12 +184,7 @@ impl Technique for ClassicEnvMap {
         let ctx = frame.gpu;
         let layout = envmap_layout(ctx);
         self.maps.clear();
-        let specular = scene
-            .scene
-            .objects
-            .iter()
-            .filter(|o| o.material.is_specular())
-            .count();
+        let specular = scene.scene.specular_objects().len();
         let format = wgpu::TextureFormat::Rgba16Float;
         crate::technique::check_map_budget(
             &self.id(),

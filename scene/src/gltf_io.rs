@@ -1051,7 +1051,7 @@ impl Importer<'_> {
                 up,
                 fov_y_deg,
             }) => {
-                let (lo, hi) = world_bounds(&self.objects);
+                let (lo, hi) = crate::world_bounds(&self.objects);
                 let d = ((lo + hi) * 0.5 - eye).length();
                 let d = if d.is_finite() && d > 1e-3 { d } else { 1.0 };
                 Camera {
@@ -1523,26 +1523,10 @@ fn flat_shaded(positions: &[Vec3], uvs: &[Vec2], indices: &[u32]) -> Mesh {
     m
 }
 
-/// World-space bounds of the objects' vertices (empty bounds are (+inf, -inf)).
-fn world_bounds(objects: &[Object]) -> (Vec3, Vec3) {
-    objects
-        .iter()
-        .flat_map(|o| {
-            o.mesh
-                .positions
-                .iter()
-                .map(|p| o.transform.transform_point3(*p))
-        })
-        .fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(p), hi.max(p)),
-        )
-}
-
 /// A camera that sees the world-space bounds of `objects` (45 degrees, from +Z and a little
 /// above).
 fn frame_objects(objects: &[Object]) -> Camera {
-    let (lo, hi) = world_bounds(objects);
+    let (lo, hi) = crate::world_bounds(objects);
     let (center, radius) = if lo.cmple(hi).all() {
         ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3))
     } else {
@@ -1926,8 +1910,8 @@ fn encode_png(t: &Texture) -> Result<Vec<u8>, String> {
 }
 
 /// Assembles a `.glb`: 12-byte header, JSON chunk padded with spaces, BIN chunk padded
-/// with zeros.
-fn glb(mut json_text: Vec<u8>, mut bin: Vec<u8>) -> Vec<u8> {
+/// with zeros (omitted when empty).
+pub fn glb(mut json_text: Vec<u8>, mut bin: Vec<u8>) -> Vec<u8> {
     while !json_text.len().is_multiple_of(4) {
         json_text.push(b' ');
     }

@@ -565,6 +565,13 @@ impl Scene {
             .filter(|&i| self.objects[i].roles.intersects(roles))
             .collect()
     }
+    /// Indices of the objects with a specular material (metal or glass): the objects that
+    /// techniques keeping a map per specular object make maps for.
+    pub fn specular_objects(&self) -> Vec<usize> {
+        (0..self.objects.len())
+            .filter(|&i| self.objects[i].material.is_specular())
+            .collect()
+    }
     /// The objects a technique treats specially (everything but plain diffuse scenery).
     pub fn special_objects(&self) -> Vec<usize> {
         (0..self.objects.len())
@@ -587,19 +594,7 @@ impl Scene {
     /// lights (without it every pixel would be black and every technique would score a
     /// perfect, meaningless, 0 error). Returns the note the harness prints and records.
     pub fn add_default_lighting(&mut self) -> String {
-        let (lo, hi) = self
-            .objects
-            .iter()
-            .flat_map(|o| {
-                o.mesh
-                    .positions
-                    .iter()
-                    .map(|p| o.transform.transform_point3(*p))
-            })
-            .fold(
-                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-                |(lo, hi), p| (lo.min(p), hi.max(p)),
-            );
+        let (lo, hi) = world_bounds(&self.objects);
         let (center, radius) = if lo.cmple(hi).all() {
             ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3))
         } else {
@@ -755,6 +750,23 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// World-space bounds (min, max) of the objects' vertices under their transforms, without
+/// motion; empty bounds are (+inf, -inf).
+pub fn world_bounds(objects: &[Object]) -> (Vec3, Vec3) {
+    objects
+        .iter()
+        .flat_map(|o| {
+            o.mesh
+                .positions
+                .iter()
+                .map(|p| o.transform.transform_point3(*p))
+        })
+        .fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(p), hi.max(p)),
+        )
 }
 
 /// Radiance of the uniform sky [`Scene::add_default_lighting`] gives a scene with a black

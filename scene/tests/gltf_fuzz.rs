@@ -16,7 +16,7 @@ use proptest::test_runner::{Config, FileFailurePersistence, TestRunner};
 use serde_json::Value;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use testkit::gltf::{Glb, small_scene};
+use testkit::gltf::{Glb, base64, small_scene};
 
 /// Most bytes the fuzzed process may hold at once: the importer must bound what a file can
 /// make it allocate (declared counts, lengths and image sizes are checked before use).
@@ -85,27 +85,6 @@ fn seeds() -> Vec<Vec<u8>> {
         Glb::from_scene(&rich).to_bytes(),
         serde_json::to_vec(&gltf).unwrap(),
     ]
-}
-
-fn base64(bytes: &[u8]) -> String {
-    const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            out.push(if k <= chunk.len() {
-                ABC[(n >> (18 - 6 * k) & 63) as usize] as char
-            } else {
-                '='
-            });
-        }
-    }
-    out
 }
 
 /// One edit of a file.
