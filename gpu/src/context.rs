@@ -208,15 +208,11 @@ impl Context {
         }
     }
 
-    /// Runs `f` with validation errors captured, turning them into a `GpuError` instead of the
-    /// default panic handler.
+    /// Runs `f` with validation and out-of-memory errors captured, turning them into a
+    /// `GpuError` instead of the default handler's panic (every step `scene::runner` records,
+    /// a technique's prepare and frames included, runs inside it).
     pub fn validated<T>(&self, f: impl FnOnce() -> T) -> Result<T, GpuError> {
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let value = f();
-        match pollster::block_on(scope.pop()) {
-            Some(err) => Err(GpuError::Validation(err.to_string())),
-            None => Ok(value),
-        }
+        self.allocating("recorded work", f)
     }
 }
 

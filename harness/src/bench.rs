@@ -181,7 +181,10 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
     if opts.rounds < 2 || opts.frames == 0 {
         bail!("bench needs at least 2 rounds of at least 1 frame to state a spread");
     }
-    let scene = crate::load_scene(&opts.scene)?;
+    let (scene, notes) = crate::load_scene_noted(&opts.scene)?;
+    for note in &notes {
+        eprintln!("warning: {}: {note}", opts.scene);
+    }
     let one_image = Frames {
         errors: 1,
         ..Frames::default()

@@ -2,9 +2,11 @@
 //! allocate until the machine runs out of memory, or run for days.
 //!
 //! Every option of the command line has a declared range (clap checks the integer ones with
-//! the constants here; see harness/README.md, "Reliability"). What a range cannot say, the
-//! memory a run of a given image size needs, [`check_memory`] estimates before any image is
-//! allocated and compares with what the machine and the adapter can give.
+//! the constants here; see README.md, "Reliability"). What a range cannot say, the memory a
+//! run of a given image size needs, [`check_memory`] estimates before any image is allocated
+//! and compares with what the machine can give and with the adapter's largest buffer (wgpu
+//! does not report a hardware adapter's free memory; on a software adapter the machine's
+//! memory is the adapter's).
 
 use crate::{Frames, Size};
 use anyhow::{Result, bail};
@@ -16,6 +18,9 @@ pub const MAX_REF_DEPTH: u32 = 64;
 pub const MAX_REF_PHOTONS: u64 = 100_000_000;
 /// Largest `--ref-spp` (eye samples per pixel of the reference).
 pub const MAX_REF_SPP: u32 = 256;
+/// Largest `bench --time` (seconds along the camera path; past a path's end its last key
+/// holds).
+pub const MAX_TIME: f32 = 1.0e6;
 
 /// GPU bytes per pixel a technique's frame may hold: the target (16 colour + 4 depth), its
 /// read-back buffer (16), and up to six more screen-sized float targets of a technique's own

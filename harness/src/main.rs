@@ -393,8 +393,11 @@ fn run(cli: Cli) -> Result<ExitCode> {
             warmup,
             out,
         } => {
-            if !time.is_finite() {
-                bail!("--time must be a finite number of seconds");
+            if !(0.0..=harness::limits::MAX_TIME).contains(&time) {
+                bail!(
+                    "--time {time} is outside [0, {}] seconds",
+                    harness::limits::MAX_TIME
+                );
             }
             harness::load_scene(&scene)?;
             let ctx = context()?;

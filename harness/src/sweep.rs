@@ -104,7 +104,10 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             ids.join(", ")
         );
     };
-    let base_scene = crate::load_scene(&opts.scene)?;
+    let (base_scene, notes) = crate::load_scene_noted(&opts.scene)?;
+    for note in &notes {
+        eprintln!("warning: {}: {note}", opts.scene);
+    }
     let probe = instance(env, id)?;
     let owner = if probe.params().iter().any(|p| p.name == opts.param) {
         ParamOwner::Technique

@@ -93,6 +93,14 @@ fn top_down_camera_renders() {
 fn sizes_beyond_memory_fail_before_allocating() {
     let out = tmp("huge").join("x.png");
     for size in ["11600x11600", "16384x16384"] {
+        // On a machine that can hold such a run (the GPU machine has 128 GiB and a bigger
+        // adapter) it is not an error: the case is the 2-core, 24 GB machine of the issue.
+        let s: harness::Size = size.parse().unwrap();
+        let (gpu, cpu) = harness::limits::estimate(s, harness::Frames::default());
+        if harness::limits::available_memory().is_some_and(|m| gpu + cpu <= m) {
+            eprintln!("skipped {size}: this machine has the memory for it");
+            continue;
+        }
         let e = fails_within(
             30,
             &[
@@ -325,20 +333,19 @@ fn messages_are_right() {
 
     let glb = Glb::from_scene(&small_scene());
     let nul = glb.write_gltf(&dir, "nul", Some("a%00b.bin"));
-    let out = harness(&[
-        "render",
-        "--scene",
-        path(&nul),
-        "--technique",
-        "raster",
-        "--out",
-        path(&dir.join("y.png")),
-    ]);
-    assert!(
-        !out.stderr.contains(&0),
-        "a raw NUL byte in {:?}",
-        text(&out.stderr)
+    let e = fails_within(
+        20,
+        &[
+            "render",
+            "--scene",
+            path(&nul),
+            "--technique",
+            "raster",
+            "--out",
+            path(&dir.join("y.png")),
+        ],
     );
+    assert!(e.contains("a\\0b.bin") && !e.contains('\0'), "{e:?}");
 
     // A 20000 x 1 texture: the message gives its real size.
     let mut wide = small_scene();

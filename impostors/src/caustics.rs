@@ -373,16 +373,20 @@ impl Caustics {
         &self.atlas
     }
 
-    /// GPU memory of one object's [`GeneratorMaps`] (two photon targets, their depth, the
-    /// grid), for the per-object map budget.
-    pub fn generator_bytes(&self) -> u64 {
+    /// GPU memory of one object's [`GeneratorMaps`] whose impostor has face size `env_size`
+    /// (two photon targets, their depth, the grid, the receiver cube maps), for the per-object
+    /// map budget.
+    pub fn generator_bytes(&self, env_size: u32) -> u64 {
         let size = self.settings.resolution as u64;
         let texel = PHOTON_FORMAT.block_copy_size(None).unwrap_or(16) as u64;
         let grid = match self.settings.path {
             CausticPath::Grid => 6 * 3 * 4 * (self.settings.grid as u64).pow(2),
             CausticPath::LightMap => 4,
         };
-        size * size * (2 * texel + 4) + grid
+        size * size * (2 * texel + 4)
+            + grid
+            + CubeTarget::bytes(env_size, RECEIVER_INFO_FORMAT)
+            + CubeTarget::bytes(env_size, RECEIVER_ALBEDO_FORMAT)
     }
 
     /// Resources of one caustic generator whose impostor has face size `env_size`.

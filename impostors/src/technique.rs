@@ -502,7 +502,7 @@ impl Technique for Impostor {
             } else {
                 0
             }
-            + caustic.as_ref().map_or(0, |c| c.generator_bytes());
+            + caustic.as_ref().map_or(0, |c| c.generator_bytes(res));
         let specular = scene.scene.specular_objects().len();
         scene::technique::check_map_budget(&self.id, specular, per_object, "resolution")?;
         let refractor_pipeline = double_refraction.then(|| {

@@ -179,7 +179,7 @@ pub fn import(path: &Path) -> Result<Scene, SceneError> {
 /// prints them as warnings and writes them to `results.json`.
 pub fn import_noted(path: &Path) -> Result<(Scene, Vec<String>), SceneError> {
     let shown = shown_path(path);
-    let bytes = read_regular_file(path, MAX_FILE_BYTES, false)
+    let bytes = read_regular_file(path, MAX_FILE_BYTES, false, false)
         .map_err(|e| SceneError::Io(shown.clone(), e))?;
     let stem = path
         .file_stem()
@@ -269,11 +269,32 @@ fn printable(text: &str) -> String {
 
 /// Reads a regular file: all of it when it holds at most `limit` bytes, else, with
 /// `first_bytes`, its first `limit` bytes (a buffer's declared byteLength) and without, an
-/// error. FIFOs, devices and folders are refused before they are opened (a FIFO would block
-/// forever, `/dev/zero` never ends).
-fn read_regular_file(path: &Path, limit: u64, first_bytes: bool) -> Result<Vec<u8>, String> {
+/// error. FIFOs, devices and folders are refused without reading (a FIFO would block forever,
+/// `/dev/zero` never ends). `resolved`: the path has been resolved and checked to lie in the
+/// glTF's folder, so a symbolic link in its last component can only be a swap since then,
+/// and is refused.
+fn read_regular_file(
+    path: &Path,
+    limit: u64,
+    first_bytes: bool,
+    resolved: bool,
+) -> Result<Vec<u8>, String> {
     use std::io::Read as _;
-    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    // Opened without blocking (a FIFO would block in `open` itself) and, where the system
+    // has it, without following a symbolic link in the last component; the *open handle* is
+    // then checked, so a file swapped after the folder check cannot slip through.
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        let no_follow = if resolved { libc::O_NOFOLLOW } else { 0 };
+        options.custom_flags(libc::O_NONBLOCK | no_follow);
+    }
+    #[cfg(not(unix))]
+    let _ = resolved;
+    let file = options.open(path).map_err(|e| e.to_string())?;
+    let meta = file.metadata().map_err(|e| e.to_string())?;
     if !meta.is_file() {
         return Err("it is not a regular file (a folder, device or FIFO)".into());
     }
@@ -284,8 +305,8 @@ fn read_regular_file(path: &Path, limit: u64, first_bytes: bool) -> Result<Vec<u
         ));
     }
     let mut bytes = Vec::with_capacity(meta.len().min(limit) as usize);
-    std::fs::File::open(path)
-        .and_then(|f| f.take(limit).read_to_end(&mut bytes))
+    file.take(limit)
+        .read_to_end(&mut bytes)
         .map_err(|e| e.to_string())?;
     Ok(bytes)
 }
@@ -496,6 +517,7 @@ fn import_impl(
         lights: vec![],
         camera: None,
         notes: vec![],
+        triangles: 0,
     }
     .run(fallback_name)
 }
@@ -662,7 +684,7 @@ fn read_uri(
     if !resolved.starts_with(&folder) {
         return Err(outside());
     }
-    read_regular_file(&resolved, limit, first_bytes).map_err(|e| {
+    read_regular_file(&resolved, limit, first_bytes, true).map_err(|e| {
         format!(
             "{what} refers to {}, which cannot be read: {e}",
             shown_path(&full)
@@ -952,6 +974,8 @@ struct Importer<'a> {
     camera: Option<FoundCamera>,
     /// What the importer supplied or repaired, one sentence each.
     notes: Vec<String>,
+    /// Triangles of the objects made so far.
+    triangles: usize,
 }
 
 /// The first perspective camera: exact from the extras, or from the node (its target is
@@ -1164,6 +1188,19 @@ impl Importer<'_> {
                     });
                 }
                 self.objects.push(object);
+                // Checked as objects are made, not after: a file of many nodes sharing one big
+                // mesh must not make the importer copy that mesh past the limit first.
+                self.triangles += self.objects.last().map_or(0, |o| o.mesh.triangle_count());
+                if self.triangles > crate::MAX_TRIANGLES {
+                    return Err(format!(
+                        "the scene has more than {} triangles (node {} brings it to {}); the \
+                         renderers accept at most {}",
+                        crate::MAX_TRIANGLES,
+                        describe_node(node),
+                        self.triangles,
+                        crate::MAX_TRIANGLES
+                    ));
+                }
             }
         }
         if let Some(light) = node.light()
@@ -1854,13 +1891,7 @@ impl Exporter {
 
 /// The camera node's rotation: the camera looks down its -Z with +Y up.
 fn camera_rotation(c: &Camera) -> Quat {
-    let forward = (c.target - c.eye).normalize();
-    let mut right = forward.cross(c.up);
-    if right.length_squared() < 1e-12 {
-        right = forward.any_orthonormal_vector();
-    }
-    let right = right.normalize();
-    let up = right.cross(forward);
+    let (forward, right, up) = c.basis();
     Quat::from_mat3(&Mat3::from_cols(right, up, -forward)).normalize()
 }
 

@@ -47,8 +47,7 @@ pub fn shadow_map_size(lights: usize, max_layers: u32) -> Result<u32, SceneError
         size /= 2;
     }
     if lights > max_lights || bytes(size as u64) > SHADOW_BUDGET_BYTES {
-        let by_budget =
-            SHADOW_BUDGET_BYTES / bytes(MIN_SHADOW_MAP_SIZE as u64) * lights.max(1) as u64;
+        let by_budget = SHADOW_BUDGET_BYTES / (7 * 4 * (MIN_SHADOW_MAP_SIZE as u64).pow(2));
         return Err(SceneError::Invalid(format!(
             "the scene has {lights} point lights; the GPU scene keeps a shadow cube map per \
              light and takes at most {} on this adapter ({max_layers} texture array layers, \

@@ -28,7 +28,7 @@ impl Mesh {
         let bad: Vec<bool> = self
             .normals
             .iter()
-            .map(|n| !(n.is_finite() && n.length_squared() >= 1e-12))
+            .map(|n| !(n.length_squared().is_finite() && n.length_squared() >= 1e-12))
             .collect();
         if !bad.contains(&true) {
             return 0;
@@ -673,10 +673,10 @@ impl Scene {
                 .mesh
                 .normals
                 .iter()
-                .position(|n| n.length_squared() < 1e-12)
+                .position(|n| !(n.length_squared().is_finite() && n.length_squared() >= 1e-12))
             {
                 return bad(format!(
-                    "object \"{}\" has a zero-length normal at vertex {n} \
+                    "object \"{}\" has a zero-length or non-finite normal at vertex {n} \
                      (`Mesh::repair_normals` replaces such normals by geometric ones)",
                     o.name
                 ));
@@ -735,11 +735,16 @@ impl Scene {
         if !c.eye.is_finite() || !c.target.is_finite() || c.eye == c.target {
             return bad("the camera is not finite or looks at its own eye".into());
         }
-        if !(c.eye.abs().max_element() <= MAX_WORLD_COORDINATE) {
+        let farthest_eye = self
+            .camera_path
+            .keys
+            .iter()
+            .map(|(_, k)| k.eye.abs().max_element())
+            .fold(c.eye.abs().max_element(), f32::max);
+        if !(farthest_eye <= MAX_WORLD_COORDINATE) {
             return bad(format!(
-                "the camera is {:e} m from the origin, beyond the {MAX_WORLD_COORDINATE:e} m the \
-                 renderers accept",
-                c.eye.abs().max_element()
+                "the camera (or its path) is {farthest_eye:e} m from the origin, beyond the \
+                 {MAX_WORLD_COORDINATE:e} m the renderers accept"
             ));
         }
         if !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0) {
@@ -792,16 +797,33 @@ pub const MAX_WORLD_COORDINATE: f32 = 1.0e4;
 /// scaled by 1e-4 around vertices scaled by 1e4 is fine).
 pub const MAX_TRANSFORM_CONDITION: f32 = 1.0e6;
 
+/// Largest Frobenius norm of an object transform's inverse (a uniform scale of 1e-15 has
+/// about 1.7e15): past it, squared lengths of normals transformed by the normal matrix
+/// overflow single precision.
+const MAX_INVERSE_SCALE: f32 = 1.0e16;
+
 /// `None` for a usable object transform, else why not ("singular", "nearly singular").
 fn transform_problem(transform: Mat4) -> Option<&'static str> {
-    let m = Mat3::from_mat4(transform);
+    let frobenius = |m: Mat3| {
+        (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared()).sqrt()
+    };
+    // Scaled to unit norm first: the condition number does not depend on the scale, and the
+    // determinant and inverse of a tiny uniform scale (1e-20) stay representable.
+    let norm = frobenius(Mat3::from_mat4(transform));
+    if !(norm > 0.0 && norm.is_finite()) {
+        return Some("singular");
+    }
+    let m = Mat3::from_mat4(transform) * (1.0 / norm);
     let inverse = m.inverse();
     if m.determinant() == 0.0 || !inverse.is_finite() {
         return Some("singular");
     }
-    let frobenius = |m: Mat3| {
-        (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared()).sqrt()
-    };
+    // The exact inverse is what the shaders use (normal matrix, world-to-object): it must stay
+    // small enough that a transformed unit vector's squared length is finite.
+    let exact_inverse = Mat3::from_mat4(transform).inverse();
+    if !(frobenius(exact_inverse) <= MAX_INVERSE_SCALE) {
+        return Some("too strongly shrinking (scale below 1e-15)");
+    }
     let condition = frobenius(m) * frobenius(inverse);
     (!(condition <= MAX_TRANSFORM_CONDITION)).then_some("nearly singular (flattening)")
 }

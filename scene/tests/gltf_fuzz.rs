@@ -4,7 +4,8 @@
 //! error: never a panic, never an allocation past [`ALLOCATION_CAP`] (a counting global
 //! allocator refuses it, which aborts the test process: a failure nobody can miss).
 //!
-//! `cargo test -p scene --test gltf_fuzz` runs a short campaign ([`DEFAULT_CASES`] cases);
+//! `cargo test -p scene --test gltf_fuzz` runs a short campaign ([`DEFAULT_CASES`] cases) and
+//! fuzzes the file sandbox with built URIs ([`mutated_uris_stay_in_the_folder`]);
 //! `GLTF_FUZZ_CASES=1000000 cargo test -p scene --test gltf_fuzz -- --nocapture` (the dev
 //! profile builds `scene` at opt-level 3)
 //! runs a long one (harness/README.md, "Reliability", has the count and the findings of the
@@ -404,4 +405,68 @@ fn corpus_inputs_never_panic() {
             "{name} is missing from the corpus"
         );
     }
+}
+
+/// The sandbox, fuzzed: buffer URIs built from path pieces (`..` in every spelling, slashes,
+/// names of a file inside the folder, of one outside it, and of a symbolic link inside that
+/// points outside) never import the outside file's bytes: a file that imports names the file
+/// inside the folder.
+#[test]
+fn mutated_uris_stay_in_the_folder() {
+    let root = std::env::temp_dir().join(format!("gltf-fuzz-uris-{}", std::process::id()));
+    let folder = root.join("scene");
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(&folder).unwrap();
+    let glb = Glb::from_scene(&small_scene());
+    std::fs::write(folder.join("inside.bin"), &glb.bin).unwrap();
+    std::fs::write(root.join("outside.bin"), &glb.bin).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(root.join("outside.bin"), folder.join("link.bin")).unwrap();
+    let piece = prop_oneof![
+        Just(".."),
+        Just("%2e%2e"),
+        Just("%2E%2E"),
+        Just(".%2e"),
+        Just("."),
+        Just("scene"),
+        Just("inside.bin"),
+        Just("outside.bin"),
+        Just("link.bin"),
+        Just("%2f"),
+        Just(""),
+        Just("%00"),
+    ];
+    let uri = (any::<bool>(), proptest::collection::vec(piece, 1..6))
+        .prop_map(|(root, p)| format!("{}{}", if root { "/" } else { "" }, p.join("/")));
+    let mut runner = TestRunner::new(Config {
+        cases: 2000,
+        failure_persistence: Some(Box::new(FileFailurePersistence::Off)),
+        ..Config::default()
+    });
+    let imported = std::cell::Cell::new(0);
+    runner
+        .run(&uri, |uri| {
+            let path = glb.write_gltf(&folder, "fuzz", Some(&uri));
+            if scene::gltf_io::import(&path).is_ok() {
+                imported.set(imported.get() + 1);
+                let decoded = uri
+                    .replace("%2e", ".")
+                    .replace("%2E", ".")
+                    .replace("%2f", "/");
+                prop_assert!(
+                    decoded.ends_with("inside.bin") && !decoded.contains("outside"),
+                    "{uri} imported"
+                );
+            }
+            Ok(())
+        })
+        .unwrap();
+    println!(
+        "uri fuzz: {} of 2000 URIs imported (all naming the file inside)",
+        imported.get()
+    );
+    assert!(
+        imported.get() > 0,
+        "no URI reached the file inside the folder"
+    );
 }
