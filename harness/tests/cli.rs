@@ -1,16 +1,10 @@
 //! Bad input to the built binary: each case exits non-zero with one "error: ..." line on stderr
 //! and never a panic.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn harness(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_harness"))
-        .args(args)
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .expect("run the harness binary")
-}
+use common::harness;
+use std::path::PathBuf;
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("harness-cli-{}", std::process::id()));

@@ -2,17 +2,12 @@
 //! once panicked, hung, took memory without bound, was silently accepted or printed a wrong
 //! message, and failed before its fix. Library-level cases: `tests/tests/reliability.rs`.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use testkit::gltf::{Glb, small_scene};
+mod common;
 
-fn harness(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_harness"))
-        .args(args)
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .expect("run the harness binary")
-}
+use common::harness;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use testkit::gltf::{Glb, small_scene};
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir()
