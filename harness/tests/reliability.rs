@@ -41,6 +41,30 @@ fn fails_within(seconds: u64, args: &[&str]) -> String {
     lines[0].to_string()
 }
 
+/// The smallest `compare` of `raster` on `scenes`: 16 x 16, one timed frame, one error
+/// frame, a reference without photons.
+fn raster_compare(out: &Path, scenes: &str) -> std::process::Output {
+    harness(&[
+        "compare",
+        "--out",
+        path(out),
+        "--scenes",
+        scenes,
+        "--techniques",
+        "raster",
+        "--size",
+        "16x16",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--error-frames",
+        "1",
+        "--ref-photons",
+        "0",
+    ])
+}
+
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
 }
@@ -242,25 +266,7 @@ fn outputs_never_collide() {
     let y = Glb::from_scene(&scene).write_glb(&dir.join("y"), "scene");
     let out = dir.join("out");
     let scenes = format!("{},{}", path(&x), path(&y));
-    let run = harness(&[
-        "compare",
-        "--out",
-        path(&out),
-        "--scenes",
-        &scenes,
-        "--techniques",
-        "raster",
-        "--size",
-        "16x16",
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
-        "--error-frames",
-        "1",
-        "--ref-photons",
-        "0",
-    ]);
+    let run = raster_compare(&out, &scenes);
     assert!(run.status.success(), "{}", text(&run.stderr));
     let folders: Vec<String> = std::fs::read_dir(out.join("images"))
         .unwrap()
@@ -379,25 +385,7 @@ fn files_without_lights_warn_and_are_recorded() {
     glb.remove_lights();
     let scene = glb.write_glb(&dir, "dark");
     let out = dir.join("out");
-    let run = harness(&[
-        "compare",
-        "--out",
-        path(&out),
-        "--scenes",
-        path(&scene),
-        "--techniques",
-        "raster",
-        "--size",
-        "16x16",
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
-        "--error-frames",
-        "1",
-        "--ref-photons",
-        "0",
-    ]);
+    let run = raster_compare(&out, path(&scene));
     let stderr = text(&run.stderr);
     assert!(run.status.success(), "{stderr}");
     assert!(
