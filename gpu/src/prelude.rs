@@ -58,6 +58,25 @@ pub fn ray_box(o: Vec3, d: Vec3, bmin: Vec3, bmax: Vec3) -> Vec2 {
     Vec2::new(t_near, t_far)
 }
 
+/// Parallax-corrected ("box-projected") cube-map lookup (Lagarde and Zanuttini 2012, the
+/// localized reflection probes of Unreal, Unity and Bevy): the ray `x + t r` is intersected
+/// with the proxy box `[bmin, bmax]` and the cube map captured at `probe` is looked up toward
+/// the point where the ray leaves the box. Returns (exit point - probe, t_exit): xyz is the
+/// unnormalised lookup direction. When the ray leaves the box nowhere ahead of `x` (x outside,
+/// the box behind or missed) or exits at the probe itself, the direction-only lookup
+/// `(r, -1)` is returned.
+pub fn box_project(x: Vec3, r: Vec3, probe: Vec3, bmin: Vec3, bmax: Vec3) -> Vec4 {
+    let t = ray_box(x, r, bmin, bmax);
+    if t.x > t.y || t.y <= 0.0 {
+        return r.extend(-1.0);
+    }
+    let l = x + r * t.y - probe;
+    if l.dot(l) < 1e-12 {
+        return r.extend(-1.0);
+    }
+    l.extend(t.y)
+}
+
 /// Mirror direction of `i` about unit normal `n`.
 pub fn reflect_dir(i: Vec3, n: Vec3) -> Vec3 {
     i - 2.0 * n.dot(i) * n

@@ -17,6 +17,7 @@
 //! | `ray_plane` | rel 1e-4 plus the rounding bound of the quotient, `8 eps (abs(c) + abs(dot(n, o)) + abs(t)) / abs(dot(n, d))`; when `abs(dot(n, d))` is within rounding of 0 (GPUs may fuse the dot product into FMAs) the parallel test is ill-conditioned and either answer is accepted; exactly parallel cases (representable zero dot products) must give -1 |
 //! | `ray_sphere` | rel 1e-4 plus the propagated rounding error of the discriminant; hit/miss must agree unless the discriminant is within rounding of 0 (tangent rays) |
 //! | `ray_box` | abs 1e-5, rel 1e-5; hit/miss must agree unless the interval is degenerate (`t_near` within 1e-4 of `t_far`: rays grazing an edge). Zero direction components (+0, -0) are included, also with the origin exactly on a slab plane of that component (a ray in a face plane: the box is closed) |
+//! | `box_project` | abs 1e-5, rel 1e-5 on the exit point and t; the fallback (t = -1) must agree unless the interval is degenerate (as `ray_box`) or the exit is within 1e-5 of x (t near 0, an origin on the box) |
 //! | `refract_dir` | abs 1e-5 plus `4 eps / sqrt(abs(k))` with `k = 1 - eta^2 sin^2`; the TIR flag must agree unless `abs(k) < 1e-5`, where either branch is accepted if it returns a unit vector |
 //! | `fresnel_nk` | abs 2e-5, rel 1e-4 (`pow` on the GPU is exp2/log2) |
 //! | `fresnel_dielectric` | abs 2e-5, rel 1e-4, plus `5 * dc` for eta < 1 where `dc` is the rounding error of the transmitted cosine `sqrt(x)`, `x = 1 - sin^2_t` (ill-conditioned near the critical angle; the function is continuous there, so no band is needed) |
@@ -76,6 +77,15 @@ fn k_ray_box(@builtin(global_invocation_id) g: vec3u) {
     if (i >= case_count()) { return; }
     let o = arg(i, 0u); let d = arg(i, 1u); let lo = arg(i, 2u); let hi = arg(i, 3u);
     put(i, 0u, vec4f(ray_box(o.xyz, d.xyz, lo.xyz, hi.xyz), 0.0, 0.0));
+}
+
+@compute @workgroup_size(64)
+fn k_box_project(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= case_count()) { return; }
+    // The probe rides in the w components of the first three arguments.
+    let x = arg(i, 0u); let r = arg(i, 1u); let lo = arg(i, 2u); let hi = arg(i, 3u);
+    put(i, 0u, box_project(x.xyz, r.xyz, vec3f(x.w, r.w, lo.w), lo.xyz, hi.xyz));
 }
 
 @compute @workgroup_size(64)
@@ -546,6 +556,77 @@ fn check_ray_box(prelude: &str) -> Vec<String> {
     })
 }
 
+fn check_box_project(prelude: &str) -> Vec<String> {
+    let mut rng = Rng::new(17);
+    let mut cases = Vec::new();
+    let room = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
+    // Hand-written: the probe at the centre, a point on a wall, an axis-aligned ray with zero
+    // components, a point outside looking away, a ray whose exit is the probe.
+    let edge = [
+        (Vec3::new(0.2, 0.5, 0.1), Vec3::new(0.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)),
+        (Vec3::new(1.0, 0.5, 0.1), Vec3::new(-1.0, 0.0, -0.0), Vec3::new(0.0, 1.0, 0.0)),
+        (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)),
+        (Vec3::new(3.0, 1.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)),
+        (Vec3::new(0.5, 1.0, 0.5), Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, 1.0, 0.0)),
+    ];
+    for (x, r, probe) in edge {
+        cases.push(case(&[
+            x.extend(probe.x),
+            r.extend(probe.y),
+            room.0.extend(probe.z),
+            room.1.extend(0.0),
+        ]));
+    }
+    for k in 0..RANDOM_CASES {
+        let lo = rng.vec3(-3.0, 0.0);
+        let hi = lo + rng.vec3(0.2, 4.0);
+        let inside = |rng: &mut Rng| lo + (hi - lo) * rng.vec3(0.0, 1.0);
+        // Mostly points inside (the probe's room), a quarter anywhere around it.
+        let x = if k % 4 == 0 { rng.vec3(-6.0, 6.0) } else { inside(&mut rng) };
+        let probe = inside(&mut rng);
+        let mut r = rng.unit_vec3();
+        if rng.u32() % 5 == 0 {
+            r[(rng.u32() % 3) as usize] = 0.0;
+            r = r.normalize_or(Vec3::Y);
+        }
+        cases.push(case(&[
+            x.extend(probe.x),
+            r.extend(probe.y),
+            lo.extend(probe.z),
+            hi.extend(0.0),
+        ]));
+    }
+    compare(prelude, "k_box_project", &cases, |c, out| {
+        let (a0, a1, a2, a3) = (arg(c, 0), arg(c, 1), arg(c, 2), arg(c, 3));
+        let (x, r, lo, hi) = (a0.truncate(), a1.truncate(), a2.truncate(), a3.truncate());
+        let probe = Vec3::new(a0.w, a1.w, a2.w);
+        let want = p::box_project(x, r, probe, lo, hi);
+        let got = float4(out[0]);
+        if got.is_nan() || want.is_nan() {
+            return Err(format!("NaN: gpu {got} cpu {want}"));
+        }
+        if (got.w < 0.0) != (want.w < 0.0) {
+            let interval = p::ray_box(x, r, lo, hi);
+            let degenerate = (interval.x - interval.y).abs() <= 1e-4 * (1.0 + interval.x.abs());
+            let grazing_start = got.w.abs().min(want.w.abs()) <= 1e-5;
+            return if degenerate || grazing_start {
+                Ok(())
+            } else {
+                Err(format!(
+                    "x {x} r {r} probe {probe} box {lo}..{hi}: fallback differs: gpu {got} cpu {want}"
+                ))
+            };
+        }
+        if close_v(got, want, 1e-5, 1e-5) {
+            Ok(())
+        } else {
+            Err(format!(
+                "x {x} r {r} probe {probe} box {lo}..{hi}: gpu {got} cpu {want}"
+            ))
+        }
+    })
+}
+
 fn check_reflect_dir(prelude: &str) -> Vec<String> {
     let mut rng = Rng::new(4);
     let mut cases = vec![
@@ -949,6 +1030,11 @@ fn ray_box_conforms() {
 }
 
 #[test]
+fn box_project_conforms() {
+    assert_conforms("box_project", check_box_project(p::PRELUDE_WGSL));
+}
+
+#[test]
 fn reflect_dir_conforms() {
     assert_conforms("reflect_dir", check_reflect_dir(p::PRELUDE_WGSL));
 }
@@ -1017,7 +1103,13 @@ fn luminance_conforms() {
 #[test]
 fn mutated_prelude_constants_are_detected() {
     type Check = fn(&str) -> Vec<String>;
-    let mutations: [(&str, &str, &str, Check); 6] = [
+    let mutations: [(&str, &str, &str, Check); 7] = [
+        (
+            "box_project",
+            "let l = x + r * t.y - probe;",
+            "let l = x + r * t.x - probe;",
+            check_box_project,
+        ),
         ("luminance", "0.7152", "0.7153", check_luminance),
         ("pcg_hash", "277803737u", "277803739u", check_pcg_hash),
         (

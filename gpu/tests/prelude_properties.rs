@@ -270,6 +270,79 @@ proptest! {
         check_ray_box(o, d, lo, lo + size)?;
     }
 
+    /// box_project from inside the proxy box: the exit point (probe + xyz) lies on the box
+    /// surface, ahead of x on the ray at the returned t, and no other point of the box's
+    /// surface along the ray lies farther (it is the *exit*); tolerance 1e-4 (1 + |x| + t).
+    #[test]
+    fn box_project_exits_the_proxy_box_along_the_ray(
+        lo in vec3_in(-3.0, 0.0), size in vec3_in(0.1, 4.0), a in vec3_in(0.001, 0.999),
+        b in vec3_in(0.0, 1.0), r in direction_with_zeros(),
+    ) {
+        let hi = lo + size;
+        let x = lo + size * a;
+        let probe = lo + size * b;
+        let l = box_project(x, r, probe, lo, hi);
+        prop_assert!(!l.is_nan(), "NaN {}", l);
+        prop_assert!(l.w > 0.0, "inside the box the ray always exits ahead: {}", l);
+        let exit = probe + l.truncate();
+        let tol = 1e-4 * (1.0 + x.length() as f64 + l.w as f64);
+        prop_assert!(box_surface_distance(exit.as_dvec3(), lo.as_dvec3(), hi.as_dvec3()) <= tol,
+            "exit {} is off the box", exit);
+        let on_ray = (x + r * l.w - exit).length() as f64;
+        prop_assert!(on_ray <= tol, "exit {} is {} off the ray", exit, on_ray);
+        let (_, t_far) = ray_box_f64(x, r, lo, hi).expect("x is inside");
+        prop_assert!((t_far - l.w as f64).abs() <= tol, "t {} but the exact exit is {}", l.w, t_far);
+    }
+
+    /// What parallax correction is for: in a box-shaped room the lookup direction from any
+    /// probe sees exactly the wall point the reflected ray hits (the f64 exit point), so the
+    /// lookup is exact; a plain direction lookup is exact only from the probe itself.
+    #[test]
+    fn box_project_sees_the_wall_point_the_ray_hits(
+        lo in vec3_in(-3.0, 0.0), size in vec3_in(0.5, 4.0), a in vec3_in(0.05, 0.95),
+        b in vec3_in(0.05, 0.95), r in unit_vec(),
+    ) {
+        let hi = lo + size;
+        let (x, probe) = (lo + size * a, lo + size * b);
+        let (_, t_far) = ray_box_f64(x, r, lo, hi).expect("x is inside");
+        let wall = x.as_dvec3() + r.as_dvec3() * t_far;
+        let l = box_project(x, r, probe, lo, hi).truncate().as_dvec3().normalize();
+        let want = (wall - probe.as_dvec3()).normalize();
+        prop_assert!(l.dot(want) > 1.0 - 1e-6, "lookup {} sees {} not the wall point {}", l, want, wall);
+    }
+
+    /// From the probe itself the correction changes nothing (the lookup direction is r), and
+    /// with the proxy pushed to infinity it tends to the direction-only lookup.
+    #[test]
+    fn box_project_reduces_to_the_direction_lookup(
+        lo in vec3_in(-3.0, 0.0), size in vec3_in(0.5, 4.0), a in vec3_in(0.05, 0.95),
+        offset in vec3_in(-0.5, 0.5), r in unit_vec(),
+    ) {
+        let hi = lo + size;
+        let probe = lo + size * a;
+        let l = box_project(probe, r, probe, lo, hi).truncate().normalize();
+        prop_assert!(l.dot(r) > 1.0 - 1e-5, "from the probe: {} vs r {}", l, r);
+        let far = box_project(probe + offset, r, probe, Vec3::splat(-1e4), Vec3::splat(1e4));
+        prop_assert!(far.truncate().normalize().dot(r) > 1.0 - 1e-6, "far proxy: {}", far);
+    }
+
+    /// Outside the box, a ray that misses it or has it behind falls back to (r, -1); never NaN.
+    #[test]
+    fn box_project_falls_back_outside_the_box(
+        lo in vec3_in(-3.0, 0.0), size in vec3_in(0.1, 4.0), x in vec3_in(-8.0, 8.0),
+        probe in vec3_in(-3.0, 3.0), r in direction_with_zeros(),
+    ) {
+        let hi = lo + size;
+        let l = box_project(x, r, probe, lo, hi);
+        prop_assert!(!l.is_nan());
+        match ray_box_f64(x, r, lo, hi) {
+            Some((t0, t1)) if t1 > 1e-4 && t1 - t0 > 1e-4 => prop_assert!(l.w > 0.0, "exit at {} missed", t1),
+            Some((_, t1)) if t1 < -1e-4 => prop_assert!(l == r.extend(-1.0), "box behind: {}", l),
+            None => prop_assert!(l == r.extend(-1.0), "box missed: {}", l),
+            _ => {}
+        }
+    }
+
     /// A ray lying in a slab's boundary plane (origin exactly on the plane, zero direction
     /// component, +0 or -0) gives no NaN and the closed box's answer, as above.
     #[test]

@@ -48,6 +48,21 @@ fn ray_box(o: vec3f, d: vec3f, bmin: vec3f, bmax: vec3f) -> vec2f {
     return vec2f(t_near, t_far);
 }
 
+// Parallax-corrected ("box-projected") cube-map lookup (Lagarde & Zanuttini 2012, the
+// localized probes of today's engines): the ray x + t r is intersected with a proxy box
+// [bmin, bmax] standing for the surroundings, and the cube map captured at `probe` is looked up
+// toward the point where the ray leaves the box. Returns (probe-relative exit point, t_exit);
+// the xyz is the (unnormalised) lookup direction. When the ray leaves the box nowhere ahead of
+// x (x outside and the box behind or missed) or the exit point is the probe itself, the
+// direction-only lookup is returned instead: (r, -1).
+fn box_project(x: vec3f, r: vec3f, probe: vec3f, bmin: vec3f, bmax: vec3f) -> vec4f {
+    let t = ray_box(x, r, bmin, bmax);
+    if (t.x > t.y || t.y <= 0.0) { return vec4f(r, -1.0); }
+    let l = x + r * t.y - probe;
+    if (dot(l, l) < 1e-12) { return vec4f(r, -1.0); }
+    return vec4f(l, t.y);
+}
+
 // Mirror direction of incident direction i about unit normal n.
 fn reflect_dir(i: vec3f, n: vec3f) -> vec3f {
     return i - 2.0 * dot(n, i) * n;
