@@ -7,7 +7,8 @@
 //!   technique and lives in `gpu::distance_map`.
 //! - [`technique`]: the [`Impostor`] technique and its variants ([`techniques`]): classic,
 //!   localized (initial guess, secant, false position; packed or split distances), double
-//!   refraction through a refractor map, caustics.
+//!   refraction through a refractor map, caustics; and the engine baseline, parallax-corrected
+//!   (box-projected) cube maps on the same maps (`gpu::prelude::box_project`).
 //! - [`caustics`]: caustic maps and the two splat paths (the paper's light maps, a compute
 //!   scatter); the receivers' light-map charts and the Gaussian quad splat are shared in
 //!   `scene::lightmap`.
@@ -20,12 +21,13 @@
 pub mod caustics;
 pub mod technique;
 
-pub use technique::{Impostor, Mode, Settings};
+pub use technique::{Impostor, Lookup, Mode, Settings};
 
 /// All technique variants of this crate: `impostors/classic`, `impostors/initial-guess`,
 /// `impostors/secant-{1..8}`, `impostors/false-position-{1..8}`,
-/// `impostors/false-position-4-split`, `impostors/double-refraction`, `impostors/caustics`,
-/// `impostors/caustics-compute`.
+/// `impostors/false-position-4-split`, `impostors/double-refraction`, the engine baselines
+/// `impostors/box-projected` and `impostors/box-projected-double` (parallax-corrected cube
+/// maps), `impostors/caustics`, `impostors/caustics-compute`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     technique::variants()
 }

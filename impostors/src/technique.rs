@@ -56,11 +56,24 @@ impl Mode {
     }
 }
 
+/// How a non-classic lookup turns a ray into the direction to look the environment map up in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lookup {
+    /// The paper's `Hit()` search in the distance impostor.
+    Hit,
+    /// Today's engine probes: the parallax-corrected (box-projected) cube map of Lagarde and
+    /// Zanuttini 2012 against a proxy box, the bounds of the scene's diffuse objects (the
+    /// room): `gpu::prelude::box_project`. No distances are read.
+    BoxProjected,
+}
+
 /// Parameters of an [`Impostor`] (all settable by name through [`Technique::set_param`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
     /// How the radiance a ray leaves with is found (direction only, `Hit()`, double refraction).
     pub mode: Mode,
+    /// How `Localized` and `DoubleRefraction` look the map up: `Hit()` or box projection.
+    pub lookup: Lookup,
     /// The `Hit()` search: secant or false position.
     pub method: Method,
     /// Refinement steps after the two initial guesses (`iterations` parameter).
@@ -82,6 +95,7 @@ impl Default for Settings {
     fn default() -> Self {
         Self {
             mode: Mode::Localized,
+            lookup: Lookup::Hit,
             method: Method::FalsePosition,
             iterations: 4,
             resolution: 256,
@@ -109,6 +123,8 @@ struct State {
     split_pipeline: wgpu::RenderPipeline,
     split_layout: wgpu::BindGroupLayout,
     maps: Vec<ObjectMaps>,
+    /// The proxy box of the box-projected lookup: bounds of the scene's diffuse objects.
+    proxy: (Vec3, Vec3),
 }
 
 /// The distance cube of the split layout.
@@ -169,7 +185,7 @@ impl Impostor {
     }
 
     fn uses_distance(&self) -> bool {
-        self.settings.mode != Mode::Classic
+        self.settings.mode != Mode::Classic && self.settings.lookup == Lookup::Hit
     }
 }
 
@@ -224,6 +240,27 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
         Settings {
             mode: Mode::DoubleRefraction,
             iterations: 4,
+            ..s.clone()
+        },
+    )));
+    v.push(Box::new(Impostor::new(
+        "impostors/box-projected",
+        "engine baseline: parallax-corrected (box-projected) cube map, one interface like the \
+         localized variants, the room's bounds as proxy box (Lagarde and Zanuttini 2012)",
+        Settings {
+            lookup: Lookup::BoxProjected,
+            iterations: 0,
+            ..s.clone()
+        },
+    )));
+    v.push(Box::new(Impostor::new(
+        "impostors/box-projected-double",
+        "double refraction through the refractor map as impostors/double-refraction, the exit \
+         ray looked up by box projection instead of Hit()",
+        Settings {
+            mode: Mode::DoubleRefraction,
+            lookup: Lookup::BoxProjected,
+            iterations: 0,
             ..s.clone()
         },
     )));
@@ -547,6 +584,7 @@ impl Technique for Impostor {
                 regenerations: 0,
             });
         }
+        let proxy = proxy_box(&scene.scene);
         self.state = Some(State {
             caustic,
             layout,
@@ -554,6 +592,7 @@ impl Technique for Impostor {
             split_pipeline,
             split_layout,
             maps,
+            proxy,
         });
         Ok(())
     }
@@ -693,7 +732,10 @@ struct ParamsGpu {
     iterations: u32,
     distance_channel: u32,
     refractor_iterations: u32,
-    _pad: [u32; 3],
+    lookup: u32,
+    _pad: [u32; 2],
+    proxy_min: [f32; 4],
+    proxy_max: [f32; 4],
 }
 
 /// Layout of `@group(2)` in localized.wgsl.
@@ -760,6 +802,27 @@ fn copy_distances(frame: &mut Frame, pipeline: &wgpu::RenderPipeline, split: &Sp
     }
 }
 
+/// The proxy box of the box-projected lookup: the world bounds of the scene's non-specular
+/// objects at time 0 (in the Cornell scenes, the room). Engines place this box by hand around
+/// a probe; the room's bounds are what an artist would draw there. A scene with no diffuse
+/// object gets an empty box, on which `box_project` falls back to the direction lookup.
+pub fn proxy_box(scene: &Scene) -> (Vec3, Vec3) {
+    let (lo, hi) = scene
+        .objects
+        .iter()
+        .filter(|o| !o.material.is_specular())
+        .map(|o| scene::world_bounds(std::slice::from_ref(o)))
+        .fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+        );
+    if lo.cmple(hi).all() {
+        (lo, hi)
+    } else {
+        (Vec3::ONE, -Vec3::ONE)
+    }
+}
+
 /// Renders `object`'s own surface from `center` into `cube`: outward normal and distance.
 fn render_refractor_map(
     frame: &mut Frame,
@@ -814,7 +877,13 @@ fn impostor_groups(
                 iterations: settings.iterations,
                 distance_channel: if m.split.is_some() { 0 } else { 3 },
                 refractor_iterations: settings.refractor_iterations,
-                _pad: [0; 3],
+                lookup: match settings.lookup {
+                    Lookup::Hit => 0,
+                    Lookup::BoxProjected => 1,
+                },
+                _pad: [0; 2],
+                proxy_min: state.proxy.0.extend(0.0).to_array(),
+                proxy_max: state.proxy.1.extend(0.0).to_array(),
             };
             let params = Uniform::new(ctx, "impostor params", &uniform);
             bind::group(

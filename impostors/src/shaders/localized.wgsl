@@ -13,6 +13,9 @@
 //                       point and its normal, the ray refracts out there (Fresnel split: the
 //                       internally reflected share is followed for up to MAX_SEGMENTS chords)
 //                       and the localized lookup continues in the environment impostor.
+// With lookup 1 (box projected) every lookup of modes 1 and 2 is the engine's parallax-corrected
+// cube map instead of Hit(): the ray is intersected with a proxy box (the room's bounds) and the
+// map is looked up toward the exit point (box_project of the prelude); the distances are unused.
 
 struct ImpostorParams {
     // Reference point of the environment impostor (world), w unused.
@@ -28,9 +31,13 @@ struct ImpostorParams {
     distance_channel: u32,
     // Iterations of Hit() inside the refractor map.
     refractor_iterations: u32,
-    _pad0: u32,
+    // LOOKUP_HIT or LOOKUP_BOX.
+    lookup: u32,
     _pad1: u32,
     _pad2: u32,
+    // Proxy box of the box-projected lookup (world), w unused.
+    proxy_min: vec4f,
+    proxy_max: vec4f,
 };
 
 @group(2) @binding(0) var env_radiance: texture_cube<f32>;
@@ -42,6 +49,8 @@ struct ImpostorParams {
 const MODE_CLASSIC: u32 = 0u;
 const MODE_LOCALIZED: u32 = 1u;
 const MODE_DOUBLE: u32 = 2u;
+const LOOKUP_HIT: u32 = 0u;
+const LOOKUP_BOX: u32 = 1u;
 // Chords followed inside a refractor (exit attempts); the energy still inside after the last
 // one is dropped, as a depth-bounded ray tracer drops it.
 const MAX_SEGMENTS: u32 = 3u;
@@ -51,7 +60,10 @@ const SURFACE_OFFSET: f32 = 1e-4;
 // Incoming radiance at world point `origin` from direction `dir`, via the environment impostor.
 fn env_lookup(origin: vec3f, dir: vec3f) -> vec3f {
     var lookup = dir;
-    if (params.mode != MODE_CLASSIC) {
+    if (params.mode != MODE_CLASSIC && params.lookup == LOOKUP_BOX) {
+        lookup = box_project(origin, dir, params.reference.xyz, params.proxy_min.xyz,
+                             params.proxy_max.xyz).xyz;
+    } else if (params.mode != MODE_CLASSIC) {
         let x = origin - params.reference.xyz;
         lookup = hit(x, dir, env_distance, env_sampler, params.distance_channel,
                      params.method, params.iterations).xyz;
