@@ -23,9 +23,19 @@
 //! the previous wall" (`floor(u) + 1` and `floor(u)`); that pair misses the case where the
 //! current wall was displaced backwards past the pixel, which two-sided offsets allow, so we
 //! choose the pair by `u - m` instead: still two checks, constant cost, never a skipped wall.
+//!
+//! # Cube-map interiors (the engine baseline)
+//!
+//! [`cubemap_room`] is what games ship instead (Unreal's `InteriorCubemap` material function):
+//! the room the ray enters is one box of the grid; the ray is intersected with that box from
+//! inside (`gpu::prelude::box_project`, the parallax correction of reflection probes, with
+//! the probe at the room's centre) and a pre-rendered cube map of a room is looked up toward the
+//! exit point. Per-room variation picks one of several cube maps and mirrors each horizontal
+//! axis by a hash of the room. On the regular grid it finds exactly the plane `cast_rooms`
+//! finds (tests/rooms_properties.rs); it cannot express displaced walls.
 
 use glam::{IVec3, Vec3};
-use gpu::prelude::{BIG, hash_to_unit};
+use gpu::prelude::{BIG, box_project, hash_to_unit, pcg_hash};
 
 /// Family index of the planes `x = const` (walls, textured with the "ZY" wall texture).
 pub const FAMILY_X: u32 = 0;
@@ -169,5 +179,104 @@ pub fn plane_uv(family: u32, u: Vec3) -> glam::Vec2 {
         FAMILY_X => glam::Vec2::new(u.z, -u.y),
         FAMILY_Y => glam::Vec2::new(u.x, u.z),
         _ => glam::Vec2::new(u.x, -u.y),
+    }
+}
+
+/// The room box a ray enters and where it leaves it: the cube-map interiors' intersection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CubemapHit {
+    /// Ray parameter of the exit (`origin + t * dir`); [`BIG`] when `dir` is zero.
+    pub t: f32,
+    /// The exit point (grid space), its coordinate along `family` snapped onto the room's face.
+    pub point: Vec3,
+    /// The family of the face the ray leaves by ([`FAMILY_X`], [`FAMILY_Y`], [`FAMILY_Z`]).
+    pub family: u32,
+    /// Integer index of the room.
+    pub room: IVec3,
+    /// The direction to look the room's cube map up in (from the room's centre, in room units,
+    /// the per-room mirroring applied).
+    pub lookup: Vec3,
+    /// Which cube map of the atlas (0 without variation).
+    pub atlas: u32,
+}
+
+/// Bit of a room's hash that mirrors its cube map along x (`MIRROR_Z_BIT`: along z).
+pub const MIRROR_X_BIT: u32 = 1 << 8;
+/// Bit of a room's hash that mirrors its cube map along z.
+pub const MIRROR_Z_BIT: u32 = 1 << 9;
+
+/// The hash of a room (grid index and building seed) that varies cube-map interiors.
+pub fn cubemap_room_hash(room: IVec3, seed: u32) -> u32 {
+    let r = room.as_uvec3();
+    pcg_hash(
+        r.x.wrapping_mul(73856093)
+            ^ r.y.wrapping_mul(19349663)
+            ^ r.z.wrapping_mul(83492791)
+            ^ pcg_hash(seed),
+    )
+}
+
+/// Cube-map interiors: the ray `origin + t * dir` (grid space, starting on or in the room it
+/// enters) in rooms of size `room_size`. The room is the grid cell the ray is in just after
+/// the start (a start on a plane belongs to the room ahead); the exit from that cell is
+/// `box_project` with the probe at the cell's centre. With `variants > 1` the cube map is
+/// chosen per room by hash, and each horizontal axis of the lookup mirrored by a hash bit.
+pub fn cubemap_room(
+    origin: Vec3,
+    dir: Vec3,
+    room_size: Vec3,
+    variants: u32,
+    seed: u32,
+) -> CubemapHit {
+    let u = origin / room_size;
+    let du = dir / room_size;
+    let ahead = Vec3::select(
+        du.abs().cmplt(Vec3::splat(ROOM_FLAT)),
+        Vec3::ZERO,
+        du.signum() * ROOM_EPS,
+    );
+    let room = (u + ahead).floor();
+    let local = u - room;
+    let centre = Vec3::splat(0.5);
+    let exit = box_project(local, du, centre, Vec3::ZERO, Vec3::ONE);
+    let (t, mut lookup) = if exit.w < 0.0 {
+        (BIG, du)
+    } else {
+        (exit.w, exit.truncate())
+    };
+    // The face left by: the largest component of the centre-relative exit (ties: lower axis).
+    let a = lookup.abs();
+    let family = if a.x >= a.y && a.x >= a.z {
+        FAMILY_X
+    } else if a.y >= a.z {
+        FAMILY_Y
+    } else {
+        FAMILY_Z
+    };
+    let mut point = origin + t * dir;
+    if t < BIG {
+        let f = family as usize;
+        let face = room[f] + if lookup[f] > 0.0 { 1.0 } else { 0.0 };
+        point[f] = face * room_size[f];
+    }
+    let room = room.as_ivec3();
+    let mut atlas = 0;
+    if variants > 1 {
+        let h = cubemap_room_hash(room, seed);
+        atlas = h % variants;
+        if h & MIRROR_X_BIT != 0 {
+            lookup.x = -lookup.x;
+        }
+        if h & MIRROR_Z_BIT != 0 {
+            lookup.z = -lookup.z;
+        }
+    }
+    CubemapHit {
+        t,
+        point,
+        family,
+        room,
+        lookup,
+        atlas,
     }
 }

@@ -43,11 +43,17 @@ pub enum Variant {
     /// environment cube map (the traditional building material the paper's ~5x is measured
     /// against).
     ReflectionOnly,
+    /// Engine baseline: cube-map interiors (Unreal's `InteriorCubemap`): one pre-rendered room
+    /// cube map looked up toward the exit of the room box (`rooms::cubemap_room`).
+    Cubemap,
+    /// Cube-map interiors with the per-window variation engines use: one of
+    /// [`textures::VARIANTS`] room cube maps and a mirroring of each horizontal axis per room.
+    CubemapVaried,
 }
 
 impl Variant {
     /// Every variant, in the order of `interior_mapping::techniques()` (without pre-pass).
-    pub const ALL: [Variant; 8] = [
+    pub const ALL: [Variant; 10] = [
         Variant::Basic,
         Variant::Textured,
         Variant::Exterior,
@@ -56,6 +62,8 @@ impl Variant {
         Variant::CeilingOnly,
         Variant::SingleTexture,
         Variant::ReflectionOnly,
+        Variant::Cubemap,
+        Variant::CubemapVaried,
     ];
     fn name(self) -> &'static str {
         match self {
@@ -67,6 +75,8 @@ impl Variant {
             Variant::CeilingOnly => "ceiling-only",
             Variant::SingleTexture => "single-texture",
             Variant::ReflectionOnly => "reflection-only",
+            Variant::Cubemap => "cubemap",
+            Variant::CubemapVaried => "cubemap-varied",
         }
     }
     /// The variant number the shader branches on (`Settings.a.x` in technique.wgsl).
@@ -76,6 +86,18 @@ impl Variant {
     /// Whether the windows reflect the environment cube map (rendered every frame).
     fn uses_env_map(self) -> bool {
         matches!(self, Variant::Exterior | Variant::ReflectionOnly)
+    }
+    /// Whether the rooms come from room cube maps (the engine baseline).
+    pub fn uses_room_cubes(self) -> bool {
+        matches!(self, Variant::Cubemap | Variant::CubemapVaried)
+    }
+    /// Room cube maps in the atlas: [`textures::VARIANTS`] for the varied cube maps, else 1.
+    pub fn room_cube_count(self) -> u32 {
+        match self {
+            Variant::CubemapVaried => VARIANTS,
+            Variant::Cubemap => 1,
+            _ => 0,
+        }
     }
 }
 
@@ -210,6 +232,14 @@ impl Technique for InteriorMapping {
             Variant::ReflectionOnly => {
                 "baseline: no interior, windows fully reflect a cube map (traditional material)"
             }
+            Variant::Cubemap => {
+                "engine baseline: cube-map interiors, one room cube map looked up at the exit of \
+                 the room box (Unreal's InteriorCubemap)"
+            }
+            Variant::CubemapVaried => {
+                "engine baseline: cube-map interiors, a random room cube map of four and a \
+                 random mirroring per room"
+            }
         };
         format!(
             "interior mapping: {what}{}",
@@ -241,7 +271,12 @@ impl Technique for InteriorMapping {
                 min: 16.0,
                 max: 256.0,
                 integer: true,
-                help: "interior texture size (texels per side)",
+                help: if self.variant.uses_room_cubes() {
+                    "room cube map face size (texels per side; one face spans a room face as one \
+                     interior texture does)"
+                } else {
+                    "interior texture size (texels per side)"
+                },
             },
             Param {
                 name: "room_shadows",
@@ -414,6 +449,7 @@ impl Technique for InteriorMapping {
             ..Default::default()
         });
         let atlas_view = single_texture_view(ctx, self.variant, size);
+        let room_cubes_view = room_cubes_view(ctx, self.variant, size);
         let env_size = if self.variant.uses_env_map() {
             ENV_MAP_SIZE
         } else {
@@ -430,13 +466,14 @@ impl Technique for InteriorMapping {
             "interior mapping",
             wgpu::ShaderStages::FRAGMENT,
             &[
-                bind::storage(true),      // buildings
-                bind::uniform(),          // settings
-                bind::texture_2d_array(), // room_textures
-                bind::sampler(),          // room_sampler
-                bind::texture_cube(),     // env_map
-                bind::sampler(),          // env_sampler
-                bind::texture_2d(),       // single_texture
+                bind::storage(true),                                        // buildings
+                bind::uniform(),                                            // settings
+                bind::texture_2d_array(),                                   // room_textures
+                bind::sampler(),                                            // room_sampler
+                bind::texture_cube(),                                       // env_map
+                bind::sampler(),                                            // env_sampler
+                bind::texture_2d(),                                         // single_texture
+                bind::texture(wgpu::TextureViewDimension::CubeArray, true), // room_cubes
             ],
         );
         // Room textures tile (repeat); the reflection map is a cube map, whose sampling
@@ -454,6 +491,7 @@ impl Technique for InteriorMapping {
                 bind::view(&env.cube_view),
                 bind::sampler_resource(&samplers.linear_clamp),
                 bind::view(&atlas_view),
+                bind::view(&room_cubes_view),
             ],
         );
         let source = format!(
@@ -676,6 +714,35 @@ fn single_texture_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::Text
         (1, vec![0; 4])
     };
     srgb_texture(ctx, "interior single texture", side, 1, &data).create_view(&Default::default())
+}
+
+/// The room cube maps of the cube-map interiors (`textures::room_cube_layers`) as a cube
+/// array; one 1 x 1 placeholder cube for the other variants, which bind but never read it.
+fn room_cubes_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::TextureView {
+    let cubes = variant.room_cube_count();
+    let (side, count, data) = if cubes > 0 {
+        (size, cubes, textures::room_cube_layers(size, cubes))
+    } else {
+        (1, 1, vec![0; 6 * 4])
+    };
+    srgb_texture(ctx, "interior room cube maps", side, 6 * count, &data).create_view(
+        &wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::CubeArray),
+            ..Default::default()
+        },
+    )
+}
+
+/// Bytes of a variant's interior textures at `size` texels per side (RGBA8): the thesis's
+/// surface texture array (four surfaces in [`VARIANTS`] tints, the furniture frames), or the
+/// room cube maps of the cube-map interiors. Reported beside error and time.
+pub fn interior_texture_bytes(variant: Variant, size: u32) -> u64 {
+    let texels = u64::from(size) * u64::from(size) * 4;
+    if variant.uses_room_cubes() {
+        texels * 6 * u64::from(variant.room_cube_count())
+    } else {
+        texels * u64::from(FURNITURE_LAYER + FURNITURE_FRAMES)
+    }
 }
 
 /// A sampled sRGB RGBA8 texture of `layers` square `side` x `side` layers, filled with `data`

@@ -1,7 +1,8 @@
 //! The interior textures: floors, ceilings, two wallpapers (the `city` scene's own
 //! `scene::builtin::city::room_texel`, so a technique at 64 texels samples exactly what the
 //! reference's room planes carry), tinted variants for the per-room atlas (section 5.4.2)
-//! and the animated furniture sprite (section 5.2.4).
+//! and the animated furniture sprite (section 5.2.4); and the pre-rendered room cube maps of
+//! the engine baseline (cube-map interiors), one per tinted variant.
 
 use scene::Texture;
 
@@ -115,4 +116,57 @@ pub fn single_atlas(size: u32) -> Vec<u8> {
         }
     }
     out
+}
+
+/// Faces of the room cube maps, in cube-layer order (+X, -X, +Y, -Y, +Z, -Z).
+const CUBE_FACES: u32 = 6;
+
+/// The room cube maps of the cube-map interiors: `variants` cube maps of `size` x `size`
+/// faces, RGBA8 sRGB, cube after cube and face after face (a cube-array texture), cube `v`
+/// tinted as layer variant `v` of [`texture_layers`]. Each is the unit room (floor, ceiling,
+/// two wall families, the thesis's textures one per face) seen from its centre: per texel the
+/// ray from the centre leaves the room box on a face, whose texture is read there; the same
+/// picture as rasterizing the room's six quads into a cube, which is how an engine's artist
+/// bakes it (lighting is applied at run time, see the crate README).
+pub fn room_cube_layers(size: u32, variants: u32) -> Vec<u8> {
+    let mut out = Vec::with_capacity((size * size * CUBE_FACES * variants * 4) as usize);
+    let at = |i: u32| (i as f32 + 0.5) / size as f32;
+    for tint in TINTS.iter().cycle().take(variants as usize) {
+        for face in 0..CUBE_FACES {
+            for j in 0..size {
+                for i in 0..size {
+                    let d = gpu::prelude::cube_face_uv_to_dir(face, at(i), at(j));
+                    let (surface, s, t) = room_surface_seen(d);
+                    let c = room_texel(surface, s, t);
+                    for k in 0..3 {
+                        out.push((c[k] as f32 * tint[k]).round().clamp(0.0, 255.0) as u8);
+                    }
+                    out.push(255);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The room surface seen from the centre of the unit room in direction `d` and its texture
+/// coordinate in [0, 1)^2 (`rooms::plane_uv` of the exit point, the face chosen as
+/// `rooms::cubemap_room` chooses it).
+pub fn room_surface_seen(d: glam::Vec3) -> (RoomSurface, f32, f32) {
+    let a = d.abs();
+    let exit = glam::Vec3::splat(0.5) + d * (0.5 / a.max_element());
+    let (family, surface) = if a.x >= a.y && a.x >= a.z {
+        (crate::rooms::FAMILY_X, RoomSurface::WallX)
+    } else if a.y >= a.z {
+        let floor_or_ceiling = if d.y > 0.0 {
+            RoomSurface::Ceiling
+        } else {
+            RoomSurface::Floor
+        };
+        (crate::rooms::FAMILY_Y, floor_or_ceiling)
+    } else {
+        (crate::rooms::FAMILY_Z, RoomSurface::WallZ)
+    };
+    let uv = crate::rooms::plane_uv(family, exit);
+    (surface, uv.x - uv.x.floor(), uv.y - uv.y.floor())
 }

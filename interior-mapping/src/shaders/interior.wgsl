@@ -101,3 +101,65 @@ fn plane_uv(family: u32, u: vec3f) -> vec2f {
     if (family == FAMILY_Y) { return vec2f(u.x, u.z); }
     return vec2f(u.x, -u.y);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Cube-map interiors (the engine baseline): twin of rooms.rs `cubemap_room` (see its docs).
+// ---------------------------------------------------------------------------------------------
+
+const MIRROR_X_BIT: u32 = 256u;
+const MIRROR_Z_BIT: u32 = 512u;
+
+struct CubemapHit {
+    t: f32,
+    point: vec3f,
+    family: u32,
+    room: vec3i,
+    lookup: vec3f,
+    atlas: u32,
+};
+
+fn cubemap_room_hash(room: vec3i, seed: u32) -> u32 {
+    let r = bitcast<vec3u>(room);
+    return pcg_hash(r.x * 73856093u ^ r.y * 19349663u ^ r.z * 83492791u ^ pcg_hash(seed));
+}
+
+fn cubemap_room(origin: vec3f, dir: vec3f, size: vec3f, variants: u32, seed: u32) -> CubemapHit {
+    let u = origin / size;
+    let du = dir / size;
+    let ahead = select(sign(du) * ROOM_EPS, vec3f(0.0), abs(du) < vec3f(ROOM_FLAT));
+    let room = floor(u + ahead);
+    let local = u - room;
+    let exit = box_project(local, du, vec3f(0.5), vec3f(0.0), vec3f(1.0));
+    var t = exit.w;
+    var lookup = exit.xyz;
+    if (exit.w < 0.0) {
+        t = BIG;
+        lookup = du;
+    }
+    let a = abs(lookup);
+    var family = FAMILY_Z;
+    if (a.x >= a.y && a.x >= a.z) {
+        family = FAMILY_X;
+    } else if (a.y >= a.z) {
+        family = FAMILY_Y;
+    }
+    var point = origin + t * dir;
+    if (t < BIG) {
+        let face = room[family] + select(0.0, 1.0, lookup[family] > 0.0);
+        point[family] = face * size[family];
+    }
+    var hit: CubemapHit;
+    hit.t = t;
+    hit.point = point;
+    hit.family = family;
+    hit.room = vec3i(room);
+    hit.atlas = 0u;
+    if (variants > 1u) {
+        let h = cubemap_room_hash(hit.room, seed);
+        hit.atlas = h % variants;
+        if ((h & MIRROR_X_BIT) != 0u) { lookup.x = -lookup.x; }
+        if ((h & MIRROR_Z_BIT) != 0u) { lookup.z = -lookup.z; }
+    }
+    hit.lookup = lookup;
+    return hit;
+}

@@ -19,7 +19,7 @@ struct BuildingGpu {
 
 struct Settings {
     // x: variant (0 basic, 1 textured, 2 exterior, 3 furniture, 4 varied, 5 ceiling-only,
-    // 6 single-texture, 7 reflection-only); y: light probability;
+    // 6 single-texture, 7 reflection-only, 8 cubemap, 9 cubemap-varied); y: light probability;
     // z: interior light (radiance scale of a lit room); w: furniture frame.
     a: vec4f,
     // x: furniture depth (rooms); y: window glass ior; z: 1 = room shadows through the windows
@@ -34,6 +34,8 @@ const VARIANT_VARIED: f32 = 4.0;
 const VARIANT_CEILING_ONLY: f32 = 5.0;
 const VARIANT_SINGLE_TEXTURE: f32 = 6.0;
 const VARIANT_REFLECTION_ONLY: f32 = 7.0;
+const VARIANT_CUBEMAP: f32 = 8.0;
+const VARIANT_CUBEMAP_VARIED: f32 = 9.0;
 const SURFACE_CEILING: u32 = 1u;
 const WINDOW_SIDE: f32 = 0.2;
 const WINDOW_SILL: f32 = 0.3;
@@ -49,6 +51,8 @@ const FURNITURE_LAYER: i32 = 16;
 @group(2) @binding(5) var env_sampler: sampler;
 // The 2 x 2 atlas of the single-texture variant (1 x 1 and unread otherwise).
 @group(2) @binding(6) var single_texture: texture_2d<f32>;
+// The room cube maps of the cube-map interiors (one 1 x 1 cube and unread otherwise).
+@group(2) @binding(7) var room_cubes: texture_cube_array<f32>;
 
 fn in_window(h: f32, v: f32) -> bool {
     let fh = h - floor(h);
@@ -217,7 +221,21 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
 
     // The ray cast (5.2.1-5.2.2): from the hull point, or from the eye when it is inside.
     let start = select(eye_o, p, outside);
-    let hit = cast_rooms(start - origin, dir, size, b.displacement.xyz, bitcast<u32>(i32(b.grid_origin.w)) * 7u);
+    let seed = bitcast<u32>(i32(b.grid_origin.w)) * 7u;
+    var hit = cast_rooms(start - origin, dir, size, b.displacement.xyz, seed);
+    // Cube-map interiors (engine baseline): the exit of the room box instead, and the albedo
+    // from the room's cube map in the direction of that exit.
+    let cubemap = variant == VARIANT_CUBEMAP || variant == VARIANT_CUBEMAP_VARIED;
+    var cube_albedo = vec3f(0.0);
+    if (cubemap) {
+        let variants = select(1u, ATLAS_VARIANTS, variant == VARIANT_CUBEMAP_VARIED);
+        let c = cubemap_room(start - origin, dir, size, variants, seed);
+        hit.family = c.family;
+        hit.t = c.t;
+        hit.point = c.point;
+        hit.room = c.room;
+        cube_albedo = textureSampleLevel(room_cubes, env_sampler, c.lookup, c.atlas, 0.0).rgb;
+    }
     var surface: u32;
     switch hit.family {
         case 0u: { surface = 2u; }
@@ -236,7 +254,8 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
     } else {
         room_light = settings.a.z;
     }
-    let albedo = room_albedo(variant, surface, uv, atlas);
+    var albedo = cube_albedo;
+    if (!cubemap) { albedo = room_albedo(variant, surface, uv, atlas); }
     var axis = vec3f(0.0);
     axis[hit.family] = 1.0;
     let hit_world = (o.model * vec4f(hit.point + origin, 1.0)).xyz;
