@@ -148,6 +148,21 @@ pub fn visible_length(t_front: f32, t_back: f32, t_scene: f32) -> f32 {
     (t_back.min(t_scene) - t_front.max(0.0)).max(0.0)
 }
 
+/// The depth fade of soft particles, as every engine's particle system ships it (Unreal's
+/// `DepthFade`, Unity's soft particles): a billboard's opacity is multiplied by
+/// `clamp((t_scene - t_particle) / fade, 0, 1)`, distances along the eye ray. It is 0 where the
+/// billboard lies behind the scene (it takes the place of the depth test) and reaches 1 once the
+/// scene is `fade` metres behind the billboard, so a billboard cutting into geometry fades out
+/// instead of showing a hard intersection line. `fade <= 0` is the plain depth test (1 in
+/// front, 0 behind).
+pub fn depth_fade(t_particle: f32, t_scene: f32, fade: f32) -> f32 {
+    let gap = t_scene - t_particle;
+    if fade <= 0.0 {
+        return if gap > 0.0 { 1.0 } else { 0.0 };
+    }
+    (gap / fade).clamp(0.0, 1.0)
+}
+
 /// True sphere (figure 6.18d): exact entry and exit, clipped by the eye and the scene. A miss
 /// or a tangent ray gives 0.
 pub fn sphere_path_length(o: Vec3, d: Vec3, center: Vec3, radius: f32, t_scene: f32) -> f32 {

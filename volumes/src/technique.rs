@@ -105,6 +105,10 @@ pub enum Method {
     },
     /// 6.3.3: a billboard that ray-traces a volume primitive against the scene distance.
     Raytraced(Primitive),
+    /// Engine baseline: the depth-fade soft particle every engine ships: the textured
+    /// billboard of `Billboard` without depth test, its opacity multiplied by
+    /// `path_length::depth_fade` of the scene depth (the raster pass's depth buffer) behind it.
+    DepthFade,
 }
 
 /// One technique variant: method, opacity function and which volumes it draws.
@@ -123,6 +127,7 @@ impl Variant {
     pub fn id(&self) -> String {
         let name = match self.method {
             Method::Billboard => "billboard".to_string(),
+            Method::DepthFade => "depth-fade".to_string(),
             Method::Slices {
                 count,
                 float_buffer,
@@ -181,6 +186,9 @@ impl Variant {
     fn description(&self) -> String {
         let what = match self.method {
             Method::Billboard => "simple billboard, no volume (6.3.1)".to_string(),
+            Method::DepthFade => "engine baseline: depth-fade soft particle, the textured \
+                                  billboard faded by (scene depth - billboard depth) / fade"
+                .to_string(),
             Method::Slices {
                 count,
                 float_buffer,
@@ -274,10 +282,23 @@ pub fn particle_variants() -> Vec<Variant> {
     ]
 }
 
+/// The engine baseline: depth-fade soft particles on the large volumes and on every volume.
+pub fn engine_variants() -> Vec<Variant> {
+    [VolumeSet::Single, VolumeSet::All]
+        .into_iter()
+        .map(|set| Variant {
+            method: Method::DepthFade,
+            opacity: OpacityFn::Log,
+            set,
+        })
+        .collect()
+}
+
 /// Every variant this crate registers.
 pub fn all_variants() -> Vec<Variant> {
     let mut v = thesis_variants();
     v.extend(particle_variants());
+    v.extend(engine_variants());
     v
 }
 
@@ -389,6 +410,9 @@ pub struct VolumeTechnique {
     /// Billboards and slices: render the distance texture anyway (the thesis's measurement of
     /// what the depth texture costs, 6.4.3).
     depth_prepass: bool,
+    /// Depth fade: the gap (units of the volume radius) over which a billboard fades in
+    /// front of the scene (parameter `fade_distance`).
+    fade_distance: f32,
     gpu: Option<Resources>,
     buffers: Option<FrameBuffers>,
 }
@@ -437,6 +461,7 @@ impl VolumeTechnique {
             fit_silhouette: false,
             free_depth: false,
             depth_prepass: false,
+            fade_distance: DEFAULT_FADE_DISTANCE,
             gpu: None,
             buffers: None,
         }
@@ -454,6 +479,18 @@ impl VolumeTechnique {
 
     fn is_raytraced(&self) -> bool {
         matches!(self.variant.method, Method::Raytraced(_))
+    }
+
+    /// Ray-traced volumes and depth-fade particles read the scene depth in the fragment
+    /// shader instead of being depth tested.
+    fn reads_scene_depth(&self) -> bool {
+        self.is_raytraced() || self.variant.method == Method::DepthFade
+    }
+
+    /// Where the scene depth is read from: the depth buffer (depth fade, as engines do, and
+    /// ray-traced volumes with `free_depth`) or the thesis's distance texture.
+    fn reads_depth_buffer(&self) -> bool {
+        self.variant.method == Method::DepthFade || (self.is_raytraced() && self.free_depth)
     }
 
     fn slice_count(&self) -> u32 {
@@ -474,7 +511,9 @@ impl VolumeTechnique {
     }
 
     fn renders_distance(&self) -> bool {
-        if self.is_raytraced() {
+        if self.variant.method == Method::DepthFade {
+            false
+        } else if self.is_raytraced() {
             !self.free_depth
         } else {
             self.depth_prepass
@@ -540,6 +579,8 @@ impl VolumeTechnique {
 /// Default billboard half size in units of the volume radius: "the sphere is made only
 /// slightly smaller than the billboard" (6.3.3).
 pub const DEFAULT_BILLBOARD_SCALE: f32 = 1.1;
+/// Default fade distance of the depth-fade particles, in units of the volume radius.
+pub const DEFAULT_FADE_DISTANCE: f32 = 1.0;
 
 impl Technique for VolumeTechnique {
     fn id(&self) -> String {
@@ -597,6 +638,18 @@ impl Technique for VolumeTechnique {
                            reasons, its cost not charged); 0: render the thesis's R16Float distance texture",
                 });
             }
+            Method::DepthFade => {
+                params.push(scale_param());
+                params.push(Param {
+                    name: "fade_distance",
+                    default: DEFAULT_FADE_DISTANCE as f64,
+                    min: 0.0,
+                    max: 10.0,
+                    integer: false,
+                    help: "scene-to-billboard gap over which a particle fades in, in units of its \
+                           radius (0: a hard depth test)",
+                });
+            }
             Method::Billboard | Method::Slices { .. } => {
                 if self.variant.method == Method::Billboard {
                     params.push(scale_param());
@@ -622,6 +675,7 @@ impl Technique for VolumeTechnique {
             "free_depth" => self.free_depth = value != 0.0,
             "fit_silhouette" => self.fit_silhouette = value != 0.0,
             "depth_prepass" => self.depth_prepass = value != 0.0,
+            "fade_distance" => self.fade_distance = value as f32,
             _ => unreachable!("check_param accepts declared names only"),
         }
         Ok(())
@@ -747,13 +801,13 @@ impl Technique for VolumeTechnique {
                     contents: bytemuck::cast_slice(&records),
                     usage: wgpu::BufferUsages::STORAGE,
                 });
-            let raytraced = self.is_raytraced();
-            let distance_view = if raytraced && !self.free_depth {
+            let reads_depth = self.reads_scene_depth();
+            let distance_view = if reads_depth && !self.reads_depth_buffer() {
                 &buffers.distance_view
             } else {
                 &res.dummy_distance_view
             };
-            let depth_view = if raytraced && self.free_depth {
+            let depth_view = if self.reads_depth_buffer() {
                 &target.depth_view
             } else {
                 &res.dummy_depth_view
@@ -775,7 +829,7 @@ impl Technique for VolumeTechnique {
             {
                 // Billboards and slices test against the scene's depth without writing it: a
                 // read-only attachment (no depth ops), which `pass::depth` does not make.
-                let depth_test = (!raytraced).then_some(wgpu::RenderPassDepthStencilAttachment {
+                let depth_test = (!reads_depth).then_some(wgpu::RenderPassDepthStencilAttachment {
                     view: &target.depth_view,
                     depth_ops: None,
                     stencil_ops: None,
@@ -957,19 +1011,24 @@ impl VolumeTechnique {
             Method::Billboard => ("billboard_fs", Primitive::Sphere),
             Method::Slices { .. } => ("slice_fs", Primitive::Sphere),
             Method::Raytraced(p) => ("raytraced_fs", p),
+            Method::DepthFade => ("depth_fade_fs", Primitive::Sphere),
         };
         let constants = [
             ("SLICES", self.slice_count() as f64),
             ("OPACITY", self.variant.opacity.code() as f64),
             ("PRIMITIVE", primitive.code() as f64),
-            ("DEPTH_SOURCE", if self.free_depth { 1.0 } else { 0.0 }),
+            (
+                "DEPTH_SOURCE",
+                if self.reads_depth_buffer() { 1.0 } else { 0.0 },
+            ),
+            ("FADE", self.fade_distance as f64),
         ];
         let options = wgpu::PipelineCompilationOptions {
             constants: &constants,
             zero_initialize_workgroup_memory: true,
         };
-        let depth_stencil =
-            (!self.is_raytraced()).then(|| pass::depth_state(false, wgpu::CompareFunction::Less));
+        let depth_stencil = (!self.reads_scene_depth())
+            .then(|| pass::depth_state(false, wgpu::CompareFunction::Less));
         let volume_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("volumes"),
             layout: Some(&layout),

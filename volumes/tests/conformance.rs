@@ -43,7 +43,14 @@ fn billboard_axes(n: vec3f, angle: f32) -> array<vec3f, 2> {
 "#;
 
 /// One kernel per function: (entry point, body for case `i`).
-const KERNELS: [(&str, &str); 5] = [
+const KERNELS: [(&str, &str); 6] = [
+    // a0 = (t_particle, t_scene, fade, -)
+    (
+        "k_fade",
+        r#"
+    let a = arg(i, 0u);
+    put(i, 0u, vec4f(depth_fade(a.x, a.y, a.z), 0.0, 0.0, 0.0));"#,
+    ),
     // a0 = (len, density, kind, -)
     (
         "k_opacity",
@@ -227,6 +234,51 @@ fn opacity_and_visible_length_match_the_twin() {
         close(o[0].x, cpu, tol)
             .then_some(())
             .ok_or_else(|| format!("visible {} vs {cpu}", o[0].x))
+    });
+    assert_no_mismatches(&failures);
+}
+
+#[test]
+fn depth_fade_matches_the_twin() {
+    let mut failures = Vec::new();
+    let mut cases: Vec<Case> = (0..RANDOM_CASES)
+        .map(|i| {
+            let fade = if i % 9 == 0 {
+                0.0
+            } else {
+                range(7, i, 2, 0.0, 4.0)
+            };
+            [
+                Vec4::new(range(7, i, 0, 0.0, 20.0), scene_t(7, i), fade, 0.0),
+                Vec4::ZERO,
+                Vec4::ZERO,
+                Vec4::ZERO,
+            ]
+        })
+        .collect();
+    // Edges: the billboard exactly on the scene, one fade distance in front, a negative fade.
+    for (tp, ts, f) in [
+        (5.0, 5.0, 1.0),
+        (4.0, 5.0, 1.0),
+        (5.0, 5.0, 0.0),
+        (2.0, 3.0, -1.0),
+    ] {
+        cases.push([
+            Vec4::new(tp, ts, f, 0.0),
+            Vec4::ZERO,
+            Vec4::ZERO,
+            Vec4::ZERO,
+        ]);
+    }
+    check("k_fade", &cases, &mut failures, |c, o| {
+        let cpu = depth_fade(c[0].x, c[0].y, c[0].z);
+        close(
+            o[0].x,
+            cpu,
+            1e-6 + 1e-6 * (c[0].y.abs().min(100.0) / c[0].z.max(1e-3)),
+        )
+        .then_some(())
+        .ok_or_else(|| format!("fade {} vs {cpu} for {}", o[0].x, c[0]))
     });
     assert_no_mismatches(&failures);
 }

@@ -65,6 +65,28 @@ fn tol(o: Vec3, c: Vec3, r: f32) -> f32 {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(2000))]
 
+    /// The depth fade is in [0, 1], 0 where the billboard is at or behind the scene, 1 once the
+    /// scene is a fade distance behind it, non-decreasing in the gap, and linear in between
+    /// (tolerance 1e-5); a zero fade is the plain depth test.
+    #[test]
+    fn depth_fade_replaces_the_depth_test_with_a_ramp(
+        t_particle in 0.0f32..50.0, gap in -10.0f32..10.0, more in 0.0f32..5.0, fade in 0.01f32..5.0,
+    ) {
+        let t_scene = t_particle + gap;
+        // The gap as the function sees it (after rounding of the sum).
+        let gap = t_scene - t_particle;
+        let f = depth_fade(t_particle, t_scene, fade);
+        prop_assert!((0.0..=1.0).contains(&f), "fade {}", f);
+        if gap <= 0.0 { prop_assert_eq!(f, 0.0); }
+        if gap >= fade { prop_assert_eq!(f, 1.0); }
+        if gap > 0.0 && gap < fade {
+            prop_assert!((f - gap / fade).abs() <= 1e-5 * (1.0 + t_particle / fade), "{} vs {}", f, gap / fade);
+        }
+        prop_assert!(depth_fade(t_particle, t_scene + more, fade) >= f - 1e-6, "not monotone");
+        let hard = depth_fade(t_particle, t_scene, 0.0);
+        prop_assert_eq!(hard, if gap > 0.0 { 1.0 } else { 0.0 });
+    }
+
     /// The visible length is never negative, never longer than the chord, and finite.
     #[test]
     fn sphere_length_within_chord((o, d, c, r) in ray_and_sphere(), s in scene_distance()) {

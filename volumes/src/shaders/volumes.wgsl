@@ -18,6 +18,8 @@ override PRIMITIVE: u32 = 2u;
 // Where the ray-traced pass reads the scene distance: 0 = the R16Float distance texture of
 // the depth pre-pass (thesis 6.3.3), 1 = the depth buffer of the raster pass.
 override DEPTH_SOURCE: u32 = 0u;
+// Depth-fade particles: the fade distance in units of the volume radius.
+override FADE: f32 = 1.0;
 
 // Billboard coordinates covered by the thickness texture: [-E, E]^2 (Rust:
 // THICKNESS_TEXTURE_EXTENT).
@@ -187,4 +189,18 @@ fn raytraced_fs(in: VolumeOut) -> @location(0) vec4f {
         len = billboard_path_length(b.z, r * half_thickness(PRIMITIVE, b.xy, texture_value), t_scene);
     }
     return premultiplied(v, opacity_from_length(OPACITY, len, v.right.w));
+}
+
+// Engine baseline: the depth-fade soft particle. The billboard of billboard_fs (the same
+// pre-integrated texture), drawn without depth test: its opacity is multiplied by the depth fade
+// of the scene distance behind the pixel (the raster pass's depth buffer, DEPTH_SOURCE 1), which
+// is 0 behind the scene and ramps to 1 over FADE radii in front of it.
+@fragment
+fn depth_fade_fs(in: VolumeOut) -> @location(0) vec4f {
+    let v = volumes[in.volume];
+    let r = v.center.w;
+    let a = opacity_from_length(OPACITY, 2.0 * r * thickness_at(in.uv), v.right.w);
+    let t_particle = distance(in.world, globals.eye.xyz);
+    let fade = depth_fade(t_particle, scene_distance(in.clip.xy), FADE * r);
+    return premultiplied(v, a * fade);
 }
