@@ -563,11 +563,31 @@ fn check_box_project(prelude: &str) -> Vec<String> {
     // Hand-written: the probe at the centre, a point on a wall, an axis-aligned ray with zero
     // components, a point outside looking away, a ray whose exit is the probe.
     let edge = [
-        (Vec3::new(0.2, 0.5, 0.1), Vec3::new(0.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)),
-        (Vec3::new(1.0, 0.5, 0.1), Vec3::new(-1.0, 0.0, -0.0), Vec3::new(0.0, 1.0, 0.0)),
-        (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)),
-        (Vec3::new(3.0, 1.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)),
-        (Vec3::new(0.5, 1.0, 0.5), Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, 1.0, 0.0)),
+        (
+            Vec3::new(0.2, 0.5, 0.1),
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ),
+        (
+            Vec3::new(1.0, 0.5, 0.1),
+            Vec3::new(-1.0, 0.0, -0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ),
+        (
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(0.0, 1.0, 1.0),
+        ),
+        (
+            Vec3::new(3.0, 1.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ),
+        (
+            Vec3::new(0.5, 1.0, 0.5),
+            Vec3::new(0.6, 0.0, 0.8),
+            Vec3::new(0.0, 1.0, 0.0),
+        ),
     ];
     for (x, r, probe) in edge {
         cases.push(case(&[
@@ -582,7 +602,11 @@ fn check_box_project(prelude: &str) -> Vec<String> {
         let hi = lo + rng.vec3(0.2, 4.0);
         let inside = |rng: &mut Rng| lo + (hi - lo) * rng.vec3(0.0, 1.0);
         // Mostly points inside (the probe's room), a quarter anywhere around it.
-        let x = if k % 4 == 0 { rng.vec3(-6.0, 6.0) } else { inside(&mut rng) };
+        let x = if k % 4 == 0 {
+            rng.vec3(-6.0, 6.0)
+        } else {
+            inside(&mut rng)
+        };
         let probe = inside(&mut rng);
         let mut r = rng.unit_vec3();
         if rng.u32() % 5 == 0 {
