@@ -41,6 +41,20 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
              64, worst of t = 0, 2, 4)",
         ),
         check(
+            "interior-mapping/cubemap",
+            0.021,
+            0.0087,
+            "the engine baseline (cube-map interiors) on box rooms sees the same surfaces and \
+             texels as the ray cast: measured FLIP 0.016, RMSE 0.0069, as textured",
+        ),
+        check(
+            "interior-mapping/cubemap-varied",
+            0.023,
+            0.0087,
+            "cube-map interiors with a random room of four and mirrored axes per room, where \
+             the reference has one room: measured FLIP 0.018, RMSE 0.0069",
+        ),
+        check(
             "interior-mapping/polygons",
             0.064,
             0.019,
