@@ -916,3 +916,26 @@ pub fn all() -> Vec<Box<dyn Technique>> {
     out.push(Box::new(PolygonInteriors::default()));
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The reported texture memory is the size of the data each variant uploads: at 64 texels
+    /// the thesis's array (16 surface layers + 4 furniture frames) is 327 680 bytes, one room
+    /// cube map 98 304, the four of cubemap-varied 393 216.
+    #[test]
+    fn texture_memory_is_what_is_uploaded() {
+        let thesis = textures::texture_layers(64).len() as u64;
+        assert_eq!(interior_texture_bytes(Variant::Textured, 64), thesis);
+        assert_eq!(thesis, 327_680);
+        for (variant, bytes) in [
+            (Variant::Cubemap, 98_304),
+            (Variant::CubemapVaried, 393_216),
+        ] {
+            let uploaded = textures::room_cube_layers(64, variant.room_cube_count()).len() as u64;
+            assert_eq!(interior_texture_bytes(variant, 64), uploaded);
+            assert_eq!(uploaded, bytes, "{variant:?}");
+        }
+    }
+}
