@@ -63,6 +63,8 @@ fn variant_ids_and_params() {
     expected.extend((1..=8).map(|n| format!("impostors/false-position-{n}")));
     expected.push("impostors/false-position-4-split".into());
     expected.push("impostors/double-refraction".into());
+    expected.push("impostors/box-projected".into());
+    expected.push("impostors/box-projected-double".into());
     expected.push("impostors/caustics".into());
     expected.push("impostors/caustics-compute".into());
     assert_eq!(ids, expected);
@@ -73,14 +75,15 @@ fn variant_ids_and_params() {
             "{}",
             t.id()
         );
-        if t.id() != "impostors/classic" {
-            assert!(
-                names.contains(&"iterations") && names.contains(&"split"),
-                "{}",
-                t.id()
-            );
-        }
-        assert!(t.set_param("iterations", 1e9).is_err() || t.id() == "impostors/classic");
+        // The classic map and the box-projected lookups read no distances: no Hit() steps.
+        let searches = t.id() != "impostors/classic" && !t.id().contains("box-projected");
+        assert_eq!(
+            names.contains(&"iterations") && names.contains(&"split"),
+            searches,
+            "{}",
+            t.id()
+        );
+        assert!(t.set_param("iterations", 1e9).is_err());
         assert!(t.set_param("nonsense", 1.0).is_err());
         for p in t.params() {
             t.set_param(p.name, p.default).unwrap();
