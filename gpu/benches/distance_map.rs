@@ -6,8 +6,8 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use glam::Vec3;
 use gpu::distance_map::{BoxRoom, Method, hit};
 use gpu::prelude::{
-    cube_dir_to_face_uv, fresnel_dielectric, hash_to_unit, oct_decode, oct_encode, ray_box,
-    ray_sphere, refract_dir,
+    box_project, cube_dir_to_face_uv, fresnel_dielectric, hash_to_unit, oct_decode, oct_encode,
+    ray_box, ray_sphere, refract_dir,
 };
 use std::hint::black_box;
 
@@ -74,6 +74,20 @@ fn bench_prelude(c: &mut Criterion) {
     });
     group.bench_function("ray_box", |b| {
         b.iter(each(|x, r| ray_box(x, r, Vec3::splat(-1.0), Vec3::ONE).y))
+    });
+    // The engine's parallax-corrected lookup: the same rays against the room box, probe at
+    // its centre (compare with `hit/*`: what Hit() replaces it with).
+    group.bench_function("box_project", |b| {
+        b.iter(each(|x, r| {
+            box_project(
+                x,
+                r,
+                Vec3::new(0.0, 1.0, 0.0),
+                Vec3::new(-1.0, 0.0, -1.0),
+                Vec3::new(1.0, 2.0, 1.0),
+            )
+            .x
+        }))
     });
     group.bench_function("cube_dir_to_face_uv", |b| {
         b.iter(each(|_, r| cube_dir_to_face_uv(r).y))

@@ -1,11 +1,12 @@
 //! CPU throughput of the Rust twin of the room ray cast (`rooms::cast_rooms`) on a fixed set
-//! of rays entering a facade, for the regular room grid and for displaced walls (rays per
-//! second; `cargo bench -p interior-mapping --bench rooms`).
+//! of rays entering a facade, for the regular room grid and for displaced walls, and of the
+//! engine baseline's room-box exit (`rooms::cubemap_room`) on the same rays (rays per second;
+//! `cargo bench -p interior-mapping --bench rooms`).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;
 use gpu::prelude::hash_to_unit;
-use interior_mapping::rooms::{cast_rooms, plane_uv};
+use interior_mapping::rooms::{cast_rooms, cubemap_room, plane_uv};
 use std::hint::black_box;
 
 /// Rays per batch.
@@ -38,6 +39,22 @@ fn bench_cast(c: &mut Criterion) {
                     let hit = cast_rooms(black_box(o), d, ROOM_SIZE, displacement, 7);
                     // What the shader does next: the hit plane's texture coordinates.
                     sum += plane_uv(hit.family, hit.point / ROOM_SIZE).x + hit.room.x as f32;
+                }
+                sum
+            })
+        });
+    }
+    group.finish();
+    let mut group = c.benchmark_group("cubemap_room");
+    group.throughput(Throughput::Elements(RAYS as u64));
+    for (name, variants) in [("one", 1), ("varied", 4)] {
+        group.bench_function(BenchmarkId::from_parameter(name), |b| {
+            b.iter(|| {
+                let mut sum = 0.0;
+                for &(o, d) in &rays {
+                    let hit = cubemap_room(black_box(o), d, ROOM_SIZE, variants, 7);
+                    // What the shader does next: the cube lookup direction.
+                    sum += hit.lookup.x + hit.atlas as f32;
                 }
                 sum
             })

@@ -205,8 +205,10 @@ pub const MIRROR_X_BIT: u32 = 1 << 8;
 /// Bit of a room's hash that mirrors its cube map along z.
 pub const MIRROR_Z_BIT: u32 = 1 << 9;
 
-/// The hash of a room (grid index and building seed) that varies cube-map interiors.
-pub fn cubemap_room_hash(room: IVec3, seed: u32) -> u32 {
+/// The hash of a room (grid index and building seed): it switches the varied rooms' lights and
+/// picks their atlas tint (section 5.4, in `technique.wgsl`), and picks and mirrors the
+/// cube-map interiors' room.
+pub fn room_hash(room: IVec3, seed: u32) -> u32 {
     let r = room.as_uvec3();
     pcg_hash(
         r.x.wrapping_mul(73856093)
@@ -262,7 +264,7 @@ pub fn cubemap_room(
     let room = room.as_ivec3();
     let mut atlas = 0;
     if variants > 1 {
-        let h = cubemap_room_hash(room, seed);
+        let h = room_hash(room, seed);
         atlas = h % variants;
         if h & MIRROR_X_BIT != 0 {
             lookup.x = -lookup.x;

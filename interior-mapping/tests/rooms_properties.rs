@@ -290,7 +290,7 @@ fn cubemap_variation_uses_every_room_and_mirroring() {
     let mut mirrors = [0u32; 4];
     for i in 0..400 {
         let room = IVec3::new(i % 20, i / 20, 3);
-        let h = cubemap_room_hash(room, 11);
+        let h = room_hash(room, 11);
         atlas[(h % 4) as usize] += 1;
         let m = usize::from(h & MIRROR_X_BIT != 0) + 2 * usize::from(h & MIRROR_Z_BIT != 0);
         mirrors[m] += 1;

@@ -118,7 +118,9 @@ struct CubemapHit {
     atlas: u32,
 };
 
-fn cubemap_room_hash(room: vec3i, seed: u32) -> u32 {
+// The hash of a room (grid index, building seed): the varied rooms' lights and atlas tints
+// and the cube-map interiors' choice and mirroring.
+fn room_hash(room: vec3i, seed: u32) -> u32 {
     let r = bitcast<vec3u>(room);
     return pcg_hash(r.x * 73856093u ^ r.y * 19349663u ^ r.z * 83492791u ^ pcg_hash(seed));
 }
@@ -155,7 +157,7 @@ fn cubemap_room(origin: vec3f, dir: vec3f, size: vec3f, variants: u32, seed: u32
     hit.room = vec3i(room);
     hit.atlas = 0u;
     if (variants > 1u) {
-        let h = cubemap_room_hash(hit.room, seed);
+        let h = room_hash(hit.room, seed);
         hit.atlas = h % variants;
         if ((h & MIRROR_X_BIT) != 0u) { lookup.x = -lookup.x; }
         if ((h & MIRROR_Z_BIT) != 0u) { lookup.z = -lookup.z; }

@@ -98,11 +98,6 @@ fn window_reflection(v: vec3f, n_world: vec3f) -> vec3f {
     return textureSampleLevel(env_map, env_sampler, reflect_dir(v, n_world), 0.0).rgb;
 }
 
-fn room_hash(room: vec3i, building: u32) -> u32 {
-    let r = bitcast<vec3u>(room);
-    return pcg_hash(r.x * 73856093u ^ r.y * 19349663u ^ r.z * 83492791u ^ pcg_hash(building));
-}
-
 // Visibility of light i from a point p_o (object space) on a room surface of a box hull: the
 // segment toward the light must stay in the room until it leaves the hull, and leave it
 // through a window; beyond the window the scene's shadow map decides, looked up at the exit
