@@ -338,7 +338,11 @@ proptest! {
         match ray_box_f64(x, r, lo, hi) {
             Some((t0, t1)) if t1 > 1e-4 && t1 - t0 > 1e-4 => prop_assert!(l.w > 0.0, "exit at {} missed", t1),
             Some((_, t1)) if t1 < -1e-4 => prop_assert!(l == r.extend(-1.0), "box behind: {}", l),
-            None => prop_assert!(l == r.extend(-1.0), "box missed: {}", l),
+            None => {
+                // The f32 slab test may graze an edge the f64 one misses (a degenerate interval).
+                let t = ray_box(x, r, lo, hi);
+                prop_assert!(l == r.extend(-1.0) || t.y - t.x <= 1e-4, "box missed: {}", l)
+            }
             _ => {}
         }
     }

@@ -21,13 +21,14 @@
 pub mod caustics;
 pub mod technique;
 
-pub use technique::{Impostor, Lookup, Mode, Settings};
+pub use technique::{Impostor, Lookup, Mode, Probe, Settings};
 
 /// All technique variants of this crate: `impostors/classic`, `impostors/initial-guess`,
 /// `impostors/secant-{1..8}`, `impostors/false-position-{1..8}`,
 /// `impostors/false-position-4-split`, `impostors/double-refraction`, the engine baselines
-/// `impostors/box-projected` and `impostors/box-projected-double` (parallax-corrected cube
-/// maps), `impostors/caustics`, `impostors/caustics-compute`.
+/// `impostors/box-projected`, `impostors/box-projected-object` and
+/// `impostors/box-projected-double` (parallax-corrected cube maps), `impostors/caustics`,
+/// `impostors/caustics-compute`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     technique::variants()
 }

@@ -67,6 +67,17 @@ pub enum Lookup {
     BoxProjected,
 }
 
+/// Where the environment map of a box-projected variant is captured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Probe {
+    /// At the object's centre, re-captured as the object moves (`regen_threshold`): the
+    /// impostor's own map, so that only the lookup differs from `Hit()`.
+    ObjectCentre,
+    /// At the centre of the proxy box (the room), captured once in the first frame and never
+    /// again, as an engine bakes its reflection probes; the object is left out of its own map.
+    RoomCentre,
+}
+
 /// Parameters of an [`Impostor`] (all settable by name through [`Technique::set_param`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
@@ -74,6 +85,8 @@ pub struct Settings {
     pub mode: Mode,
     /// How `Localized` and `DoubleRefraction` look the map up: `Hit()` or box projection.
     pub lookup: Lookup,
+    /// Where the map is captured (`RoomCentre` only with `Lookup::BoxProjected`).
+    pub probe: Probe,
     /// The `Hit()` search: secant or false position.
     pub method: Method,
     /// Refinement steps after the two initial guesses (`iterations` parameter).
@@ -96,6 +109,7 @@ impl Default for Settings {
         Self {
             mode: Mode::Localized,
             lookup: Lookup::Hit,
+            probe: Probe::ObjectCentre,
             method: Method::FalsePosition,
             iterations: 4,
             resolution: 256,
@@ -123,8 +137,9 @@ struct State {
     split_pipeline: wgpu::RenderPipeline,
     split_layout: wgpu::BindGroupLayout,
     maps: Vec<ObjectMaps>,
-    /// The proxy box of the box-projected lookup: bounds of the scene's diffuse objects.
-    proxy: (Vec3, Vec3),
+    /// The proxy box of the box-projected lookup: bounds of the scene's diffuse objects (none
+    /// in a scene without any: the lookup is then the direction).
+    proxy: Option<(Vec3, Vec3)>,
 }
 
 /// The distance cube of the split layout.
@@ -182,6 +197,11 @@ impl Impostor {
                 .filter_map(|m| m.caustics.as_ref())
                 .collect(),
         ))
+    }
+
+    /// The map is captured once at the room's centre (no regeneration parameter).
+    fn room_probe(&self) -> bool {
+        self.settings.lookup == Lookup::BoxProjected && self.settings.probe == Probe::RoomCentre
     }
 
     fn uses_distance(&self) -> bool {
@@ -245,8 +265,20 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
     )));
     v.push(Box::new(Impostor::new(
         "impostors/box-projected",
-        "engine baseline: parallax-corrected (box-projected) cube map, one interface like the \
-         localized variants, the room's bounds as proxy box (Lagarde and Zanuttini 2012)",
+        "engine baseline as shipped: a reflection probe at the room's centre, captured once, \
+         looked up by parallax correction against the room's bounds (Lagarde and Zanuttini \
+         2012); one interface like the localized variants",
+        Settings {
+            lookup: Lookup::BoxProjected,
+            probe: Probe::RoomCentre,
+            iterations: 0,
+            ..s.clone()
+        },
+    )));
+    v.push(Box::new(Impostor::new(
+        "impostors/box-projected-object",
+        "box projection on the impostor's own map (captured at the object's centre every \
+         frame): false-position-4 with the lookup alone replaced",
         Settings {
             lookup: Lookup::BoxProjected,
             iterations: 0,
@@ -340,16 +372,16 @@ impl Technique for Impostor {
     }
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
-        let mut p = vec![
-            param(
-                "resolution",
-                s.resolution as f64,
-                4.0,
-                4096.0,
-                true,
-                "cube map face size (texels)",
-            ),
-            param(
+        let mut p = vec![param(
+            "resolution",
+            s.resolution as f64,
+            4.0,
+            4096.0,
+            true,
+            "cube map face size (texels)",
+        )];
+        if !self.room_probe() {
+            p.push(param(
                 "regen_threshold",
                 s.regen_threshold as f64,
                 0.0,
@@ -357,8 +389,8 @@ impl Technique for Impostor {
                 false,
                 "metres the object may move from the map's reference point before the map is \
                  regenerated (0: every frame)",
-            ),
-        ];
+            ));
+        }
         if self.uses_distance() {
             p.push(param(
                 "iterations",
@@ -605,12 +637,14 @@ impl Technique for Impostor {
     ) -> TechniqueResult<()> {
         let settings = self.settings.clone();
         let id = self.id.clone();
+        let room_probe = self.room_probe();
         let state = self
             .state
             .as_mut()
             .ok_or(scene::TechniqueError::NotPrepared(id))?;
 
-        // Regenerate the environment impostors of objects that moved too far.
+        // Regenerate the environment impostors of objects that moved too far (a room probe is
+        // captured once).
         let time = scene.time();
         let stale: Vec<usize> = (0..state.maps.len())
             .filter(|&i| {
@@ -618,6 +652,7 @@ impl Technique for Impostor {
                 let center = scene.scene.objects[m.object].center_at(time);
                 match m.reference {
                     None => true,
+                    Some(_) if room_probe => false,
                     Some(r) => {
                         settings.regen_threshold <= 0.0
                             || r.distance(center) > settings.regen_threshold
@@ -629,11 +664,17 @@ impl Technique for Impostor {
             frame.timer.begin(frame.encoder, "regenerate");
             for &i in &stale {
                 let m = &mut state.maps[i];
-                scene::foundation::render_environment(frame, scene, &m.env, m.object);
+                let reference = match state.proxy {
+                    Some((lo, hi)) if room_probe => (lo + hi) * 0.5,
+                    _ => scene.scene.objects[m.object].center_at(time),
+                };
+                // Without the object itself (`render_environment` from another point: an
+                // engine's probe would not hold the moving object either).
+                let others = ObjectFilter::Except(vec![m.object]);
+                scene.raster_cube(frame, &m.env, reference, &others, false);
                 if let Some(split) = &m.split {
                     copy_distances(frame, &state.split_pipeline, split);
                 }
-                let reference = scene.scene.objects[m.object].center_at(time);
                 if let (Some(c), Some(maps)) = (&state.caustic, &m.caustics) {
                     c.render_receivers(frame, scene, maps, m.object, reference);
                 }
@@ -804,9 +845,9 @@ fn copy_distances(frame: &mut Frame, pipeline: &wgpu::RenderPipeline, split: &Sp
 
 /// The proxy box of the box-projected lookup: the world bounds of the scene's non-specular
 /// objects at time 0 (in the Cornell scenes, the room). Engines place this box by hand around
-/// a probe; the room's bounds are what an artist would draw there. A scene with no diffuse
-/// object gets an empty box, on which `box_project` falls back to the direction lookup.
-pub fn proxy_box(scene: &Scene) -> (Vec3, Vec3) {
+/// a probe; the room's bounds are what an artist would draw there. `None` for a scene with no
+/// diffuse object: the box-projected variants then look the map up by direction.
+pub fn proxy_box(scene: &Scene) -> Option<(Vec3, Vec3)> {
     let (lo, hi) = scene
         .objects
         .iter()
@@ -816,11 +857,7 @@ pub fn proxy_box(scene: &Scene) -> (Vec3, Vec3) {
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
             |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
         );
-    if lo.cmple(hi).all() {
-        (lo, hi)
-    } else {
-        (Vec3::ONE, -Vec3::ONE)
-    }
+    lo.cmple(hi).all().then_some((lo, hi))
 }
 
 /// Renders `object`'s own surface from `center` into `cube`: outward normal and distance.
@@ -855,6 +892,7 @@ fn impostor_groups(
     settings: &Settings,
 ) -> Vec<wgpu::BindGroup> {
     let time = scene.time();
+    let proxy = state.proxy.unwrap_or((Vec3::ZERO, Vec3::ZERO));
     state
         .maps
         .iter()
@@ -877,13 +915,14 @@ fn impostor_groups(
                 iterations: settings.iterations,
                 distance_channel: if m.split.is_some() { 0 } else { 3 },
                 refractor_iterations: settings.refractor_iterations,
-                lookup: match settings.lookup {
-                    Lookup::Hit => 0,
-                    Lookup::BoxProjected => 1,
+                lookup: match (settings.lookup, state.proxy) {
+                    (Lookup::Hit, _) => 0,
+                    (Lookup::BoxProjected, Some(_)) => 1,
+                    (Lookup::BoxProjected, None) => 2,
                 },
                 _pad: [0; 2],
-                proxy_min: state.proxy.0.extend(0.0).to_array(),
-                proxy_max: state.proxy.1.extend(0.0).to_array(),
+                proxy_min: proxy.0.extend(0.0).to_array(),
+                proxy_max: proxy.1.extend(0.0).to_array(),
             };
             let params = Uniform::new(ctx, "impostor params", &uniform);
             bind::group(

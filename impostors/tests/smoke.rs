@@ -52,6 +52,30 @@ fn regeneration_follows_the_threshold() {
     }
 }
 
+/// The engine's probe (`Probe::RoomCentre`, as `impostors/box-projected`) is captured once at
+/// the room's centre, however far the object moves; the impostor's own map (`ObjectCentre`)
+/// follows the object every frame.
+#[test]
+fn room_probe_is_captured_once() {
+    use impostors::{Impostor, Lookup, Probe, Settings};
+    use scene::Technique;
+    let _g = common::gpu_lock();
+    let scene = scene::load("cornell-sphere:material=mirror").unwrap();
+    for (probe, expected) in [(Probe::RoomCentre, 1), (Probe::ObjectCentre, 3)] {
+        let settings = Settings {
+            lookup: Lookup::BoxProjected,
+            probe,
+            iterations: 0,
+            resolution: 16,
+            ..Settings::default()
+        };
+        let mut t = Impostor::new("impostors/box-projected", "test", settings);
+        let image = common::render_frames(&mut t, &scene, &[0.0, 0.5, 1.0], 16);
+        assert_eq!(t.regenerations(), expected, "{probe:?}");
+        assert_eq!(image.non_finite_count(), 0);
+    }
+}
+
 #[test]
 fn variant_ids_and_params() {
     let ids: Vec<String> = impostors::techniques().iter().map(|t| t.id()).collect();
@@ -64,14 +88,18 @@ fn variant_ids_and_params() {
     expected.push("impostors/false-position-4-split".into());
     expected.push("impostors/double-refraction".into());
     expected.push("impostors/box-projected".into());
+    expected.push("impostors/box-projected-object".into());
     expected.push("impostors/box-projected-double".into());
     expected.push("impostors/caustics".into());
     expected.push("impostors/caustics-compute".into());
     assert_eq!(ids, expected);
     for mut t in impostors::techniques() {
         let names: Vec<&str> = t.params().iter().map(|p| p.name).collect();
-        assert!(
-            names.contains(&"resolution") && names.contains(&"regen_threshold"),
+        assert!(names.contains(&"resolution"), "{}", t.id());
+        // The room probe is captured once: it has no regeneration threshold.
+        assert_eq!(
+            names.contains(&"regen_threshold"),
+            t.id() != "impostors/box-projected",
             "{}",
             t.id()
         );

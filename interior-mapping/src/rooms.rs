@@ -218,6 +218,19 @@ pub fn room_hash(room: IVec3, seed: u32) -> u32 {
     )
 }
 
+/// The family of the room face a direction from the room's centre leaves by: its largest
+/// component, ties to the lower axis (as `cast_rooms`' ties).
+pub fn dominant_family(d: Vec3) -> u32 {
+    let a = d.abs();
+    if a.x >= a.y && a.x >= a.z {
+        FAMILY_X
+    } else if a.y >= a.z {
+        FAMILY_Y
+    } else {
+        FAMILY_Z
+    }
+}
+
 /// Cube-map interiors: the ray `origin + t * dir` (grid space, starting on or in the room it
 /// enters) in rooms of size `room_size`. The room is the grid cell the ray is in just after
 /// the start (a start on a plane belongs to the room ahead); the exit from that cell is
@@ -246,15 +259,7 @@ pub fn cubemap_room(
     } else {
         (exit.w, exit.truncate())
     };
-    // The face left by: the largest component of the centre-relative exit (ties: lower axis).
-    let a = lookup.abs();
-    let family = if a.x >= a.y && a.x >= a.z {
-        FAMILY_X
-    } else if a.y >= a.z {
-        FAMILY_Y
-    } else {
-        FAMILY_Z
-    };
+    let family = dominant_family(lookup);
     let mut point = origin + t * dir;
     if t < BIG {
         let f = family as usize;

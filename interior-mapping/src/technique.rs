@@ -177,6 +177,8 @@ struct State {
     hulls: Vec<(usize, Option<HullRange>)>,
     building_objects: Vec<usize>,
     env: Option<CubeTarget>,
+    /// Bytes of interior texture data uploaded in `prepare` (surface layers or room faces).
+    texture_bytes: u64,
 }
 
 impl InteriorMapping {
@@ -435,21 +437,29 @@ impl Technique for InteriorMapping {
 
         let size = self.texture_resolution;
         ctx.check_size(size, size)?;
-        let layers = FURNITURE_LAYER + FURNITURE_FRAMES;
-        let texture = srgb_texture(
-            ctx,
-            "interior textures",
-            size,
-            layers,
-            &textures::texture_layers(size),
-        );
+        // The thesis's surface textures (every tint and the furniture frames), or, for the
+        // cube-map interiors, which never read them, one placeholder texel.
+        let (side, layers, data) = if self.variant.uses_room_cubes() {
+            (1, 1, vec![0; 4])
+        } else {
+            let layers = FURNITURE_LAYER + FURNITURE_FRAMES;
+            (size, layers, textures::texture_layers(size))
+        };
+        // Placeholders are not counted.
+        let mut texture_bytes = if self.variant.uses_room_cubes() {
+            0
+        } else {
+            data.len() as u64
+        };
+        let texture = srgb_texture(ctx, "interior textures", side, layers, &data);
         debug_assert_eq!(VARIANTS * 4, FURNITURE_LAYER);
         let texture_view = texture.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
         let atlas_view = single_texture_view(ctx, self.variant, size);
-        let room_cubes_view = room_cubes_view(ctx, self.variant, size);
+        let (room_faces_view, room_face_bytes) = room_faces_view(ctx, self.variant, size);
+        texture_bytes += room_face_bytes;
         let env_size = if self.variant.uses_env_map() {
             ENV_MAP_SIZE
         } else {
@@ -466,14 +476,14 @@ impl Technique for InteriorMapping {
             "interior mapping",
             wgpu::ShaderStages::FRAGMENT,
             &[
-                bind::storage(true),                                        // buildings
-                bind::uniform(),                                            // settings
-                bind::texture_2d_array(),                                   // room_textures
-                bind::sampler(),                                            // room_sampler
-                bind::texture_cube(),                                       // env_map
-                bind::sampler(),                                            // env_sampler
-                bind::texture_2d(),                                         // single_texture
-                bind::texture(wgpu::TextureViewDimension::CubeArray, true), // room_cubes
+                bind::storage(true),      // buildings
+                bind::uniform(),          // settings
+                bind::texture_2d_array(), // room_textures
+                bind::sampler(),          // room_sampler
+                bind::texture_cube(),     // env_map
+                bind::sampler(),          // env_sampler
+                bind::texture_2d(),       // single_texture
+                bind::texture_2d_array(), // room_faces
             ],
         );
         // Room textures tile (repeat); the reflection map is a cube map, whose sampling
@@ -491,7 +501,7 @@ impl Technique for InteriorMapping {
                 bind::view(&env.cube_view),
                 bind::sampler_resource(&samplers.linear_clamp),
                 bind::view(&atlas_view),
-                bind::view(&room_cubes_view),
+                bind::view(&room_faces_view),
             ],
         );
         let source = format!(
@@ -531,6 +541,7 @@ impl Technique for InteriorMapping {
             hulls,
             building_objects: s.objects_with(Roles::BUILDING),
             env: self.variant.uses_env_map().then_some(env),
+            texture_bytes,
         });
         Ok(())
     }
@@ -629,6 +640,12 @@ impl Technique for InteriorMapping {
 }
 
 impl InteriorMapping {
+    /// Bytes of interior texture data uploaded by the last `prepare` (None before it): the
+    /// memory figure reported beside error and time.
+    pub fn texture_bytes(&self) -> Option<u64> {
+        self.state.as_ref().map(|s| s.texture_bytes)
+    }
+
     fn default_interior_light(&self) -> f64 {
         if self.variant == Variant::Varied {
             0.3
@@ -716,26 +733,33 @@ fn single_texture_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::Text
     srgb_texture(ctx, "interior single texture", side, 1, &data).create_view(&Default::default())
 }
 
-/// The room cube maps of the cube-map interiors (`textures::room_cube_layers`) as a cube
-/// array; one 1 x 1 placeholder cube for the other variants, which bind but never read it.
-fn room_cubes_view(ctx: &Context, variant: Variant, size: u32) -> wgpu::TextureView {
+/// The room cube maps of the cube-map interiors (`textures::room_cube_layers`) as a 2D array
+/// of six faces per room, addressed in the shader with the prelude's `cube_dir_to_face_uv`
+/// (a 2D array rather than a cube array, which some adapters lack); one placeholder texel for
+/// the other variants, which bind but never read it. Also returns the bytes uploaded for
+/// the cube-map variants (0 for the placeholder).
+fn room_faces_view(ctx: &Context, variant: Variant, size: u32) -> (wgpu::TextureView, u64) {
     let cubes = variant.room_cube_count();
-    let (side, count, data) = if cubes > 0 {
-        (size, cubes, textures::room_cube_layers(size, cubes))
+    let (side, layers, data) = if cubes > 0 {
+        (size, 6 * cubes, textures::room_cube_layers(size, cubes))
     } else {
-        (1, 1, vec![0; 6 * 4])
+        (1, 1, vec![0; 4])
     };
-    srgb_texture(ctx, "interior room cube maps", side, 6 * count, &data).create_view(
+    let bytes = if cubes > 0 { data.len() as u64 } else { 0 };
+    let view = srgb_texture(ctx, "interior room faces", side, layers, &data).create_view(
         &wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::CubeArray),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         },
-    )
+    );
+    (view, bytes)
 }
 
-/// Bytes of a variant's interior textures at `size` texels per side (RGBA8): the thesis's
-/// surface texture array (four surfaces in [`VARIANTS`] tints, the furniture frames), or the
-/// room cube maps of the cube-map interiors. Reported beside error and time.
+/// Bytes of interior texture data a variant uploads at `size` texels per side (RGBA8): the
+/// thesis's surface texture array (four surfaces in [`VARIANTS`] tints and the furniture
+/// frames: what every thesis variant binds, whichever layers it reads), or the room faces of
+/// the cube-map interiors (six per room cube map). [`InteriorMapping::texture_bytes`] reports
+/// what `prepare` actually uploaded.
 pub fn interior_texture_bytes(variant: Variant, size: u32) -> u64 {
     let texels = u64::from(size) * u64::from(size) * 4;
     if variant.uses_room_cubes() {
@@ -915,27 +939,4 @@ pub fn all() -> Vec<Box<dyn Technique>> {
     }
     out.push(Box::new(PolygonInteriors::default()));
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The reported texture memory is the size of the data each variant uploads: at 64 texels
-    /// the thesis's array (16 surface layers + 4 furniture frames) is 327 680 bytes, one room
-    /// cube map 98 304, the four of cubemap-varied 393 216.
-    #[test]
-    fn texture_memory_is_what_is_uploaded() {
-        let thesis = textures::texture_layers(64).len() as u64;
-        assert_eq!(interior_texture_bytes(Variant::Textured, 64), thesis);
-        assert_eq!(thesis, 327_680);
-        for (variant, bytes) in [
-            (Variant::Cubemap, 98_304),
-            (Variant::CubemapVaried, 393_216),
-        ] {
-            let uploaded = textures::room_cube_layers(64, variant.room_cube_count()).len() as u64;
-            assert_eq!(interior_texture_bytes(variant, 64), uploaded);
-            assert_eq!(uploaded, bytes, "{variant:?}");
-        }
-    }
 }

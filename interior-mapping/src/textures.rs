@@ -32,6 +32,12 @@ const TINTS: [[f32; 3]; 4] = [
     [0.85, 1.1, 0.8],
 ];
 
+/// An opaque RGBA8 texel: sRGB colour `c` times the atlas variant's `tint`.
+fn tinted(c: [u8; 3], tint: &[f32; 3]) -> [u8; 4] {
+    let channel = |k: usize| (c[k] as f32 * tint[k]).round().clamp(0.0, 255.0) as u8;
+    [channel(0), channel(1), channel(2), 255]
+}
+
 /// RGBA8 (sRGB) texel of the furniture sprite frame `f`: a seated figure beside a table, the
 /// figure's arm moving from frame to frame; alpha 0 outside the figure.
 pub fn furniture_texel(frame: u32, s: f32, t: f32) -> [u8; 4] {
@@ -66,11 +72,7 @@ pub fn texture_layers(size: u32) -> Vec<u8> {
         for surface in SURFACES {
             for j in 0..size {
                 for i in 0..size {
-                    let c = room_texel(surface, at(i), at(j));
-                    for k in 0..3 {
-                        out.push((c[k] as f32 * tint[k]).round().clamp(0.0, 255.0) as u8);
-                    }
-                    out.push(255);
+                    out.extend_from_slice(&tinted(room_texel(surface, at(i), at(j)), tint));
                 }
             }
         }
@@ -122,7 +124,8 @@ pub fn single_atlas(size: u32) -> Vec<u8> {
 const CUBE_FACES: u32 = 6;
 
 /// The room cube maps of the cube-map interiors: `variants` cube maps of `size` x `size`
-/// faces, RGBA8 sRGB, cube after cube and face after face (a cube-array texture), cube `v`
+/// faces, RGBA8 sRGB, cube after cube and face after face (the layers of a 2D array texture,
+/// addressed with `gpu::prelude::cube_dir_to_face_uv`), cube `v`
 /// tinted as layer variant `v` of [`texture_layers`]. Each is the unit room (floor, ceiling,
 /// two wall families, the thesis's textures one per face) seen from its centre: per texel the
 /// ray from the centre leaves the room box on a face, whose texture is read there; the same
@@ -137,11 +140,7 @@ pub fn room_cube_layers(size: u32, variants: u32) -> Vec<u8> {
                 for i in 0..size {
                     let d = gpu::prelude::cube_face_uv_to_dir(face, at(i), at(j));
                     let (surface, s, t) = room_surface_seen(d);
-                    let c = room_texel(surface, s, t);
-                    for k in 0..3 {
-                        out.push((c[k] as f32 * tint[k]).round().clamp(0.0, 255.0) as u8);
-                    }
-                    out.push(255);
+                    out.extend_from_slice(&tinted(room_texel(surface, s, t), tint));
                 }
             }
         }
@@ -153,19 +152,14 @@ pub fn room_cube_layers(size: u32, variants: u32) -> Vec<u8> {
 /// coordinate in [0, 1)^2 (`rooms::plane_uv` of the exit point, the face chosen as
 /// `rooms::cubemap_room` chooses it).
 pub fn room_surface_seen(d: glam::Vec3) -> (RoomSurface, f32, f32) {
-    let a = d.abs();
-    let exit = glam::Vec3::splat(0.5) + d * (0.5 / a.max_element());
-    let (family, surface) = if a.x >= a.y && a.x >= a.z {
-        (crate::rooms::FAMILY_X, RoomSurface::WallX)
-    } else if a.y >= a.z {
-        let floor_or_ceiling = if d.y > 0.0 {
-            RoomSurface::Ceiling
-        } else {
-            RoomSurface::Floor
-        };
-        (crate::rooms::FAMILY_Y, floor_or_ceiling)
-    } else {
-        (crate::rooms::FAMILY_Z, RoomSurface::WallZ)
+    use crate::rooms::{FAMILY_X, FAMILY_Y, dominant_family};
+    let exit = glam::Vec3::splat(0.5) + d * (0.5 / d.abs().max_element());
+    let family = dominant_family(d);
+    let surface = match family {
+        FAMILY_X => RoomSurface::WallX,
+        FAMILY_Y if d.y > 0.0 => RoomSurface::Ceiling,
+        FAMILY_Y => RoomSurface::Floor,
+        _ => RoomSurface::WallZ,
     };
     let uv = crate::rooms::plane_uv(family, exit);
     (surface, uv.x - uv.x.floor(), uv.y - uv.y.floor())

@@ -156,9 +156,11 @@ fn wgsl_cast_rooms_matches_twin() {
 type CubemapOutput = [[u32; 4]; 4];
 
 /// `cubemap_room` (the cube-map interiors) against its twin on the same rays (regular grid),
-/// with and without variation. Tolerances: t, point and lookup within 1e-4 relative; room and
-/// atlas exact; family exact unless the exit is within 1e-3 of a room edge (two faces tie, a
-/// fused multiply-add may pick the other). At most 1% of the cases may be such ties.
+/// with and without variation. Tolerances: t, point and lookup within 1e-4 relative; atlas
+/// exact; room exact unless the start is within 1e-3 rooms of a boundary (the floor() of a
+/// division a GPU may round differently); family exact unless the exit is within 1e-3 of a
+/// room edge (two faces tie, a fused multiply-add may pick the other). At most 1% of the cases
+/// may be such ties.
 #[test]
 fn wgsl_cubemap_room_matches_twin() {
     let cases = cases();
@@ -217,7 +219,16 @@ fn wgsl_cubemap_room_matches_twin() {
         );
         let close =
             |a: Vec3, b: Vec3| (a - b).abs().max_element() <= 1e-4 * (1.0 + b.abs().max_element());
-        assert_eq!((room, atlas), (cpu.room, cpu.atlas), "case {i}: {cpu:?}");
+        if room != cpu.room {
+            // Only where the start lies within rounding of a room boundary (a GPU's division
+            // may differ by an ulp there, and floor() decides the room) may the room differ.
+            let u = c.origin / c.size;
+            let near_plane = (0..3).any(|a| (u[a] - u[a].round()).abs() < 1e-3);
+            assert!(near_plane, "case {i}: room {room} vs CPU {cpu:?}");
+            ties += 1;
+            continue;
+        }
+        assert_eq!(atlas, cpu.atlas, "case {i}: {cpu:?}");
         assert!(
             (t - cpu.t).abs() <= 1e-4 * (1.0 + cpu.t.abs()) && close(lookup, cpu.lookup),
             "case {i}: GPU t {t} lookup {lookup} vs CPU {cpu:?}"

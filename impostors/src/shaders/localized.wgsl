@@ -15,7 +15,9 @@
 //                       and the localized lookup continues in the environment impostor.
 // With lookup 1 (box projected) every lookup of modes 1 and 2 is the engine's parallax-corrected
 // cube map instead of Hit(): the ray is intersected with a proxy box (the room's bounds) and the
-// map is looked up toward the exit point (box_project of the prelude); the distances are unused.
+// map, captured at `reference` (the probe), is looked up toward the exit point (box_project of
+// the prelude); the distances are unused. Lookup 2: a box-projected variant on a scene with no
+// proxy box falls back to the direction lookup.
 
 struct ImpostorParams {
     // Reference point of the environment impostor (world), w unused.
@@ -51,6 +53,7 @@ const MODE_LOCALIZED: u32 = 1u;
 const MODE_DOUBLE: u32 = 2u;
 const LOOKUP_HIT: u32 = 0u;
 const LOOKUP_BOX: u32 = 1u;
+const LOOKUP_DIRECTION: u32 = 2u;
 // Chords followed inside a refractor (exit attempts); the energy still inside after the last
 // one is dropped, as a depth-bounded ray tracer drops it.
 const MAX_SEGMENTS: u32 = 3u;
@@ -60,10 +63,12 @@ const SURFACE_OFFSET: f32 = 1e-4;
 // Incoming radiance at world point `origin` from direction `dir`, via the environment impostor.
 fn env_lookup(origin: vec3f, dir: vec3f) -> vec3f {
     var lookup = dir;
-    if (params.mode != MODE_CLASSIC && params.lookup == LOOKUP_BOX) {
+    if (params.mode == MODE_CLASSIC || params.lookup == LOOKUP_DIRECTION) {
+        lookup = dir;
+    } else if (params.lookup == LOOKUP_BOX) {
         lookup = box_project(origin, dir, params.reference.xyz, params.proxy_min.xyz,
                              params.proxy_max.xyz).xyz;
-    } else if (params.mode != MODE_CLASSIC) {
+    } else {
         let x = origin - params.reference.xyz;
         lookup = hit(x, dir, env_distance, env_sampler, params.distance_channel,
                      params.method, params.iterations).xyz;

@@ -125,6 +125,15 @@ fn room_hash(room: vec3i, seed: u32) -> u32 {
     return pcg_hash(r.x * 73856093u ^ r.y * 19349663u ^ r.z * 83492791u ^ pcg_hash(seed));
 }
 
+// The room face a direction from the room's centre leaves by (largest component, ties to the
+// lower axis).
+fn dominant_family(d: vec3f) -> u32 {
+    let a = abs(d);
+    if (a.x >= a.y && a.x >= a.z) { return FAMILY_X; }
+    if (a.y >= a.z) { return FAMILY_Y; }
+    return FAMILY_Z;
+}
+
 fn cubemap_room(origin: vec3f, dir: vec3f, size: vec3f, variants: u32, seed: u32) -> CubemapHit {
     let u = origin / size;
     let du = dir / size;
@@ -138,13 +147,7 @@ fn cubemap_room(origin: vec3f, dir: vec3f, size: vec3f, variants: u32, seed: u32
         t = BIG;
         lookup = du;
     }
-    let a = abs(lookup);
-    var family = FAMILY_Z;
-    if (a.x >= a.y && a.x >= a.z) {
-        family = FAMILY_X;
-    } else if (a.y >= a.z) {
-        family = FAMILY_Y;
-    }
+    let family = dominant_family(lookup);
     var point = origin + t * dir;
     if (t < BIG) {
         let face = room[family] + select(0.0, 1.0, lookup[family] > 0.0);

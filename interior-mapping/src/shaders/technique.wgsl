@@ -51,8 +51,9 @@ const FURNITURE_LAYER: i32 = 16;
 @group(2) @binding(5) var env_sampler: sampler;
 // The 2 x 2 atlas of the single-texture variant (1 x 1 and unread otherwise).
 @group(2) @binding(6) var single_texture: texture_2d<f32>;
-// The room cube maps of the cube-map interiors (one 1 x 1 cube and unread otherwise).
-@group(2) @binding(7) var room_cubes: texture_cube_array<f32>;
+// The room cube maps of the cube-map interiors: six faces per room (cube-layer order), addressed
+// with cube_dir_to_face_uv (one placeholder texel, unread, for the other variants).
+@group(2) @binding(7) var room_faces: texture_2d_array<f32>;
 
 fn in_window(h: f32, v: f32) -> bool {
     let fh = h - floor(h);
@@ -217,11 +218,11 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
     // The ray cast (5.2.1-5.2.2): from the hull point, or from the eye when it is inside.
     let start = select(eye_o, p, outside);
     let seed = bitcast<u32>(i32(b.grid_origin.w)) * 7u;
-    var hit = cast_rooms(start - origin, dir, size, b.displacement.xyz, seed);
-    // Cube-map interiors (engine baseline): the exit of the room box instead, and the albedo
-    // from the room's cube map in the direction of that exit.
+    // Cube-map interiors (engine baseline): the exit of the room box instead of the planes, and
+    // the albedo from the room's cube map in the direction of that exit.
     let cubemap = variant == VARIANT_CUBEMAP || variant == VARIANT_CUBEMAP_VARIED;
     var cube_albedo = vec3f(0.0);
+    var hit: RoomHit;
     if (cubemap) {
         let variants = select(1u, ATLAS_VARIANTS, variant == VARIANT_CUBEMAP_VARIED);
         let c = cubemap_room(start - origin, dir, size, variants, seed);
@@ -229,7 +230,11 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
         hit.t = c.t;
         hit.point = c.point;
         hit.room = c.room;
-        cube_albedo = textureSampleLevel(room_cubes, env_sampler, c.lookup, c.atlas, 0.0).rgb;
+        let face = cube_dir_to_face_uv(c.lookup);
+        let layer = i32(c.atlas * 6u + u32(face.x));
+        cube_albedo = textureSampleLevel(room_faces, env_sampler, face.yz, layer, 0.0).rgb;
+    } else {
+        hit = cast_rooms(start - origin, dir, size, b.displacement.xyz, seed);
     }
     var surface: u32;
     switch hit.family {
