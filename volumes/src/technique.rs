@@ -429,6 +429,8 @@ struct Resources {
     baked: Option<Baked>,
     /// The `free_depth` the volume pipeline was specialised for.
     free_depth: bool,
+    /// The `fade_distance` the depth-fade pipeline was specialised for (override `FADE`).
+    fade_distance: f32,
     volume_layout: wgpu::BindGroupLayout,
     copy_layout: wgpu::BindGroupLayout,
     volume_pipeline: wgpu::RenderPipeline,
@@ -701,12 +703,10 @@ impl Technique for VolumeTechnique {
         target: &Target,
     ) -> TechniqueResult<()> {
         let ctx = frame.gpu;
-        if self
-            .gpu
-            .as_ref()
-            .is_some_and(|r| r.free_depth != self.free_depth)
-        {
-            // `free_depth` changed after prepare: respecialise the pipelines.
+        if self.gpu.as_ref().is_some_and(|r| {
+            r.free_depth != self.free_depth || r.fade_distance != self.fade_distance
+        }) {
+            // `free_depth` or `fade_distance` changed after prepare: respecialise the pipelines.
             self.gpu = Some(ctx.validated(|| self.create_resources(ctx, scene))?);
             self.buffers = None;
         }
@@ -1139,6 +1139,7 @@ impl VolumeTechnique {
         Resources {
             baked,
             free_depth: self.free_depth,
+            fade_distance: self.fade_distance,
             volume_layout,
             copy_layout,
             volume_pipeline,

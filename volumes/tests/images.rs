@@ -139,6 +139,18 @@ impl Bench {
         self.render(&mut technique)
     }
 
+    /// Renders `technique` again without preparing it (a parameter changed after prepare).
+    fn render_prepared(&mut self, technique: &mut dyn Technique) -> HdrImage {
+        let ctx = testkit::context();
+        let (view, target) = (&self.view, &self.target);
+        testkit::submit(ctx, &mut self.gpu_scene, view.time, |frame, gpu_scene| {
+            technique
+                .render(frame, gpu_scene, view, target)
+                .unwrap_or_else(|e| panic!("{}: render: {e}", technique.id()));
+        });
+        target.read(ctx).expect("read back")
+    }
+
     /// Technique `id` against the ground truth (the primary figure), and its image.
     fn measure(&mut self, id: &str, params: &[(&str, f64)]) -> (Error, HdrImage) {
         let image = self.image(id, params);
@@ -270,6 +282,27 @@ fn depth_fade_trades_the_ground_line_for_post_silhouettes() {
     assert!(
         total(thickness) < 0.25 * total(fade).min(total(billboard)),
         "ray-traced thickness {thickness:?} vs depth fade {fade:?} and billboard {billboard:?}"
+    );
+}
+
+/// `fade_distance` set after `prepare` takes effect in the next frame (the pipeline is
+/// specialised again), as a fresh technique with that value renders it.
+#[test]
+fn fade_distance_changed_after_prepare_is_used() {
+    let mut bench = Bench::new(single_smoke(), single_smoke().camera, 0.0);
+    let variant = all_variants()
+        .into_iter()
+        .find(|v| v.id() == "volumes/depth-fade")
+        .unwrap();
+    let mut technique = VolumeTechnique::new(variant);
+    let soft = bench.render(&mut technique);
+    technique.set_param("fade_distance", 0.0).unwrap();
+    let changed = bench.render_prepared(&mut technique);
+    let fresh = bench.image("volumes/depth-fade", &[("fade_distance", 0.0)]);
+    assert_eq!(changed.pixels, fresh.pixels, "the changed fade is not used");
+    assert_ne!(
+        changed.pixels, soft.pixels,
+        "a zero fade must differ from the default"
     );
 }
 

@@ -42,8 +42,6 @@ fn visible_length(t_front: f32, t_back: f32, t_scene: f32) -> f32 {
     return max(min(t_back, t_scene) - max(t_front, 0.0), 0.0);
 }
 
-// True sphere (figure 6.18d): exact entry and exit of the ray, clipped by the eye and the
-// scene. A miss or a tangent ray gives 0.
 // Soft particles' depth fade (engines' DepthFade): clamp((t_scene - t_particle) / fade, 0, 1);
 // fade <= 0 is the plain depth test. Twin: path_length.rs `depth_fade`.
 fn depth_fade(t_particle: f32, t_scene: f32, fade: f32) -> f32 {
@@ -52,6 +50,8 @@ fn depth_fade(t_particle: f32, t_scene: f32, fade: f32) -> f32 {
     return clamp(gap / fade, 0.0, 1.0);
 }
 
+// True sphere (figure 6.18d): exact entry and exit of the ray, clipped by the eye and the
+// scene. A miss or a tangent ray gives 0.
 fn sphere_path_length(o: vec3f, d: vec3f, center: vec3f, radius: f32, t_scene: f32) -> f32 {
     let t = ray_sphere(o, d, center, radius);
     if (t.x > t.y) { return 0.0; }

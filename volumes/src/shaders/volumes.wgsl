@@ -137,9 +137,12 @@ fn premultiplied(v: VolumeGpu, a: f32) -> vec4f {
 @fragment
 fn billboard_fs(in: VolumeOut) -> @location(0) vec4f {
     let v = volumes[in.volume];
-    let r = v.center.w;
-    let a = opacity_from_length(OPACITY, 2.0 * r * thickness_at(in.uv), v.right.w);
-    return premultiplied(v, a);
+    return premultiplied(v, billboard_opacity(v, in.uv));
+}
+
+// The billboard's opacity at `uv`: the pre-integrated chord of the thickness texture.
+fn billboard_opacity(v: VolumeGpu, uv: vec2f) -> f32 {
+    return opacity_from_length(OPACITY, 2.0 * v.center.w * thickness_at(uv), v.right.w);
 }
 
 // Thesis 6.3.2: one of N slices, depth tested against the scene; its share of the opacity
@@ -198,9 +201,7 @@ fn raytraced_fs(in: VolumeOut) -> @location(0) vec4f {
 @fragment
 fn depth_fade_fs(in: VolumeOut) -> @location(0) vec4f {
     let v = volumes[in.volume];
-    let r = v.center.w;
-    let a = opacity_from_length(OPACITY, 2.0 * r * thickness_at(in.uv), v.right.w);
     let t_particle = distance(in.world, globals.eye.xyz);
-    let fade = depth_fade(t_particle, scene_distance(in.clip.xy), FADE * r);
-    return premultiplied(v, a * fade);
+    let fade = depth_fade(t_particle, scene_distance(in.clip.xy), FADE * v.center.w);
+    return premultiplied(v, billboard_opacity(v, in.uv) * fade);
 }
