@@ -217,7 +217,10 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
 
     // The ray cast (5.2.1-5.2.2): from the hull point, or from the eye when it is inside.
     let start = select(eye_o, p, outside);
+    // Per building: the seed of the displaced walls' offsets, and the number the room hash
+    // (varied lights and tints, the cube maps' choice and mirroring) is keyed on.
     let seed = bitcast<u32>(i32(b.grid_origin.w)) * 7u;
+    let building = u32(b.grid_origin.w);
     // Cube-map interiors (engine baseline): the exit of the room box instead of the planes, and
     // the albedo from the room's cube map in the direction of that exit.
     let cubemap = variant == VARIANT_CUBEMAP || variant == VARIANT_CUBEMAP_VARIED;
@@ -225,7 +228,7 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
     var hit: RoomHit;
     if (cubemap) {
         let variants = select(1u, ATLAS_VARIANTS, variant == VARIANT_CUBEMAP_VARIED);
-        let c = cubemap_room(start - origin, dir, size, variants, seed);
+        let c = cubemap_room(start - origin, dir, size, variants, building);
         hit.family = c.family;
         hit.t = c.t;
         hit.point = c.point;
@@ -248,7 +251,7 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
     var room_light = 0.0;
     if (variant == VARIANT_VARIED) {
         // Per-room light on/off by hash against the probability (5.4.1) and texture variant (5.4.2).
-        let hr = room_hash(hit.room, u32(b.grid_origin.w));
+        let hr = room_hash(hit.room, building);
         room_light = select(0.0, settings.a.z, hash_to_unit(hr) < settings.a.y);
         atlas = pcg_hash(hr) % ATLAS_VARIANTS;
     } else {
