@@ -205,7 +205,7 @@ fn cube_map_interiors_against_reference_and_ray_cast() {
     );
     // Measured (96 x 96, lavapipe): rmse 0.00076, FLIP 0.0006 at 64 texels (bilinear
     // filtering at the room edges: each cube face clamps at its border, the repeat-addressed
-    // texture wraps into its own opposite edge); 16 texels 0.0126, varied 0.0383.
+    // texture wraps into its own opposite edge); 16 texels 0.0126, varied 0.0381.
     assert!(
         same.rmse < 1.5e-3,
         "cubemap vs ray cast: rmse {}",
