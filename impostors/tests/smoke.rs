@@ -58,7 +58,6 @@ fn regeneration_follows_the_threshold() {
 #[test]
 fn room_probe_is_captured_once() {
     use impostors::{Impostor, Lookup, Probe, Settings};
-    use scene::Technique;
     let _g = common::gpu_lock();
     let scene = scene::load("cornell-sphere:material=mirror").unwrap();
     for (probe, expected) in [(Probe::RoomCentre, 1), (Probe::ObjectCentre, 3)] {
