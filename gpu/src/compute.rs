@@ -23,22 +23,46 @@ pub fn run_kernel<I: bytemuck::Pod, O: bytemuck::Pod>(
     inputs: &[I],
     outputs_per_input: usize,
 ) -> Result<Vec<O>, GpuError> {
+    run_kernel_with(ctx, source, entry, inputs, outputs_per_input, &[])
+}
+
+/// [`run_kernel`] with more resources bound after the two buffers: `extra[k]` (its binding
+/// type and resource) at `@group(0) @binding(k + 2)`, for kernels that read textures and
+/// samplers (a distance map searched by the routine under test).
+pub fn run_kernel_with<I: bytemuck::Pod, O: bytemuck::Pod>(
+    ctx: &Context,
+    source: &str,
+    entry: &str,
+    inputs: &[I],
+    outputs_per_input: usize,
+    extra: &[(wgpu::BindingType, wgpu::BindingResource<'_>)],
+) -> Result<Vec<O>, GpuError> {
     if inputs.is_empty() {
         return Ok(Vec::new());
     }
     let output_bytes = (std::mem::size_of::<O>() * outputs_per_input * inputs.len()) as u64;
-    let (pipeline, input, output) = ctx.validated(|| {
+    let (pipeline, group_layout, input, output) = ctx.validated(|| {
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(entry),
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             });
+        let mut types = vec![crate::bind::storage(true), crate::bind::storage(false)];
+        types.extend(extra.iter().map(|(ty, _)| *ty));
+        let group_layout = crate::bind::layout(ctx, entry, wgpu::ShaderStages::COMPUTE, &types);
+        let layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(entry),
+                bind_group_layouts: &[Some(&group_layout)],
+                immediate_size: 0,
+            });
         let pipeline = ctx
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
-                layout: None,
+                layout: Some(&layout),
                 module: &module,
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
@@ -57,23 +81,12 @@ pub fn run_kernel<I: bytemuck::Pod, O: bytemuck::Pod>(
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        (pipeline, input, output)
+        (pipeline, group_layout, input, output)
     })?;
     ctx.validated(|| {
-        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(entry),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: input.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: output.as_entire_binding(),
-                },
-            ],
-        });
+        let mut resources = vec![input.as_entire_binding(), output.as_entire_binding()];
+        resources.extend(extra.iter().map(|(_, resource)| resource.clone()));
+        let bind_group = crate::bind::group(ctx, entry, &group_layout, &resources);
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());

@@ -85,3 +85,29 @@ fn hit(x: vec3f, R: vec3f, map: texture_cube<f32>, smp: sampler, channel: u32,
     }
     return vec4f(x + R * d_l, d_l);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Search from outside (Dancsik and Minarik, section 4.1): the ray y + R d (relative to the map's
+// reference point, R unit length) against the object the map represents. Rust twin:
+// gpu/src/distance_map.rs `hit_from_outside` (see its docs). Intersect the bounding box
+// [bmin, bmax]; run hit() from the far box point along -R; accept the result when the map's
+// surface point in its direction lies within `epsilon` of the ray and ahead of y.
+// Returns (point on the ray, d on the original ray), or (0, 0, 0, -1) for no hit.
+// ---------------------------------------------------------------------------------------------
+
+const HIT_NONE: vec4f = vec4f(0.0, 0.0, 0.0, -1.0);
+
+fn hit_from_outside(y: vec3f, R: vec3f, map: texture_cube<f32>, smp: sampler, channel: u32,
+                    bmin: vec3f, bmax: vec3f, method: u32, iterations: u32,
+                    epsilon: f32) -> vec4f {
+    let t = ray_box(y, R, bmin, bmax);
+    if (t.x > t.y || t.y <= 0.0) { return HIT_NONE; }
+    let x = y + R * t.y;
+    let h = hit(x, -R, map, smp, channel, method, iterations);
+    let d = t.y - h.w;
+    let len = length(h.xyz);
+    if (len < HIT_MIN_LENGTH || d < 0.0) { return HIT_NONE; }
+    let surface = h.xyz / len * hit_distance(map, smp, channel, h.xyz);
+    if (length(surface - h.xyz) > epsilon) { return HIT_NONE; }
+    return vec4f(h.xyz, d);
+}
