@@ -416,8 +416,12 @@ pub struct OutsideHit {
 ///    its first guess reads the map in direction `-R`, the side of the object that faces the
 ///    ray's origin, so the search converges to the surface where the original ray enters;
 /// 3. accept the result only if the map's surface point in its direction lies within
-///    `epsilon` of the ray ("the search method selects a point on the surface even if the ray
-///    actually does not intersect the object"), and it lies ahead of `y`.
+///    `epsilon` of it ("the search method selects a point on the surface even if the ray
+///    actually does not intersect the object"), and it lies ahead of `y`. The gap is measured
+///    radially (surface point to the found point, along their common direction from the
+///    reference point), which is at least the surface point's distance to the ray: stricter
+///    than the paper's "farther from the ray than epsilon" by up to `1 / sin` of the angle
+///    between that direction and the ray, which rejects some slowly converging grazing hits.
 ///
 /// On a convex object with an exact map it finds the entry point, except where the search
 /// pins itself at the far box point: from there an overshooting first guess makes every step

@@ -5,10 +5,12 @@
 //! the same numbers.
 //!
 //! 4096 rays from outside: aimed inside the ellipsoid, beside it, and at its bounding box's
-//! edges, both methods, 0/4/8/16 iterations. Tolerances: hit or no hit must agree, and `d` and
-//! the point within `1e-4 (1 + d)`, except where the twin itself is within rounding of a
+//! corners, both methods, 0/4/8/16 iterations. Tolerances: hit or no hit must agree, and `d`
+//! and the point within `1e-4 (1 + d)`, except where the twin itself is within rounding of a
 //! decision: a lookup within 2e-3 texels of a texel edge (the GPU may pick the neighbour) or a
-//! surface distance within 1e-4 of the epsilon. At most 2% of the rays may be excused.
+//! surface gap within 1e-4 of the epsilon. At most 2% of the rays may be excused.
+//! `a_loosened_epsilon_test_is_caught` runs a copy of the WGSL whose epsilon test is twice as
+//! loose and checks that the comparison reports it.
 
 use glam::Vec3;
 use gpu::compute::{kernel_entry, kernel_header, run_kernel_with};
@@ -48,7 +50,7 @@ fn faces() -> Vec<Vec<[f32; 4]>> {
 }
 
 /// Rays (origin, direction) from outside the box: a third aimed inside, a third beside, a
-/// third at the box's edges.
+/// third at the box's corners.
 fn rays() -> Vec<(Vec3, Vec3)> {
     let h = |k: u32| gpu::prelude::hash_to_unit(k) * 2.0 - 1.0;
     (0..RAYS)
@@ -89,6 +91,7 @@ struct Run { method: u32, iterations: u32, epsilon: f32, _a: u32, half_axes: vec
 }
 
 fn run_gpu(
+    hit_wgsl: &str,
     faces: &[Vec<[f32; 4]>],
     rays: &[(Vec3, Vec3)],
     method: Method,
@@ -141,7 +144,7 @@ fn run_gpu(
         .iter()
         .map(|(y, r)| [y.extend(0.0).to_array(), r.extend(0.0).to_array()])
         .collect();
-    let source = format!("{}\n{}\n{}", gpu::prelude::PRELUDE_WGSL, HIT_WGSL, kernel());
+    let source = format!("{}\n{}\n{}", gpu::prelude::PRELUDE_WGSL, hit_wgsl, kernel());
     run_kernel_with(
         ctx,
         &source,
@@ -164,7 +167,7 @@ fn run_gpu(
 }
 
 /// Whether the twin's run on this ray touches a decision within rounding: a lookup near a
-/// texel edge, or a surface distance near the epsilon.
+/// texel edge, or the surface gap (what the epsilon test compares) within 1e-4 of the epsilon.
 fn ill_conditioned(
     map: &CubeDistanceMap,
     y: Vec3,
@@ -182,10 +185,43 @@ fn ill_conditioned(
         }
         map.distance(dir)
     };
-    let hit = hit_from_outside(&probe, y, r, -AXES, AXES, method, iterations, EPSILON);
-    let surface_near_epsilon =
-        hit.is_none_or(|h| ((h.surface - h.point).length() - EPSILON).abs() < 1e-4);
-    near_edge.get() || surface_near_epsilon && hit.is_none()
+    // The twin's steps, to read the gap it compares with the epsilon.
+    let t = gpu::prelude::ray_box(y, r, -AXES, AXES);
+    let gap_near_epsilon = t.x <= t.y && t.y > 0.0 && {
+        let h = gpu::distance_map::hit(&probe, y + r * t.y, -r, method, iterations);
+        let surface = h.l.normalize_or_zero() * probe(h.l);
+        ((surface - h.l).length() - EPSILON).abs() < 1e-4
+    };
+    near_edge.get() || gap_near_epsilon
+}
+
+/// Rays on which the GPU run disagrees with the twin: (all, excused as ill-conditioned).
+fn disagreements(
+    gpu: &[[f32; 4]],
+    map: &CubeDistanceMap,
+    rays: &[(Vec3, Vec3)],
+    method: Method,
+    iterations: u32,
+) -> (Vec<usize>, usize) {
+    let mut all = Vec::new();
+    let mut excused = 0;
+    for (k, ((y, r), g)) in rays.iter().zip(gpu).enumerate() {
+        let cpu = hit_from_outside(map, *y, *r, -AXES, AXES, method, iterations, EPSILON);
+        let agree = match cpu {
+            None => g[3] == -1.0,
+            Some(h) => {
+                let tol = 1e-4 * (1.0 + h.d);
+                (g[3] - h.d).abs() <= tol && (Vec3::new(g[0], g[1], g[2]) - h.point).length() <= tol
+            }
+        };
+        if !agree {
+            all.push(k);
+            if ill_conditioned(map, *y, *r, method, iterations) {
+                excused += 1;
+            }
+        }
+    }
+    (all, excused)
 }
 
 #[test]
@@ -195,32 +231,53 @@ fn wgsl_search_from_outside_matches_the_twin() {
     let rays = rays();
     for method in [Method::FalsePosition, Method::Secant] {
         for iterations in [0, 4, 8, 16] {
-            let gpu = run_gpu(&faces, &rays, method, iterations);
-            let (mut hits, mut excused) = (0, 0);
-            for (k, ((y, r), g)) in rays.iter().zip(&gpu).enumerate() {
-                let cpu = hit_from_outside(&map, *y, *r, -AXES, AXES, method, iterations, EPSILON);
-                let agree = match cpu {
-                    None => g[3] == -1.0,
-                    Some(h) => {
-                        hits += 1;
-                        let tol = 1e-4 * (1.0 + h.d);
-                        (g[3] - h.d).abs() <= tol
-                            && (Vec3::new(g[0], g[1], g[2]) - h.point).length() <= tol
-                    }
-                };
-                if !agree {
-                    assert!(
-                        ill_conditioned(&map, *y, *r, method, iterations),
-                        "{method:?} {iterations}: ray {k} gpu {g:?} cpu {cpu:?}"
-                    );
-                    excused += 1;
-                }
-            }
-            println!("{method:?} {iterations}: {hits} hits of {RAYS}, {excused} excused");
+            let gpu = run_gpu(HIT_WGSL, &faces, &rays, method, iterations);
+            let hits = gpu.iter().filter(|g| g[3] >= 0.0).count();
+            let (differ, excused) = disagreements(&gpu, &map, &rays, method, iterations);
+            println!(
+                "{method:?} {iterations}: {hits} hits of {RAYS}, {} differ, {excused} excused",
+                differ.len()
+            );
+            assert_eq!(
+                differ.len(),
+                excused,
+                "{method:?} {iterations}: rays {:?} differ beyond rounding",
+                &differ[..differ.len().min(8)]
+            );
             assert!(excused * 50 <= rays.len(), "{excused} excused");
             if iterations >= 4 {
-                assert!(hits > RAYS / 4, "the rays must hit: {hits}");
+                assert!(hits > RAYS as usize / 4, "the rays must hit: {hits}");
             }
         }
     }
+}
+
+/// The comparison can fail: a copy of the WGSL accepting gaps up to twice the epsilon differs
+/// from the twin on more rays than may be excused.
+#[test]
+fn a_loosened_epsilon_test_is_caught() {
+    let original = "if (length(surface - h.xyz) > epsilon) { return HIT_NONE; }";
+    assert_eq!(
+        HIT_WGSL.matches(original).count(),
+        1,
+        "the mutated line must exist once"
+    );
+    let loosened = HIT_WGSL.replace(
+        original,
+        "if (length(surface - h.xyz) > 2.0 * epsilon) { return HIT_NONE; }",
+    );
+    let faces = faces();
+    let map = CubeDistanceMap::from_rgba_faces(SIZE, &faces, 3);
+    let rays = rays();
+    let gpu = run_gpu(&loosened, &faces, &rays, Method::FalsePosition, 8);
+    let (differ, excused) = disagreements(&gpu, &map, &rays, Method::FalsePosition, 8);
+    println!(
+        "loosened epsilon: {} differ, {excused} excused",
+        differ.len()
+    );
+    assert!(
+        differ.len() > excused && differ.len() * 50 > rays.len(),
+        "the loosened WGSL went unnoticed: {} differ, {excused} excused",
+        differ.len()
+    );
 }

@@ -11,13 +11,14 @@
 //!   than the epsilon gives `None` (the found surface point is off the ray by at least that
 //!   distance).
 //! - `hits_are_on_the_ray_ahead_and_near_the_surface`: whenever a hit is reported, its `d` is
-//!   finite and >= 0, its point is on the ray, and its surface point within the epsilon.
+//!   finite and >= 0, its point is on the ray, and the ellipsoid's surface in its direction
+//!   within the epsilon.
 //! - `convex_hit_rate_and_error`: 20k rays from outside aimed at points well inside ellipsoids
 //!   of semi-axes 0.2-2 (inside 0.9 of it in its own metric: no grazing rays), epsilon 1e-3 of
 //!   the size, false position: the share found and the error of the found entry against the
 //!   exact one, printed for 8 and 16 iterations. Measured: 8 iterations find 97.61%, 95.61%
 //!   of those within 1e-3 of the size; 16 find 98.91%, all within 1e-3. Asserted for 16: at
-//!   least 98.5% found, 99.9% of them within 1e-3. The 1.1% never found (as at 32 iterations)
+//!   least 98.5% found, 99.9% of them within 1e-3, none on the exit side. The 1.1% never found (as at 32 iterations)
 //!   are flat ellipsoids crossed through their thin side: the search starts at the far box
 //!   point (overshooting), its guesses overshoot too, every step is then backward and the
 //!   clamp to `d >= 0` pins it at the box point, off the surface: a failure of running
@@ -50,6 +51,24 @@ fn exact_entry(a: Vec3, y: Vec3, r: Vec3) -> Option<f64> {
 
 const EPSILON: f32 = 1e-3;
 
+/// Whether the ray's line misses the box `[-a, a]` (or has it behind) by a margin, in f64.
+fn box_clearly_missed(a: Vec3, y: Vec3, r: Vec3) -> bool {
+    let (a, y, r) = (a.as_dvec3(), y.as_dvec3(), r.as_dvec3());
+    let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
+    for k in 0..3 {
+        if r[k].abs() < 1e-9 {
+            if y[k].abs() > a[k] - 1e-4 {
+                return true;
+            }
+            continue;
+        }
+        let (ta, tb) = ((-a[k] - y[k]) / r[k], (a[k] - y[k]) / r[k]);
+        t0 = t0.max(ta.min(tb));
+        t1 = t1.min(ta.max(tb));
+    }
+    t1 < t0 - 1e-4 || t1 < -1e-4
+}
+
 fn axes() -> impl Strategy<Value = Vec3> {
     (0.2f32..2.0, 0.2f32..2.0, 0.2f32..2.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
 }
@@ -67,8 +86,8 @@ proptest! {
     #[test]
     fn a_ray_missing_the_box_has_no_hit(a in axes(), y in (-8.0f32..8.0, -8.0f32..8.0, -8.0f32..8.0), r in unit()) {
         let y = Vec3::new(y.0, y.1, y.2);
-        let t = gpu::prelude::ray_box(y, r, -a, a);
-        prop_assume!(t.x > t.y || t.y <= 0.0);
+        // An independent f64 slab test, with a margin against rounding.
+        prop_assume!(box_clearly_missed(a, y, r));
         let h = hit_from_outside(&ellipsoid(a), y, r, -a, a, Method::FalsePosition, 8, EPSILON);
         prop_assert!(h.is_none(), "{:?}", h);
     }
@@ -98,7 +117,9 @@ proptest! {
         if let Some(h) = hit_from_outside(&ellipsoid(a), y, r, -a, a, method, iterations, EPSILON) {
             prop_assert!(h.d.is_finite() && h.d >= 0.0, "{:?}", h);
             prop_assert!((y + r * h.d - h.point).length() <= 1e-4 * (1.0 + h.d), "{:?}", h);
-            prop_assert!((h.surface - h.point).length() <= EPSILON, "{:?}", h);
+            // The ellipsoid's own surface in the point's direction, not the reported one.
+            let surface = h.point.normalize() * ellipsoid(a)(h.point);
+            prop_assert!((surface - h.point).length() <= EPSILON * (1.0 + 1e-4), "{:?}", h);
         }
     }
 }
@@ -159,6 +180,9 @@ fn convex_hit_rate_and_error() {
                 close * 1000 >= found * 999,
                 "{close} of {found} within 1e-3"
             );
+            // Every found point is the entry, never the exit (a wrong root would be far off).
+            let worst = errors.last().copied().unwrap_or(0.0);
+            assert!(worst < 0.01, "a wrong root: relative error {worst}");
         }
     }
 }
