@@ -3,7 +3,7 @@
 //! Fresnel and on cube-map addressing by construction; `tests/prelude_conformance.rs` runs the
 //! WGSL versions in a compute shader and compares them with these.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{IVec2, Vec2, Vec3, Vec4};
 
 /// The WGSL prelude source; prefix it to a shader with [`crate::shader_with_prelude`].
 pub const PRELUDE_WGSL: &str = include_str!("shaders/prelude.wgsl");
@@ -75,6 +75,112 @@ pub fn box_project(x: Vec3, r: Vec3, probe: Vec3, bmin: Vec3, bmax: Vec3) -> Vec
         return r.extend(-1.0);
     }
     l.extend(t.y)
+}
+
+/// A walk through a uniform grid of square cells on the xz plane by a ray, in the order the
+/// ray crosses them (2D DDA, Amanatides and Woo 1987): cell `(i, j)` spans
+/// `[min + (i, j) size, min + (i + 1, j + 1) size]` in x and z, unbounded in y. The
+/// many-object tracer of refractor maps looks for the first non-empty square of a chessboard
+/// this way (Dancsik and Minarik, section 4.2). The walk is over once `t_enter >= t_end`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridWalk {
+    /// The current cell (column along x, row along z).
+    pub cell: IVec2,
+    /// Where the ray enters the current cell (clipped to `t >= 0`).
+    pub t_enter: f32,
+    /// Where it leaves it (the next boundary, or the grid's end).
+    pub t_exit: f32,
+    /// +1 / -1 per axis in the ray's direction, 0 for a flat component.
+    pub step: IVec2,
+    /// Ray parameters of the next x and z cell boundaries.
+    pub t_next: Vec2,
+    /// Ray parameter between two boundaries per axis ([`BIG`] when flat).
+    pub t_delta: Vec2,
+    /// Where the ray leaves the grid's rectangle.
+    pub t_end: f32,
+}
+
+impl GridWalk {
+    /// Whether the walk has left the grid (or never entered it).
+    pub fn done(&self) -> bool {
+        self.t_enter >= self.t_end
+    }
+}
+
+/// Starts the walk of the ray `o + t d` through the grid of `count` cells of side `size` from
+/// `grid_min` (x, z): the first cell is where the ray enters the grid's rectangle, or the cell
+/// holding `o` when it starts inside. A ray missing the rectangle (or with it behind) gives a
+/// finished walk. A direction component below 1e-30 in magnitude never steps.
+pub fn grid_walk(o: Vec3, d: Vec3, grid_min: Vec2, size: f32, count: IVec2) -> GridWalk {
+    let grid_max = grid_min + size * count.as_vec2();
+    let t = ray_box(
+        o,
+        d,
+        Vec3::new(grid_min.x, -BIG, grid_min.y),
+        Vec3::new(grid_max.x, BIG, grid_max.y),
+    );
+    if t.x > t.y || t.y <= 0.0 || count.x <= 0 || count.y <= 0 {
+        return GridWalk {
+            cell: IVec2::ZERO,
+            t_enter: BIG,
+            t_exit: BIG,
+            step: IVec2::ZERO,
+            t_next: Vec2::ZERO,
+            t_delta: Vec2::ZERO,
+            t_end: BIG,
+        };
+    }
+    let t_enter = t.x.max(0.0);
+    let p = Vec2::new(o.x, o.z) + Vec2::new(d.x, d.z) * t_enter;
+    let cell = ((p - grid_min) / size)
+        .floor()
+        .as_ivec2()
+        .clamp(IVec2::ZERO, count - 1);
+    let dxz = Vec2::new(d.x, d.z);
+    let flat = dxz.abs().cmplt(Vec2::splat(1e-30));
+    let step = IVec2::select(
+        flat,
+        IVec2::ZERO,
+        IVec2::select(dxz.cmpgt(Vec2::ZERO), IVec2::ONE, IVec2::NEG_ONE),
+    );
+    let boundary = grid_min
+        + size * (cell + IVec2::select(step.cmpgt(IVec2::ZERO), IVec2::ONE, IVec2::ZERO)).as_vec2();
+    let safe = Vec2::select(flat, Vec2::ONE, dxz);
+    let t_next = Vec2::select(
+        flat,
+        Vec2::splat(BIG),
+        (boundary - Vec2::new(o.x, o.z)) / safe,
+    );
+    let t_delta = Vec2::select(flat, Vec2::splat(BIG), size / safe.abs());
+    GridWalk {
+        cell,
+        t_enter,
+        t_exit: t_next.x.min(t_next.y).min(t.y),
+        step,
+        t_next,
+        t_delta,
+        t_end: t.y,
+    }
+}
+
+/// The next cell of the walk: across the nearer boundary (x first on a tie). Leaving the grid
+/// finishes the walk.
+pub fn grid_walk_next(w: GridWalk, count: IVec2) -> GridWalk {
+    let mut w = w;
+    if w.t_next.x <= w.t_next.y {
+        w.cell.x += w.step.x;
+        w.t_enter = w.t_next.x;
+        w.t_next.x += w.t_delta.x;
+    } else {
+        w.cell.y += w.step.y;
+        w.t_enter = w.t_next.y;
+        w.t_next.y += w.t_delta.y;
+    }
+    if w.cell.cmplt(IVec2::ZERO).any() || w.cell.cmpge(count).any() {
+        w.t_enter = w.t_end;
+    }
+    w.t_exit = w.t_next.x.min(w.t_next.y).min(w.t_end);
+    w
 }
 
 /// Mirror direction of `i` about unit normal `n`.

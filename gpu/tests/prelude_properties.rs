@@ -363,3 +363,86 @@ proptest! {
         check_ray_box(o, d, lo, hi)?;
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// grid_walk: the 2D DDA through square cells on the xz plane
+// ---------------------------------------------------------------------------------------------
+
+/// The whole walk: (cell, t_enter, t_exit) per visited cell, at most `limit` cells.
+fn walk_cells(
+    o: Vec3,
+    d: Vec3,
+    min: Vec2,
+    size: f32,
+    count: glam::IVec2,
+    limit: usize,
+) -> Vec<(glam::IVec2, f32, f32)> {
+    let mut w = grid_walk(o, d, min, size, count);
+    let mut out = Vec::new();
+    while !w.done() && out.len() < limit {
+        out.push((w.cell, w.t_enter, w.t_exit));
+        w = grid_walk_next(w, count);
+    }
+    out
+}
+
+/// The f64 parameter interval of the ray inside cell `c` (clipped to t >= 0), if any.
+fn cell_interval(o: Vec3, d: Vec3, min: Vec2, size: f32, c: glam::IVec2) -> Option<(f64, f64)> {
+    let lo = Vec3::new(min.x + size * c.x as f32, -1e6, min.y + size * c.y as f32);
+    let hi = lo + Vec3::new(size, 2e6, size);
+    let (t0, t1) = ray_box_f64(o, d, lo, hi)?;
+    let t0 = t0.max(0.0);
+    (t1 > t0).then_some((t0, t1))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(1000))]
+
+    /// The walk visits cells in ray order: intervals follow each other without gaps (to
+    /// rounding), cells change by one step along one axis, and it ends within nx + nz + 1
+    /// cells. It visits exactly the cells the ray crosses by more than 1e-4 (1 + t) (an f64
+    /// slab test per cell), except cells it only grazes.
+    #[test]
+    fn grid_walk_visits_the_crossed_cells_in_ray_order(
+        o in vec3_in(-12.0, 12.0), d in direction_with_zeros(), min in (-6.0f32..0.0, -6.0f32..0.0),
+        size in 0.2f32..2.0, count in (1i32..10, 1i32..10),
+    ) {
+        let (min, count) = (Vec2::new(min.0, min.1), glam::IVec2::new(count.0, count.1));
+        let cells = walk_cells(o, d, min, size, count, 64);
+        prop_assert!(cells.len() <= (count.x + count.y + 1) as usize, "{} cells", cells.len());
+        for pair in cells.windows(2) {
+            let ((a, _, a_exit), (b, b_enter, _)) = (pair[0], pair[1]);
+            prop_assert!((b_enter - a_exit).abs() <= 1e-4 * (1.0 + a_exit.abs()), "gap {} -> {}", a_exit, b_enter);
+            prop_assert_eq!((b - a).abs().element_sum(), 1, "{} -> {}", a, b);
+        }
+        for &(c, t0, t1) in &cells {
+            prop_assert!(t0.is_finite() && t1 >= t0 - 1e-4 * (1.0 + t0.abs()), "{} [{}, {}]", c, t0, t1);
+        }
+        for i in 0..count.x {
+            for j in 0..count.y {
+                let c = glam::IVec2::new(i, j);
+                let visited = cells.iter().any(|&(v, _, _)| v == c);
+                if let Some((t0, t1)) = cell_interval(o, d, min, size, c) {
+                    if t1 - t0 > 1e-4 * (1.0 + t1) {
+                        prop_assert!(visited, "crossed cell {} [{}, {}] not visited: {:?}", c, t0, t1, cells);
+                    }
+                } else if visited {
+                    let &(_, t0, t1) = cells.iter().find(|&&(v, _, _)| v == c).unwrap();
+                    prop_assert!(t1 - t0 <= 1e-4 * (1.0 + t1.abs()), "cell {} visited [{}, {}] but not crossed", c, t0, t1);
+                }
+            }
+        }
+    }
+
+    /// A ray missing the grid's rectangle, or with it behind, gives a finished walk.
+    #[test]
+    fn grid_walk_outside_is_done(
+        o in vec3_in(-12.0, 12.0), d in direction_with_zeros(), size in 0.2f32..2.0, n in 1i32..10,
+    ) {
+        let (min, count) = (Vec2::splat(-1.0), glam::IVec2::splat(n));
+        let hi = min + size * count.as_vec2();
+        let hit = ray_box_f64(o, d, Vec3::new(min.x, -1e6, min.y), Vec3::new(hi.x, 1e6, hi.y));
+        prop_assume!(match hit { None => true, Some((_, t1)) => t1 < -1e-4 });
+        prop_assert!(grid_walk(o, d, min, size, count).done());
+    }
+}

@@ -63,6 +63,67 @@ fn box_project(x: vec3f, r: vec3f, probe: vec3f, bmin: vec3f, bmax: vec3f) -> ve
     return vec4f(l, t.y);
 }
 
+// A uniform grid of square cells on the xz plane (cell (i, j) spans
+// [min + (i, j) size, min + (i + 1, j + 1) size], unbounded in y), walked by a ray in the order
+// it crosses the cells (2D DDA, Amanatides and Woo 1987): the first non-empty cell along a ray,
+// as the chessboard's grid of the many-object tracer (Dancsik and Minarik 4.2). grid_walk
+// starts the walk where the ray enters the grid's rectangle (or at t = 0 inside it);
+// grid_walk_next moves to the next cell. The walk is over once t_enter >= t_end. A flat
+// direction component (|d| < 1e-30) never steps along its axis.
+struct GridWalk {
+    cell: vec2i,
+    // The ray's parameter interval inside the current cell.
+    t_enter: f32,
+    t_exit: f32,
+    step: vec2i,
+    // Ray parameters of the next cell boundary along x and z, and between boundaries.
+    t_next: vec2f,
+    t_delta: vec2f,
+    // Where the ray leaves the grid's rectangle.
+    t_end: f32,
+};
+
+fn grid_walk(o: vec3f, d: vec3f, grid_min: vec2f, size: f32, count: vec2i) -> GridWalk {
+    var w: GridWalk;
+    let grid_max = grid_min + size * vec2f(count);
+    let t = ray_box(o, d, vec3f(grid_min.x, -BIG, grid_min.y), vec3f(grid_max.x, BIG, grid_max.y));
+    w.t_end = t.y;
+    w.t_enter = max(t.x, 0.0);
+    if (t.x > t.y || t.y <= 0.0 || count.x <= 0 || count.y <= 0) {
+        w.t_enter = BIG;
+        w.t_end = BIG;
+        w.t_exit = BIG;
+        return w;
+    }
+    let p = o.xz + d.xz * w.t_enter;
+    w.cell = clamp(vec2i(floor((p - grid_min) / size)), vec2i(0), count - 1);
+    let dxz = d.xz;
+    let flat = abs(dxz) < vec2f(1e-30);
+    w.step = select(select(vec2i(-1), vec2i(1), dxz > vec2f(0.0)), vec2i(0), flat);
+    let boundary = grid_min + size * vec2f(w.cell + select(vec2i(0), vec2i(1), w.step > vec2i(0)));
+    let safe = select(dxz, vec2f(1.0), flat);
+    w.t_next = select((boundary - o.xz) / safe, vec2f(BIG), flat);
+    w.t_delta = select(size / abs(safe), vec2f(BIG), flat);
+    w.t_exit = min(min(w.t_next.x, w.t_next.y), w.t_end);
+    return w;
+}
+
+fn grid_walk_next(w_in: GridWalk, count: vec2i) -> GridWalk {
+    var w = w_in;
+    if (w.t_next.x <= w.t_next.y) {
+        w.cell.x += w.step.x;
+        w.t_enter = w.t_next.x;
+        w.t_next.x += w.t_delta.x;
+    } else {
+        w.cell.y += w.step.y;
+        w.t_enter = w.t_next.y;
+        w.t_next.y += w.t_delta.y;
+    }
+    if (any(w.cell < vec2i(0)) || any(w.cell >= count)) { w.t_enter = w.t_end; }
+    w.t_exit = min(min(w.t_next.x, w.t_next.y), w.t_end);
+    return w;
+}
+
 // Mirror direction of incident direction i about unit normal n.
 fn reflect_dir(i: vec3f, n: vec3f) -> vec3f {
     return i - 2.0 * dot(n, i) * n;
