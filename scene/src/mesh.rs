@@ -1,4 +1,6 @@
-//! Procedural meshes for the built-in scenes: quads, boxes, spheres, cylinders.
+//! Procedural meshes for the built-in scenes: quads, boxes, spheres, cylinders, and lofts
+//! (surfaces through a stack of elliptical cross-sections: a surface of revolution is the case
+//! of circles on the axis).
 
 use crate::Mesh;
 use glam::{Vec2, Vec3};
@@ -140,6 +142,144 @@ pub fn cylinder(r: f32, h: f32, slices: u32) -> Mesh {
     merge(&[side, cap(h, true), cap(0.0, false)])
 }
 
+/// One cross-section of a [`loft`]: the ellipse at height `y` centred on (`x`, `y`, 0), with
+/// half-axis `rx` along x and `rz` along z. A ring with both half-axes zero is a point (an
+/// apex that closes the surface).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ring {
+    pub y: f32,
+    pub x: f32,
+    pub rx: f32,
+    pub rz: f32,
+}
+
+impl Ring {
+    /// A circle of radius `r` about the y axis: the ring of a surface of revolution.
+    pub fn circle(y: f32, r: f32) -> Ring {
+        Ring {
+            y,
+            x: 0.0,
+            rx: r,
+            rz: r,
+        }
+    }
+
+    fn is_point(&self) -> bool {
+        self.rx == 0.0 && self.rz == 0.0
+    }
+
+    /// The point at angle `phi`, in the convention of [`cylinder`] and [`uv_sphere`].
+    fn at(&self, phi: f32) -> Vec3 {
+        Vec3::new(self.x + self.rx * phi.cos(), self.y, -self.rz * phi.sin())
+    }
+}
+
+/// A closed surface through `rings`, listed along the outline from the bottom to the top of the
+/// solid (the outline may step down, like a rook's recessed top; the solid lies on the axis
+/// side of it). `slices` vertices go round each ring. Normals
+/// are smooth along runs of rings and break at a crease: a ring where the outline (seen at
+/// angles 0, 90 and 180 degrees) turns by more than `crease_deg`. A first ring that is not a
+/// point is closed by a flat cap facing down, a last one by a cap facing up. The result is watertight: every edge (by position) is
+/// shared by two triangles that use it in opposite directions.
+pub fn loft(rings: &[Ring], slices: u32, crease_deg: f32) -> Mesh {
+    assert!(
+        rings.len() >= 2 && slices >= 3,
+        "a loft needs 2 rings and 3 slices"
+    );
+    let crease = crease_deg.to_radians();
+    let turn = |i: usize| {
+        [0.0, 0.5 * PI, PI]
+            .iter()
+            .map(|&phi| {
+                let (a, b, c) = (rings[i - 1].at(phi), rings[i].at(phi), rings[i + 1].at(phi));
+                (b - a).angle_between(c - b)
+            })
+            .fold(0.0f32, f32::max)
+    };
+    let mut parts = Vec::new();
+    let mut start = 0;
+    for i in 1..rings.len() {
+        if i == rings.len() - 1 || turn(i) > crease {
+            parts.push(loft_band(&rings[start..=i], slices));
+            start = i;
+        }
+    }
+    let (first, last) = (rings[0], rings[rings.len() - 1]);
+    if !first.is_point() {
+        parts.push(ring_cap(first, slices, false));
+    }
+    if !last.is_point() {
+        parts.push(ring_cap(last, slices, true));
+    }
+    merge(&parts)
+}
+
+/// The side surface through `rings` with smooth (area-weighted) normals. A point ring is one
+/// vertex, so an apex gets the average normal of the triangles around it.
+fn loft_band(rings: &[Ring], slices: u32) -> Mesh {
+    let mut m = Mesh::default();
+    let mut first_vertex = Vec::with_capacity(rings.len());
+    for (k, ring) in rings.iter().enumerate() {
+        first_vertex.push(m.positions.len() as u32);
+        let count = if ring.is_point() { 1 } else { slices };
+        for j in 0..count {
+            let phi = 2.0 * PI * j as f32 / slices as f32;
+            m.positions.push(ring.at(phi));
+            m.uvs.push(Vec2::new(
+                j as f32 / slices as f32,
+                k as f32 / (rings.len() - 1) as f32,
+            ));
+        }
+    }
+    let index = |k: usize, j: u32| {
+        if rings[k].is_point() {
+            first_vertex[k]
+        } else {
+            first_vertex[k] + j % slices
+        }
+    };
+    for k in 0..rings.len() - 1 {
+        for j in 0..slices {
+            let (a, a1) = (index(k, j), index(k, j + 1));
+            let (b, b1) = (index(k + 1, j), index(k + 1, j + 1));
+            // The quad (a, a1, b1, b) as two triangles; at an apex one of them is degenerate.
+            if !rings[k].is_point() {
+                m.indices.extend([a, a1, b]);
+            }
+            if !rings[k + 1].is_point() {
+                m.indices.extend([b, a1, b1]);
+            }
+        }
+    }
+    m.normals = vec![Vec3::ZERO; m.positions.len()];
+    m.repair_normals();
+    m
+}
+
+/// A flat disk (fan from the centre) closing `ring`, facing +y when `up`.
+fn ring_cap(ring: Ring, slices: u32, up: bool) -> Mesh {
+    let n = if up { Vec3::Y } else { Vec3::NEG_Y };
+    let mut c = Mesh::default();
+    c.positions.push(Vec3::new(ring.x, ring.y, 0.0));
+    c.uvs.push(Vec2::splat(0.5));
+    for j in 0..slices {
+        let phi = 2.0 * PI * j as f32 / slices as f32;
+        c.positions.push(ring.at(phi));
+        c.uvs
+            .push(Vec2::new(0.5 + 0.5 * phi.cos(), 0.5 - 0.5 * phi.sin()));
+    }
+    c.normals = vec![n; c.positions.len()];
+    for j in 0..slices {
+        let (a, b) = (1 + j, 1 + (j + 1) % slices);
+        if up {
+            c.indices.extend([0, a, b]);
+        } else {
+            c.indices.extend([0, b, a]);
+        }
+    }
+    c
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,6 +292,7 @@ mod tests {
             inward(cuboid(Vec3::ZERO, Vec3::ONE)),
             uv_sphere(1.0, 8, 12),
             cylinder(0.5, 2.0, 12),
+            loft(&test_outline(), 12, 30.0),
         ] {
             for t in mesh.indices.chunks(3) {
                 let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
@@ -165,5 +306,69 @@ mod tests {
                 assert!(face.dot(n) > 0.0, "triangle {t:?} winds against its normal");
             }
         }
+    }
+
+    /// A solid with a cap at the bottom, a crease, a leaning elliptical section, a step down
+    /// (a recess) and an apex at the top.
+    fn test_outline() -> Vec<Ring> {
+        vec![
+            Ring::circle(0.0, 1.0),
+            Ring::circle(0.2, 1.0),
+            Ring::circle(0.4, 0.6),
+            Ring {
+                y: 0.8,
+                x: 0.3,
+                rx: 0.7,
+                rz: 0.4,
+            },
+            Ring::circle(1.0, 0.5),
+            Ring::circle(0.9, 0.3),
+            Ring::circle(0.9, 0.0),
+        ]
+    }
+
+    /// Every edge of a loft, keyed by its end positions, is used once in each direction.
+    #[test]
+    fn a_loft_is_watertight() {
+        for rings in [
+            test_outline(),
+            vec![
+                Ring::circle(0.0, 0.0),
+                Ring::circle(0.5, 1.0),
+                Ring::circle(1.0, 0.0),
+            ],
+            vec![Ring::circle(0.0, 1.0), Ring::circle(1.0, 1.0)],
+        ] {
+            let mesh = loft(&rings, 9, 30.0);
+            let key = |i: u32| mesh.positions[i as usize].to_array().map(f32::to_bits);
+            let mut edges = std::collections::HashMap::new();
+            for t in mesh.indices.chunks(3) {
+                for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                    *edges.entry((key(a), key(b))).or_insert(0) += 1;
+                }
+            }
+            for (&(a, b), &count) in &edges {
+                assert_eq!(count, 1, "edge used {count} times one way");
+                assert_eq!(edges.get(&(b, a)), Some(&1), "edge without its twin");
+            }
+            assert!(mesh.normals.iter().all(|n| n.is_normalized()));
+        }
+    }
+
+    /// The enclosed volume of a lofted cylinder (divergence theorem over the triangles) is the
+    /// polygon's area times the height: the surface faces outwards and is closed.
+    #[test]
+    fn a_lofted_cylinder_encloses_its_volume() {
+        let mesh = loft(&[Ring::circle(0.0, 1.0), Ring::circle(2.0, 1.0)], 16, 30.0);
+        let volume: f32 = mesh
+            .indices
+            .chunks(3)
+            .map(|t| {
+                let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
+        let polygon = 0.5 * 16.0 * (2.0 * PI / 16.0).sin();
+        assert!((volume - 2.0 * polygon).abs() < 1e-4, "{volume}");
     }
 }

@@ -11,6 +11,7 @@
 //! | --- | --- |
 //! | [`cornell`] | `cornell-sphere`, `cornell-box` (one room, two variants) |
 //! | [`bunny`] | `refraction-bunny` |
+//! | [`chess`] | `chess` (and the piece meshes the refractor-map techniques build maps of) |
 //! | [`city`] | `city` (and the interior generators the `interior-mapping` crate reuses) |
 //! | [`smoke`] | `smoke` |
 //! | [`textures`] | texture helpers any scene may use (`checker_texture`, `from_texels`) |
@@ -26,6 +27,7 @@
 //! picks the new entry up from there.
 
 pub mod bunny;
+pub mod chess;
 pub mod city;
 pub mod cornell;
 pub mod smoke;
@@ -193,6 +195,29 @@ fn registry() -> Vec<Builtin> {
                 )],
             },
             build: |a| bunny::refraction_bunny(a.num("ior")?),
+        },
+        Builtin {
+            info: SceneInfo {
+                name: "chess",
+                description: "a chessboard with 32 glass pieces and a glass sphere, one point \
+                              light; the white king's pawn moves e2-e4 over the camera path",
+                params: vec![
+                    word("material", "glass", chess::MATERIAL_HELP),
+                    real(
+                        "ior",
+                        "1.5",
+                        (*ior.start() as f64, *ior.end() as f64),
+                        "index of refraction of the glass",
+                    ),
+                    integer(
+                        "slices",
+                        "24",
+                        (3.0, 256.0),
+                        "vertices round each cross-section of a piece",
+                    ),
+                ],
+            },
+            build: |a| chess::chess(&a.get("material"), a.num("ior")?, a.num("slices")? as u32),
         },
         Builtin {
             info: SceneInfo {
