@@ -42,6 +42,7 @@ pub fn registry() -> Vec<Box<dyn Technique>> {
     techniques.extend(scene::foundation::techniques());
     // Technique crates:
     techniques.extend(impostors::techniques());
+    techniques.extend(refractor_maps::techniques());
     techniques.extend(volumes::techniques());
     techniques.extend(interior_mapping::techniques());
     // ---- end of registry ----
@@ -55,6 +56,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
     // ---- IMAGE CHECKS: one line per technique crate ----
     checks.extend(scene::foundation::image_checks());
     checks.extend(impostors::image_checks());
+    checks.extend(refractor_maps::image_checks());
     checks.extend(volumes::image_checks());
     checks.extend(interior_mapping::image_checks());
     // ---- end of image checks ----

@@ -1,0 +1,128 @@
+//! Which refractor map each specular object uses, and where each piece stands at a time.
+//!
+//! The paper keeps one refractor distance map per *kind* of piece (six for a chess set,
+//! "built once during initialization") and searches it for every piece of that kind. Here a
+//! kind is a set of specular objects with the same mesh and the same scale: the map is
+//! rendered around one of them (the kind's representative), in its world orientation, and a
+//! piece of the kind turned differently (the black knights face the other way) is searched
+//! with its ray turned into the representative's frame. Objects only translate over time
+//! (`scene::Motion`), so the maps never change.
+
+use glam::{Mat3, Vec2, Vec3};
+use scene::Scene;
+
+/// Most kinds (one refractor map binding each) the tracer's shader takes: the 16 sampled
+/// textures a fragment stage may bind (wgpu's default limit), less the scene's three and the
+/// environment impostor.
+pub const MAX_KINDS: usize = 12;
+
+/// The specular objects of a scene grouped into kinds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Kinds {
+    /// The object each kind's map is rendered around.
+    pub representative: Vec<usize>,
+    /// The specular objects (the tracer's pieces, in this order) and their kinds.
+    pub pieces: Vec<(usize, usize)>,
+}
+
+impl Kinds {
+    /// Groups `scene`'s specular objects by mesh and scale.
+    pub fn of(scene: &Scene) -> Kinds {
+        let mut representative: Vec<usize> = Vec::new();
+        let mut pieces = Vec::new();
+        for object in scene.specular_objects() {
+            let o = &scene.objects[object];
+            let kind = representative.iter().position(|&r| {
+                let rep = &scene.objects[r];
+                rep.mesh == o.mesh && rotation_between(linear(rep), linear(o)).is_some()
+            });
+            let kind = kind.unwrap_or_else(|| {
+                representative.push(object);
+                representative.len() - 1
+            });
+            pieces.push((object, kind));
+        }
+        Kinds {
+            representative,
+            pieces,
+        }
+    }
+}
+
+/// The linear part of an object's transform.
+fn linear(o: &scene::Object) -> Mat3 {
+    Mat3::from_mat4(o.transform)
+}
+
+/// `M` with `from = M to` when it is a rotation (the two linear maps differ by a turn, not by
+/// scale or handedness), else `None`: applied to a world direction, it takes it from the
+/// frame of an object transformed by `to` into that of one transformed by `from`.
+fn rotation_between(from: Mat3, to: Mat3) -> Option<Mat3> {
+    if to.determinant().abs() < 1e-12 {
+        return None;
+    }
+    let m = from * to.inverse();
+    let orthonormal = (m * m.transpose() - Mat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .all(|v| v.abs() < 1e-4);
+    (orthonormal && m.determinant() > 0.0).then_some(m)
+}
+
+/// One piece as the tracer's shader reads it (`Piece` in trace.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PieceGpu {
+    /// World centre now (the map's reference point moved with the piece); w: kind.
+    pub centre: [f32; 4],
+    /// Rows of the rotation from world directions to the kind map's frame.
+    pub to_map: [[f32; 4]; 3],
+    /// The piece's bounding box in the map's frame, relative to the centre; w: object index.
+    pub box_min: [f32; 4],
+    /// w: unused.
+    pub box_max: [f32; 4],
+}
+
+/// Every piece of `kinds` at `time`, and each one's xz footprint (for the board grid).
+pub fn pieces_at(scene: &Scene, kinds: &Kinds, time: f32) -> (Vec<PieceGpu>, Vec<(Vec2, Vec2)>) {
+    let mut gpu = Vec::new();
+    let mut footprints = Vec::new();
+    for &(object, kind) in &kinds.pieces {
+        let o = &scene.objects[object];
+        let rep = &scene.objects[kinds.representative[kind]];
+        // World -> map: undo this piece's rotation, apply the representative's.
+        let to_map = rotation_between(linear(rep), linear(o)).unwrap_or(Mat3::IDENTITY);
+        let (box_min, box_max) = map_box(rep);
+        let centre = o.center_at(time);
+        let rows = [to_map.row(0), to_map.row(1), to_map.row(2)];
+        gpu.push(PieceGpu {
+            centre: centre.extend(kind as f32).to_array(),
+            to_map: rows.map(|r| r.extend(0.0).to_array()),
+            box_min: box_min.extend(object as f32).to_array(),
+            box_max: box_max.extend(0.0).to_array(),
+        });
+        let (lo, hi) = world_box(o, time);
+        footprints.push((Vec2::new(lo.x, lo.z), Vec2::new(hi.x, hi.z)));
+    }
+    (gpu, footprints)
+}
+
+/// The representative's world-space bounding box about its centre: the box the search from
+/// outside clips rays to, in the map's frame.
+pub fn map_box(rep: &scene::Object) -> (Vec3, Vec3) {
+    let (lo, hi) = world_box(rep, 0.0);
+    let centre = rep.center_at(0.0);
+    (lo - centre, hi - centre)
+}
+
+/// World bounds of an object's vertices at `time`.
+fn world_box(o: &scene::Object, time: f32) -> (Vec3, Vec3) {
+    let world = o.world_at(time);
+    o.mesh.positions.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| {
+            let w = world.transform_point3(*p);
+            (lo.min(w), hi.max(w))
+        },
+    )
+}

@@ -1,0 +1,290 @@
+// ---------------------------------------------------------------------------------------------
+// Many-object multi-bounce ray tracing with refractor distance maps (Dancsik and Minarik,
+// sections 4.1-4.2), after the gpu prelude + scene.wgsl + hit.wgsl + grid_search.wgsl.
+//
+// The specular objects are drawn with scene_vs: rasterization finds the first hit. From there
+// each pixel follows the tree of reflected and refracted rays depth first (an explicit stack),
+// splitting by Fresnel at every interface, until a ray has met `depth` interfaces:
+//   - a ray inside a piece finds its exit by Hit() in the piece's refractor map (the map of its
+//     kind: outward normal + distance of its own surface from its centre);
+//   - a ray outside finds the next piece through the board grid (nearest_piece), each candidate
+//     searched from outside (hit_from_outside, section 4.1), or over every piece (the slow
+//     exact-visibility search), or not at all (single bounce);
+//   - a ray that finds no piece, or has met `depth` interfaces, takes the radiance of the
+//     diffuse environment: Hit() in one distance impostor of the diffuse scene (rgb radiance +
+//     distance, captured each frame from env_reference without the specular objects). A ray
+//     inside glass at the depth bound leaves without splitting again (leave_piece).
+// ---------------------------------------------------------------------------------------------
+
+struct TracerParams {
+    // xyz: reference point of the environment impostor (world).
+    env_reference: vec4f,
+    grid: Grid,
+    // Interfaces a path may meet (1 = the first surface only).
+    depth: u32,
+    // SEARCH_NONE, SEARCH_GRID or SEARCH_ALL.
+    search: u32,
+    // Occupied grid cells examined per ray (1: the paper's first non-empty square).
+    max_cells: u32,
+    piece_count: u32,
+    // Refinement steps of Hit() in the refractor maps and in the environment impostor.
+    iterations: u32,
+    env_iterations: u32,
+    // A search from outside is accepted within this distance of the ray (metres).
+    epsilon: f32,
+    _pad: u32,
+};
+
+struct Piece {
+    // World centre now; w: kind (which refractor map).
+    centre: vec4f,
+    // Rows of the world -> map rotation.
+    to_map_x: vec4f,
+    to_map_y: vec4f,
+    to_map_z: vec4f,
+    // Bounding box in the map's frame about the centre; box_min.w: object index.
+    box_min: vec4f,
+    box_max: vec4f,
+};
+
+@group(2) @binding(0) var<uniform> tracer: TracerParams;
+@group(2) @binding(1) var<storage, read> pieces: array<Piece>;
+@group(2) @binding(2) var<storage, read> grid_cells: array<vec4u>;
+// The piece of each scene object (GRID_EMPTY for a diffuse one).
+@group(2) @binding(3) var<storage, read> piece_of_object: array<u32>;
+@group(2) @binding(4) var map_sampler: sampler;
+@group(2) @binding(5) var env_map: texture_cube<f32>;
+// {KIND_MAP_BINDINGS}: one `kind_mapK: texture_cube<f32>` per kind at binding 6 + K.
+
+const SEARCH_NONE: u32 = 0u;
+const SEARCH_GRID: u32 = 1u;
+const SEARCH_ALL: u32 = 2u;
+// Deepest tree the stack holds (the depth parameter's maximum) and the stack size it needs.
+const MAX_DEPTH: u32 = 8u;
+const STACK_SIZE: u32 = 10u;
+// Ray origins are pushed off the surface they start on by this much (metres).
+const SURFACE_OFFSET: f32 = 1e-4;
+
+fn kind_sample(kind: u32, dir: vec3f) -> vec4f {
+    switch kind {
+// {SAMPLE_ARMS}
+    }
+}
+
+// Hit() from inside a piece: x and R in the map's frame, relative to its centre.
+fn kind_hit(kind: u32, x: vec3f, R: vec3f) -> vec4f {
+    switch kind {
+// {INSIDE_ARMS}
+    }
+}
+
+// The search from outside (section 4.1) in the kind's map.
+fn kind_hit_outside(kind: u32, y: vec3f, R: vec3f, bmin: vec3f, bmax: vec3f) -> vec4f {
+    switch kind {
+// {OUTSIDE_ARMS}
+    }
+}
+
+fn to_map(p: u32, v: vec3f) -> vec3f {
+    let pc = pieces[p];
+    return vec3f(dot(pc.to_map_x.xyz, v), dot(pc.to_map_y.xyz, v), dot(pc.to_map_z.xyz, v));
+}
+
+fn from_map(p: u32, v: vec3f) -> vec3f {
+    let pc = pieces[p];
+    return pc.to_map_x.xyz * v.x + pc.to_map_y.xyz * v.y + pc.to_map_z.xyz * v.z;
+}
+
+fn piece_kind(p: u32) -> u32 {
+    return u32(pieces[p].centre.w);
+}
+
+fn piece_object(p: u32) -> u32 {
+    return u32(pieces[p].box_min.w);
+}
+
+// grid_search.wgsl's hook: (hit point in the map's frame, ray parameter) or w < 0.
+fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {
+    let pc = pieces[p];
+    return kind_hit_outside(piece_kind(p), to_map(p, o - pc.centre.xyz), to_map(p, d),
+                            pc.box_min.xyz, pc.box_max.xyz);
+}
+
+// The outward unit normal (world) stored by piece p's map in map-frame direction `l`,
+// `fallback` where the map holds none.
+fn piece_normal(p: u32, l: vec3f, fallback: vec3f) -> vec3f {
+    let n = from_map(p, kind_sample(piece_kind(p), l).xyz);
+    let len = length(n);
+    return select(fallback, n / len, len > 1e-6);
+}
+
+// Radiance of the diffuse environment arriving at `o` from direction `d`.
+fn environment(o: vec3f, d: vec3f) -> vec3f {
+    var l = hit(o - tracer.env_reference.xyz, d, env_map, map_sampler, 3u, HIT_FALSE_POSITION,
+                tracer.env_iterations).xyz;
+    if (dot(l, l) < 1e-12) { l = d; }
+    return textureSampleLevel(env_map, map_sampler, l, 0.0).rgb;
+}
+
+// The next piece along an outside ray, per the search mode.
+fn next_piece(o: vec3f, d: vec3f, skip: u32) -> PieceHit {
+    if (tracer.search == SEARCH_ALL) {
+        return nearest_piece_brute(tracer.piece_count, o, d, skip);
+    }
+    return nearest_piece(tracer.grid, o, d, skip, tracer.max_cells);
+}
+
+struct PathRay {
+    origin: vec3f,
+    dir: vec3f,
+    weight: vec3f,
+    // Interfaces met so far.
+    depth: u32,
+    // The piece the ray travels inside, or GRID_EMPTY outside.
+    inside: u32,
+    // The piece an outside ray just left (not searched: the paper's N - 1 searches).
+    skip: u32,
+};
+
+fn path_ray(origin: vec3f, dir: vec3f, weight: vec3f, depth: u32, inside: u32, skip: u32) -> PathRay {
+    var r: PathRay;
+    r.origin = origin;
+    r.dir = dir;
+    r.weight = weight;
+    r.depth = depth;
+    r.inside = inside;
+    r.skip = skip;
+    return r;
+}
+
+var<private> stack: array<PathRay, STACK_SIZE>;
+var<private> stack_top: u32 = 0u;
+
+fn push(r: PathRay) {
+    // Negligible weights are not followed (nor would they change the image).
+    if (stack_top < STACK_SIZE && max(r.weight.x, max(r.weight.y, r.weight.z)) > 1e-4) {
+        stack[stack_top] = r;
+        stack_top++;
+    }
+}
+
+// A ray meeting piece p's surface at `point` with outward normal `n_out`: push its reflected
+// and (glass) refracted continuations.
+fn scatter(r: PathRay, p: u32, point: vec3f, n_out: vec3f) {
+    let o = objects[piece_object(p)];
+    let entering = dot(r.dir, n_out) < 0.0;
+    let n = select(-n_out, n_out, entering);
+    let cos_i = -dot(r.dir, n);
+    let depth = r.depth + 1u;
+    let reflected = reflect_dir(r.dir, n);
+    if (o.material.x == MATERIAL_METAL) {
+        let f = fresnel_nk(cos_i, o.n.xyz, o.k.xyz);
+        push(path_ray(point + n * SURFACE_OFFSET, reflected, r.weight * f, depth, GRID_EMPTY, p));
+        return;
+    }
+    let eta_rel = select(1.0 / o.material.y, o.material.y, entering);
+    let f = fresnel_dielectric(cos_i, eta_rel);
+    let refracted = refract_dir(r.dir, n, 1.0 / eta_rel);
+    // Reflection stays on the side the ray came from.
+    push(path_ray(point + n * SURFACE_OFFSET, reflected, r.weight * f, depth,
+                  select(p, GRID_EMPTY, entering), p));
+    if (refracted.w > 0.5) {
+        push(path_ray(point - n * SURFACE_OFFSET, refracted.xyz, r.weight * (1.0 - f), depth,
+                      select(GRID_EMPTY, p, entering), p));
+    }
+}
+
+// Radiance of one popped ray's own contribution (the environment it reaches), its
+// continuations pushed.
+fn follow(r: PathRay) -> vec3f {
+    if (r.inside != GRID_EMPTY) {
+        if (r.depth >= tracer.depth) {
+            return r.weight * leave_piece(r);
+        }
+        let c = chord(r.inside, r.origin, r.dir);
+        scatter(r, r.inside, c.exit_point, c.normal);
+        return vec3f(0.0);
+    }
+    if (r.depth >= tracer.depth || tracer.search == SEARCH_NONE) {
+        return r.weight * environment(r.origin, r.dir);
+    }
+    let h = next_piece(r.origin, r.dir, r.skip);
+    if (h.piece == GRID_EMPTY) {
+        return r.weight * environment(r.origin, r.dir);
+    }
+    let point = r.origin + r.dir * h.hit.w;
+    scatter(r, h.piece, point, piece_normal(h.piece, h.hit.xyz, -r.dir));
+    return vec3f(0.0);
+}
+
+// One chord inside piece p from `origin` along `dir`: the exit point by Hit() in the piece's
+// refractor map and the outward normal stored there (turned to agree with the leaving ray).
+struct Chord {
+    exit_point: vec3f,
+    normal: vec3f,
+};
+
+fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord {
+    let pc = pieces[p];
+    let R = to_map(p, dir);
+    let h = kind_hit(piece_kind(p), to_map(p, origin - pc.centre.xyz), R);
+    var l = h.xyz;
+    if (dot(l, l) < 1e-12) { l = R; }
+    var c: Chord;
+    c.exit_point = origin + dir * h.w;
+    c.normal = piece_normal(p, l, dir);
+    if (dot(c.normal, dir) < 0.0) { c.normal = -c.normal; }
+    return c;
+}
+
+// A ray inside glass at the depth bound leaves without splitting again: up to
+// EXIT_CHORDS chords (the internally reflected share goes on to the next), the refracted
+// share of each exit taking the diffuse environment (as impostors/double-refraction does).
+const EXIT_CHORDS: u32 = 3u;
+
+fn leave_piece(r: PathRay) -> vec3f {
+    let ior = objects[piece_object(r.inside)].material.y;
+    var origin = r.origin;
+    var dir = r.dir;
+    var share = 1.0;
+    var color = vec3f(0.0);
+    for (var s = 0u; s < EXIT_CHORDS; s++) {
+        let c = chord(r.inside, origin, dir);
+        let out = refract_dir(dir, -c.normal, ior);
+        let f = select(1.0, fresnel_dielectric(dot(dir, c.normal), 1.0 / ior), out.w > 0.5);
+        if (out.w > 0.5) {
+            color += share * (1.0 - f) * environment(c.exit_point + c.normal * SURFACE_OFFSET, out.xyz);
+        }
+        share *= f;
+        dir = reflect_dir(dir, -c.normal);
+        origin = c.exit_point - c.normal * SURFACE_OFFSET;
+    }
+    return color;
+}
+
+@fragment
+fn trace_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    let eye = camera.eye.xyz;
+    let dir = normalize(in.world - eye);
+    let p = piece_of_object[in.object];
+    // The first interface from the rasterized surface and its interpolated normal (turned
+    // outward: the eye may be inside the glass).
+    let n_out = normalize(in.normal);
+    var color = vec3f(0.0);
+    stack_top = 0u;
+    let first = path_ray(eye, dir, vec3f(1.0), 0u, GRID_EMPTY, GRID_EMPTY);
+    scatter(first, p, in.world, n_out);
+    // Every node of a tree of depth MAX_DEPTH at most.
+    for (var visited = 0u; visited < 512u && stack_top > 0u; visited++) {
+        stack_top--;
+        color += follow(stack[stack_top]);
+    }
+    return vec4f(color, distance(in.world, eye));
+}
+
+// Refractor map of a kind: its representative's own surface seen from its centre
+// (camera.eye): outward unit normal and distance; the nearest surface is kept (depth test).
+@fragment
+fn refractor_map_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    return vec4f(normalize(in.normal), distance(in.world, camera.eye.xyz));
+}
