@@ -50,6 +50,62 @@ use glam::Vec3;
 /// -> vec4(l, d)`.
 pub const HIT_WGSL: &str = include_str!("shaders/hit.wgsl");
 
+/// `Hit()` and the search from outside for maps stored as layers of a cube-map array
+/// (`texture_cube_array<f32>`): `hit_layered(x, R, map, layer, sampler, channel, method,
+/// iterations)` and `hit_from_outside_layered(y, R, map, layer, sampler, ...)`, the functions of
+/// [`HIT_WGSL`] with the layer passed after the map. Generated from the same text, so the two
+/// cannot drift apart (`gpu/tests/hit_outside_conformance.rs` checks that they return the same
+/// bits); include it after [`HIT_WGSL`], whose constants it uses. One bind group can then
+/// hold the maps of many objects, which one draw call can shade.
+pub fn layered_hit_wgsl() -> String {
+    let functions = &HIT_WGSL[HIT_WGSL.find("fn hit_distance").expect("hit.wgsl layout")..];
+    // Drop what does not read a map (hit_clamp_d) and the constants: HIT_WGSL has them.
+    let clamp = functions.find("fn hit_clamp_d").expect("hit.wgsl layout");
+    let clamp_end = clamp + functions[clamp..].find("\n}\n").expect("hit.wgsl layout") + 3;
+    let body: String = format!("{}{}", &functions[..clamp], &functions[clamp_end..])
+        .lines()
+        .filter(|line| !line.starts_with("const "))
+        .map(|line| format!("{line}\n"))
+        .collect();
+    let replacements: [(&str, &str, usize); 9] = [
+        (
+            "map: texture_cube<f32>, smp: sampler",
+            "map: texture_cube_array<f32>, layer: i32, smp: sampler",
+            4,
+        ),
+        (
+            "textureSampleLevel(map, smp, dir, 0.0)",
+            "textureSampleLevel(map, smp, dir, layer, 0.0)",
+            1,
+        ),
+        (
+            "hit_distance(map, smp",
+            "hit_distance_layered(map, layer, smp",
+            3,
+        ),
+        ("hit_ratio(map, smp", "hit_ratio_layered(map, layer, smp", 2),
+        (
+            "hit(x, -R, map, smp",
+            "hit_layered(x, -R, map, layer, smp",
+            1,
+        ),
+        ("fn hit_distance(", "fn hit_distance_layered(", 1),
+        ("fn hit_ratio(", "fn hit_ratio_layered(", 1),
+        ("fn hit(", "fn hit_layered(", 1),
+        ("fn hit_from_outside(", "fn hit_from_outside_layered(", 1),
+    ];
+    let mut out = body;
+    for (from, to, count) in replacements {
+        assert_eq!(
+            out.matches(from).count(),
+            count,
+            "hit.wgsl changed: update layered_hit_wgsl's replacement of `{from}`"
+        );
+        out = out.replace(from, to);
+    }
+    out
+}
+
 /// Floor of a distance read from the map (metres).
 pub const DIST_EPSILON: f32 = 1e-6;
 /// Points closer than this to the reference point have ratio 0 (undershooting).

@@ -14,7 +14,9 @@
 
 use glam::Vec3;
 use gpu::compute::{kernel_entry, kernel_header, run_kernel_with};
-use gpu::distance_map::{CubeDistanceMap, DistanceMap, HIT_WGSL, Method, hit_from_outside};
+use gpu::distance_map::{
+    CubeDistanceMap, DistanceMap, HIT_WGSL, Method, hit_from_outside, layered_hit_wgsl,
+};
 use gpu::wgpu;
 use std::sync::OnceLock;
 use wgpu::util::DeviceExt;
@@ -71,34 +73,51 @@ fn rays() -> Vec<(Vec3, Vec3)> {
 
 /// The kernel: one ray per input (origin, direction), the map and the run's settings bound
 /// after the buffers; one `vec4f` out (point, d), (0, 0, 0, -1) for no hit.
-fn kernel() -> String {
+fn kernel(layered: bool) -> String {
+    let (map_type, call, layer) = if layered {
+        ("texture_cube_array<f32>", "hit_from_outside_layered", " 1,")
+    } else {
+        ("texture_cube<f32>", "hit_from_outside", "")
+    };
     format!(
         "{}{}\n{}",
         kernel_header("array<vec4f, 2>", "vec4f"),
-        r#"
-@group(0) @binding(2) var dist_map: texture_cube<f32>;
+        format!(
+            r#"
+@group(0) @binding(2) var dist_map: {map_type};
 @group(0) @binding(3) var dist_sampler: sampler;
-struct Run { method: u32, iterations: u32, epsilon: f32, _a: u32, half_axes: vec4f };
+struct Run {{ method: u32, iterations: u32, epsilon: f32, _a: u32, half_axes: vec4f }};
 @group(0) @binding(4) var<uniform> run: Run;
-"#,
+"#
+        ),
         kernel_entry(
             "main",
-            "    outputs[i] = hit_from_outside(inputs[i][0].xyz, inputs[i][1].xyz, dist_map, \
-             dist_sampler, 3u, -run.half_axes.xyz, run.half_axes.xyz, run.method, \
-             run.iterations, run.epsilon);"
+            &format!(
+                "    outputs[i] = {call}(inputs[i][0].xyz, inputs[i][1].xyz, dist_map,{layer} \
+                 dist_sampler, 3u, -run.half_axes.xyz, run.half_axes.xyz, run.method, \
+                 run.iterations, run.epsilon);"
+            )
         )
     )
 }
 
+/// Runs the search on the GPU. `layered`: the map is the second cube of a two-cube array
+/// (the first a decoy sphere of radius 0.2) searched with the `_layered` functions of
+/// `layered_hit_wgsl()` instead.
 fn run_gpu(
     hit_wgsl: &str,
     faces: &[Vec<[f32; 4]>],
     rays: &[(Vec3, Vec3)],
     method: Method,
     iterations: u32,
+    layered: bool,
 ) -> Vec<[f32; 4]> {
     let ctx = ctx();
-    let data: Vec<[f32; 4]> = faces.iter().flatten().copied().collect();
+    let decoy = (SIZE * SIZE * 6) as usize;
+    let data: Vec<[f32; 4]> =
+        std::iter::repeat_n([0.0, 0.0, 0.0, 0.2], if layered { decoy } else { 0 })
+            .chain(faces.iter().flatten().copied())
+            .collect();
     let texture = ctx.device.create_texture_with_data(
         &ctx.queue,
         &wgpu::TextureDescriptor {
@@ -106,7 +125,7 @@ fn run_gpu(
             size: wgpu::Extent3d {
                 width: SIZE,
                 height: SIZE,
-                depth_or_array_layers: 6,
+                depth_or_array_layers: if layered { 12 } else { 6 },
             },
             mip_level_count: 1,
             sample_count: 1,
@@ -118,8 +137,13 @@ fn run_gpu(
         wgpu::util::TextureDataOrder::LayerMajor,
         bytemuck::cast_slice(&data),
     );
+    let dimension = if layered {
+        wgpu::TextureViewDimension::CubeArray
+    } else {
+        wgpu::TextureViewDimension::Cube
+    };
     let view = texture.create_view(&wgpu::TextureViewDescriptor {
-        dimension: Some(wgpu::TextureViewDimension::Cube),
+        dimension: Some(dimension),
         ..Default::default()
     });
     let sampler = ctx.device.create_sampler(&Default::default());
@@ -144,7 +168,18 @@ fn run_gpu(
         .iter()
         .map(|(y, r)| [y.extend(0.0).to_array(), r.extend(0.0).to_array()])
         .collect();
-    let source = format!("{}\n{}\n{}", gpu::prelude::PRELUDE_WGSL, hit_wgsl, kernel());
+    let layered_wgsl = if layered {
+        layered_hit_wgsl()
+    } else {
+        String::new()
+    };
+    let source = format!(
+        "{}\n{}\n{}\n{}",
+        gpu::prelude::PRELUDE_WGSL,
+        hit_wgsl,
+        layered_wgsl,
+        kernel(layered)
+    );
     run_kernel_with(
         ctx,
         &source,
@@ -152,10 +187,7 @@ fn run_gpu(
         &inputs,
         1,
         &[
-            (
-                gpu::bind::texture(wgpu::TextureViewDimension::Cube, false),
-                gpu::bind::view(&view),
-            ),
+            (gpu::bind::texture(dimension, false), gpu::bind::view(&view)),
             (
                 gpu::bind::sampler_non_filtering(),
                 gpu::bind::sampler_resource(&sampler),
@@ -231,7 +263,7 @@ fn wgsl_search_from_outside_matches_the_twin() {
     let rays = rays();
     for method in [Method::FalsePosition, Method::Secant] {
         for iterations in [0, 4, 8, 16] {
-            let gpu = run_gpu(HIT_WGSL, &faces, &rays, method, iterations);
+            let gpu = run_gpu(HIT_WGSL, &faces, &rays, method, iterations, false);
             let hits = gpu.iter().filter(|g| g[3] >= 0.0).count();
             let (differ, excused) = disagreements(&gpu, &map, &rays, method, iterations);
             println!(
@@ -269,7 +301,7 @@ fn a_loosened_epsilon_test_is_caught() {
     let faces = faces();
     let map = CubeDistanceMap::from_rgba_faces(SIZE, &faces, 3);
     let rays = rays();
-    let gpu = run_gpu(&loosened, &faces, &rays, Method::FalsePosition, 8);
+    let gpu = run_gpu(&loosened, &faces, &rays, Method::FalsePosition, 8, false);
     let (differ, excused) = disagreements(&gpu, &map, &rays, Method::FalsePosition, 8);
     println!(
         "loosened epsilon: {} differ, {excused} excused",
@@ -280,4 +312,39 @@ fn a_loosened_epsilon_test_is_caught() {
         "the loosened WGSL went unnoticed: {} differ, {excused} excused",
         differ.len()
     );
+}
+
+/// The cube-array functions of `layered_hit_wgsl()` (a map on the second cube of an array, a
+/// decoy on the first) return exactly the bits of the cube functions on the same map.
+#[test]
+fn the_layered_search_returns_the_same_bits() {
+    let faces = faces();
+    let rays = rays();
+    for iterations in [0, 4] {
+        let cube = run_gpu(
+            HIT_WGSL,
+            &faces,
+            &rays,
+            Method::FalsePosition,
+            iterations,
+            false,
+        );
+        let layered = run_gpu(
+            HIT_WGSL,
+            &faces,
+            &rays,
+            Method::FalsePosition,
+            iterations,
+            true,
+        );
+        let hits = cube.iter().filter(|g| g[3] >= 0.0).count();
+        assert!(hits > 0);
+        for (i, (a, b)) in cube.iter().zip(&layered).enumerate() {
+            assert_eq!(
+                a.map(f32::to_bits),
+                b.map(f32::to_bits),
+                "ray {i}: cube {a:?}, layered {b:?}"
+            );
+        }
+    }
 }
