@@ -109,6 +109,134 @@ impl CubeTarget {
     }
 }
 
+/// `count` cube maps in one texture (`6 * count` layers: cube `c`'s face `f` is layer
+/// `6 c + f`), sampled through one `texture_cube_array` view, so one bind group (and one draw
+/// call) can reach the maps of many objects. Faces are rendered one at a time with a shared
+/// six-layer depth texture. Needs the adapter's cube-array support (the scene's shadow maps
+/// need it too).
+pub struct CubeArray {
+    pub size: u32,
+    pub count: u32,
+    pub format: wgpu::TextureFormat,
+    pub color: wgpu::Texture,
+    /// One single-layer 2D view per face of every cube (`6 * count`), for colour attachments.
+    pub face_views: Vec<wgpu::TextureView>,
+    /// Depth views of the six faces, shared by all cubes.
+    pub depth_face_views: Vec<wgpu::TextureView>,
+    /// All cubes as one `CubeArray` view, for sampling.
+    pub array_view: wgpu::TextureView,
+}
+
+impl CubeArray {
+    /// GPU memory of `count` cubes of `size` texels per side in `format` (plus the shared
+    /// depth faces).
+    pub fn bytes(size: u32, count: u32, format: wgpu::TextureFormat) -> u64 {
+        let texel = format.block_copy_size(None).unwrap_or(16) as u64;
+        let face = size as u64 * size as u64;
+        face * (6 * count as u64 * texel + 6 * 4)
+    }
+
+    pub fn new(
+        ctx: &crate::Context,
+        size: u32,
+        count: u32,
+        format: wgpu::TextureFormat,
+        label: &str,
+    ) -> Result<Self, crate::GpuError> {
+        let limits = ctx.device.limits();
+        if size == 0 || size > limits.max_texture_dimension_2d {
+            return Err(crate::GpuError::SizeOverLimit {
+                width: size,
+                height: size,
+                max: limits.max_texture_dimension_2d,
+            });
+        }
+        let layers = 6 * count.max(1);
+        if layers > limits.max_texture_array_layers {
+            return Err(crate::GpuError::InvalidInput(format!(
+                "{label}: {count} cube maps need {layers} texture layers; this adapter allows {}",
+                limits.max_texture_array_layers
+            )));
+        }
+        let color = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let depth = crate::depth_texture(ctx, size, size, 6, label);
+        Ok(Self {
+            size,
+            count,
+            format,
+            face_views: (0..layers).map(|f| crate::layer_view(&color, f)).collect(),
+            depth_face_views: (0..6).map(|f| crate::layer_view(&depth, f)).collect(),
+            array_view: color.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::CubeArray),
+                ..Default::default()
+            }),
+            color,
+        })
+    }
+
+    /// Records copies of cubes `cubes` from `self` into the same cubes of `to` (same size
+    /// and format).
+    pub fn copy_cubes_to(&self, encoder: &mut wgpu::CommandEncoder, to: &CubeArray, cubes: &[u32]) {
+        for &c in cubes {
+            let at = |texture| wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: 0,
+                    y: 0,
+                    z: 6 * c,
+                },
+                aspect: wgpu::TextureAspect::All,
+            };
+            encoder.copy_texture_to_texture(
+                at(&self.color),
+                at(&to.color),
+                wgpu::Extent3d {
+                    width: self.size,
+                    height: self.size,
+                    depth_or_array_layers: 6,
+                },
+            );
+        }
+    }
+
+    /// Records a copy of the six faces of `cube` (a [`CubeTarget`] of the same size and
+    /// format) into cube `c` of the array.
+    pub fn copy_from_cube(&self, encoder: &mut wgpu::CommandEncoder, cube: &CubeTarget, c: u32) {
+        let at = |texture, z| wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x: 0, y: 0, z },
+            aspect: wgpu::TextureAspect::All,
+        };
+        encoder.copy_texture_to_texture(
+            at(&cube.color, 0),
+            at(&self.color, 6 * c),
+            wgpu::Extent3d {
+                width: self.size,
+                height: self.size,
+                depth_or_array_layers: 6,
+            },
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -42,10 +42,12 @@ pub struct BoardGrid {
 /// Why no grid could be built.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum GridError {
+    /// Footprints overlap so much that some cell lists too many pieces at any cell size.
     #[error(
         "{0} refractors overlap one another too closely for the board grid (more than {CELL_CAPACITY} share a cell however small)"
     )]
     Crowded(usize),
+    /// The pieces spread over too many cells.
     #[error("the refractors spread over more than {MAX_CELLS_PER_AXIS} grid cells along an axis")]
     TooLarge,
 }

@@ -9,24 +9,31 @@
 //! - [`pieces`]: kinds (one map per mesh), where each piece stands at a time.
 //! - [`grid`]: the board grid and the nearest-piece search along a ray (Rust twin of
 //!   `shaders/grid_search.wgsl`).
-//! - [`technique`]: the [`RefractorMaps`] technique and its variants ([`techniques`]).
+//! - [`technique`]: the [`RefractorMaps`] tracer (section 4) and its variants.
+//! - [`environment`]: the [`EnvironmentMaps`] technique (section 5): per-piece environment
+//!   impostors holding multi-bounce radiance, fully updated or with the moving piece
+//!   separated.
 //!
 //! See `README.md` for the mapping to the paper, the departures and the failure cases.
 
 #![warn(missing_docs)]
 
-#[allow(missing_docs)]
+pub mod environment;
 pub mod grid;
 pub mod pieces;
 pub mod technique;
 
+pub use environment::{EnvSettings, EnvironmentMaps};
 pub use technique::{RefractorMaps, Search, Settings};
 
 /// All technique variants of this crate: `refractor-maps/single-bounce`,
 /// `refractor-maps/multi-bounce-2`, `refractor-maps/multi-bounce-4`,
-/// `refractor-maps/first-square`, `refractor-maps/all-pieces`.
+/// `refractor-maps/first-square`, `refractor-maps/all-pieces`, `refractor-maps/full-update`,
+/// `refractor-maps/separated`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
-    technique::variants()
+    let mut all = technique::variants();
+    all.extend(environment::variants());
+    all
 }
 
 /// The image checks of this crate (run by the tests crate against the reference along the

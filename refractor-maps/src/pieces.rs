@@ -126,3 +126,51 @@ fn world_box(o: &scene::Object, time: f32) -> (Vec3, Vec3) {
         },
     )
 }
+
+/// WGSL of the refractor map pass (`refractor_map_fs`, after the prelude and scene.wgsl).
+pub const REFRACTOR_MAP_WGSL: &str = include_str!("shaders/refractor_map.wgsl");
+
+/// Renders each kind's refractor map around its representative (at the scene's current
+/// time): outward normal in rgb, distance from the centre in alpha, `resolution` texels per
+/// cube face, in the format [`crate::technique::MAP_FORMAT`]. Made once per scene.
+pub fn render_kind_maps(
+    frame: &mut scene::Frame,
+    scene: &scene::GpuScene,
+    kinds: &Kinds,
+    resolution: u32,
+) -> Result<Vec<gpu::cube::CubeTarget>, gpu::GpuError> {
+    let ctx = frame.gpu;
+    let source = format!("{}\n{}", scene::SCENE_WGSL, REFRACTOR_MAP_WGSL);
+    let module = gpu::shader_with_prelude(ctx, "refractor map", &source);
+    let pipeline = scene::scene_pipeline(
+        ctx,
+        "refractor map",
+        &scene.pipeline_layout_with(ctx, &[]),
+        &module,
+        "refractor_map_fs",
+        crate::technique::MAP_FORMAT,
+    );
+    let time = scene.time();
+    let mut maps = Vec::new();
+    for &rep in &kinds.representative {
+        let cube = gpu::cube::CubeTarget::new(
+            ctx,
+            resolution,
+            crate::technique::MAP_FORMAT,
+            "refractor map",
+        )?;
+        let centre = scene.scene.objects[rep].center_at(time);
+        scene.draw_cube(
+            frame,
+            &cube,
+            centre,
+            1e-4,
+            &pipeline,
+            &[],
+            &scene::ObjectFilter::Only(vec![rep]),
+            "refractor map",
+        );
+        maps.push(cube);
+    }
+    Ok(maps)
+}

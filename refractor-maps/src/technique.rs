@@ -373,31 +373,7 @@ impl Technique for RefractorMaps {
             "trace_fs",
             gpu::HDR_FORMAT,
         );
-        let map_pipeline = scene::scene_pipeline(
-            ctx,
-            "refractor map",
-            &scene.pipeline_layout_with(ctx, &[]),
-            &module,
-            "refractor_map_fs",
-            MAP_FORMAT,
-        );
-        let time = scene.time();
-        let mut maps = Vec::new();
-        for &rep in &kinds.representative {
-            let cube = CubeTarget::new(ctx, res, MAP_FORMAT, "refractor map")?;
-            let centre = scene.scene.objects[rep].center_at(time);
-            scene.draw_cube(
-                frame,
-                &cube,
-                centre,
-                1e-4,
-                &map_pipeline,
-                &[],
-                &ObjectFilter::Only(vec![rep]),
-                "refractor map",
-            );
-            maps.push(cube);
-        }
+        let maps = crate::pieces::render_kind_maps(frame, scene, &kinds, res)?;
         let mut piece_of_object = vec![EMPTY; scene.scene.objects.len()];
         for (piece, &(object, _)) in kinds.pieces.iter().enumerate() {
             piece_of_object[object] = piece as u32;
@@ -495,8 +471,8 @@ fn environment_reference(scene: &Scene, kinds: &Kinds) -> Vec3 {
     (lo + hi) * 0.5
 }
 
-fn storage<T: bytemuck::Pod>(ctx: &Context, label: &str, data: &[T]) -> wgpu::Buffer {
-    // A storage binding may not be empty.
+/// A read-only storage buffer holding `data` (padded: a storage binding may not be empty).
+pub(crate) fn storage<T: bytemuck::Pod>(ctx: &Context, label: &str, data: &[T]) -> wgpu::Buffer {
     let bytes: &[u8] = bytemuck::cast_slice(data);
     let mut contents = bytes.to_vec();
     contents.resize(bytes.len().max(16), 0);

@@ -281,10 +281,3 @@ fn trace_fs(in: SceneVertexOut) -> @location(0) vec4f {
     }
     return vec4f(color, distance(in.world, eye));
 }
-
-// Refractor map of a kind: its representative's own surface seen from its centre
-// (camera.eye): outward unit normal and distance; the nearest surface is kept (depth test).
-@fragment
-fn refractor_map_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    return vec4f(normalize(in.normal), distance(in.world, camera.eye.xyz));
-}
