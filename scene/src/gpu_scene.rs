@@ -21,7 +21,10 @@ use gpu::{Context, Uniform, Vertex, bind};
 
 /// Scene bindings and the shared diffuse shading model, in WGSL (needs the `gpu` prelude).
 pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
-const RASTER_WGSL: &str = include_str!("shaders/raster.wgsl");
+/// The shared raster pass's fragment shaders (`raster_fs`: the diffuse shading model, distance from
+/// the eye in alpha; `shadow_fs`), after the prelude and [`SCENE_WGSL`]: a technique that draws
+/// the diffuse scene inside its own passes uses `raster_fs`.
+pub const RASTER_WGSL: &str = include_str!("shaders/raster.wgsl");
 /// Resolution of each face of the shadow cube maps, and of each fitted 2D shadow map, while
 /// the lights' maps fit [`SHADOW_BUDGET_BYTES`].
 pub const SHADOW_MAP_SIZE: u32 = 1024;
