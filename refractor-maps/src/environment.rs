@@ -99,8 +99,7 @@ struct State {
     pieces: wgpu::Buffer,
     centres: wgpu::Buffer,
     /// The bind group drawing pieces into impostors (no mover) and the one of the eye pass
-    /// (separated: the mover set). Made once: the software rasterizer keeps memory for every
-    /// bind group of textures ever made, so a group per frame grows without bound.
+    /// (separated: the mover set), made once; the piece data they read is rewritten.
     build_group: wgpu::BindGroup,
     eye_group: wgpu::BindGroup,
     /// Impostor renders (one per impostor per round) since `prepare` (for tests).

@@ -188,7 +188,7 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
             "multi-bounce-2",
             "rays traced through the pieces' refractor maps, next piece by the board grid and the \
              search from outside (sections 4.1-4.2), paths split at up to 2 interfaces",
-            true,
+            false,
             Settings {
                 depth: 2,
                 search: grid,
