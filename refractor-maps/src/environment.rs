@@ -376,7 +376,7 @@ impl Technique for EnvironmentMaps {
         let mut state = State {
             kinds,
             current,
-            atlas: Atlas::new(ctx, s.env_resolution, n),
+            atlas: Atlas::new(ctx, s.env_resolution, n)?,
             impostor_centres: centres,
             mover,
             eye_pipeline: pipeline(gpu::HDR_FORMAT),
@@ -482,7 +482,9 @@ impl Technique for EnvironmentMaps {
 /// draws, so the moving piece's single round (separated) needs no diffuse start.
 ///
 /// A round draws every face of every target into one atlas in one render pass (a viewport per
-/// face), then copies the faces into the impostor array: the software rasterizer spends about
+/// face), then copies the faces into the impostor array (when the targets do not fit one atlas
+/// on the adapter, a round takes several passes and a later pass reads the impostors an
+/// earlier one of the same round rewrote; 33 impostors of 512 texels fit 8192-texel textures): the software rasterizer spends about
 /// 20 ms and keeps 2.5 MB, never returned, for every render pass that samples these maps,
 /// which a pass per face (200 per round on chess) turned into 1 GB per frame.
 fn build_impostors(
@@ -579,13 +581,21 @@ struct Atlas {
 }
 
 impl Atlas {
-    fn new(ctx: &Context, size: u32, impostors: u32) -> Atlas {
+    /// The atlas for `impostors` impostors of `size` texels, or as many as the adapter's
+    /// texture size allows (at least one: six tiles), or an error when not even one fits.
+    fn new(ctx: &Context, size: u32, impostors: u32) -> Result<Atlas, TechniqueError> {
         let max = ctx.device.limits().max_texture_dimension_2d;
         let per_side = (max / size).max(1);
         let wanted = 6 * impostors.max(1);
         let columns = ((wanted as f32).sqrt().ceil() as u32).clamp(1, per_side);
         let rows = wanted.div_ceil(columns).min(per_side);
-        let fit = (columns * rows / 6).max(1);
+        let fit = columns * rows / 6;
+        if fit == 0 {
+            return Err(TechniqueError::Unsupported(format!(
+                "env_resolution {size} is too large: six faces of it do not fit this adapter's \
+                 {max}-texel textures"
+            )));
+        }
         let color = ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("impostor atlas"),
             size: wgpu::Extent3d {
@@ -601,14 +611,14 @@ impl Atlas {
             view_formats: &[],
         });
         let depth = gpu::depth_texture(ctx, columns * size, rows * size, 1, "impostor atlas");
-        Atlas {
+        Ok(Atlas {
             color_view: color.create_view(&Default::default()),
             depth_view: depth.create_view(&Default::default()),
             color,
             size,
             columns,
             impostors: fit.min(impostors.max(1)),
-        }
+        })
     }
 
     fn tile_origin(&self, tile: u32) -> (u32, u32) {

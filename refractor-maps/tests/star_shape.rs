@@ -147,7 +147,7 @@ fn outcome(kind: PieceKind) -> Outcome {
 }
 
 #[test]
-fn the_star_shaped_assumption_fails_most_on_the_knight() {
+fn the_knight_hides_more_of_its_hits_than_the_pawn() {
     let mut hidden_share = Vec::new();
     println!(
         "search from outside, {RAYS} rays per kind, map {MAP_SIZE}^2 per face, the tracer's \

@@ -213,7 +213,11 @@ fn follow(r: PathRay) -> vec3f {
         return r.weight * environment(r.origin, r.dir);
     }
     let point = r.origin + r.dir * h.hit.w;
-    scatter(r, h.piece, point, piece_normal(h.piece, h.hit.xyz, -r.dir));
+    // The ray comes from outside: the outward normal must face it (the map's filtered normal
+    // can point along the ray at a silhouette or where the piece is not star-shaped).
+    var n_out = piece_normal(h.piece, h.hit.xyz, -r.dir);
+    if (dot(n_out, r.dir) > 0.0) { n_out = -n_out; }
+    scatter(r, h.piece, point, n_out);
     return vec3f(0.0);
 }
 
