@@ -19,7 +19,7 @@
 
 use crate::grid::EMPTY;
 use crate::pieces::{Kinds, PieceGpu, pieces_at, render_kind_maps};
-use crate::technique::{MAP_FORMAT, storage};
+use crate::technique::{MAP_FORMAT, param, storage};
 use glam::Vec3;
 use gpu::cube::{CubeArray, cube_face_view_proj};
 use gpu::distance_map::{HIT_WGSL, layered_hit_wgsl};
@@ -158,23 +158,6 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
     ]
 }
 
-fn param(
-    name: &'static str,
-    default: f64,
-    (min, max): (f64, f64),
-    integer: bool,
-    help: &'static str,
-) -> Param {
-    Param {
-        name,
-        default,
-        min,
-        max,
-        integer,
-        help,
-    }
-}
-
 impl Technique for EnvironmentMaps {
     fn id(&self) -> String {
         self.id.clone()
@@ -294,11 +277,12 @@ impl Technique for EnvironmentMaps {
             kind_maps.copy_from_cube(frame.encoder, cube, k as u32);
         }
         let source = format!(
-            "{}\n{}\n{}\n{}\n{}",
+            "{}\n{}\n{}\n{}\n{}\n{}",
             scene::SCENE_WGSL,
             scene::RASTER_WGSL,
             HIT_WGSL,
             layered_hit_wgsl(),
+            crate::pieces::PIECES_WGSL,
             ENVIRONMENT_PIECES_WGSL
         );
         let module = gpu::shader_with_prelude(ctx, &self.id, &source);

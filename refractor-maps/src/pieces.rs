@@ -69,7 +69,11 @@ fn rotation_between(from: Mat3, to: Mat3) -> Option<Mat3> {
     (orthonormal && m.determinant() > 0.0).then_some(m)
 }
 
-/// One piece as the tracer's shader reads it (`Piece` in trace.wgsl).
+/// WGSL of the piece table (`Piece`, `to_map`, `from_map`, `piece_kind`, `piece_object`);
+/// the including shader declares `pieces: array<Piece>`.
+pub const PIECES_WGSL: &str = include_str!("shaders/pieces.wgsl");
+
+/// One piece as the shaders read it (`Piece` in pieces.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PieceGpu {

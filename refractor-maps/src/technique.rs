@@ -230,7 +230,8 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
     ]
 }
 
-fn param(
+/// A declared parameter (shared by both techniques of the crate).
+pub(crate) fn param(
     name: &'static str,
     default: f64,
     (min, max): (f64, f64),
@@ -357,10 +358,11 @@ impl Technique for RefractorMaps {
             "resolution",
         )?;
         let source = format!(
-            "{}\n{}\n{}\n{}",
+            "{}\n{}\n{}\n{}\n{}",
             scene::SCENE_WGSL,
             HIT_WGSL,
             GRID_SEARCH_WGSL,
+            crate::pieces::PIECES_WGSL,
             trace_source(kinds.representative.len())
         );
         let module = gpu::shader_with_prelude(ctx, &self.id, &source);

@@ -1,7 +1,7 @@
 // ---------------------------------------------------------------------------------------------
 // Pieces shaded with per-piece environment distance impostors and refractor maps (Dancsik and
 // Minarik, section 5), after the gpu prelude + scene.wgsl + hit.wgsl + the layered Hit()
-// (gpu::distance_map::layered_hit_wgsl). All pieces are drawn in one call with one bind group:
+// (gpu::distance_map::layered_hit_wgsl) + pieces.wgsl. All pieces are drawn in one call with one bind group:
 // piece p's environment impostor (rgb radiance, alpha distance from env_centres[p]) is cube p
 // of `impostors`, the refractor map of its kind (outward normal, distance from its centre) is
 // cube `kind` of `kind_maps`.
@@ -32,18 +32,6 @@ struct EnvParams {
     epsilon: f32,
 };
 
-struct Piece {
-    // World centre now; w: kind (its refractor map's cube in kind_maps).
-    centre: vec4f,
-    // Rows of the world -> map rotation.
-    to_map_x: vec4f,
-    to_map_y: vec4f,
-    to_map_z: vec4f,
-    // Bounding box in the map's frame about the centre; box_min.w: object index.
-    box_min: vec4f,
-    box_max: vec4f,
-};
-
 @group(2) @binding(0) var<uniform> env: EnvParams;
 @group(2) @binding(1) var<storage, read> pieces: array<Piece>;
 // Reference point of each piece's impostor (world; w unused).
@@ -56,18 +44,8 @@ struct Piece {
 const SURFACE_OFFSET: f32 = 1e-4;
 const EXIT_CHORDS: u32 = 3u;
 
-fn to_map(p: u32, v: vec3f) -> vec3f {
-    let pc = pieces[p];
-    return vec3f(dot(pc.to_map_x.xyz, v), dot(pc.to_map_y.xyz, v), dot(pc.to_map_z.xyz, v));
-}
-
-fn from_map(p: u32, v: vec3f) -> vec3f {
-    let pc = pieces[p];
-    return pc.to_map_x.xyz * v.x + pc.to_map_y.xyz * v.y + pc.to_map_z.xyz * v.z;
-}
-
 fn kind_layer(p: u32) -> i32 {
-    return i32(pieces[p].centre.w);
+    return i32(piece_kind(p));
 }
 
 // The outward unit normal (world) in piece p's refractor map at map-frame direction l.
@@ -109,7 +87,7 @@ fn chord_exit(p: u32, origin: vec3f, d: vec3f) -> Exit {
 // The moving piece m met at `at` (outward normal n_out) by a ray along d: its reflection and
 // the refraction through it, both looked up in its own impostor.
 fn shade_mover(m: u32, at: vec3f, n_out: vec3f, d: vec3f) -> vec3f {
-    let o = objects[u32(pieces[m].box_min.w)];
+    let o = objects[piece_object(m)];
     let n = select(-n_out, n_out, dot(d, n_out) < 0.0);
     let cos_i = -dot(d, n);
     let reflected = impostor_lookup(m, at + n * SURFACE_OFFSET, reflect_dir(d, n)).rgb;

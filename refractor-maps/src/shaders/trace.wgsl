@@ -1,6 +1,7 @@
 // ---------------------------------------------------------------------------------------------
 // Many-object multi-bounce ray tracing with refractor distance maps (Dancsik and Minarik,
-// sections 4.1-4.2), after the gpu prelude + scene.wgsl + hit.wgsl + grid_search.wgsl.
+// sections 4.1-4.2), after the gpu prelude + scene.wgsl + hit.wgsl + grid_search.wgsl +
+// pieces.wgsl.
 //
 // The specular objects are drawn with scene_vs: rasterization finds the first hit. From there
 // each pixel follows the tree of reflected and refracted rays depth first (an explicit stack),
@@ -33,18 +34,6 @@ struct TracerParams {
     // A search from outside is accepted within this distance of the ray (metres).
     epsilon: f32,
     _pad: u32,
-};
-
-struct Piece {
-    // World centre now; w: kind (which refractor map).
-    centre: vec4f,
-    // Rows of the world -> map rotation.
-    to_map_x: vec4f,
-    to_map_y: vec4f,
-    to_map_z: vec4f,
-    // Bounding box in the map's frame about the centre; box_min.w: object index.
-    box_min: vec4f,
-    box_max: vec4f,
 };
 
 @group(2) @binding(0) var<uniform> tracer: TracerParams;
@@ -83,24 +72,6 @@ fn kind_hit_outside(kind: u32, y: vec3f, R: vec3f, bmin: vec3f, bmax: vec3f) -> 
     switch kind {
 // {OUTSIDE_ARMS}
     }
-}
-
-fn to_map(p: u32, v: vec3f) -> vec3f {
-    let pc = pieces[p];
-    return vec3f(dot(pc.to_map_x.xyz, v), dot(pc.to_map_y.xyz, v), dot(pc.to_map_z.xyz, v));
-}
-
-fn from_map(p: u32, v: vec3f) -> vec3f {
-    let pc = pieces[p];
-    return pc.to_map_x.xyz * v.x + pc.to_map_y.xyz * v.y + pc.to_map_z.xyz * v.z;
-}
-
-fn piece_kind(p: u32) -> u32 {
-    return u32(pieces[p].centre.w);
-}
-
-fn piece_object(p: u32) -> u32 {
-    return u32(pieces[p].box_min.w);
 }
 
 // grid_search.wgsl's hook: (hit point in the map's frame, ray parameter) or w < 0.

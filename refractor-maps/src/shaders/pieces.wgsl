@@ -1,0 +1,36 @@
+// ---------------------------------------------------------------------------------------------
+// The piece table both refractor-map shaders read (Rust: refractor-maps/src/pieces.rs
+// `PieceGpu`). The including shader declares `pieces: array<Piece>` at its own binding.
+// ---------------------------------------------------------------------------------------------
+
+struct Piece {
+    // World centre now; w: kind (which refractor map).
+    centre: vec4f,
+    // Rows of the world -> map rotation (the kind's map is rendered in one piece's frame).
+    to_map_x: vec4f,
+    to_map_y: vec4f,
+    to_map_z: vec4f,
+    // Bounding box in the map's frame about the centre; box_min.w: object index.
+    box_min: vec4f,
+    box_max: vec4f,
+};
+
+// A world direction (or offset from the centre) in piece p's map frame.
+fn to_map(p: u32, v: vec3f) -> vec3f {
+    let pc = pieces[p];
+    return vec3f(dot(pc.to_map_x.xyz, v), dot(pc.to_map_y.xyz, v), dot(pc.to_map_z.xyz, v));
+}
+
+// A map-frame direction of piece p in the world.
+fn from_map(p: u32, v: vec3f) -> vec3f {
+    let pc = pieces[p];
+    return pc.to_map_x.xyz * v.x + pc.to_map_y.xyz * v.y + pc.to_map_z.xyz * v.z;
+}
+
+fn piece_kind(p: u32) -> u32 {
+    return u32(pieces[p].centre.w);
+}
+
+fn piece_object(p: u32) -> u32 {
+    return u32(pieces[p].box_min.w);
+}
