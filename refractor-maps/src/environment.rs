@@ -19,7 +19,7 @@
 
 use crate::grid::EMPTY;
 use crate::pieces::{Kinds, PieceGpu, pieces_at, render_kind_maps};
-use crate::technique::{MAP_FORMAT, param, storage};
+use crate::technique::{MAP_FORMAT, Maps, param, storage};
 use glam::Vec3;
 use gpu::cube::{CubeArray, cube_face_view_proj};
 use gpu::distance_map::{HIT_WGSL, layered_hit_wgsl};
@@ -45,16 +45,8 @@ pub struct EnvSettings {
     pub separated: bool,
     /// Rounds of drawing the pieces into the impostors (section 5.1's DEPTH).
     pub env_depth: u32,
-    /// Cube face size of each kind's refractor map.
-    pub resolution: u32,
-    /// Cube face size of each piece's environment impostor.
-    pub env_resolution: u32,
-    /// Hit() refinement steps in the refractor maps (inside and from outside).
-    pub iterations: u32,
-    /// Hit() refinement steps in the environment impostors.
-    pub env_iterations: u32,
-    /// A search from outside is accepted within this distance of the ray (metres).
-    pub epsilon: f32,
+    /// The maps and their searches (`env_resolution`: each piece's impostor).
+    pub maps: Maps,
 }
 
 impl Default for EnvSettings {
@@ -62,11 +54,7 @@ impl Default for EnvSettings {
         Self {
             separated: true,
             env_depth: 2,
-            resolution: 256,
-            env_resolution: 128,
-            iterations: 4,
-            env_iterations: 4,
-            epsilon: 0.004,
+            maps: Maps::with_env_resolution(128),
         }
     }
 }
@@ -170,61 +158,25 @@ impl Technique for EnvironmentMaps {
     }
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
-        vec![
-            param(
-                "env_depth",
-                s.env_depth as f64,
-                (0.0, MAX_ENV_DEPTH as f64),
-                true,
-                "rounds of drawing the pieces into each other's impostors (0: diffuse scene only)",
-            ),
-            param(
-                "resolution",
-                s.resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "cube face size of each kind's refractor map (texels)",
-            ),
-            param(
-                "env_resolution",
-                s.env_resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "cube face size of each piece's environment impostor (texels)",
-            ),
-            param(
-                "iterations",
-                s.iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the refractor maps",
-            ),
-            param(
-                "env_iterations",
-                s.env_iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the environment impostors",
-            ),
-            param(
-                "epsilon",
-                s.epsilon as f64,
-                (1e-6, 1.0),
-                false,
-                "a search from outside is accepted within this distance of the ray (metres)",
-            ),
-        ]
+        let mut p = vec![param(
+            "env_depth",
+            s.env_depth as f64,
+            (0.0, MAX_ENV_DEPTH as f64),
+            true,
+            "rounds of drawing the pieces into each other's impostors (0: diffuse scene only)",
+        )];
+        p.extend(
+            s.maps
+                .params("cube face size of each piece's environment impostor (texels)"),
+        );
+        p
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         check_param(&self.id, &self.params(), name, value)?;
         let s = &mut self.settings;
         match name {
             "env_depth" => s.env_depth = value as u32,
-            "resolution" => s.resolution = value as u32,
-            "env_resolution" => s.env_resolution = value as u32,
-            "iterations" => s.iterations = value as u32,
-            "env_iterations" => s.env_iterations = value as u32,
-            "epsilon" => s.epsilon = value as f32,
+            name if s.maps.set(name, value) => {}
             _ => unreachable!("check_param accepted an undeclared parameter"),
         }
         self.state = None;
@@ -237,6 +189,7 @@ impl Technique for EnvironmentMaps {
         let ctx = frame.gpu;
         let kinds = Kinds::of(&scene.scene);
         let s = &self.settings;
+        let m = &s.maps;
         let movers: Vec<usize> = kinds
             .pieces
             .iter()
@@ -253,22 +206,22 @@ impl Technique for EnvironmentMaps {
             )));
         }
         let n = kinds.pieces.len() as u32;
-        let bytes = 2 * CubeArray::bytes(s.env_resolution, n, MAP_FORMAT)
-            + CubeArray::bytes(s.resolution, kinds.representative.len() as u32, MAP_FORMAT);
+        let bytes = 2 * CubeArray::bytes(m.env_resolution, n, MAP_FORMAT)
+            + CubeArray::bytes(m.resolution, kinds.representative.len() as u32, MAP_FORMAT);
         if bytes > scene::technique::MAP_BUDGET_BYTES {
             return Err(TechniqueError::OverBudget(format!(
                 "{}: {n} impostors at {} texels and the refractor maps need {:.2} GB, over the \
                  {} MB budget of per-object maps; lower `env_resolution`",
                 self.id,
-                s.env_resolution,
+                m.env_resolution,
                 bytes as f64 / 1e9,
                 scene::technique::MAP_BUDGET_BYTES >> 20
             )));
         }
-        let kind_cubes = render_kind_maps(frame, scene, &kinds, s.resolution)?;
+        let kind_cubes = render_kind_maps(frame, scene, &kinds, m.resolution)?;
         let kind_maps = CubeArray::new(
             ctx,
-            s.resolution,
+            m.resolution,
             kind_cubes.len() as u32,
             MAP_FORMAT,
             "refractor maps",
@@ -313,7 +266,7 @@ impl Technique for EnvironmentMaps {
             )
         };
         let time = scene.time();
-        let impostors = |label| CubeArray::new(ctx, s.env_resolution, n, MAP_FORMAT, label);
+        let impostors = |label| CubeArray::new(ctx, m.env_resolution, n, MAP_FORMAT, label);
         let centres = kinds
             .pieces
             .iter()
@@ -334,9 +287,9 @@ impl Technique for EnvironmentMaps {
                 "environment params",
                 &EnvParamsGpu {
                     mover: mover.map_or(EMPTY, |m| m as u32),
-                    iterations: s.iterations,
-                    env_iterations: s.env_iterations,
-                    epsilon: s.epsilon,
+                    iterations: m.iterations,
+                    env_iterations: m.env_iterations,
+                    epsilon: m.epsilon,
                 },
             );
             bind::group(
@@ -360,7 +313,7 @@ impl Technique for EnvironmentMaps {
         let mut state = State {
             kinds,
             current,
-            atlas: Atlas::new(ctx, s.env_resolution, n)?,
+            atlas: Atlas::new(ctx, m.env_resolution, n)?,
             impostor_centres: centres,
             mover,
             eye_pipeline: pipeline(gpu::HDR_FORMAT),

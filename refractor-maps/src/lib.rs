@@ -24,7 +24,7 @@ pub mod pieces;
 pub mod technique;
 
 pub use environment::{EnvSettings, EnvironmentMaps};
-pub use technique::{RefractorMaps, Search, Settings};
+pub use technique::{Maps, RefractorMaps, Search, Settings};
 
 /// All technique variants of this crate: `refractor-maps/single-bounce`,
 /// `refractor-maps/multi-bounce-2`, `refractor-maps/multi-bounce-4`,

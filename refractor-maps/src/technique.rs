@@ -72,16 +72,91 @@ pub struct Settings {
     pub depth: u32,
     /// How a ray leaving a piece finds the next one.
     pub search: Search,
+    /// The maps and their searches.
+    pub maps: Maps,
+}
+
+/// What both techniques of the crate search: the refractor maps, the environment
+/// impostor(s), and the steps of `Hit()` in them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Maps {
     /// Cube face size of each kind's refractor map.
     pub resolution: u32,
-    /// Cube face size of the environment impostor.
+    /// Cube face size of the environment impostor(s).
     pub env_resolution: u32,
     /// Hit() refinement steps in the refractor maps (inside and from outside).
     pub iterations: u32,
-    /// Hit() refinement steps in the environment impostor.
+    /// Hit() refinement steps in the environment impostor(s).
     pub env_iterations: u32,
     /// Distance from the ray within which a search from outside is accepted (metres).
     pub epsilon: f32,
+}
+
+impl Maps {
+    /// The defaults with environment impostors of `env_resolution` texels.
+    pub fn with_env_resolution(env_resolution: u32) -> Maps {
+        Maps {
+            resolution: 256,
+            env_resolution,
+            iterations: 4,
+            env_iterations: 4,
+            epsilon: 0.004,
+        }
+    }
+
+    /// The declared parameters; `env_map` names the environment impostor(s) in the help.
+    pub(crate) fn params(&self, env_map: &'static str) -> Vec<Param> {
+        vec![
+            param(
+                "resolution",
+                self.resolution as f64,
+                (4.0, 4096.0),
+                true,
+                "cube face size of each kind's refractor map (texels)",
+            ),
+            param(
+                "env_resolution",
+                self.env_resolution as f64,
+                (4.0, 4096.0),
+                true,
+                env_map,
+            ),
+            param(
+                "iterations",
+                self.iterations as f64,
+                (0.0, 64.0),
+                true,
+                "Hit() refinement steps in the refractor maps",
+            ),
+            param(
+                "env_iterations",
+                self.env_iterations as f64,
+                (0.0, 64.0),
+                true,
+                "Hit() refinement steps in the environment impostor(s)",
+            ),
+            param(
+                "epsilon",
+                self.epsilon as f64,
+                (1e-6, 1.0),
+                false,
+                "a search from outside is accepted within this distance of the ray (metres)",
+            ),
+        ]
+    }
+
+    /// Sets parameter `name` if it is one of these (already checked against its range).
+    pub(crate) fn set(&mut self, name: &str, value: f64) -> bool {
+        match name {
+            "resolution" => self.resolution = value as u32,
+            "env_resolution" => self.env_resolution = value as u32,
+            "iterations" => self.iterations = value as u32,
+            "env_iterations" => self.env_iterations = value as u32,
+            "epsilon" => self.epsilon = value as f32,
+            _ => return false,
+        }
+        true
+    }
 }
 
 impl Default for Settings {
@@ -91,11 +166,7 @@ impl Default for Settings {
             search: Search::Grid {
                 max_cells: ALL_CELLS,
             },
-            resolution: 256,
-            env_resolution: 256,
-            iterations: 4,
-            env_iterations: 4,
-            epsilon: 0.004,
+            maps: Maps::with_env_resolution(256),
         }
     }
 }
@@ -260,50 +331,17 @@ impl Technique for RefractorMaps {
     }
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
-        let mut p = vec![
-            param(
-                "depth",
-                s.depth as f64,
-                (1.0, MAX_DEPTH as f64),
-                true,
-                "interfaces at which a path splits into reflection and refraction",
-            ),
-            param(
-                "resolution",
-                s.resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "cube face size of each kind's refractor map (texels)",
-            ),
-            param(
-                "env_resolution",
-                s.env_resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "cube face size of the diffuse environment impostor (texels)",
-            ),
-            param(
-                "iterations",
-                s.iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the refractor maps",
-            ),
-            param(
-                "env_iterations",
-                s.env_iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the environment impostor",
-            ),
-            param(
-                "epsilon",
-                s.epsilon as f64,
-                (1e-6, 1.0),
-                false,
-                "a search from outside is accepted within this distance of the ray (metres)",
-            ),
-        ];
+        let mut p = vec![param(
+            "depth",
+            s.depth as f64,
+            (1.0, MAX_DEPTH as f64),
+            true,
+            "interfaces at which a path splits into reflection and refraction",
+        )];
+        p.extend(
+            s.maps
+                .params("cube face size of the diffuse environment impostor (texels)"),
+        );
         if let Search::Grid { max_cells } = s.search {
             p.push(param(
                 "max_cells",
@@ -321,11 +359,7 @@ impl Technique for RefractorMaps {
         let s = &mut self.settings;
         match name {
             "depth" => s.depth = value as u32,
-            "resolution" => s.resolution = value as u32,
-            "env_resolution" => s.env_resolution = value as u32,
-            "iterations" => s.iterations = value as u32,
-            "env_iterations" => s.env_iterations = value as u32,
-            "epsilon" => s.epsilon = value as f32,
+            name if s.maps.set(name, value) => {}
             "max_cells" => {
                 s.search = Search::Grid {
                     max_cells: value as u32,
@@ -350,11 +384,11 @@ impl Technique for RefractorMaps {
                 kinds.representative.len()
             )));
         }
-        let res = self.settings.resolution;
+        let res = self.settings.maps.resolution;
         scene::technique::check_map_budget(
             &self.id,
             kinds.representative.len() + 1,
-            CubeTarget::bytes(res.max(self.settings.env_resolution), MAP_FORMAT),
+            CubeTarget::bytes(res.max(self.settings.maps.env_resolution), MAP_FORMAT),
             "resolution",
         )?;
         let source = format!(
@@ -382,7 +416,7 @@ impl Technique for RefractorMaps {
         }
         let env = CubeTarget::new(
             ctx,
-            self.settings.env_resolution,
+            self.settings.maps.env_resolution,
             MAP_FORMAT,
             "environment impostor",
         )?;
@@ -575,9 +609,9 @@ fn tracer_group(
             _ => ALL_CELLS,
         },
         piece_count: pieces.len() as u32,
-        iterations: settings.iterations,
-        env_iterations: settings.env_iterations,
-        epsilon: settings.epsilon,
+        iterations: settings.maps.iterations,
+        env_iterations: settings.maps.env_iterations,
+        epsilon: settings.maps.epsilon,
         _pad: 0,
     };
     let params = Uniform::new(ctx, "tracer params", &uniform);

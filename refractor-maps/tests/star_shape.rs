@@ -122,8 +122,8 @@ fn outcome(kind: PieceKind) -> Outcome {
             lo,
             hi,
             Method::FalsePosition,
-            settings.iterations,
-            settings.epsilon,
+            settings.maps.iterations,
+            settings.maps.epsilon,
         )
         .map(|h| h.d);
         let Some(t) = exact else {
