@@ -1,6 +1,6 @@
 //! GPU time of one frame of `refractor-maps/multi-bounce-4` and `refractor-maps/separated` on
 //! `cornell-sphere` at 64 x 64, and the CPU twin of the board grid's nearest-piece search on
-//! the chess pieces. The scene is uploaded and the technique prepared once, then each
+//! the chess pieces (wall clock). The scene is uploaded and the technique prepared once, then each
 //! iteration is one `scene::runner::render_frame`, measured by the "frame" span of GPU
 //! timestamp queries where the device has them, the timer's wall clock otherwise
 //! (`testkit::gpu_time`). `cargo bench -p refractor-maps --bench frame`.
@@ -25,6 +25,9 @@ fn main() {
         .iter()
         .map(|(lo, hi)| 0.5 * (*lo + *hi))
         .collect();
+    c.final_summary();
+    // The CPU twin is timed by the wall clock (the frame clock above measures GPU spans).
+    let mut c = criterion::Criterion::default().configure_from_args();
     c.bench_function("grid/nearest_piece/chess", |b| {
         let mut k = 0u32;
         b.iter(|| {
