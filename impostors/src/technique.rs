@@ -330,14 +330,7 @@ fn param(
     integer: bool,
     help: &'static str,
 ) -> Param {
-    Param {
-        name,
-        default,
-        min,
-        max,
-        integer,
-        help,
-    }
+    Param::new(name, default, (min, max), integer, help)
 }
 
 impl Technique for Impostor {

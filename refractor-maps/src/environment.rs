@@ -19,7 +19,7 @@
 
 use crate::grid::EMPTY;
 use crate::pieces::{Kinds, PieceGpu, pieces_at, render_kind_maps};
-use crate::technique::{MAP_FORMAT, Maps, param, storage};
+use crate::technique::{MAP_FORMAT, Maps, storage};
 use glam::Vec3;
 use gpu::cube::{CubeArray, cube_face_view_proj};
 use gpu::distance_map::{HIT_WGSL, layered_hit_wgsl};
@@ -158,7 +158,7 @@ impl Technique for EnvironmentMaps {
     }
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
-        let mut p = vec![param(
+        let mut p = vec![Param::new(
             "env_depth",
             s.env_depth as f64,
             (0.0, MAX_ENV_DEPTH as f64),

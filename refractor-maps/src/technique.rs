@@ -107,35 +107,35 @@ impl Maps {
     /// The declared parameters; `env_map` names the environment impostor(s) in the help.
     pub(crate) fn params(&self, env_map: &'static str) -> Vec<Param> {
         vec![
-            param(
+            Param::new(
                 "resolution",
                 self.resolution as f64,
                 (4.0, 4096.0),
                 true,
                 "cube face size of each kind's refractor map (texels)",
             ),
-            param(
+            Param::new(
                 "env_resolution",
                 self.env_resolution as f64,
                 (4.0, 4096.0),
                 true,
                 env_map,
             ),
-            param(
+            Param::new(
                 "iterations",
                 self.iterations as f64,
                 (0.0, 64.0),
                 true,
                 "Hit() refinement steps in the refractor maps",
             ),
-            param(
+            Param::new(
                 "env_iterations",
                 self.env_iterations as f64,
                 (0.0, 64.0),
                 true,
                 "Hit() refinement steps in the environment impostor(s)",
             ),
-            param(
+            Param::new(
                 "epsilon",
                 self.epsilon as f64,
                 (1e-6, 1.0),
@@ -301,24 +301,6 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
     ]
 }
 
-/// A declared parameter (shared by both techniques of the crate).
-pub(crate) fn param(
-    name: &'static str,
-    default: f64,
-    (min, max): (f64, f64),
-    integer: bool,
-    help: &'static str,
-) -> Param {
-    Param {
-        name,
-        default,
-        min,
-        max,
-        integer,
-        help,
-    }
-}
-
 impl Technique for RefractorMaps {
     fn id(&self) -> String {
         self.id.clone()
@@ -331,7 +313,7 @@ impl Technique for RefractorMaps {
     }
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
-        let mut p = vec![param(
+        let mut p = vec![Param::new(
             "depth",
             s.depth as f64,
             (1.0, MAX_DEPTH as f64),
@@ -343,7 +325,7 @@ impl Technique for RefractorMaps {
                 .params("cube face size of the diffuse environment impostor (texels)"),
         );
         if let Search::Grid { max_cells } = s.search {
-            p.push(param(
+            p.push(Param::new(
                 "max_cells",
                 max_cells.min(1 << 20) as f64,
                 (1.0, (1 << 20) as f64),

@@ -61,13 +61,9 @@ fn still_chess() -> Scene {
     scene
 }
 
-#[test]
-fn separated_and_full_update_agree_when_nothing_moves() {
-    let _lock = gpu_lock();
-    let scene = still_chess();
-    let shots: Vec<_> = [0.0, 1.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
-    let mut images = Vec::new();
-    for separated in [true, false] {
+/// The last image of `shots` by the separated variant, then by full update (small maps).
+fn separated_and_full_update(scene: &Scene, shots: &[Shot]) -> [gpu::HdrImage; 2] {
+    [true, false].map(|separated| {
         let mut t = EnvironmentMaps::new(
             "refractor-maps/test",
             "test",
@@ -78,8 +74,16 @@ fn separated_and_full_update_agree_when_nothing_moves() {
             },
         );
         small(&mut t);
-        images.push(render_shots(&mut t, &scene, &shots));
-    }
+        render_shots(&mut t, scene, shots)
+    })
+}
+
+#[test]
+fn separated_and_full_update_agree_when_nothing_moves() {
+    let _lock = gpu_lock();
+    let scene = still_chess();
+    let shots: Vec<_> = [0.0, 1.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
+    let images = separated_and_full_update(&scene, &shots);
     let diff = max_difference(&images[0], &images[1]);
     assert!(diff < 1e-4, "separated and full update differ by {diff}");
 }
@@ -93,20 +97,7 @@ fn separated_stays_close_to_full_update_with_a_moving_mirror() {
     let _lock = gpu_lock();
     let scene = scene::load("chess:material=mirror-mover").unwrap();
     let shots: Vec<_> = [0.0, 2.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
-    let mut images = Vec::new();
-    for separated in [true, false] {
-        let mut t = EnvironmentMaps::new(
-            "refractor-maps/test",
-            "test",
-            true,
-            EnvSettings {
-                separated,
-                ..EnvSettings::default()
-            },
-        );
-        small(&mut t);
-        images.push(render_shots(&mut t, &scene, &shots));
-    }
+    let images = separated_and_full_update(&scene, &shots);
     let (a, b) = (&images[0], &images[1]);
     let total: f32 = b.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum();
     let diff: f32 = a

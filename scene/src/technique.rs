@@ -20,6 +20,27 @@ pub struct Param {
     pub help: &'static str,
 }
 
+impl Param {
+    /// A parameter `name` with its `default`, accepted in `[min, max]` (whole numbers only when
+    /// `integer`), and one line of `help`.
+    pub const fn new(
+        name: &'static str,
+        default: f64,
+        (min, max): (f64, f64),
+        integer: bool,
+        help: &'static str,
+    ) -> Self {
+        Self {
+            name,
+            default,
+            min,
+            max,
+            integer,
+            help,
+        }
+    }
+}
+
 /// What is being rendered this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
