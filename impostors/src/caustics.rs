@@ -20,12 +20,12 @@ use gpu::cube::CubeTarget;
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load, color_target};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, GpuError, Uniform, bind};
-use scene::lightmap::{CHART_WGSL, ChartAtlas, QuadSplatter};
+use scene::lightmap::{CHART_WGSL, ChartAtlas, QuadSplatter, RECEIVER_WGSL};
 use scene::{Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
 
 /// WGSL of the receivers' light-map charts: the chart and atlas uv under a fragment of a
-/// diffuse object (after the `gpu` prelude, `scene::SCENE_WGSL` and
-/// `scene::lightmap::CHART_WGSL`).
+/// diffuse object (after the `gpu` prelude, `scene::SCENE_WGSL`,
+/// `scene::lightmap::CHART_WGSL` and `scene::lightmap::RECEIVER_WGSL`).
 pub const LIGHTMAP_WGSL: &str = include_str!("shaders/lightmap.wgsl");
 /// WGSL of the caustic maps (paper section 5): photon tracing from the light
 /// (`trace_photon`), the caustic-map and receiver-cube shaders of both paths and the apply
@@ -95,7 +95,7 @@ pub fn lookup_wgsl(path: Option<CausticPath>) -> String {
     };
     let shaders = match path {
         None => String::new(),
-        Some(_) => format!("{CHART_WGSL}\n{LIGHTMAP_WGSL}\n{CAUSTIC_WGSL}\n"),
+        Some(_) => format!("{CHART_WGSL}\n{RECEIVER_WGSL}\n{LIGHTMAP_WGSL}\n{CAUSTIC_WGSL}\n"),
     };
     format!("{shaders}fn caustic_radiance_at(l: vec3f) -> vec3f {{ {body} }}\n")
 }
@@ -174,43 +174,6 @@ impl GeneratorMaps {
     }
 }
 
-/// A pipeline drawing scene objects with `scene_vs`, no culling.
-fn scene_objects_pipeline(
-    ctx: &Context,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    entry_point: &str,
-    targets: &[Option<wgpu::ColorTargetState>],
-    depth: (bool, wgpu::CompareFunction),
-) -> wgpu::RenderPipeline {
-    ctx.device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("scene_vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(gpu::Vertex::layout())],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some(entry_point),
-                compilation_options: Default::default(),
-                targets,
-            }),
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(pass::depth_state(depth.0, depth.1)),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        })
-}
-
 impl Caustics {
     /// Pipelines for `settings.path`; `impostor_layout` is the localized pass's `@group(2)`.
     pub fn new(
@@ -265,7 +228,7 @@ impl Caustics {
             CausticPath::Grid => ("caustic_map_fs", "caustic_apply_fs"),
         };
         let less = (true, wgpu::CompareFunction::Less);
-        let map_pipeline = scene_objects_pipeline(
+        let map_pipeline = scene::scene_pipeline_with(
             ctx,
             "caustic map",
             &layout,
@@ -277,7 +240,7 @@ impl Caustics {
             ],
             less,
         );
-        let apply_pipeline = scene_objects_pipeline(
+        let apply_pipeline = scene::scene_pipeline_with(
             ctx,
             "caustics apply",
             &layout,
@@ -286,7 +249,7 @@ impl Caustics {
             &[color_target(gpu::HDR_FORMAT, Some(ADD_RGB_KEEP_ALPHA))],
             (false, wgpu::CompareFunction::LessEqual),
         );
-        let localized_pipeline = scene_objects_pipeline(
+        let localized_pipeline = scene::scene_pipeline_with(
             ctx,
             "localized lookup with caustics",
             &layout,
@@ -295,7 +258,7 @@ impl Caustics {
             &[color_target(gpu::HDR_FORMAT, None)],
             less,
         );
-        let receiver_pipeline = scene_objects_pipeline(
+        let receiver_pipeline = scene::scene_pipeline_with(
             ctx,
             "caustic receivers",
             &scene.pipeline_layout_with(ctx, &[&empty_layout, &receiver_layout]),

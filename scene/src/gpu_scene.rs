@@ -679,6 +679,29 @@ pub fn scene_pipeline(
     fragment_entry: &str,
     format: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
+    scene_pipeline_with(
+        ctx,
+        label,
+        layout,
+        module,
+        fragment_entry,
+        &[pass::color_target(format, None)],
+        (true, wgpu::CompareFunction::Less),
+    )
+}
+
+/// [`scene_pipeline`] with its own colour targets (several, or blended) and depth state
+/// (`(write, compare)`): for passes that add to what the raster pass drew, or write several
+/// maps at once. No culling.
+pub fn scene_pipeline_with(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),
@@ -693,13 +716,13 @@ pub fn scene_pipeline(
                 module,
                 entry_point: Some(fragment_entry),
                 compilation_options: Default::default(),
-                targets: &[pass::color_target(format, None)],
+                targets,
             }),
             primitive: wgpu::PrimitiveState {
                 cull_mode: None,
                 ..Default::default()
             },
-            depth_stencil: Some(pass::depth_state(true, wgpu::CompareFunction::Less)),
+            depth_stencil: Some(pass::depth_state(depth.0, depth.1)),
             multisample: Default::default(),
             multiview_mask: None,
             cache: None,

@@ -11,7 +11,8 @@
 //! a one-texel gutter inside its cell, so bilinear lookups never read a neighbour.
 //!
 //! The GPU side is `shaders/chart.wgsl` ([`CHART_WGSL`]: `chart_uv`, same axis rule, same
-//! mapping). [`QuadSplatter`] adds photons to the atlas as small Gaussian quads (the paper's
+//! mapping) and `shaders/receiver.wgsl` ([`RECEIVER_WGSL`]: object-space addressing, a
+//! texel's area on the surface, the power read back). [`QuadSplatter`] adds photons to the atlas as small Gaussian quads (the paper's
 //! light-map splatting), reading a photon map of light-map addresses and powers; it lives
 //! here, beside the charts, so that every technique that gathers photons into light maps
 //! (caustics of distance impostors, screen-space photons) shares one splat.
@@ -24,6 +25,10 @@ use gpu::{Context, Uniform, bind};
 
 /// `struct Chart` and `chart_uv` in WGSL (needs the prelude; no bindings).
 pub const CHART_WGSL: &str = include_str!("shaders/chart.wgsl");
+/// `world_to_local`, `normal_to_local`, `texel_area` and `light_map_power` in WGSL: a
+/// receiver's light-map texel area and the power read back from an atlas (after the prelude,
+/// `SCENE_WGSL` and [`CHART_WGSL`]; no bindings).
+pub const RECEIVER_WGSL: &str = include_str!("shaders/receiver.wgsl");
 const SPLAT_QUADS_WGSL: &str = include_str!("shaders/splat_quads.wgsl");
 
 /// No chart for this (object, axis): `chart_of` entry.
@@ -107,10 +112,17 @@ pub struct ChartAtlas {
 impl ChartAtlas {
     /// Charts for every diffuse object of `scene` in a `size` x `size` atlas.
     pub fn new(scene: &Scene, size: u32) -> Self {
+        Self::of_objects(scene, size, |_| true)
+    }
+
+    /// Charts for the diffuse objects of `scene` that `receives` accepts (by index): a
+    /// technique whose photons land on a few known receivers (the chessboard) gives them the
+    /// whole atlas.
+    pub fn of_objects(scene: &Scene, size: u32, receives: impl Fn(usize) -> bool) -> Self {
         let mut charts = Vec::new();
         let mut chart_of = vec![NO_CHART; 6 * scene.objects.len()];
         for (object, o) in scene.objects.iter().enumerate() {
-            if !matches!(o.material, Material::Diffuse { .. }) {
+            if !matches!(o.material, Material::Diffuse { .. }) || !receives(object) {
                 continue;
             }
             let mut bounds: [Option<(Vec2, Vec2)>; 6] = [None; 6];
@@ -425,6 +437,21 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn an_atlas_of_one_receiver_gives_it_the_whole_atlas() {
+        let scene = crate::load("chess").unwrap();
+        let board = scene.objects.iter().position(|o| o.name == "board").unwrap();
+        let atlas = ChartAtlas::of_objects(&scene, 512, |o| o == board);
+        // The board is one upward quad: one chart, filling the atlas but its gutter.
+        assert_eq!(atlas.charts.len(), 1);
+        assert_eq!(atlas.chart(board, 2).map(|c| c.object), Some(board));
+        let [u0, v0, u1, v1] = atlas.charts[0].rect;
+        let texel = 1.0 / 512.0;
+        assert!((u0 - texel).abs() < 1e-6 && (v0 - texel).abs() < 1e-6);
+        assert!((u1 - (1.0 - texel)).abs() < 1e-6 && (v1 - (1.0 - texel)).abs() < 1e-6);
+        assert!(atlas.chart_of.iter().filter(|&&c| c != NO_CHART).count() == 1);
     }
 
     #[test]

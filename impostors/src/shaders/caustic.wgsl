@@ -190,14 +190,6 @@ fn receiver_fs(in: SceneVertexOut) -> ReceiverTargets {
     return out;
 }
 
-// Light-map path: power per texel (W) of chart `c` at atlas `uv`, bilinear, kept inside the
-// chart's rectangle so no neighbour bleeds in.
-fn light_map_power(c: Chart, uv: vec2f) -> vec3f {
-    let half_texel = 0.5 / caustic.lightmap.x;
-    let inside = clamp(uv, c.rect.xy + half_texel, max(c.rect.zw - half_texel, c.rect.xy + half_texel));
-    return textureSampleLevel(light_map, light_map_sampler, inside, 0.0).rgb;
-}
-
 // Light-map path, direct view: diffuse surfaces add albedo / pi * E, E = power per texel /
 // the texel's area on the surface.
 @fragment
@@ -205,7 +197,8 @@ fn lightmap_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
     let chart = fragment_chart(in.object, in.world, in.normal);
     if (chart.index < 0) { return vec4f(0.0); }
     let c = charts[chart.index];
-    let irradiance = light_map_power(c, chart.uv) / texel_area(c, in.object, chart.local_normal);
+    let power = light_map_power(light_map, light_map_sampler, caustic.lightmap.x, c, chart.uv);
+    let irradiance = power / texel_area(c, in.object, chart.local_normal);
     return vec4f(surface_albedo(in.object, in.uv) / PI * irradiance, 0.0);
 }
 
@@ -272,7 +265,8 @@ fn caustic_radiance_lightmap(l: vec3f) -> vec3f {
     let c = charts[chart];
     let uv = chart_uv(c, world_to_local(u32(round(info.y)), p));
     let albedo = textureLoad(receiver_albedo, t.xy, t.z, 0).rgb;
-    return albedo / PI * light_map_power(c, uv) * info.z;
+    let power = light_map_power(light_map, light_map_sampler, caustic.lightmap.x, c, uv);
+    return albedo / PI * power * info.z;
 }
 
 // The same for the grid path.
