@@ -13,23 +13,27 @@
 //! - [`environment`]: the [`EnvironmentMaps`] technique (section 5): per-piece environment
 //!   impostors holding multi-bounce radiance, fully updated or with the moving piece
 //!   separated.
+//! - [`caustics`]: caustics on the chessboard (section 7): photon maps through the refractor
+//!   maps, light maps of the static pieces (once) and of the moving piece (every frame).
 //!
 //! See `README.md` for the mapping to the paper, the departures and the failure cases.
 
 #![warn(missing_docs)]
 
+pub mod caustics;
 pub mod environment;
 pub mod grid;
 pub mod pieces;
 pub mod technique;
 
+pub use caustics::CausticSettings;
 pub use environment::{EnvSettings, EnvironmentMaps};
 pub use technique::{Maps, RefractorMaps, Search, Settings};
 
 /// All technique variants of this crate: `refractor-maps/single-bounce`,
 /// `refractor-maps/multi-bounce-2`, `refractor-maps/multi-bounce-4`,
-/// `refractor-maps/first-square`, `refractor-maps/all-pieces`, `refractor-maps/full-update`,
-/// `refractor-maps/separated`.
+/// `refractor-maps/first-square`, `refractor-maps/all-pieces`, `refractor-maps/caustics`,
+/// `refractor-maps/full-update`, `refractor-maps/separated`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     let mut all = technique::variants();
     all.extend(environment::variants());

@@ -10,8 +10,12 @@
 //! 2. the piece table and the board grid at the frame's time (the moving piece changes cells);
 //! 3. the shared raster pass for the diffuse objects;
 //! 4. the pieces drawn with `trace_fs`: from the rasterized first hit, the tree of reflected
-//!    and refracted rays through the refractor maps (trace.wgsl), timed as "trace".
+//!    and refracted rays through the refractor maps (trace.wgsl), timed as "trace";
+//! 5. with caustics (section 7, [`crate::caustics`]): the moving piece's photon map and light
+//!    map before the trace (timed as "caustics"), the light maps added to the chessboard after
+//!    it ("caustics apply"); the static pieces' light map is made once, in `prepare`.
 
+use crate::caustics::{CausticSettings, Caustics, PHOTONS_WGSL, caustic_receiver};
 use crate::grid::{ALL_CELLS, BoardGrid, EMPTY};
 use crate::pieces::{Kinds, MAX_KINDS, PieceGpu, pieces_at};
 use glam::Vec3;
@@ -74,6 +78,8 @@ pub struct Settings {
     pub search: Search,
     /// The maps and their searches.
     pub maps: Maps,
+    /// Caustics on the chessboard (section 7), or none.
+    pub caustics: Option<CausticSettings>,
 }
 
 /// What both techniques of the crate search: the refractor maps, the environment
@@ -167,6 +173,7 @@ impl Default for Settings {
                 max_cells: ALL_CELLS,
             },
             maps: Maps::with_env_resolution(256),
+            caustics: None,
         }
     }
 }
@@ -191,6 +198,7 @@ struct State {
     pipeline: wgpu::RenderPipeline,
     /// The piece of each scene object, [`EMPTY`] for a diffuse one.
     piece_of_object: wgpu::Buffer,
+    caustics: Option<Caustics>,
 }
 
 /// The uniform block `TracerParams` of trace.wgsl.
@@ -226,6 +234,16 @@ impl RefractorMaps {
     /// The kinds of the prepared scene (for tests): each kind's representative object.
     pub fn kinds(&self) -> Option<&Kinds> {
         self.state.as_ref().map(|s| &s.kinds)
+    }
+
+    /// The caustic light maps of the prepared variant (static pieces, moving piece), for tests
+    /// and images; `None` without caustics.
+    pub fn light_maps(&self) -> Option<(&wgpu::Texture, &wgpu::Texture)> {
+        self.state
+            .as_ref()?
+            .caustics
+            .as_ref()
+            .map(|c| c.light_maps())
     }
 }
 
@@ -295,6 +313,19 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
             Settings {
                 depth: 4,
                 search: Search::AllPieces,
+                ..s.clone()
+            },
+        ),
+        v(
+            "caustics",
+            "multi-bounce-4 with caustics on the chessboard (section 7): photons through each \
+             piece's refractor map splatted into light maps, the static pieces' made once, the \
+             moving piece's every frame",
+            true,
+            Settings {
+                depth: 4,
+                search: grid,
+                caustics: Some(CausticSettings::default()),
                 ..s
             },
         ),
@@ -324,6 +355,9 @@ impl Technique for RefractorMaps {
             s.maps
                 .params("cube face size of the diffuse environment impostor (texels)"),
         );
+        if let Some(c) = &s.caustics {
+            p.extend(c.params());
+        }
         if let Search::Grid { max_cells } = s.search {
             p.push(Param::new(
                 "max_cells",
@@ -342,6 +376,7 @@ impl Technique for RefractorMaps {
         match name {
             "depth" => s.depth = value as u32,
             name if s.maps.set(name, value) => {}
+            name if s.caustics.as_mut().is_some_and(|c| c.set(name, value)) => {}
             "max_cells" => {
                 s.search = Search::Grid {
                     max_cells: value as u32,
@@ -352,8 +387,23 @@ impl Technique for RefractorMaps {
         self.state = None;
         Ok(())
     }
+    fn required_features(&self) -> wgpu::Features {
+        match self.settings.caustics {
+            // Photons are added into 32-bit float light maps by blending.
+            Some(_) => wgpu::Features::FLOAT32_BLENDABLE,
+            None => wgpu::Features::empty(),
+        }
+    }
     fn supports(&self, scene: &Scene) -> bool {
-        !scene.specular_objects().is_empty()
+        let specular = scene.specular_objects();
+        if specular.is_empty() {
+            return false;
+        }
+        // Caustics need a flat receiver under the pieces (the chessboard).
+        self.settings.caustics.is_none() || {
+            let kinds = Kinds::of(scene);
+            caustic_receiver(scene, environment_reference(scene, &kinds)).is_some()
+        }
     }
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
@@ -373,7 +423,11 @@ impl Technique for RefractorMaps {
             CubeTarget::bytes(res.max(self.settings.maps.env_resolution), MAP_FORMAT),
             "resolution",
         )?;
-        let source = format!(
+        if let Some(c) = &self.settings.caustics {
+            let bytes = Caustics::bytes(c, kinds.pieces.len(), scene.scene.lights.len());
+            scene::technique::check_map_budget(&self.id, 1, bytes, "photons")?;
+        }
+        let mut source = format!(
             "{}\n{}\n{}\n{}\n{}",
             scene::SCENE_WGSL,
             HIT_WGSL,
@@ -381,6 +435,10 @@ impl Technique for RefractorMaps {
             crate::pieces::PIECES_WGSL,
             trace_source(kinds.representative.len())
         );
+        if self.settings.caustics.is_some() {
+            use scene::lightmap::{CHART_WGSL, RECEIVER_WGSL};
+            source = format!("{source}\n{CHART_WGSL}\n{RECEIVER_WGSL}\n{PHOTONS_WGSL}");
+        }
         let module = gpu::shader_with_prelude(ctx, &self.id, &source);
         let layout = tracer_layout(ctx, kinds.representative.len());
         let pipeline = scene::scene_pipeline(
@@ -402,15 +460,44 @@ impl Technique for RefractorMaps {
             MAP_FORMAT,
             "environment impostor",
         )?;
-        self.state = Some(State {
-            env_reference: environment_reference(&scene.scene, &kinds),
+        let env_reference = environment_reference(&scene.scene, &kinds);
+        let caustics = match &self.settings.caustics {
+            None => None,
+            Some(c) => {
+                let receiver = caustic_receiver(&scene.scene, env_reference).ok_or_else(|| {
+                    TechniqueError::Unsupported(format!(
+                        "{}: no flat diffuse surface under the pieces to receive caustics",
+                        self.id
+                    ))
+                })?;
+                Some(Caustics::new(
+                    ctx, scene, &kinds, &module, &layout, c, receiver,
+                )?)
+            }
+        };
+        let state = State {
+            env_reference,
             kinds,
             maps,
             env,
             layout,
             pipeline,
             piece_of_object: storage(ctx, "piece of object", &piece_of_object),
-        });
+            caustics,
+        };
+        if let Some(caustics) = &state.caustics {
+            // The static pieces' light map, once (they stand where they stand at any time).
+            let group = frame_group(
+                ctx,
+                &state,
+                &self.settings,
+                &scene.scene,
+                scene.time(),
+                &self.id,
+            )?;
+            caustics.build_static(frame, scene, &state.kinds, &group);
+        }
+        self.state = Some(state);
         Ok(())
     }
     fn render(
@@ -439,10 +526,12 @@ impl Technique for RefractorMaps {
         );
         frame.timer.end(frame.encoder, "environment");
 
-        let (pieces, footprints) = pieces_at(&scene.scene, &state.kinds, time);
-        let grid = BoardGrid::build(&footprints)
-            .map_err(|e| TechniqueError::Unsupported(format!("{id}: {e}")))?;
-        let group = tracer_group(ctx, state, &settings, &pieces, &grid);
+        let group = frame_group(ctx, state, &settings, &scene.scene, time, &id)?;
+        if let Some(caustics) = &state.caustics {
+            frame.timer.begin(frame.encoder, "caustics");
+            caustics.update(frame, scene, &state.kinds, &group);
+            frame.timer.end(frame.encoder, "caustics");
+        }
 
         let view_proj = view.camera.view_proj(view.width, view.height);
         let main = RasterTarget {
@@ -473,8 +562,27 @@ impl Technique for RefractorMaps {
         pass.set_bind_group(1, scene.bind_group(), &[]);
         pass.set_bind_group(2, &group, &[]);
         scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
+        drop(pass);
+        if let Some(caustics) = &state.caustics {
+            caustics.apply(frame, scene, &camera, target);
+        }
         Ok(())
     }
+}
+
+/// The tracer's `@group(2)` with the pieces and the board grid at `time`.
+fn frame_group(
+    ctx: &Context,
+    state: &State,
+    settings: &Settings,
+    scene: &Scene,
+    time: f32,
+    id: &str,
+) -> TechniqueResult<wgpu::BindGroup> {
+    let (pieces, footprints) = pieces_at(scene, &state.kinds, time);
+    let grid = BoardGrid::build(&footprints)
+        .map_err(|e| TechniqueError::Unsupported(format!("{id}: {e}")))?;
+    Ok(tracer_group(ctx, state, settings, &pieces, &grid))
 }
 
 /// The environment impostor's reference point: the centre of the pieces' bounds at time 0

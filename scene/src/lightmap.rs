@@ -442,7 +442,11 @@ mod tests {
     #[test]
     fn an_atlas_of_one_receiver_gives_it_the_whole_atlas() {
         let scene = crate::load("chess").unwrap();
-        let board = scene.objects.iter().position(|o| o.name == "board").unwrap();
+        let board = scene
+            .objects
+            .iter()
+            .position(|o| o.name == "board")
+            .unwrap();
         let atlas = ChartAtlas::of_objects(&scene, 512, |o| o == board);
         // The board is one upward quad: one chart, filling the atlas but its gutter.
         assert_eq!(atlas.charts.len(), 1);

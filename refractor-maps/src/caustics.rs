@@ -1,0 +1,837 @@
+//! Caustics (paper section 7): photon maps of the pieces from the light, photon hits on the
+//! chessboard in texture space, Gaussian splats into two light maps.
+//!
+//! 1. *Photon map.* Every piece is drawn from each light into its own tile of one photon map
+//!    (one render pass, a viewport per tile: see ARCHITECTURE.md on lavapipe's cost per pass).
+//!    A pixel is one photon: rasterization finds where the light's ray meets the piece, the
+//!    photon refracts in and leaves through the piece's refractor map (`photons.wgsl`, the
+//!    tracer's own `chord()`), or reflects off a mirror piece, and lands on the *receiver*:
+//!    the plane of the diffuse surface under the pieces (the chessboard). Its light-map
+//!    address (atlas uv of the receiver's chart) and power are written; as in the paper the
+//!    photon does not meet other pieces on its way.
+//! 2. *Light maps.* `scene::lightmap::QuadSplatter` adds a Gaussian quad per photon into a
+//!    light map with additive blending. There are two (section 7): the static pieces' light map
+//!    is made once, in `prepare`; the moving piece's is cleared and made again every frame.
+//!    With `caustics_separated = 0` every piece's photons are traced every frame instead (the
+//!    full-update baseline of the light maps).
+//! 3. *Apply.* After the pieces are drawn, the receiver is drawn again (depth equal, additive)
+//!    adding `albedo / pi * E`, `E` the power per texel of both light maps over the texel's
+//!    area (`caustics_apply.wgsl`).
+//!
+//! Shadows, which the paper also writes into the light map, come from the shared raster pass's
+//! shadow maps (every piece casts one, re-rendered when the pawn moves): the reference's
+//! shadows of glass are black, lit only by the caustic photons.
+
+use crate::pieces::Kinds;
+use glam::Vec3;
+use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load};
+use gpu::wgpu::{self, util::DeviceExt};
+use gpu::{Context, Uniform, bind};
+use scene::lightmap::{ChartAtlas, ChartGpu, QuadSplatter};
+use scene::{Frame, GpuScene, Material, ObjectFilter, Param, Scene, TechniqueError};
+
+/// The photon map shader (after the tracer and `scene::lightmap`'s chart and receiver WGSL).
+pub const PHOTONS_WGSL: &str = include_str!("shaders/photons.wgsl");
+const APPLY_WGSL: &str = include_str!("shaders/caustics_apply.wgsl");
+
+/// Photon map targets (light-map address, power) and the light maps: 32-bit float, so that
+/// additive blending keeps adding photons to a bright texel.
+const PHOTON_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const LIGHT_MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Caustic parameters (the `photons`, `lightmap_resolution`, `splat_radius` and
+/// `caustics_separated` variant parameters).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CausticSettings {
+    /// Photon-map tile side: `photons` x `photons` photons per piece and light.
+    pub photons: u32,
+    /// Light-map side in texels (the receiver's chart fills it).
+    pub lightmap_resolution: u32,
+    /// Radius of a photon's Gaussian quad in light-map texels (sigma = radius / 2).
+    pub splat_radius: f32,
+    /// Static pieces' light map made once and the moving piece's every frame (section 7), or
+    /// every piece's photons every frame.
+    pub separated: bool,
+}
+
+impl Default for CausticSettings {
+    fn default() -> Self {
+        Self {
+            photons: 128,
+            lightmap_resolution: 512,
+            splat_radius: 3.0,
+            separated: true,
+        }
+    }
+}
+
+impl CausticSettings {
+    /// The declared parameters.
+    pub(crate) fn params(&self) -> Vec<Param> {
+        vec![
+            Param::new(
+                "photons",
+                self.photons as f64,
+                (4.0, 512.0),
+                true,
+                "photon-map tile side: photons x photons photons per piece and light",
+            ),
+            Param::new(
+                "lightmap_resolution",
+                self.lightmap_resolution as f64,
+                (16.0, 4096.0),
+                true,
+                "side of the caustic light maps (texels)",
+            ),
+            Param::new(
+                "splat_radius",
+                self.splat_radius as f64,
+                (0.5, 16.0),
+                false,
+                "radius of a photon's Gaussian splat in light-map texels",
+            ),
+            Param::new(
+                "caustics_separated",
+                self.separated as u32 as f64,
+                (0.0, 1.0),
+                true,
+                "1: static pieces' light map made once, the moving piece's every frame; 0: every \
+                 piece's photons every frame",
+            ),
+        ]
+    }
+
+    /// Sets parameter `name` if it is one of these (already checked against its range).
+    pub(crate) fn set(&mut self, name: &str, value: f64) -> bool {
+        match name {
+            "photons" => self.photons = value as u32,
+            "lightmap_resolution" => self.lightmap_resolution = value as u32,
+            "splat_radius" => self.splat_radius = value as f32,
+            "caustics_separated" => self.separated = value != 0.0,
+            _ => return false,
+        }
+        true
+    }
+}
+
+/// The surface the photons land on: a planar diffuse object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Receiver {
+    /// Scene object index.
+    pub object: usize,
+    /// World plane `dot(normal, x) = offset`, `normal` facing up toward the pieces.
+    pub normal: Vec3,
+    /// See `normal`.
+    pub offset: f32,
+}
+
+/// The caustic receiver under `above` (the pieces' centre): of the diffuse objects that are
+/// flat (every vertex on one plane), face up, lie below `above` and span it horizontally, the
+/// highest. The chessboard on `chess` (not the table under it), the floor on `cornell-sphere`.
+pub fn caustic_receiver(scene: &Scene, above: Vec3) -> Option<Receiver> {
+    let mut best: Option<Receiver> = None;
+    for (object, o) in scene.objects.iter().enumerate() {
+        if !matches!(o.material, Material::Diffuse { .. }) || !o.motion.is_static() {
+            continue;
+        }
+        let model = o.world_at(0.0);
+        let world: Vec<Vec3> = o
+            .mesh
+            .positions
+            .iter()
+            .map(|&p| model.transform_point3(p))
+            .collect();
+        let Some(normal) = o.mesh.indices.chunks_exact(3).find_map(|t| {
+            let [a, b, c] = [0, 1, 2].map(|k| world[t[k] as usize]);
+            let n = (b - a).cross(c - a);
+            (n.length_squared() > 1e-12).then(|| n.normalize())
+        }) else {
+            continue;
+        };
+        let normal = if normal.y < 0.0 { -normal } else { normal };
+        let offset = normal.dot(world[0]);
+        let flat = world.iter().all(|p| (normal.dot(*p) - offset).abs() < 1e-5);
+        let (lo, hi) = world
+            .iter()
+            .fold((world[0], world[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        let spans = (lo.x..=hi.x).contains(&above.x) && (lo.z..=hi.z).contains(&above.z);
+        let below = normal.dot(above) > offset;
+        if flat && normal.y > 0.9 && spans && below && best.is_none_or(|b| offset > b.offset) {
+            best = Some(Receiver {
+                object,
+                normal,
+                offset,
+            });
+        }
+    }
+    best
+}
+
+/// The uniform block `PhotonParams` of photons.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct PhotonParamsGpu {
+    chart: ChartGpu,
+    plane: [f32; 4],
+    object: u32,
+    tile: u32,
+    tiles_per_row: u32,
+    chart_index: u32,
+}
+
+/// `struct PhotonTile` of photons.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct PhotonTileGpu {
+    light: [f32; 4],
+    intensity: [f32; 4],
+    axis: [f32; 4],
+}
+
+/// The uniform block `ReceiverParams` of caustics_apply.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ReceiverParamsGpu {
+    chart: ChartGpu,
+    object: u32,
+    side: f32,
+    _pad: [u32; 2],
+}
+
+/// One photon map: a tile per (light, piece), the pieces' photons written side by side.
+struct PhotonMap {
+    /// Tiles per row (and rows): the map is `tiles_per_row * photons` pixels square.
+    tiles_per_row: u32,
+    address: wgpu::TextureView,
+    power: wgpu::TextureView,
+    depth: wgpu::TextureView,
+}
+
+impl PhotonMap {
+    fn new(ctx: &Context, tiles: usize, photons: u32, label: &str) -> Result<Self, TechniqueError> {
+        let tiles_per_row = (tiles as f32).sqrt().ceil().max(1.0) as u32;
+        let side = tiles_per_row * photons;
+        let max = ctx.device.limits().max_texture_dimension_2d;
+        if side > max {
+            return Err(TechniqueError::Unsupported(format!(
+                "a photon map of {tiles} tiles of {photons} pixels would be {side} pixels wide, \
+                 more than the adapter's {max}: lower `photons`"
+            )));
+        }
+        let view = |format, label: &str| {
+            texture(ctx, side, format, label, wgpu::TextureUsages::empty())
+                .create_view(&Default::default())
+        };
+        Ok(Self {
+            tiles_per_row,
+            address: view(PHOTON_FORMAT, label),
+            power: view(PHOTON_FORMAT, label),
+            depth: gpu::depth_texture(ctx, side, side, 1, label).create_view(&Default::default()),
+        })
+    }
+
+    fn side(&self, photons: u32) -> u32 {
+        self.tiles_per_row * photons
+    }
+}
+
+fn texture(
+    ctx: &Context,
+    side: u32,
+    format: wgpu::TextureFormat,
+    label: &str,
+    extra: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: side,
+            height: side,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | extra,
+        view_formats: &[],
+    })
+}
+
+/// A light map: the receiver's chart filling the texture.
+struct LightMap {
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+}
+
+/// The caustic passes of a refractor-maps variant and their maps.
+pub(crate) struct Caustics {
+    settings: CausticSettings,
+    receiver: Receiver,
+    photon_pipeline: wgpu::RenderPipeline,
+    photon_layout: wgpu::BindGroupLayout,
+    apply_pipeline: wgpu::RenderPipeline,
+    apply_group: wgpu::BindGroup,
+    splatter: QuadSplatter,
+    atlas: ChartAtlas,
+    charts: wgpu::Buffer,
+    /// Pieces (indices into `Kinds::pieces`) whose photons go into the static light map
+    /// (made once) and into the moving one (every frame).
+    statics: Vec<usize>,
+    movers: Vec<usize>,
+    static_map: LightMap,
+    moving_map: LightMap,
+    static_photons: Option<PhotonMap>,
+    moving_photons: Option<PhotonMap>,
+}
+
+impl Caustics {
+    /// The caustic passes; `trace_module` is the tracer's module with [`PHOTONS_WGSL`]
+    /// appended, `tracer_layout` its `@group(2)`.
+    pub(crate) fn new(
+        ctx: &Context,
+        scene: &GpuScene,
+        kinds: &Kinds,
+        trace_module: &wgpu::ShaderModule,
+        tracer_layout: &wgpu::BindGroupLayout,
+        settings: &CausticSettings,
+        receiver: Receiver,
+    ) -> Result<Self, TechniqueError> {
+        ctx.require(wgpu::Features::FLOAT32_BLENDABLE)?;
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let photon_layout = bind::layout(
+            ctx,
+            "photon map",
+            frag,
+            &[bind::uniform(), bind::storage(true)],
+        );
+        let photon_pipeline = scene::scene_pipeline_with(
+            ctx,
+            "photon map",
+            &scene.pipeline_layout_with(ctx, &[tracer_layout, &photon_layout]),
+            trace_module,
+            "photon_fs",
+            &[
+                pass::color_target(PHOTON_FORMAT, None),
+                pass::color_target(PHOTON_FORMAT, None),
+            ],
+            (true, wgpu::CompareFunction::Less),
+        );
+
+        let atlas = ChartAtlas::of_objects(&scene.scene, settings.lightmap_resolution, |o| {
+            o == receiver.object
+        });
+        let charts = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("caustic receiver charts"),
+                contents: bytemuck::cast_slice(&atlas.gpu_charts()),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+        let light_map = |label| {
+            let texture = texture(
+                ctx,
+                settings.lightmap_resolution,
+                LIGHT_MAP_FORMAT,
+                label,
+                wgpu::TextureUsages::COPY_SRC,
+            );
+            let view = texture.create_view(&Default::default());
+            LightMap { texture, view }
+        };
+        let static_map = light_map("static pieces' light map");
+        let moving_map = light_map("moving piece's light map");
+
+        let apply_layout = bind::layout(
+            ctx,
+            "caustics apply",
+            frag,
+            &[
+                bind::uniform(),    // ReceiverParams
+                bind::texture_2d(), // static light map
+                bind::texture_2d(), // moving light map
+                bind::sampler(),
+            ],
+        );
+        let source = format!(
+            "{}\n{}\n{}\n{APPLY_WGSL}",
+            scene::SCENE_WGSL,
+            scene::lightmap::CHART_WGSL,
+            scene::lightmap::RECEIVER_WGSL
+        );
+        let module = gpu::shader_with_prelude(ctx, "caustics apply", &source);
+        let apply_pipeline = scene::scene_pipeline_with(
+            ctx,
+            "caustics apply",
+            &scene.pipeline_layout_with(ctx, &[&apply_layout]),
+            &module,
+            "caustics_apply_fs",
+            &[pass::color_target(
+                gpu::HDR_FORMAT,
+                Some(ADD_RGB_KEEP_ALPHA),
+            )],
+            (false, wgpu::CompareFunction::LessEqual),
+        );
+        let chart = receiver_chart(&atlas, receiver.object)?;
+        let params = Uniform::new(
+            ctx,
+            "caustic receiver",
+            &ReceiverParamsGpu {
+                chart,
+                object: receiver.object as u32,
+                side: settings.lightmap_resolution as f32,
+                _pad: [0; 2],
+            },
+        );
+        let apply_group = bind::group(
+            ctx,
+            "caustics apply",
+            &apply_layout,
+            &[
+                params.binding(),
+                bind::view(&static_map.view),
+                bind::view(&moving_map.view),
+                bind::sampler_resource(&ctx.samplers.linear_clamp),
+            ],
+        );
+
+        let (movers, statics): (Vec<usize>, Vec<usize>) = (0..kinds.pieces.len())
+            .partition(|&p| !scene.scene.objects[kinds.pieces[p].0].motion.is_static());
+        let (statics, movers) = if settings.separated {
+            (statics, movers)
+        } else {
+            (vec![], (0..kinds.pieces.len()).collect())
+        };
+        let lights = scene.scene.lights.len();
+        let photon_map = |pieces: &[usize], label| {
+            (!pieces.is_empty() && lights > 0)
+                .then(|| PhotonMap::new(ctx, pieces.len() * lights, settings.photons, label))
+                .transpose()
+        };
+        Ok(Self {
+            static_photons: photon_map(&statics, "static pieces' photon map")?,
+            moving_photons: photon_map(&movers, "moving piece's photon map")?,
+            settings: settings.clone(),
+            receiver,
+            photon_pipeline,
+            photon_layout,
+            apply_pipeline,
+            apply_group,
+            splatter: QuadSplatter::new(ctx, LIGHT_MAP_FORMAT),
+            atlas,
+            charts,
+            statics,
+            movers,
+            static_map,
+            moving_map,
+        })
+    }
+
+    /// GPU bytes of the caustic maps with these settings for `pieces` pieces and `lights`
+    /// lights (for the map budget).
+    pub(crate) fn bytes(settings: &CausticSettings, pieces: usize, lights: usize) -> u64 {
+        let photon_pixels = (pieces * lights.max(1)) as u64 * (settings.photons as u64).pow(2);
+        let light_map = (settings.lightmap_resolution as u64).pow(2) * 16;
+        photon_pixels * (2 * 16 + 4) + 2 * light_map
+    }
+
+    /// The static pieces' light map (once, in `prepare`) and a black moving one.
+    /// `tracer_group` is the tracer's `@group(2)` at the scene's time.
+    pub(crate) fn build_static(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        kinds: &Kinds,
+        tracer_group: &wgpu::BindGroup,
+    ) {
+        clear(frame.encoder, &self.static_map.view);
+        clear(frame.encoder, &self.moving_map.view);
+        if let Some(map) = &self.static_photons {
+            self.photons(frame, scene, kinds, tracer_group, &self.statics, map);
+            self.splat(frame, map, &self.static_map);
+        }
+    }
+
+    /// The moving pieces' light map (every piece's without separation), this frame.
+    pub(crate) fn update(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        kinds: &Kinds,
+        tracer_group: &wgpu::BindGroup,
+    ) {
+        if let Some(map) = &self.moving_photons {
+            clear(frame.encoder, &self.moving_map.view);
+            self.photons(frame, scene, kinds, tracer_group, &self.movers, map);
+            self.splat(frame, map, &self.moving_map);
+        }
+    }
+
+    /// Adds the caustics to the receiver in the finished image (`target`'s depth holds the
+    /// pieces drawn over it).
+    pub(crate) fn apply(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        camera: &wgpu::BindGroup,
+        target: &gpu::Target,
+    ) {
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            "caustics apply",
+            &[pass::color(&target.color_view, Load::Keep)],
+            Some(pass::depth(&target.depth_view, Load::Keep)),
+            frame.timer.render_pass("caustics apply"),
+        );
+        pass.set_pipeline(&self.apply_pipeline);
+        pass.set_bind_group(0, camera, &[]);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        pass.set_bind_group(2, &self.apply_group, &[]);
+        scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![self.receiver.object]));
+    }
+
+    /// The light maps (static pieces, moving piece) for tests and images.
+    pub(crate) fn light_maps(&self) -> (&wgpu::Texture, &wgpu::Texture) {
+        (&self.static_map.texture, &self.moving_map.texture)
+    }
+
+    /// Draws each of `pieces` from each light into its tile of `map`.
+    fn photons(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        kinds: &Kinds,
+        tracer_group: &wgpu::BindGroup,
+        pieces: &[usize],
+        map: &PhotonMap,
+    ) {
+        let ctx = frame.gpu;
+        let time = scene.time();
+        let size = self.settings.photons;
+        let mut tiles = Vec::new();
+        let mut cameras = Vec::new();
+        for light in &scene.scene.lights {
+            for &p in pieces {
+                let o = &scene.scene.objects[kinds.pieces[p].0];
+                let (tile, view_proj) =
+                    tile_view(light, o.center_at(time), o.bounding_radius_at(time), size);
+                tiles.push(tile);
+                cameras.push((
+                    kinds.pieces[p].0,
+                    scene.camera_bind_group(ctx, view_proj, light.position),
+                ));
+            }
+        }
+        let chart = receiver_chart(&self.atlas, self.receiver.object)
+            .expect("the atlas was made for the receiver");
+        let params = Uniform::new(
+            ctx,
+            "photon params",
+            &PhotonParamsGpu {
+                chart,
+                plane: self.receiver.normal.extend(self.receiver.offset).to_array(),
+                object: self.receiver.object as u32,
+                tile: size,
+                tiles_per_row: map.tiles_per_row,
+                chart_index: 0,
+            },
+        );
+        let tile_buffer = crate::technique::storage(ctx, "photon tiles", &tiles);
+        let group = bind::group(
+            ctx,
+            "photon map",
+            &self.photon_layout,
+            &[params.binding(), tile_buffer.as_entire_binding()],
+        );
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            "photon map",
+            &[
+                pass::color(&map.address, CLEAR_BLACK),
+                pass::color(&map.power, CLEAR_BLACK),
+            ],
+            Some(pass::depth(&map.depth, CLEAR_FAR)),
+            None,
+        );
+        pass.set_pipeline(&self.photon_pipeline);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        pass.set_bind_group(2, tracer_group, &[]);
+        pass.set_bind_group(3, &group, &[]);
+        for (i, (object, camera)) in cameras.iter().enumerate() {
+            let (x, y) = (i as u32 % map.tiles_per_row, i as u32 / map.tiles_per_row);
+            let s = size as f32;
+            pass.set_viewport(x as f32 * s, y as f32 * s, s, s, 0.0, 1.0);
+            pass.set_bind_group(0, camera, &[]);
+            scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![*object]));
+        }
+    }
+
+    fn splat(&self, frame: &mut Frame, map: &PhotonMap, into: &LightMap) {
+        self.splatter.splat(
+            frame,
+            &into.view,
+            self.settings.lightmap_resolution,
+            &map.address,
+            &map.power,
+            &self.charts,
+            map.side(self.settings.photons),
+            self.settings.splat_radius,
+        );
+    }
+}
+
+/// Power and landing place of a set of photons on the receiver.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhotonSum {
+    /// Total power landed (W per channel).
+    pub power: Vec3,
+    /// Power-weighted mean of the landing points' light-map uv (luminance weights).
+    pub uv_centroid: glam::Vec2,
+    /// Photons landed.
+    pub count: usize,
+}
+
+/// The photons `photons.wgsl` writes for one piece and light, traced through the piece's exact
+/// mesh instead of its refractor map: the same tile view and pixel lattice, the same Fresnel
+/// weights, chords (`PHOTON_CHORDS`) and landing rule on the receiver's plane and chart. The
+/// yardstick of the GPU's light maps (tests/caustics.rs): their difference is the refractor
+/// map's approximation of the exit and the splats clipped at the chart's border.
+pub fn exact_photons(
+    scene: &Scene,
+    bvh: &scene::bvh::SceneBvh,
+    piece_object: usize,
+    receiver: &Receiver,
+    chart: &scene::lightmap::Chart,
+    light: &scene::PointLight,
+    photons: u32,
+    time: f32,
+) -> PhotonSum {
+    use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_plane, reflect_dir, refract_dir};
+    const SURFACE_OFFSET: f32 = 1e-4;
+    const PHOTON_CHORDS: usize = 3;
+    let o = &scene.objects[piece_object];
+    let (tile, view_proj) = tile_view(
+        light,
+        o.center_at(time),
+        o.bounding_radius_at(time),
+        photons,
+    );
+    let inverse = view_proj.inverse();
+    let on_piece = |origin: Vec3, dir: Vec3| {
+        bvh.closest_hit_where(origin, dir, f32::INFINITY, |i| i == piece_object)
+    };
+    let to_local = scene.objects[receiver.object].world_at(time).inverse();
+    let axis = Vec3::from_slice(&tile.axis[..3]);
+    let mut sum = PhotonSum::default();
+    let mut weighted_uv = glam::Vec2::ZERO;
+    let mut total_weight = 0.0;
+    for j in 0..photons {
+        for i in 0..photons {
+            // The pixel centre's ray from the light (row 0 at the top, as the rasterizer).
+            let x = (i as f32 + 0.5) / photons as f32 * 2.0 - 1.0;
+            let y = 1.0 - (j as f32 + 0.5) / photons as f32 * 2.0;
+            let far = inverse.project_point3(Vec3::new(x, y, 1.0));
+            let dir = (far - light.position).normalize();
+            let Some(entry) = on_piece(light.position, dir) else {
+                continue;
+            };
+            // specular_event: the authored normal turned to face the light's ray.
+            let n = if entry.normal.dot(dir) > 0.0 {
+                -entry.normal
+            } else {
+                entry.normal
+            };
+            let cos_i = -dir.dot(n);
+            let (origin, d, mut weight) = match o.material {
+                Material::Metal { n: eta, k } => (
+                    entry.position + n * SURFACE_OFFSET,
+                    reflect_dir(dir, n),
+                    fresnel_nk(cos_i, eta, k),
+                ),
+                Material::Glass { ior } => {
+                    let entering = entry.normal.dot(dir) < 0.0;
+                    let eta_rel = if entering { ior } else { 1.0 / ior };
+                    let t = refract_dir(dir, n, 1.0 / eta_rel);
+                    if t.w < 0.5 {
+                        continue;
+                    }
+                    let mut weight = Vec3::splat(1.0 - fresnel_dielectric(cos_i, eta_rel));
+                    let mut origin = entry.position - n * SURFACE_OFFSET;
+                    let mut d = t.truncate();
+                    let mut left = false;
+                    for _ in 0..PHOTON_CHORDS {
+                        let Some(exit) = on_piece(origin, d) else {
+                            break;
+                        };
+                        // Outward normal agreeing with the leaving ray.
+                        let out_n = if exit.normal.dot(d) < 0.0 {
+                            -exit.normal
+                        } else {
+                            exit.normal
+                        };
+                        let out = refract_dir(d, -out_n, ior);
+                        if out.w > 0.5 {
+                            weight *= 1.0 - fresnel_dielectric(d.dot(out_n), 1.0 / ior);
+                            origin = exit.position + out_n * SURFACE_OFFSET;
+                            d = out.truncate();
+                            left = true;
+                            break;
+                        }
+                        d = reflect_dir(d, -out_n);
+                        origin = exit.position - out_n * SURFACE_OFFSET;
+                    }
+                    if !left {
+                        continue;
+                    }
+                    (origin, d, weight)
+                }
+                Material::Diffuse { .. } => continue,
+            };
+            if d.dot(receiver.normal) >= 0.0 {
+                continue;
+            }
+            let s = ray_plane(origin, d, receiver.normal, receiver.offset);
+            if s <= 0.0 {
+                continue;
+            }
+            let local = to_local.transform_point3(origin + d * s);
+            let (a, b) = chart.plane_axes();
+            let side = chart.side();
+            let c = (glam::Vec2::new(local[a], local[b]) - chart.min) / side;
+            let limit = chart.extent / side;
+            if c.x < 0.0 || c.y < 0.0 || c.x > limit.x || c.y > limit.y {
+                continue;
+            }
+            let cos_axis = (entry.position - light.position).normalize().dot(axis);
+            weight *= tile.axis[3] * cos_axis.powi(3);
+            let power = light.intensity * weight;
+            sum.power += power;
+            sum.count += 1;
+            let w = power.x + power.y + power.z;
+            weighted_uv += chart.uv(local) * w;
+            total_weight += w;
+        }
+    }
+    if total_weight > 0.0 {
+        sum.uv_centroid = weighted_uv / total_weight;
+    }
+    sum
+}
+
+/// The receiver's chart (its lit face) in an atlas made for it alone.
+fn receiver_chart(atlas: &ChartAtlas, object: usize) -> Result<ChartGpu, TechniqueError> {
+    let index = (0..6)
+        .find_map(|axis| atlas.chart(object, axis).map(|_| axis))
+        .ok_or_else(|| {
+            TechniqueError::Unsupported("the caustic receiver has no light-map chart".into())
+        })?;
+    let i = atlas.chart_of[6 * object + index as usize] as usize;
+    Ok(atlas.gpu_charts()[i])
+}
+
+/// A tile's view from `light` holding the sphere (`centre`, `radius`) and its
+/// [`PhotonTileGpu`] (the flux a pixel carries: intensity times its solid angle).
+fn tile_view(
+    light: &scene::PointLight,
+    centre: Vec3,
+    radius: f32,
+    size: u32,
+) -> (PhotonTileGpu, glam::Mat4) {
+    let radius = radius * 1.05;
+    let to = centre - light.position;
+    let dist = to.length().max(radius * 1.001);
+    let axis = to / to.length().max(1e-9);
+    let half = (radius / dist).clamp(-1.0, 1.0).asin();
+    let up = if axis.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
+    let view = glam::camera::rh::view::look_at_mat4(light.position, centre, up);
+    let proj = glam::camera::rh::proj::directx::perspective(
+        2.0 * half,
+        1.0,
+        ((dist - radius) * 0.5).max(1e-3),
+        dist + 2.0 * radius,
+    );
+    let pixel_area = (2.0 * half.tan() / size as f32).powi(2);
+    let tile = PhotonTileGpu {
+        light: light.position.extend(1.0).to_array(),
+        intensity: light.intensity.extend(0.0).to_array(),
+        axis: axis.extend(pixel_area).to_array(),
+    };
+    (tile, proj * view)
+}
+
+fn clear(encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView) {
+    gpu::pass::begin(
+        encoder,
+        "clear light map",
+        &[pass::color(view, CLEAR_BLACK)],
+        None,
+        None,
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_chessboard_receives_the_caustics_not_the_table_under_it() {
+        let scene = scene::load("chess").unwrap();
+        let board = scene
+            .objects
+            .iter()
+            .position(|o| o.name == "board")
+            .unwrap();
+        let r = caustic_receiver(&scene, Vec3::new(0.0, 0.1, 0.0)).unwrap();
+        assert_eq!(r.object, board);
+        assert!((r.normal - Vec3::Y).length() < 1e-6 && r.offset.abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_cornell_floor_receives_the_caustics() {
+        let scene = scene::load("cornell-sphere").unwrap();
+        let centre = scene
+            .objects
+            .iter()
+            .find(|o| !matches!(o.material, Material::Diffuse { .. }))
+            .unwrap()
+            .center_at(0.0);
+        let r = caustic_receiver(&scene, centre).unwrap();
+        let floor = &scene.objects[r.object];
+        assert!(floor.name.contains("floor"), "{}", floor.name);
+        assert!(r.normal.y > 0.99);
+    }
+
+    #[test]
+    fn a_tile_holds_its_piece_and_carries_the_lights_flux() {
+        let light = scene::PointLight {
+            name: "lamp".into(),
+            position: Vec3::new(0.5, 2.2, 0.9),
+            intensity: Vec3::splat(9.0),
+        };
+        let (centre, radius, size) = (Vec3::new(0.1, 0.05, -0.3), 0.05, 64);
+        let (tile, view_proj) = tile_view(&light, centre, radius, size);
+        // The centre projects to the tile's middle, the sphere stays inside it.
+        let c = view_proj.project_point3(centre);
+        assert!(c.x.abs() < 1e-4 && c.y.abs() < 1e-4 && c.z > 0.0 && c.z < 1.0);
+        let side = (centre - light.position).cross(Vec3::Y).normalize() * radius;
+        let edge = view_proj.project_point3(centre + side);
+        assert!(edge.x.abs().max(edge.y.abs()) < 1.0);
+        // Summed over the tile, the pixels' solid angles (area * cos^3) cover the view's
+        // pyramid: 4 asin(sin(a)^2) for a square of half-angle a.
+        let a = tile.axis[3].sqrt() * size as f32 / 2.0;
+        let mut sum = 0.0f64;
+        for j in 0..size {
+            for i in 0..size {
+                let u = ((i as f32 + 0.5) / size as f32 * 2.0 - 1.0) * a;
+                let v = ((j as f32 + 0.5) / size as f32 * 2.0 - 1.0) * a;
+                let cos = 1.0 / (1.0 + u * u + v * v).sqrt();
+                sum += (tile.axis[3] * cos * cos * cos) as f64;
+            }
+        }
+        let half = a.atan();
+        let exact = 4.0 * (half.sin() * half.sin()).asin();
+        assert!((sum as f32 / exact - 1.0).abs() < 2e-3, "{sum} vs {exact}");
+    }
+}
