@@ -582,15 +582,45 @@ impl Caustics {
     }
 }
 
+/// One photon landed on the receiver: its light-map address (atlas uv) and power (W).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Landing {
+    /// Atlas uv of the landing point in the receiver's chart.
+    pub uv: glam::Vec2,
+    /// Power per channel (W).
+    pub power: Vec3,
+}
+
 /// Power and landing place of a set of photons on the receiver.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PhotonSum {
     /// Total power landed (W per channel).
     pub power: Vec3,
-    /// Power-weighted mean of the landing points' light-map uv (luminance weights).
+    /// Power-weighted mean of the landing points' light-map uv (weights: the channels' sum).
     pub uv_centroid: glam::Vec2,
-    /// Photons landed.
+    /// Photons landed (or texels lit, for a light map).
     pub count: usize,
+}
+
+impl PhotonSum {
+    /// The sum of `landings`.
+    pub fn of(landings: &[Landing]) -> Self {
+        let power: Vec3 = landings.iter().map(|l| l.power).sum();
+        let weight = power.element_sum();
+        let uv = landings
+            .iter()
+            .map(|l| l.uv * l.power.element_sum())
+            .sum::<glam::Vec2>();
+        Self {
+            power,
+            uv_centroid: if weight > 0.0 {
+                uv / weight
+            } else {
+                glam::Vec2::ZERO
+            },
+            count: landings.len(),
+        }
+    }
 }
 
 /// The photons `photons.wgsl` writes for one piece and light, traced through the piece's exact
@@ -607,7 +637,7 @@ pub fn exact_photons(
     light: &scene::PointLight,
     photons: u32,
     time: f32,
-) -> PhotonSum {
+) -> Vec<Landing> {
     use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_plane, reflect_dir, refract_dir};
     const SURFACE_OFFSET: f32 = 1e-4;
     const PHOTON_CHORDS: usize = 3;
@@ -624,9 +654,7 @@ pub fn exact_photons(
     };
     let to_local = scene.objects[receiver.object].world_at(time).inverse();
     let axis = Vec3::from_slice(&tile.axis[..3]);
-    let mut sum = PhotonSum::default();
-    let mut weighted_uv = glam::Vec2::ZERO;
-    let mut total_weight = 0.0;
+    let mut landings = Vec::new();
     for j in 0..photons {
         for i in 0..photons {
             // The pixel centre's ray from the light (row 0 at the top, as the rasterizer).
@@ -706,18 +734,13 @@ pub fn exact_photons(
             }
             let cos_axis = (entry.position - light.position).normalize().dot(axis);
             weight *= tile.axis[3] * cos_axis.powi(3);
-            let power = light.intensity * weight;
-            sum.power += power;
-            sum.count += 1;
-            let w = power.x + power.y + power.z;
-            weighted_uv += chart.uv(local) * w;
-            total_weight += w;
+            landings.push(Landing {
+                uv: chart.uv(local),
+                power: light.intensity * weight,
+            });
         }
     }
-    if total_weight > 0.0 {
-        sum.uv_centroid = weighted_uv / total_weight;
-    }
-    sum
+    landings
 }
 
 /// The receiver's chart (its lit face) in an atlas made for it alone.

@@ -3,7 +3,7 @@
 //! changes nothing but the cost; caustics only ever add light, and only on the receiver.
 
 use glam::{Vec2, Vec3};
-use refractor_maps::caustics::{PhotonSum, caustic_receiver, exact_photons};
+use refractor_maps::caustics::{Landing, PhotonSum, caustic_receiver, exact_photons};
 use refractor_maps::{CausticSettings, RefractorMaps, Settings};
 use scene::lightmap::ChartAtlas;
 use scene::{Scene, Technique};
@@ -33,34 +33,32 @@ fn caustics(separated: bool) -> RefractorMaps {
     t
 }
 
-/// Total power of a light map and its power-weighted mean uv (luminance weights).
-fn light_map_sum(texture: &gpu::wgpu::Texture) -> PhotonSum {
-    let texels = gpu::read_texture_f32x4(testkit::context(), texture, 0).unwrap();
-    let side = texture.width();
-    let mut sum = PhotonSum::default();
-    let (mut uv, mut weight) = (Vec2::ZERO, 0.0);
-    for (i, t) in texels.iter().enumerate() {
-        let power = Vec3::new(t[0], t[1], t[2]);
-        let w = power.x + power.y + power.z;
-        if w > 0.0 {
-            let centre = Vec2::new(
-                (i as u32 % side) as f32 + 0.5,
-                (i as u32 / side) as f32 + 0.5,
-            );
-            uv += centre / side as f32 * w;
-            weight += w;
-            sum.count += 1;
-        }
-        sum.power += power;
-    }
-    if weight > 0.0 {
-        sum.uv_centroid = uv / weight;
-    }
-    sum
+/// A light map's texels (rgb power per texel).
+fn read_light_map(texture: &gpu::wgpu::Texture) -> Vec<Vec3> {
+    gpu::read_texture_f32x4(testkit::context(), texture, 0)
+        .unwrap()
+        .iter()
+        .map(|t| Vec3::new(t[0], t[1], t[2]))
+        .collect()
 }
 
-/// The exact photons of `pieces` (scene objects) at `time`, summed.
-fn exact(scene: &Scene, pieces: &[usize], time: f32) -> PhotonSum {
+/// A light map's total power and power-weighted mean uv (texel centres).
+fn light_map_sum(texels: &[Vec3]) -> PhotonSum {
+    let side = (texels.len() as f32).sqrt() as u32;
+    let landings: Vec<Landing> = texels
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.element_sum() > 0.0)
+        .map(|(i, &power)| Landing {
+            uv: (Vec2::new((i as u32 % side) as f32, (i as u32 / side) as f32) + 0.5) / side as f32,
+            power,
+        })
+        .collect();
+    PhotonSum::of(&landings)
+}
+
+/// The exact photons of `pieces` (scene objects) at `time` from every light.
+fn exact(scene: &Scene, pieces: &[usize], time: f32) -> Vec<Landing> {
     let above = pieces
         .iter()
         .map(|&o| scene.objects[o].center_at(time))
@@ -70,21 +68,72 @@ fn exact(scene: &Scene, pieces: &[usize], time: f32) -> PhotonSum {
     let atlas = ChartAtlas::of_objects(scene, LIGHT_MAP, |o| o == receiver.object);
     let chart = atlas.chart(receiver.object, 2).unwrap();
     let bvh = scene::bvh::SceneBvh::build(scene, time);
-    let mut total = PhotonSum::default();
-    let mut uv = Vec2::ZERO;
+    let mut landings = Vec::new();
     for light in &scene.lights {
         for &piece in pieces {
-            let s = exact_photons(scene, &bvh, piece, &receiver, chart, light, PHOTONS, time);
-            total.power += s.power;
-            total.count += s.count;
-            uv += s.uv_centroid * s.power.element_sum();
+            landings.extend(exact_photons(
+                scene, &bvh, piece, &receiver, chart, light, PHOTONS, time,
+            ));
         }
     }
-    total.uv_centroid = uv / total.power.element_sum().max(1e-30);
-    total
+    landings
 }
 
-fn assert_close(label: &str, gpu: PhotonSum, exact: PhotonSum) {
+/// The exact photons splatted with the light map's Gaussian (unclipped), as texels.
+fn splat_on_cpu(landings: &[Landing], radius: f32) -> Vec<Vec3> {
+    let side = LIGHT_MAP as i32;
+    let (k, norm) = scene::lightmap::splat_gaussian(radius);
+    let mut texels = vec![Vec3::ZERO; (side * side) as usize];
+    for l in landings {
+        let centre = l.uv * side as f32;
+        let r = radius.ceil() as i32;
+        let (ci, cj) = (centre.x.floor() as i32, centre.y.floor() as i32);
+        for j in cj - r..=cj + r {
+            for i in ci - r..=ci + r {
+                let d = Vec2::new(i as f32 + 0.5, j as f32 + 0.5) - centre;
+                if (0..side).contains(&i) && (0..side).contains(&j) && d.length() <= radius {
+                    texels[(j * side + i) as usize] +=
+                        l.power * (-d.length_squared() * k).exp() * norm;
+                }
+            }
+        }
+    }
+    texels
+}
+
+/// The GPU light map beside the exact photons splatted on the CPU, one exposure (the GPU
+/// map's 99.5th percentile maps to white): `target/refractor-maps-caustics/light-maps.png`.
+fn save_side_by_side(gpu: &[Vec3], exact: &[Vec3]) {
+    let side = LIGHT_MAP;
+    let mut lum: Vec<f32> = gpu
+        .iter()
+        .map(|p| p.element_sum())
+        .filter(|&l| l > 0.0)
+        .collect();
+    lum.sort_by(f32::total_cmp);
+    let white = lum.get(lum.len() * 995 / 1000).copied().unwrap_or(1.0) / 3.0;
+    let mut image = gpu::HdrImage {
+        width: 2 * side + 4,
+        height: side,
+        pixels: vec![[1.0, 1.0, 1.0, 1.0]; ((2 * side + 4) * side) as usize],
+    };
+    for j in 0..side {
+        for i in 0..side {
+            let t = (j * side + i) as usize;
+            for (offset, map) in [(0, gpu), (side + 4, exact)] {
+                let p = map[t] / white;
+                image.pixels[(j * image.width + offset + i) as usize] = [p.x, p.y, p.z, 1.0];
+            }
+        }
+    }
+    testkit::save_png(
+        &image,
+        &testkit::out_dir("refractor-maps-caustics").join("light-maps.png"),
+    );
+}
+
+fn assert_close(label: &str, gpu: &[Vec3], exact: &[Landing]) {
+    let (gpu, exact) = (light_map_sum(gpu), PhotonSum::of(exact));
     let ratio = gpu.power.element_sum() / exact.power.element_sum();
     let shift = (gpu.uv_centroid - exact.uv_centroid).length() * LIGHT_MAP as f32;
     println!(
@@ -115,16 +164,18 @@ fn the_light_maps_hold_the_flux_of_the_exact_photon_paths() {
     let shots: Vec<_> = [0.0, 2.0].map(|t| Shot::along_path(&scene, t, 16)).into();
     render_shots(&mut t, &scene, &shots);
     let (static_map, moving_map) = t.light_maps().unwrap();
-    assert_close(
-        "static pieces",
-        light_map_sum(static_map),
-        exact(&scene, &statics, 0.0),
-    );
-    assert_close(
-        "moving pawn (t = 2)",
-        light_map_sum(moving_map),
-        exact(&scene, &movers, 2.0),
-    );
+    let (static_map, moving_map) = (read_light_map(static_map), read_light_map(moving_map));
+    let (static_exact, moving_exact) = (exact(&scene, &statics, 0.0), exact(&scene, &movers, 2.0));
+    assert_close("static pieces", &static_map, &static_exact);
+    assert_close("moving pawn (t = 2)", &moving_map, &moving_exact);
+    let both: Vec<Vec3> = static_map
+        .iter()
+        .zip(&moving_map)
+        .map(|(a, b)| *a + *b)
+        .collect();
+    let all_exact = [static_exact, moving_exact].concat();
+    let radius = CausticSettings::default().splat_radius;
+    save_side_by_side(&both, &splat_on_cpu(&all_exact, radius));
 }
 
 #[test]
