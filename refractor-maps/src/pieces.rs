@@ -16,58 +16,8 @@ use scene::Scene;
 /// environment impostor.
 pub const MAX_KINDS: usize = 12;
 
-/// The specular objects of a scene grouped into kinds.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Kinds {
-    /// The object each kind's map is rendered around.
-    pub representative: Vec<usize>,
-    /// The specular objects (the tracer's pieces, in this order) and their kinds.
-    pub pieces: Vec<(usize, usize)>,
-}
-
-impl Kinds {
-    /// Groups `scene`'s specular objects by mesh and scale.
-    pub fn of(scene: &Scene) -> Kinds {
-        let mut representative: Vec<usize> = Vec::new();
-        let mut pieces = Vec::new();
-        for object in scene.specular_objects() {
-            let o = &scene.objects[object];
-            let kind = representative.iter().position(|&r| {
-                let rep = &scene.objects[r];
-                rep.mesh == o.mesh && rotation_between(linear(rep), linear(o)).is_some()
-            });
-            let kind = kind.unwrap_or_else(|| {
-                representative.push(object);
-                representative.len() - 1
-            });
-            pieces.push((object, kind));
-        }
-        Kinds {
-            representative,
-            pieces,
-        }
-    }
-}
-
-/// The linear part of an object's transform.
-fn linear(o: &scene::Object) -> Mat3 {
-    Mat3::from_mat4(o.transform)
-}
-
-/// `M` with `from = M to` when it is a rotation (the two linear maps differ by a turn, not by
-/// scale or handedness), else `None`: applied to a world direction, it takes it from the
-/// frame of an object transformed by `to` into that of one transformed by `from`.
-fn rotation_between(from: Mat3, to: Mat3) -> Option<Mat3> {
-    if to.determinant().abs() < 1e-12 {
-        return None;
-    }
-    let m = from * to.inverse();
-    let orthonormal = (m * m.transpose() - Mat3::IDENTITY)
-        .to_cols_array()
-        .iter()
-        .all(|v| v.abs() < 1e-4);
-    (orthonormal && m.determinant() > 0.0).then_some(m)
-}
+pub use scene::kinds::Kinds;
+use scene::kinds::{linear, rotation_between};
 
 /// WGSL of the piece table (`Piece`, `to_map`, `from_map`, `piece_kind`, `piece_object`);
 /// the including shader declares `pieces: array<Piece>`.

@@ -12,6 +12,7 @@ pub mod depth_peel;
 pub mod foundation;
 pub mod gltf_io;
 mod gpu_scene;
+pub mod kinds;
 pub mod lightmap;
 pub mod mesh;
 mod model;
@@ -24,6 +25,7 @@ pub use gpu_scene::{
     RASTER_WGSL, RasterTarget, SCENE_WGSL, SHADOW_BUDGET_BYTES, SHADOW_MAP_SIZE,
     albedo_array_extent, begin_scene_pass, scene_pipeline, scene_pipeline_with, shadow_map_size,
 };
+pub use kinds::Kinds;
 pub use model::*;
 pub use technique::{
     Frame, ImageCheck, Param, Technique, TechniqueError, TechniqueResult, Timing, View,

@@ -1,0 +1,168 @@
+// ---------------------------------------------------------------------------------------------
+// Refractor height maps on camera-facing billboards (Dancsik and Minarik, section 6), after
+// the gpu prelude + scene.wgsl + hit.wgsl + height_search.wgsl.
+//
+// Each piece is drawn as the bounding box of its proxy, turned about the vertical axis to face
+// the eye. A fragment casts the eye ray into the box and searches the kind's height map from
+// outside (search_from_outside); a miss is discarded, a hit writes its own depth. At the hit the
+// ray splits by Fresnel: the reflected ray takes the diffuse environment (one distance
+// impostor of the diffuse scene, as refractor-maps' tracer); the refracted ray takes it at
+// once (REFRACTION_SINGLE) or first leaves the piece through the second search
+// (exit_from_inside, REFRACTION_DOUBLE), chords that meet the surface beyond the critical
+// angle reflecting on.
+// ---------------------------------------------------------------------------------------------
+
+struct PieceGpu {
+    // World centre now; w: the kind's layer in height_maps.
+    centre: vec4f,
+    // The kind's bounds: half width, v min, v max, height.
+    bounds: vec4f,
+    // x: scene object index.
+    object: vec4u,
+};
+
+struct BillboardParams {
+    // xyz: reference point of the environment impostor (world).
+    env_reference: vec4f,
+    // The searches' steps (linear bracket, binary halvings).
+    steps: Steps,
+    // REFRACTION_SINGLE or REFRACTION_DOUBLE; Hit() steps in the environment impostor; chords
+    // followed inside a piece.
+    refraction: u32,
+    env_iterations: u32,
+    chords: u32,
+    _pad: u32,
+};
+
+@group(2) @binding(0) var<uniform> params: BillboardParams;
+@group(2) @binding(1) var<storage, read> pieces: array<PieceGpu>;
+@group(2) @binding(2) var height_maps: texture_2d_array<f32>;
+@group(2) @binding(3) var env_map: texture_cube<f32>;
+@group(2) @binding(4) var env_sampler: sampler;
+
+const REFRACTION_SINGLE: u32 = 0u;
+const REFRACTION_DOUBLE: u32 = 1u;
+// Ray origins are pushed off the surface they start on by this much (metres).
+const SURFACE_OFFSET: f32 = 1e-4;
+
+fn piece_bounds(p: u32) -> HeightBounds {
+    let b = pieces[p].bounds;
+    return HeightBounds(b.x, b.y, b.z, b.w);
+}
+
+fn piece_layer(p: u32) -> i32 {
+    return i32(pieces[p].centre.w);
+}
+
+// Radiance of the diffuse environment arriving at `o` from direction `d`.
+fn environment(o: vec3f, d: vec3f) -> vec3f {
+    var l = hit(o - params.env_reference.xyz, d, env_map, env_sampler, 3u, HIT_FALSE_POSITION,
+                params.env_iterations).xyz;
+    if (dot(l, l) < 1e-12) { l = d; }
+    return textureSampleLevel(env_map, env_sampler, l, 0.0).rgb;
+}
+
+// The 36 corners of a box's 12 triangles, as (corner bits, face): bit 0 = x max, 1 = y max,
+// 2 = z max; faces -x, +x, -y, +y, -z, +z.
+const BOX_CORNERS = array<u32, 36>(
+    0u, 2u, 6u, 0u, 6u, 4u,   1u, 5u, 7u, 1u, 7u, 3u,
+    0u, 4u, 5u, 0u, 5u, 1u,   2u, 3u, 7u, 2u, 7u, 6u,
+    0u, 1u, 3u, 0u, 3u, 2u,   4u, 6u, 7u, 4u, 7u, 5u,
+);
+const BOX_NORMALS = array<vec3f, 6>(
+    vec3f(-1.0, 0.0, 0.0), vec3f(1.0, 0.0, 0.0), vec3f(0.0, -1.0, 0.0),
+    vec3f(0.0, 1.0, 0.0), vec3f(0.0, 0.0, -1.0), vec3f(0.0, 0.0, 1.0),
+);
+
+struct BillboardOut {
+    @builtin(position) clip: vec4f,
+    @location(0) world: vec3f,
+    @location(1) @interpolate(flat) piece: u32,
+    // The box face's outward normal, world.
+    @location(2) @interpolate(flat) face_normal: vec3f,
+};
+
+@vertex
+fn billboard_vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) piece: u32) -> BillboardOut {
+    let hb = piece_bounds(piece);
+    let b = billboard_facing(pieces[piece].centre.xyz, camera.eye.xyz);
+    let corner = BOX_CORNERS[vertex];
+    let lo = height_box_min(hb);
+    let hi = height_box_max(hb);
+    let q = select(lo, hi, vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u));
+    var out: BillboardOut;
+    out.world = b.centre + dir_to_world(b, q);
+    out.clip = camera.view_proj * vec4f(out.world, 1.0);
+    out.piece = piece;
+    out.face_normal = dir_to_world(b, BOX_NORMALS[vertex / 6u]);
+    return out;
+}
+
+// The refracted share of a ray inside piece p from `point` along `dir`, leaving it: up to
+// params.chords chords, each exit refracting out (its Fresnel-reflected share going on inside).
+fn leave_piece(p: u32, b: Billboard, point: vec3f, dir: vec3f, ior: f32) -> vec3f {
+    let hb = piece_bounds(p);
+    let layer = piece_layer(p);
+    var origin = point;
+    var d = dir;
+    var share = 1.0;
+    var color = vec3f(0.0);
+    for (var s = 0u; s < params.chords; s++) {
+        let e = exit_from_inside(layer, hb, to_plane(b, origin), dir_to_plane(b, d), params.steps);
+        if (!e.found) {
+            // Not inside the proxy after all (the entry's offset left it): the ray goes on.
+            color += share * environment(origin, d);
+            break;
+        }
+        let exit_point = origin + d * e.t;
+        var n = dir_to_world(b, e.normal);
+        if (dot(n, d) < 0.0) { n = -n; }
+        let out = refract_dir(d, -n, ior);
+        let f = select(1.0, fresnel_dielectric(dot(d, n), 1.0 / ior), out.w > 0.5);
+        if (out.w > 0.5) {
+            color += share * (1.0 - f) * environment(exit_point + n * SURFACE_OFFSET, out.xyz);
+        }
+        share *= f;
+        d = reflect_dir(d, -n);
+        origin = exit_point - n * SURFACE_OFFSET;
+    }
+    return color;
+}
+
+struct BillboardTargets {
+    @location(0) color: vec4f,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment
+fn billboard_fs(in: BillboardOut) -> BillboardTargets {
+    let eye = camera.eye.xyz;
+    // Only the faces toward the eye search (each pixel of the box once).
+    if (dot(in.face_normal, in.world - eye) >= 0.0) { discard; }
+    let p = in.piece;
+    let dir = normalize(in.world - eye);
+    let b = billboard_facing(pieces[p].centre.xyz, eye);
+    let h = search_from_outside(piece_layer(p), piece_bounds(p), to_plane(b, eye), dir_to_plane(b, dir),
+                             params.steps);
+    if (!h.found) { discard; }
+    let point = eye + dir * h.t;
+    var n = dir_to_world(b, h.normal);
+    if (dot(n, dir) > 0.0) { n = -n; }
+    let object = pieces[p].object.x;
+    let e = specular_event(object, n, point, eye, dir);
+    let reflected = environment(point + e.normal * SURFACE_OFFSET, e.reflected);
+    var refracted = vec3f(0.0);
+    if (!e.is_metal && e.refracted.w > 0.5) {
+        let inside = point - e.normal * SURFACE_OFFSET;
+        if (params.refraction == REFRACTION_DOUBLE) {
+            refracted = leave_piece(p, b, inside, e.refracted.xyz, objects[object].material.y);
+        } else {
+            refracted = environment(inside, e.refracted.xyz);
+        }
+    }
+    var out: BillboardTargets;
+    out.color = vec4f(specular_shade(e, reflected, refracted), distance(point, eye));
+    let clip = camera.view_proj * vec4f(point, 1.0);
+    out.depth = clamp(clip.z / clip.w, 0.0, 1.0);
+    return out;
+}

@@ -1,0 +1,459 @@
+//! The height-map technique: [`HeightMaps`], configured as each variant.
+//!
+//! `prepare` renders one refractor height map per kind of piece (`scene::Kinds`: same mesh
+//! and scale) and never again: pieces only translate, and the billboards turn in the shader.
+//! Each frame:
+//!
+//! 1. the environment impostor: the diffuse scene as a distance impostor (rgb radiance, alpha
+//!    distance) from the centre of the pieces' bounds, timed as "environment";
+//! 2. the shared raster pass for the diffuse objects;
+//! 3. every piece's proxy box, turned to face the eye, drawn with `billboard_fs`: the search
+//!    from outside in the kind's height map, then reflection and one or two refractions
+//!    (billboard.wgsl), timed as "billboards".
+
+use crate::map::{map_bounds, render_height_maps, upright};
+use crate::search::HEIGHT_SEARCH_WGSL;
+use glam::Vec3;
+use gpu::cube::CubeTarget;
+use gpu::distance_map::HIT_WGSL;
+use gpu::pass::{self, Load};
+use gpu::wgpu::{self, util::DeviceExt};
+use gpu::{Context, Target, Uniform, bind};
+use scene::technique::check_param;
+use scene::{
+    Frame, GpuScene, Kinds, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
+    TechniqueResult, View,
+};
+
+const BILLBOARD_WGSL: &str = include_str!("shaders/billboard.wgsl");
+
+/// Format of the environment impostor.
+const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// What the refracted ray does after the first surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refraction {
+    /// It takes the diffuse environment at once (one interface).
+    Single,
+    /// It leaves the piece through the second search in the height map first (double
+    /// refraction, total internal reflection followed for up to `chords` chords).
+    Double,
+}
+
+/// Parameters of a [`HeightMaps`] variant (settable by name through
+/// [`Technique::set_param`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// After the first surface.
+    pub refraction: Refraction,
+    /// Halvings of each binary search.
+    pub steps: u32,
+    /// Even samples along a segment before the binary search (0: the paper's search).
+    pub linear_steps: u32,
+    /// Side of each kind's height map (texels).
+    pub resolution: u32,
+    /// Cube face size of the environment impostor.
+    pub env_resolution: u32,
+    /// Hit() refinement steps in the environment impostor.
+    pub env_iterations: u32,
+    /// Chords a refracted ray follows inside a piece (double refraction).
+    pub chords: u32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            refraction: Refraction::Double,
+            steps: 8,
+            linear_steps: 0,
+            resolution: 256,
+            env_resolution: 256,
+            env_iterations: 4,
+            chords: 3,
+        }
+    }
+}
+
+/// A height-map technique variant.
+pub struct HeightMaps {
+    id: String,
+    description: String,
+    representative: bool,
+    /// The variant's parameters.
+    pub settings: Settings,
+    state: Option<State>,
+}
+
+struct State {
+    kinds: Kinds,
+    maps: wgpu::Texture,
+    maps_view: wgpu::TextureView,
+    env: CubeTarget,
+    env_reference: Vec3,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+}
+
+/// The uniform block `BillboardParams` of billboard.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ParamsGpu {
+    env_reference: [f32; 4],
+    linear_steps: u32,
+    steps: u32,
+    refraction: u32,
+    env_iterations: u32,
+    chords: u32,
+    _pad: [u32; 3],
+}
+
+/// `PieceGpu` of billboard.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct PieceGpu {
+    centre: [f32; 4],
+    bounds: [f32; 4],
+    object: [u32; 4],
+}
+
+impl HeightMaps {
+    /// A variant named `id` (`height-maps/<variant>`).
+    pub fn new(id: &str, description: &str, representative: bool, settings: Settings) -> Self {
+        Self {
+            id: id.into(),
+            description: description.into(),
+            representative,
+            settings,
+            state: None,
+        }
+    }
+
+    /// The prepared height maps (a layer per kind, in kind order), for tests and images.
+    pub fn height_maps(&self) -> Option<&wgpu::Texture> {
+        self.state.as_ref().map(|s| &s.maps)
+    }
+}
+
+/// Every variant of this crate.
+pub fn variants() -> Vec<Box<dyn Technique>> {
+    let s = Settings::default();
+    let v = |id: &str, description: &str, settings: Settings| {
+        Box::new(HeightMaps::new(
+            &format!("height-maps/{id}"),
+            description,
+            true,
+            settings,
+        )) as Box<dyn Technique>
+    };
+    vec![
+        v(
+            "single",
+            "the first surface by binary search in the piece's height map on a billboard facing \
+             the eye; reflected and refracted rays take the diffuse environment (one interface)",
+            Settings {
+                refraction: Refraction::Single,
+                ..s.clone()
+            },
+        ),
+        v(
+            "double-refraction",
+            "as single, and the refracted ray leaves the piece through a second search in its \
+             height map (section 6's double refraction, total internal reflection followed)",
+            s,
+        ),
+    ]
+}
+
+impl Technique for HeightMaps {
+    fn id(&self) -> String {
+        self.id.clone()
+    }
+    fn description(&self) -> String {
+        self.description.clone()
+    }
+    fn representative(&self) -> bool {
+        self.representative
+    }
+    fn params(&self) -> Vec<Param> {
+        let s = &self.settings;
+        vec![
+            Param::new(
+                "steps",
+                s.steps as f64,
+                (0.0, 32.0),
+                true,
+                "halvings of each binary search in the height map",
+            ),
+            Param::new(
+                "linear_steps",
+                s.linear_steps as f64,
+                (0.0, 256.0),
+                true,
+                "even samples along a segment before the binary search (0: the paper's binary \
+                 search alone; more: relief mapping's linear bracket, not in the paper)",
+            ),
+            Param::new(
+                "resolution",
+                s.resolution as f64,
+                (4.0, 4096.0),
+                true,
+                "side of each kind's height map (texels)",
+            ),
+            Param::new(
+                "env_resolution",
+                s.env_resolution as f64,
+                (4.0, 4096.0),
+                true,
+                "cube face size of the diffuse environment impostor (texels)",
+            ),
+            Param::new(
+                "env_iterations",
+                s.env_iterations as f64,
+                (0.0, 64.0),
+                true,
+                "Hit() refinement steps in the environment impostor",
+            ),
+            Param::new(
+                "chords",
+                s.chords as f64,
+                (1.0, 8.0),
+                true,
+                "chords a refracted ray follows inside a piece (double refraction)",
+            ),
+        ]
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id, &self.params(), name, value)?;
+        let s = &mut self.settings;
+        let v = value as u32;
+        match name {
+            "steps" => s.steps = v,
+            "linear_steps" => s.linear_steps = v,
+            "resolution" => s.resolution = v,
+            "env_resolution" => s.env_resolution = v,
+            "env_iterations" => s.env_iterations = v,
+            "chords" => s.chords = v,
+            _ => unreachable!("check_param accepted an undeclared parameter"),
+        }
+        self.state = None;
+        Ok(())
+    }
+    fn supports(&self, scene: &Scene) -> bool {
+        let specular = scene.specular_objects();
+        !specular.is_empty() && specular.iter().all(|&o| upright(&scene.objects[o]))
+    }
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        if !self.supports(&scene.scene) {
+            return Err(TechniqueError::Unsupported(format!(
+                "{} stands each specular object's height map upright on a billboard turning \
+                 about the vertical: every specular object must keep its mesh's y axis vertical",
+                self.id
+            )));
+        }
+        let kinds = Kinds::of(&scene.scene);
+        let s = &self.settings;
+        scene::technique::check_map_budget(
+            &self.id,
+            kinds.representative.len(),
+            (s.resolution as u64).pow(2) * 16,
+            "resolution",
+        )?;
+        let source = format!(
+            "{}\n{}\n{}\n{}",
+            scene::SCENE_WGSL,
+            HIT_WGSL,
+            HEIGHT_SEARCH_WGSL,
+            BILLBOARD_WGSL
+        );
+        let module = gpu::shader_with_prelude(ctx, &self.id, &source);
+        let layout = bind::layout(
+            ctx,
+            "height-map billboards",
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            &[
+                bind::uniform(),
+                bind::storage(true),
+                bind::texture(wgpu::TextureViewDimension::D2Array, false),
+                bind::texture_cube(),
+                bind::sampler(),
+            ],
+        );
+        let pipeline = billboard_pipeline(ctx, scene, &layout, &module, &self.id);
+        let maps = render_height_maps(frame, scene, &kinds.representative, s.resolution)?;
+        let maps_view = maps.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let env = CubeTarget::new(ctx, s.env_resolution, ENV_FORMAT, "environment impostor")?;
+        self.state = Some(State {
+            env_reference: pieces_centre(&scene.scene, &kinds),
+            kinds,
+            maps,
+            maps_view,
+            env,
+            layout,
+            pipeline,
+        });
+        Ok(())
+    }
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let state = self
+            .state
+            .as_ref()
+            .ok_or_else(|| TechniqueError::NotPrepared(self.id.clone()))?;
+        let ctx = frame.gpu;
+        let time = scene.time();
+
+        frame.timer.begin(frame.encoder, "environment");
+        scene.raster_cube(
+            frame,
+            &state.env,
+            state.env_reference,
+            &ObjectFilter::All,
+            false,
+        );
+        frame.timer.end(frame.encoder, "environment");
+
+        let view_proj = view.camera.view_proj(view.width, view.height);
+        let main = RasterTarget {
+            color: &target.color_view,
+            depth: &target.depth_view,
+            format: gpu::HDR_FORMAT,
+            clear: true,
+        };
+        let specular: Vec<usize> = state.kinds.pieces.iter().map(|&(o, _)| o).collect();
+        scene.raster(
+            frame,
+            &main,
+            view_proj,
+            view.camera.eye,
+            &ObjectFilter::Except(specular),
+            false,
+        );
+        let group = frame_group(ctx, state, &self.settings, &scene.scene, time);
+        let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            &self.id,
+            &[pass::color(&target.color_view, Load::Keep)],
+            Some(pass::depth(&target.depth_view, Load::Keep)),
+            frame.timer.render_pass("billboards"),
+        );
+        pass.set_pipeline(&state.pipeline);
+        pass.set_bind_group(0, &camera, &[]);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        pass.set_bind_group(2, &group, &[]);
+        pass.draw(0..36, 0..state.kinds.pieces.len() as u32);
+        Ok(())
+    }
+}
+
+/// The centre of the pieces' bounds at time 0: the environment impostor's reference point.
+fn pieces_centre(scene: &Scene, kinds: &Kinds) -> Vec3 {
+    let objects: Vec<_> = kinds
+        .pieces
+        .iter()
+        .map(|&(o, _)| scene.objects[o].clone())
+        .collect();
+    let (lo, hi) = scene::world_bounds(&objects);
+    (lo + hi) * 0.5
+}
+
+/// This frame's `@group(2)`: parameters, pieces, height maps, environment impostor.
+fn frame_group(
+    ctx: &Context,
+    state: &State,
+    settings: &Settings,
+    scene: &Scene,
+    time: f32,
+) -> wgpu::BindGroup {
+    let params = ParamsGpu {
+        env_reference: state.env_reference.extend(0.0).to_array(),
+        linear_steps: settings.linear_steps,
+        steps: settings.steps,
+        refraction: match settings.refraction {
+            Refraction::Single => 0,
+            Refraction::Double => 1,
+        },
+        env_iterations: settings.env_iterations,
+        chords: settings.chords,
+        _pad: [0; 3],
+    };
+    let pieces: Vec<PieceGpu> = state
+        .kinds
+        .pieces
+        .iter()
+        .map(|&(object, kind)| {
+            let o = &scene.objects[object];
+            let b = map_bounds(o);
+            PieceGpu {
+                centre: o.center_at(time).extend(kind as f32).to_array(),
+                bounds: [b.half_width, b.v_min, b.v_max, b.height],
+                object: [object as u32, 0, 0, 0],
+            }
+        })
+        .collect();
+    let uniform = Uniform::new(ctx, "billboard params", &params);
+    let piece_buffer = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("height-map pieces"),
+            contents: bytemuck::cast_slice(&pieces),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    bind::group(
+        ctx,
+        "height-map billboards",
+        &state.layout,
+        &[
+            uniform.binding(),
+            piece_buffer.as_entire_binding(),
+            bind::view(&state.maps_view),
+            bind::view(&state.env.cube_view),
+            bind::sampler_resource(&ctx.samplers.linear_clamp),
+        ],
+    )
+}
+
+/// The billboards' pipeline: 36 vertices of a box per instance (piece), no vertex buffer, the
+/// fragment's own depth.
+fn billboard_pipeline(
+    ctx: &Context,
+    scene: &GpuScene,
+    layout: &wgpu::BindGroupLayout,
+    module: &wgpu::ShaderModule,
+    label: &str,
+) -> wgpu::RenderPipeline {
+    ctx.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(&scene.pipeline_layout_with(ctx, &[layout])),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("billboard_vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some("billboard_fs"),
+                compilation_options: Default::default(),
+                targets: &[pass::color_target(gpu::HDR_FORMAT, None)],
+            }),
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(pass::depth_state(true, wgpu::CompareFunction::Less)),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        })
+}
