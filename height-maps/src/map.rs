@@ -20,8 +20,7 @@ const HEIGHT_MAP_WGSL: &str = include_str!("shaders/height_map.wgsl");
 /// shader exactly as [`crate::search::SampledField`] does.
 pub const HEIGHT_MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-/// Margin on the proxy's box around the mesh (relative), so that the surface never touches the
-/// box but where the mesh itself is flat against it.
+/// Margin on the proxy's box around the mesh across and out of the plane (relative).
 const BOX_MARGIN: f32 = 1.01;
 
 /// The rotation of an object's transform (its linear part without scale), and the scale.
@@ -55,12 +54,15 @@ pub fn map_bounds(o: &Object) -> Bounds {
         v_min = v_min.min(q.y);
         v_max = v_max.max(q.y);
     }
+    // Across and out of the plane the surface only touches the box at its widest points, and
+    // the margin keeps it inside. Along v the box is the mesh's extent: a flat top or
+    // underside is then the box face, whose normal the search gives it (the map sees such
+    // faces edge-on).
     let pad = |x: f32| x * BOX_MARGIN + 1e-6;
-    let mid = 0.5 * (v_min + v_max);
     Bounds {
         half_width: pad(half_width),
-        v_min: mid - pad(mid - v_min),
-        v_max: mid + pad(v_max - mid),
+        v_min,
+        v_max,
         height: pad(height),
     }
 }
@@ -182,7 +184,7 @@ mod tests {
                     "{}",
                     o.name
                 );
-                assert!(q.y > b.v_min && q.y < b.v_max, "{}", o.name);
+                assert!(q.y >= b.v_min - 1e-6 && q.y <= b.v_max + 1e-6, "{}", o.name);
             }
         }
     }

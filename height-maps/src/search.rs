@@ -253,7 +253,10 @@ fn search_segment<F: HeightField + ?Sized>(
     steps: Steps,
     entering: bool,
 ) -> Option<f32> {
-    if inside(field, o + d * a) == entering {
+    // An entry whose start is inside: the box face is the surface there. (An exit starts
+    // where an entry was found, within the bisection's tolerance of the surface: it is taken
+    // to be inside.)
+    if entering && inside(field, o + d * a) {
         return Some(a);
     }
     if steps.linear == 0 {
@@ -298,6 +301,38 @@ pub struct HeightHit {
     pub normal: Vec3,
 }
 
+/// The outward normal of the box face nearest to plane-frame point `p`: where the solid
+/// reaches its box (the flat underside of a piece's base, edge-on to the map and so absent
+/// from it), the box face is the surface.
+pub fn box_face_normal(bounds: &Bounds, p: Vec3) -> Vec3 {
+    let (lo, hi) = bounds.box_corners();
+    let faces = [
+        (p.x - lo.x, Vec3::NEG_X),
+        (hi.x - p.x, Vec3::X),
+        (p.y - lo.y, Vec3::NEG_Y),
+        (hi.y - p.y, Vec3::Y),
+        (p.z - lo.z, Vec3::NEG_Z),
+        (hi.z - p.z, Vec3::Z),
+    ];
+    let mut best = faces[0];
+    for f in &faces[1..] {
+        if f.0.abs() < best.0.abs() {
+            best = *f;
+        }
+    }
+    best.1
+}
+
+/// A hit where the solid reaches the box face: that face's normal.
+fn box_face_hit<F: HeightField + ?Sized>(field: &F, o: Vec3, d: Vec3, t: f32) -> HeightHit {
+    let point = o + d * t;
+    HeightHit {
+        t,
+        point,
+        normal: box_face_normal(&field.bounds(), point),
+    }
+}
+
 fn height_hit<F: HeightField + ?Sized>(field: &F, o: Vec3, d: Vec3, t: f32) -> HeightHit {
     let point = o + d * t;
     let n = field.sample(point.x, point.y).1;
@@ -335,11 +370,15 @@ pub fn search_from_outside<F: HeightField + ?Sized>(
             .then(|| search_segment(field, o, d, s.plane, s.far, steps, true))
             .flatten()
     })?;
+    if t == s.near && inside(field, o + d * t) {
+        return Some(box_face_hit(field, o, d, t));
+    }
     Some(height_hit(field, o, d, t))
 }
 
 /// Where a ray from `o` inside the solid leaves it (plane frame): the same search from
-/// inside to outside on `[0, d_far]`; the box face itself when the solid reaches it there.
+/// inside to outside on `[0, d_far]`; the box face itself, with its normal, when the solid
+/// reaches it there.
 pub fn exit_from_inside<F: HeightField + ?Sized>(
     field: &F,
     o: Vec3,
@@ -351,8 +390,11 @@ pub fn exit_from_inside<F: HeightField + ?Sized>(
     if !(far > 0.0) || far >= BIG {
         return None;
     }
-    let t = search_segment(field, o, d, 0.0, far, steps, false).unwrap_or(far);
-    Some(height_hit(field, o, d, t))
+    match search_segment(field, o, d, 0.0, far, steps, false) {
+        Some(t) => Some(height_hit(field, o, d, t)),
+        // Still inside where the ray leaves the box: out through the box face.
+        None => Some(box_face_hit(field, o, d, far)),
+    }
 }
 
 /// A height map's texels sampled like the shader: bilinear between texel centres, clamped at

@@ -24,8 +24,10 @@ struct PieceGpu {
 struct BillboardParams {
     // xyz: reference point of the environment impostor (world).
     env_reference: vec4f,
-    // The searches' steps (linear bracket, binary halvings).
-    steps: Steps,
+    // The searches' steps: linear bracket, binary halvings (a Steps; flat, since a uniform
+    // block's member after a struct must start on 16 bytes).
+    linear_steps: u32,
+    binary_steps: u32,
     // REFRACTION_SINGLE or REFRACTION_DOUBLE; Hit() steps in the environment impostor; chords
     // followed inside a piece.
     refraction: u32,
@@ -44,6 +46,10 @@ const REFRACTION_SINGLE: u32 = 0u;
 const REFRACTION_DOUBLE: u32 = 1u;
 // Ray origins are pushed off the surface they start on by this much (metres).
 const SURFACE_OFFSET: f32 = 1e-4;
+
+fn search_steps() -> Steps {
+    return Steps(params.linear_steps, params.binary_steps);
+}
 
 fn piece_bounds(p: u32) -> HeightBounds {
     let b = pieces[p].bounds;
@@ -108,7 +114,7 @@ fn leave_piece(p: u32, b: Billboard, point: vec3f, dir: vec3f, ior: f32) -> vec3
     var share = 1.0;
     var color = vec3f(0.0);
     for (var s = 0u; s < params.chords; s++) {
-        let e = exit_from_inside(layer, hb, to_plane(b, origin), dir_to_plane(b, d), params.steps);
+        let e = exit_from_inside(layer, hb, to_plane(b, origin), dir_to_plane(b, d), search_steps());
         if (!e.found) {
             // Not inside the proxy after all (the entry's offset left it): the ray goes on.
             color += share * environment(origin, d);
@@ -143,7 +149,7 @@ fn billboard_fs(in: BillboardOut) -> BillboardTargets {
     let dir = normalize(in.world - eye);
     let b = billboard_facing(pieces[p].centre.xyz, eye);
     let h = search_from_outside(piece_layer(p), piece_bounds(p), to_plane(b, eye), dir_to_plane(b, dir),
-                             params.steps);
+                             search_steps());
     if (!h.found) { discard; }
     let point = eye + dir * h.t;
     var n = dir_to_world(b, h.normal);

@@ -141,7 +141,9 @@ fn binary_search(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, a0: f32, b0: 
 // none on it.
 fn search_segment(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, a: f32, b: f32,
                   steps: Steps, entering: bool) -> f32 {
-    if (height_inside(layer, hb, o + d * a) == entering) { return a; }
+    // An entry whose start is inside: the box face is the surface there. An exit's start is
+    // taken to be inside.
+    if (entering && height_inside(layer, hb, o + d * a)) { return a; }
     if (steps.linear == 0u) {
         if (height_inside(layer, hb, o + d * b) != entering) { return -1.0; }
         return binary_search(layer, hb, o, d, a, b, steps.binary, entering);
@@ -165,6 +167,29 @@ struct HeightHit {
     normal: vec3f,
     found: bool,
 };
+
+// The outward normal of the box face nearest to plane-frame point p (box_face_normal).
+fn box_face_normal(hb: HeightBounds, p: vec3f) -> vec3f {
+    let lo = height_box_min(hb);
+    let hi = height_box_max(hb);
+    var best = abs(p.x - lo.x);
+    var n = vec3f(-1.0, 0.0, 0.0);
+    if (abs(hi.x - p.x) < best) { best = abs(hi.x - p.x); n = vec3f(1.0, 0.0, 0.0); }
+    if (abs(p.y - lo.y) < best) { best = abs(p.y - lo.y); n = vec3f(0.0, -1.0, 0.0); }
+    if (abs(hi.y - p.y) < best) { best = abs(hi.y - p.y); n = vec3f(0.0, 1.0, 0.0); }
+    if (abs(p.z - lo.z) < best) { best = abs(p.z - lo.z); n = vec3f(0.0, 0.0, -1.0); }
+    if (abs(hi.z - p.z) < best) { n = vec3f(0.0, 0.0, 1.0); }
+    return n;
+}
+
+fn box_face_hit(hb: HeightBounds, o: vec3f, d: vec3f, t: f32) -> HeightHit {
+    var h: HeightHit;
+    h.found = true;
+    h.t = t;
+    h.point = o + d * t;
+    h.normal = box_face_normal(hb, h.point);
+    return h;
+}
 
 fn height_hit(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, t: f32) -> HeightHit {
     var h: HeightHit;
@@ -190,6 +215,9 @@ fn search_from_outside(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, steps: 
         t = search_segment(layer, hb, o, d, s.plane, s.far, steps, true);
     }
     if (t < 0.0) { return miss; }
+    if (t == s.near && height_inside(layer, hb, o + d * t)) {
+        return box_face_hit(hb, o, d, t);
+    }
     return height_hit(layer, hb, o, d, t);
 }
 
@@ -198,7 +226,8 @@ fn exit_from_inside(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, steps: Ste
     miss.found = false;
     let far = ray_box(o, d, height_box_min(hb), height_box_max(hb)).y;
     if (!(far > 0.0) || far >= BIG) { return miss; }
-    var t = search_segment(layer, hb, o, d, 0.0, far, steps, false);
-    if (t < 0.0) { t = far; }
+    let t = search_segment(layer, hb, o, d, 0.0, far, steps, false);
+    // Still inside where the ray leaves the box: out through the box face.
+    if (t < 0.0) { return box_face_hit(hb, o, d, far); }
     return height_hit(layer, hb, o, d, t);
 }
