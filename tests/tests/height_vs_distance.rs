@@ -7,7 +7,9 @@
 //! 8-step linear bracket). The reference has no caustics here: a caustic is never seen through
 //! a piece, so the pieces' pixels do not change.
 //!
-//! `cargo test -p workspace-tests --test height_vs_distance -- --nocapture` prints the table.
+//! `cargo test -p workspace-tests --test height_vs_distance -- --nocapture` prints the table
+//! and writes each close-up (reference, then each technique, then their FLIP maps) to
+//! `target/height-vs-distance/<kind>.png`.
 
 use glam::Vec3;
 use scene::builtin::chess::PieceKind;
@@ -36,6 +38,24 @@ fn kind_error(flip: &truth::metrics::FlipMap, ids: &[i32], objects: &[usize]) ->
         .filter(|(_, id)| objects.contains(&(**id as usize)) && **id >= 0)
         .fold((0.0, 0), |(s, n), (v, _)| (s + *v as f64, n + 1));
     (sum / n.max(1) as f64, n)
+}
+
+/// A FLIP map as an image (its magma colours).
+fn flip_image(flip: &truth::metrics::FlipMap) -> gpu::HdrImage {
+    let rgb = flip.to_magma_rgb8();
+    let mut image = gpu::HdrImage::new(flip.width, flip.height);
+    for (i, p) in rgb.chunks_exact(3).enumerate() {
+        let c = |v: u8| {
+            let v = v as f32 / 255.0;
+            if v <= 0.04045 {
+                v / 12.92
+            } else {
+                ((v + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        image.pixels[i] = [c(p[0]), c(p[1]), c(p[2]), 1.0];
+    }
+    image
 }
 
 /// A close-up of `object`: from 0.3 m in front of it toward the board's white side, 0.15 m up.
@@ -93,12 +113,21 @@ fn height_maps_against_distance_maps_per_piece_kind() {
                 }
             };
             let reference = testkit::reference(SPEC, &scene, shot, 0);
+            let (mut images, mut flips) = (vec![reference.image.clone()], vec![]);
             for (j, (_, t)) in techniques.iter_mut().enumerate() {
                 let image = testkit::render(t.as_mut(), &scene, shot);
                 let (_, flip) = truth::metrics::compare(&image, &reference.image, None);
                 let (e, n) = kind_error(&flip, &reference.object_ids, objects);
                 assert!(n > 20, "too few pixels of kind {k} in view {view}");
                 errors[k][view][j] = e;
+                images.push(image);
+                flips.push(flip_image(&flip));
+            }
+            if view == 1 {
+                let row: Vec<&gpu::HdrImage> = images.iter().chain(&flips).collect();
+                let path = testkit::out_dir("height-vs-distance")
+                    .join(format!("{}.png", by_kind[k].0.name()));
+                testkit::save_png(&testkit::strip(&row, 1), &path);
             }
         }
     }
