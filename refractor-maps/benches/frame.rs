@@ -6,7 +6,7 @@
 //! (`testkit::gpu_time`). `cargo bench -p refractor-maps --bench frame`.
 
 use glam::{Vec2, Vec3};
-use refractor_maps::grid::{ALL_CELLS, BoardGrid, EMPTY, nearest_piece};
+use scene::multi_object::grid::{ALL_CELLS, BoardGrid, EMPTY, nearest_piece};
 use testkit::gpu_time::{FrameClock, bench_frame};
 
 fn main() {
@@ -18,8 +18,8 @@ fn main() {
     }
     // The grid of chess: 33 footprints; rays across the board at piece height.
     let scene = scene::load("chess").unwrap();
-    let kinds = refractor_maps::pieces::Kinds::of(&scene);
-    let (_, footprints) = refractor_maps::pieces::pieces_at(&scene, &kinds, 0.0);
+    let kinds = scene::Kinds::of(&scene);
+    let (_, footprints) = scene::multi_object::pieces::pieces_at(&scene, &kinds, 0.0);
     let grid = BoardGrid::build(&footprints).unwrap();
     let centres: Vec<Vec2> = footprints
         .iter()

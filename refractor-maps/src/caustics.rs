@@ -538,7 +538,7 @@ impl Caustics {
                 chart_index: 0,
             },
         );
-        let tile_buffer = crate::technique::storage(ctx, "photon tiles", &tiles);
+        let tile_buffer = scene::multi_object::storage(ctx, "photon tiles", &tiles);
         let group = bind::group(
             ctx,
             "photon map",

@@ -17,15 +17,16 @@
 //!   searching its refractor map from outside along each lookup ray (11.3 FPS in the paper,
 //!   "approximately 6 times faster").
 
-use crate::grid::EMPTY;
 use crate::pieces::{Kinds, PieceGpu, pieces_at, render_kind_maps};
-use crate::technique::{MAP_FORMAT, Maps, storage};
+use crate::technique::{MAP_FORMAT, Maps};
 use glam::Vec3;
 use gpu::cube::{CubeArray, cube_face_view_proj};
 use gpu::distance_map::{HIT_WGSL, layered_hit_wgsl};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
+use scene::multi_object::grid::EMPTY;
+use scene::multi_object::storage;
 use scene::technique::check_param;
 use scene::{
     Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,

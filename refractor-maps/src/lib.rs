@@ -6,10 +6,10 @@
 //! 4.1, `gpu::distance_map::hit_from_outside`) for the hit of a ray coming from elsewhere, so
 //! that rays can bounce between many pieces (section 4.2) using these maps alone.
 //!
-//! - [`pieces`]: kinds (one map per mesh), where each piece stands at a time.
-//! - [`grid`]: the board grid and the nearest-piece search along a ray (Rust twin of
-//!   `shaders/grid_search.wgsl`).
-//! - [`technique`]: the [`RefractorMaps`] tracer (section 4) and its variants.
+//! - [`pieces`]: kinds (one map per mesh) and each kind's refractor map.
+//! - [`technique`]: the [`RefractorMaps`] variants of section 4: `scene`'s many-object tracer
+//!   (`scene::multi_object`: the board grid, the tree of rays, figure 10's exchangeable
+//!   per-object search) searching refractor distance maps ([`technique::DistanceSearch`]).
 //! - [`environment`]: the [`EnvironmentMaps`] technique (section 5): per-piece environment
 //!   impostors holding multi-bounce radiance, fully updated or with the moving piece
 //!   separated.
@@ -22,7 +22,6 @@
 
 pub mod caustics;
 pub mod environment;
-pub mod grid;
 pub mod pieces;
 pub mod technique;
 

@@ -2,72 +2,29 @@
 //!
 //! `prepare` renders one refractor distance map per kind of piece (`pieces::Kinds`: outward
 //! normal + distance of the piece's own surface from its centre, a cube of `resolution`
-//! texels per face) and never again: pieces only translate. Each frame:
-//!
-//! 1. the environment impostor: the diffuse scene (no specular object) as a distance impostor
-//!    (rgb radiance, alpha distance) from the centre of the pieces' bounds, timed as
-//!    "environment";
-//! 2. the piece table and the board grid at the frame's time (the moving piece changes cells);
-//! 3. the shared raster pass for the diffuse objects;
-//! 4. the pieces drawn with `trace_fs`: from the rasterized first hit, the tree of reflected
-//!    and refracted rays through the refractor maps (trace.wgsl), timed as "trace";
-//! 5. with caustics (section 7, [`crate::caustics`]): the moving piece's photon map and light
-//!    map before the trace (timed as "caustics"), the light maps added to the chessboard after
-//!    it ("caustics apply"); the static pieces' light map is made once, in `prepare`.
+//! texels per face) and never again: pieces only translate. The frame is `scene`'s
+//! many-object tracer (`scene::multi_object::Tracer`: the environment impostor, the raster
+//! pass, the pieces drawn with `trace.wgsl`) searching these maps through [`DistanceSearch`];
+//! with caustics (section 7, [`crate::caustics`]) the moving piece's photon map and light map
+//! come before the trace (timed as "caustics") and the light maps are added to the chessboard
+//! after it ("caustics apply"); the static pieces' light map is made once, in `prepare`.
 
 use crate::caustics::{CausticSettings, Caustics, PHOTONS_WGSL, caustic_receiver};
-use crate::grid::{ALL_CELLS, BoardGrid, EMPTY};
-use crate::pieces::{Kinds, MAX_KINDS, PieceGpu, pieces_at};
-use glam::Vec3;
+use crate::pieces::{Kinds, MAX_KINDS};
 use gpu::cube::CubeTarget;
-use gpu::distance_map::HIT_WGSL;
-use gpu::pass::{self, Load};
 use gpu::wgpu;
-use gpu::wgpu::util::DeviceExt;
-use gpu::{Context, Target, Uniform, bind};
+use gpu::{Context, Target, Uniform};
+use scene::multi_object::grid::ALL_CELLS;
+use scene::multi_object::{ObjectSearch, Tracer, TracerSettings, pieces_centre};
 use scene::technique::check_param;
-use scene::{
-    Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
-    TechniqueResult, View,
-};
+use scene::{Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View};
 
-/// The board grid's nearest-piece search (needs the prelude; the includer defines
-/// `piece_hit` and `grid_cells`).
-pub const GRID_SEARCH_WGSL: &str = include_str!("shaders/grid_search.wgsl");
-const TRACE_WGSL: &str = include_str!("shaders/trace.wgsl");
+pub use scene::multi_object::{MAX_DEPTH, Search};
+
+const DISTANCE_SEARCH_WGSL: &str = include_str!("shaders/distance_search.wgsl");
 
 /// Format of the refractor maps (normal + distance) and the environment impostor.
 pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Deepest tree of rays the shader follows (its stack holds `MAX_DEPTH + 2` rays).
-pub const MAX_DEPTH: u32 = 8;
-
-/// How a ray that leaves a piece finds the next one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Search {
-    /// It does not: every ray leaving a piece takes the diffuse environment (one piece per
-    /// path, the double refraction of section 3 with one shared environment impostor).
-    None,
-    /// Through the board grid, cell by cell along the ray (section 4.2); `max_cells` occupied
-    /// cells at most (1: the paper's first non-empty square).
-    Grid {
-        /// Occupied cells examined at most per ray.
-        max_cells: u32,
-    },
-    /// Over every piece, nearest hit kept: the paper's N - 1 searches, the slow
-    /// exact-visibility variant.
-    AllPieces,
-}
-
-impl Search {
-    fn wgsl_id(self) -> u32 {
-        match self {
-            Search::None => 0,
-            Search::Grid { .. } => 1,
-            Search::AllPieces => 2,
-        }
-    }
-}
-
 /// Parameters of a [`RefractorMaps`] variant (settable by name through
 /// [`Technique::set_param`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -189,33 +146,66 @@ pub struct RefractorMaps {
 }
 
 struct State {
-    kinds: Kinds,
-    /// One refractor map per kind, in kind order.
-    maps: Vec<CubeTarget>,
-    env: CubeTarget,
-    env_reference: Vec3,
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
-    /// The piece of each scene object, [`EMPTY`] for a diffuse one.
-    piece_of_object: wgpu::Buffer,
+    tracer: Tracer,
+    search: DistanceSearch,
     caustics: Option<Caustics>,
 }
 
-/// The uniform block `TracerParams` of trace.wgsl.
+/// The per-object search of the many-object tracer with refractor distance maps: `Hit()` in
+/// the kind's map from inside, the search from outside (section 4.1) from outside
+/// (`shaders/distance_search.wgsl`).
+pub struct DistanceSearch {
+    /// One refractor map per kind, in kind order.
+    maps: Vec<CubeTarget>,
+    params: Uniform<DistanceGpu>,
+    sampler: wgpu::Sampler,
+}
+
+/// The uniform block `DistanceSearch` of distance_search.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct TracerGpu {
-    env_reference: [f32; 4],
-    grid_min_cell: [f32; 4],
-    grid_count: [i32; 4],
-    depth: u32,
-    search: u32,
-    max_cells: u32,
-    piece_count: u32,
+struct DistanceGpu {
     iterations: u32,
-    env_iterations: u32,
     epsilon: f32,
-    _pad: u32,
+    _pad: [u32; 2],
+}
+
+impl DistanceSearch {
+    /// The search in `maps` (one per kind) with `maps_settings`' iterations and epsilon.
+    pub fn new(ctx: &Context, maps: Vec<CubeTarget>, settings: &Maps) -> Self {
+        let params = DistanceGpu {
+            iterations: settings.iterations,
+            epsilon: settings.epsilon,
+            _pad: [0; 2],
+        };
+        Self {
+            maps,
+            params: Uniform::new(ctx, "distance search", &params),
+            sampler: ctx.samplers.linear_clamp.clone(),
+        }
+    }
+}
+
+impl ObjectSearch for DistanceSearch {
+    fn wgsl(&self, first_binding: u32) -> String {
+        distance_search_source(self.maps.len(), first_binding)
+    }
+    fn binding_types(&self) -> Vec<wgpu::BindingType> {
+        let mut types = vec![gpu::bind::uniform(), gpu::bind::sampler()];
+        types.extend(std::iter::repeat_n(
+            gpu::bind::texture_cube(),
+            self.maps.len(),
+        ));
+        types
+    }
+    fn resources(&self) -> Vec<wgpu::BindingResource<'_>> {
+        let mut resources = vec![
+            self.params.binding(),
+            gpu::bind::sampler_resource(&self.sampler),
+        ];
+        resources.extend(self.maps.iter().map(|m| gpu::bind::view(&m.cube_view)));
+        resources
+    }
 }
 
 impl RefractorMaps {
@@ -233,7 +223,16 @@ impl RefractorMaps {
 
     /// The kinds of the prepared scene (for tests): each kind's representative object.
     pub fn kinds(&self) -> Option<&Kinds> {
-        self.state.as_ref().map(|s| &s.kinds)
+        self.state.as_ref().map(|s| s.tracer.kinds())
+    }
+
+    fn tracer_settings(&self) -> TracerSettings {
+        TracerSettings {
+            depth: self.settings.depth,
+            search: self.settings.search,
+            env_resolution: self.settings.maps.env_resolution,
+            env_iterations: self.settings.maps.env_iterations,
+        }
     }
 
     /// The caustic light maps of the prepared variant (static pieces, moving piece), for tests
@@ -402,7 +401,7 @@ impl Technique for RefractorMaps {
         // Caustics need a flat receiver under the pieces (the chessboard).
         self.settings.caustics.is_none() || {
             let kinds = Kinds::of(scene);
-            caustic_receiver(scene, environment_reference(scene, &kinds)).is_some()
+            caustic_receiver(scene, pieces_centre(scene, &kinds)).is_some()
         }
     }
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
@@ -427,77 +426,57 @@ impl Technique for RefractorMaps {
             let bytes = Caustics::bytes(c, kinds.pieces.len(), scene.scene.lights.len());
             scene::technique::check_map_budget(&self.id, 1, bytes, "photons")?;
         }
-        let mut source = format!(
-            "{}\n{}\n{}\n{}\n{}",
-            scene::SCENE_WGSL,
-            HIT_WGSL,
-            GRID_SEARCH_WGSL,
-            crate::pieces::PIECES_WGSL,
-            trace_source(kinds.representative.len())
-        );
-        if self.settings.caustics.is_some() {
+        let extra = if self.settings.caustics.is_some() {
             use scene::lightmap::{CHART_WGSL, RECEIVER_WGSL};
-            source = format!("{source}\n{CHART_WGSL}\n{RECEIVER_WGSL}\n{PHOTONS_WGSL}");
-        }
-        let module = gpu::shader_with_prelude(ctx, &self.id, &source);
-        let layout = tracer_layout(ctx, kinds.representative.len());
-        let pipeline = scene::scene_pipeline(
-            ctx,
-            &self.id,
-            &scene.pipeline_layout_with(ctx, &[&layout]),
-            &module,
-            "trace_fs",
-            gpu::HDR_FORMAT,
-        );
+            format!("{CHART_WGSL}\n{RECEIVER_WGSL}\n{PHOTONS_WGSL}")
+        } else {
+            String::new()
+        };
         let maps = crate::pieces::render_kind_maps(frame, scene, &kinds, res)?;
-        let mut piece_of_object = vec![EMPTY; scene.scene.objects.len()];
-        for (piece, &(object, _)) in kinds.pieces.iter().enumerate() {
-            piece_of_object[object] = piece as u32;
-        }
-        let env = CubeTarget::new(
+        let search = DistanceSearch::new(ctx, maps, &self.settings.maps);
+        let tracer_settings = self.tracer_settings();
+        let reference = pieces_centre(&scene.scene, &kinds);
+        let tracer = Tracer::new(
             ctx,
-            self.settings.maps.env_resolution,
-            MAP_FORMAT,
-            "environment impostor",
+            scene,
+            kinds,
+            &search,
+            &tracer_settings,
+            &extra,
+            &self.id,
         )?;
-        let env_reference = environment_reference(&scene.scene, &kinds);
         let caustics = match &self.settings.caustics {
             None => None,
             Some(c) => {
-                let receiver = caustic_receiver(&scene.scene, env_reference).ok_or_else(|| {
+                let receiver = caustic_receiver(&scene.scene, reference).ok_or_else(|| {
                     TechniqueError::Unsupported(format!(
                         "{}: no flat diffuse surface under the pieces to receive caustics",
                         self.id
                     ))
                 })?;
                 Some(Caustics::new(
-                    ctx, scene, &kinds, &module, &layout, c, receiver,
+                    ctx,
+                    scene,
+                    tracer.kinds(),
+                    tracer.module(),
+                    tracer.layout(),
+                    c,
+                    receiver,
                 )?)
             }
         };
-        let state = State {
-            env_reference,
-            kinds,
-            maps,
-            env,
-            layout,
-            pipeline,
-            piece_of_object: storage(ctx, "piece of object", &piece_of_object),
-            caustics,
-        };
-        if let Some(caustics) = &state.caustics {
+        if let Some(caustics) = &caustics {
             // The static pieces' light map, once (they stand where they stand at any time).
-            let group = frame_group(
-                ctx,
-                &state,
-                &self.settings,
-                &scene.scene,
-                scene.time(),
-                &self.id,
-            )?;
-            caustics.build_static(frame, scene, &state.kinds, &group);
+            let group = tracer
+                .group(ctx, &scene.scene, &search, &tracer_settings, scene.time())
+                .map_err(|e| prefixed(&self.id, e))?;
+            caustics.build_static(frame, scene, tracer.kinds(), &group);
         }
-        self.state = Some(state);
+        self.state = Some(State {
+            tracer,
+            search,
+            caustics,
+        });
         Ok(())
     }
     fn render(
@@ -507,114 +486,47 @@ impl Technique for RefractorMaps {
         view: &View,
         target: &Target,
     ) -> TechniqueResult<()> {
-        let settings = self.settings.clone();
-        let id = self.id.clone();
+        let settings = self.tracer_settings();
         let state = self
             .state
             .as_ref()
-            .ok_or(TechniqueError::NotPrepared(id.clone()))?;
+            .ok_or_else(|| TechniqueError::NotPrepared(self.id.clone()))?;
         let ctx = frame.gpu;
-        let time = scene.time();
-
-        frame.timer.begin(frame.encoder, "environment");
-        scene.raster_cube(
-            frame,
-            &state.env,
-            state.env_reference,
-            &ObjectFilter::All,
-            false,
-        );
-        frame.timer.end(frame.encoder, "environment");
-
-        let group = frame_group(ctx, state, &settings, &scene.scene, time, &id)?;
+        let group = state
+            .tracer
+            .group(ctx, &scene.scene, &state.search, &settings, scene.time())
+            .map_err(|e| prefixed(&self.id, e))?;
         if let Some(caustics) = &state.caustics {
             frame.timer.begin(frame.encoder, "caustics");
-            caustics.update(frame, scene, &state.kinds, &group);
+            caustics.update(frame, scene, state.tracer.kinds(), &group);
             frame.timer.end(frame.encoder, "caustics");
         }
-
-        let view_proj = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget {
-            color: &target.color_view,
-            depth: &target.depth_view,
-            format: gpu::HDR_FORMAT,
-            clear: true,
-        };
-        let specular: Vec<usize> = state.kinds.pieces.iter().map(|&(o, _)| o).collect();
-        scene.raster(
-            frame,
-            &main,
-            view_proj,
-            view.camera.eye,
-            &ObjectFilter::Except(specular.clone()),
-            false,
-        );
-        let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
-        let mut pass = gpu::pass::begin(
-            frame.encoder,
-            &id,
-            &[pass::color(&target.color_view, Load::Keep)],
-            Some(pass::depth(&target.depth_view, Load::Keep)),
-            frame.timer.render_pass("trace"),
-        );
-        pass.set_pipeline(&state.pipeline);
-        pass.set_bind_group(0, &camera, &[]);
-        pass.set_bind_group(1, scene.bind_group(), &[]);
-        pass.set_bind_group(2, &group, &[]);
-        scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
-        drop(pass);
+        state
+            .tracer
+            .render(frame, scene, view, target, &group, &self.id);
         if let Some(caustics) = &state.caustics {
+            let view_proj = view.camera.view_proj(view.width, view.height);
+            let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
             caustics.apply(frame, scene, &camera, target);
         }
         Ok(())
     }
 }
 
-/// The tracer's `@group(2)` with the pieces and the board grid at `time`.
-fn frame_group(
-    ctx: &Context,
-    state: &State,
-    settings: &Settings,
-    scene: &Scene,
-    time: f32,
-    id: &str,
-) -> TechniqueResult<wgpu::BindGroup> {
-    let (pieces, footprints) = pieces_at(scene, &state.kinds, time);
-    let grid = BoardGrid::build(&footprints)
-        .map_err(|e| TechniqueError::Unsupported(format!("{id}: {e}")))?;
-    Ok(tracer_group(ctx, state, settings, &pieces, &grid))
+/// `e` with the variant's id in front.
+fn prefixed(id: &str, e: TechniqueError) -> TechniqueError {
+    match e {
+        TechniqueError::Unsupported(m) => TechniqueError::Unsupported(format!("{id}: {m}")),
+        other => other,
+    }
 }
 
-/// The environment impostor's reference point: the centre of the pieces' bounds at time 0
-/// (above the board, among the pieces: where the paper's per-piece maps are taken from).
-fn environment_reference(scene: &Scene, kinds: &Kinds) -> Vec3 {
-    let objects: Vec<_> = kinds
-        .pieces
-        .iter()
-        .map(|&(o, _)| scene.objects[o].clone())
-        .collect();
-    let (lo, hi) = scene::world_bounds(&objects);
-    (lo + hi) * 0.5
-}
-
-/// A read-only storage buffer holding `data` (padded: a storage binding may not be empty).
-pub(crate) fn storage<T: bytemuck::Pod>(ctx: &Context, label: &str, data: &[T]) -> wgpu::Buffer {
-    let bytes: &[u8] = bytemuck::cast_slice(data);
-    let mut contents = bytes.to_vec();
-    contents.resize(bytes.len().max(16), 0);
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: &contents,
-            usage: wgpu::BufferUsages::STORAGE,
-        })
-}
-
-/// trace.wgsl for a scene with `kinds` kinds: one refractor-map binding per kind and a
-/// `switch` arm per kind in the functions that read them (WGSL has no arrays of cube
-/// textures without an extra feature; a shader with exactly the scene's kinds also keeps the
-/// software rasterizer from compiling eight inlined searches for a one-sphere scene).
-pub fn trace_source(kinds: usize) -> String {
+/// distance_search.wgsl for a scene with `kinds` kinds, its bindings from `first_binding`: one
+/// refractor-map binding per kind and a `switch` arm per kind in the functions that read them
+/// (WGSL has no arrays of cube textures without an extra feature; a shader with exactly the
+/// scene's kinds also keeps the software rasterizer from compiling eight inlined searches for
+/// a one-sphere scene).
+pub fn distance_search_source(kinds: usize, first_binding: u32) -> String {
     let arms = |call: &str| -> String {
         (0..kinds)
             .map(|k| {
@@ -634,87 +546,32 @@ pub fn trace_source(kinds: usize) -> String {
         .map(|k| {
             format!(
                 "@group(2) @binding({}) var kind_map{k}: texture_cube<f32>;\n",
-                6 + k
+                first_binding + 2 + k as u32
             )
         })
         .collect();
-    TRACE_WGSL
+    DISTANCE_SEARCH_WGSL
         .replace(
-            "// {KIND_MAP_BINDINGS}: one `kind_mapK: texture_cube<f32>` per kind at binding 6 + K.",
+            "// {KIND_MAP_BINDINGS}: one `kind_mapK: texture_cube<f32>` per kind at binding {B} + 2 + K.",
             &bindings,
         )
+        .replace("{B+1}", &(first_binding + 1).to_string())
+        .replace("{B}", &first_binding.to_string())
         .replace(
             "// {SAMPLE_ARMS}\n",
             &arms("textureSampleLevel(MAP, map_sampler, dir, 0.0)"),
         )
         .replace(
             "// {INSIDE_ARMS}\n",
-            &arms("hit(x, R, MAP, map_sampler, 3u, HIT_FALSE_POSITION, tracer.iterations)"),
+            &arms(
+                "hit(x, R, MAP, map_sampler, 3u, HIT_FALSE_POSITION, distance_search.iterations)",
+            ),
         )
         .replace(
             "// {OUTSIDE_ARMS}\n",
             &arms(
                 "hit_from_outside(y, R, MAP, map_sampler, 3u, bmin, bmax, HIT_FALSE_POSITION, \
-                 tracer.iterations, tracer.epsilon)",
+                 distance_search.iterations, distance_search.epsilon)",
             ),
         )
-}
-
-/// Layout of `@group(2)` in trace.wgsl with `kinds` refractor maps.
-fn tracer_layout(ctx: &Context, kinds: usize) -> wgpu::BindGroupLayout {
-    let mut entries = vec![
-        bind::uniform(),
-        bind::storage(true),
-        bind::storage(true),
-        bind::storage(true),
-        bind::sampler(),
-        bind::texture_cube(),
-    ];
-    entries.extend(std::iter::repeat_n(bind::texture_cube(), kinds));
-    bind::layout(
-        ctx,
-        "refractor maps",
-        wgpu::ShaderStages::FRAGMENT,
-        &entries,
-    )
-}
-
-/// This frame's `@group(2)`: parameters, pieces, grid cells, the environment impostor and the
-/// kinds' refractor maps.
-fn tracer_group(
-    ctx: &Context,
-    state: &State,
-    settings: &Settings,
-    pieces: &[PieceGpu],
-    grid: &BoardGrid,
-) -> wgpu::BindGroup {
-    let uniform = TracerGpu {
-        env_reference: state.env_reference.extend(0.0).to_array(),
-        grid_min_cell: [grid.min.x, grid.min.y, grid.cell, 0.0],
-        grid_count: [grid.count.x, grid.count.y, 0, 0],
-        depth: settings.depth,
-        search: settings.search.wgsl_id(),
-        max_cells: match settings.search {
-            Search::Grid { max_cells } => max_cells,
-            _ => ALL_CELLS,
-        },
-        piece_count: pieces.len() as u32,
-        iterations: settings.maps.iterations,
-        env_iterations: settings.maps.env_iterations,
-        epsilon: settings.maps.epsilon,
-        _pad: 0,
-    };
-    let params = Uniform::new(ctx, "tracer params", &uniform);
-    let piece_buffer = storage(ctx, "pieces", pieces);
-    let cells = storage(ctx, "grid cells", &grid.cells);
-    let mut resources = vec![
-        params.binding(),
-        piece_buffer.as_entire_binding(),
-        cells.as_entire_binding(),
-        state.piece_of_object.as_entire_binding(),
-        bind::sampler_resource(&ctx.samplers.linear_clamp),
-        bind::view(&state.env.cube_view),
-    ];
-    resources.extend(state.maps.iter().map(|m| bind::view(&m.cube_view)));
-    bind::group(ctx, "refractor maps", &state.layout, &resources)
 }

@@ -16,6 +16,7 @@ pub mod kinds;
 pub mod lightmap;
 pub mod mesh;
 mod model;
+pub mod multi_object;
 pub mod runner;
 pub mod technique;
 

@@ -1,5 +1,5 @@
-//! GPU conformance of the board grid's nearest-piece search (`shaders/grid_search.wgsl`)
-//! against its Rust twin (`refractor_maps::grid::nearest_piece`), on worlds of disjoint
+//! GPU conformance of the board grid's nearest-piece search (`scene/src/shaders/grid_search.wgsl`)
+//! against its Rust twin (`scene::multi_object::grid::nearest_piece`), on worlds of disjoint
 //! spheres: the WGSL file is compiled with a `piece_hit` that intersects the spheres exactly
 //! (the prelude's `ray_sphere`, itself conformance-tested in `gpu`), and the twin is given the
 //! same hit function in Rust.
@@ -9,12 +9,12 @@
 //! or two pieces' hits lie within 1e-4 of each other; at most 1% of the cases are excused.
 //! `mutations_are_detected` shows the comparison can fail.
 
-mod common;
+mod grid_common;
 
-use common::*;
 use glam::{Vec3, Vec4};
-use refractor_maps::grid::{ALL_CELLS, BoardGrid, EMPTY, nearest_piece, nearest_piece_brute};
-use refractor_maps::technique::GRID_SEARCH_WGSL;
+use grid_common::*;
+use scene::multi_object::GRID_SEARCH_WGSL;
+use scene::multi_object::grid::{ALL_CELLS, BoardGrid, EMPTY, nearest_piece, nearest_piece_brute};
 
 const WORLDS: u64 = 6;
 const RAYS_PER_WORLD: usize = 512;

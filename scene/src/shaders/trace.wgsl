@@ -1,20 +1,27 @@
 // ---------------------------------------------------------------------------------------------
-// Many-object multi-bounce ray tracing with refractor distance maps (Dancsik and Minarik,
-// sections 4.1-4.2), after the gpu prelude + scene.wgsl + hit.wgsl + grid_search.wgsl +
-// pieces.wgsl.
+// Many-object multi-bounce ray tracing (Dancsik and Minarik, sections 4.1-4.2, figure 10), after
+// the gpu prelude + scene.wgsl + hit.wgsl + grid_search.wgsl + pieces.wgsl + the per-object
+// search (scene::multi_object::ObjectSearch: refractor distance maps, refractor height maps).
 //
 // The specular objects are drawn with scene_vs: rasterization finds the first hit. From there
 // each pixel follows the tree of reflected and refracted rays depth first (an explicit stack),
 // splitting by Fresnel at every interface, until a ray has met `depth` interfaces:
-//   - a ray inside a piece finds its exit by Hit() in the piece's refractor map (the map of its
-//     kind: outward normal + distance of its own surface from its centre);
+//   - a ray inside a piece finds its exit by the search's chord();
 //   - a ray outside finds the next piece through the board grid (nearest_piece), each candidate
-//     searched from outside (hit_from_outside, section 4.1), or over every piece (the slow
+//     searched from outside by the search's piece_hit(), or over every piece (the slow
 //     exact-visibility search), or not at all (single bounce);
 //   - a ray that finds no piece, or has met `depth` interfaces, takes the radiance of the
 //     diffuse environment: Hit() in one distance impostor of the diffuse scene (rgb radiance +
 //     distance, captured each frame from env_reference without the specular objects). A ray
 //     inside glass at the depth bound leaves without splitting again (leave_piece).
+//
+// The per-object search defines, with its own bindings from @group(2) @binding(6):
+//   fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f
+//       the search from outside: (a payload of its own, t), t < 0 when piece p is missed;
+//   fn piece_hit_normal(p: u32, o: vec3f, d: vec3f, hit: vec4f) -> vec3f
+//       the unit outward normal (world) at that hit (`hit` is piece_hit's answer);
+//   fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord
+//       the search from inside: where the ray leaves piece p and the outward normal there.
 // ---------------------------------------------------------------------------------------------
 
 struct TracerParams {
@@ -28,12 +35,11 @@ struct TracerParams {
     // Occupied grid cells examined per ray (1: the paper's first non-empty square).
     max_cells: u32,
     piece_count: u32,
-    // Refinement steps of Hit() in the refractor maps and in the environment impostor.
-    iterations: u32,
+    // Refinement steps of Hit() in the environment impostor.
     env_iterations: u32,
-    // A search from outside is accepted within this distance of the ray (metres).
-    epsilon: f32,
-    _pad: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 @group(2) @binding(0) var<uniform> tracer: TracerParams;
@@ -41,9 +47,8 @@ struct TracerParams {
 @group(2) @binding(2) var<storage, read> grid_cells: array<vec4u>;
 // The piece of each scene object (GRID_EMPTY for a diffuse one).
 @group(2) @binding(3) var<storage, read> piece_of_object: array<u32>;
-@group(2) @binding(4) var map_sampler: sampler;
+@group(2) @binding(4) var env_sampler: sampler;
 @group(2) @binding(5) var env_map: texture_cube<f32>;
-// {KIND_MAP_BINDINGS}: one `kind_mapK: texture_cube<f32>` per kind at binding 6 + K.
 
 const SEARCH_NONE: u32 = 0u;
 const SEARCH_GRID: u32 = 1u;
@@ -54,47 +59,19 @@ const STACK_SIZE: u32 = 10u;
 // Ray origins are pushed off the surface they start on by this much (metres).
 const SURFACE_OFFSET: f32 = 1e-4;
 
-fn kind_sample(kind: u32, dir: vec3f) -> vec4f {
-    switch kind {
-// {SAMPLE_ARMS}
-    }
-}
-
-// Hit() from inside a piece: x and R in the map's frame, relative to its centre.
-fn kind_hit(kind: u32, x: vec3f, R: vec3f) -> vec4f {
-    switch kind {
-// {INSIDE_ARMS}
-    }
-}
-
-// The search from outside (section 4.1) in the kind's map.
-fn kind_hit_outside(kind: u32, y: vec3f, R: vec3f, bmin: vec3f, bmax: vec3f) -> vec4f {
-    switch kind {
-// {OUTSIDE_ARMS}
-    }
-}
-
-// grid_search.wgsl's hook: (hit point in the map's frame, ray parameter) or w < 0.
-fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {
-    let pc = pieces[p];
-    return kind_hit_outside(piece_kind(p), to_map(p, o - pc.centre.xyz), to_map(p, d),
-                            pc.box_min.xyz, pc.box_max.xyz);
-}
-
-// The outward unit normal (world) stored by piece p's map in map-frame direction `l`,
-// `fallback` where the map holds none.
-fn piece_normal(p: u32, l: vec3f, fallback: vec3f) -> vec3f {
-    let n = from_map(p, kind_sample(piece_kind(p), l).xyz);
-    let len = length(n);
-    return select(fallback, n / len, len > 1e-6);
-}
+// Where a ray inside a piece leaves it (the search's chord()).
+struct Chord {
+    exit_point: vec3f,
+    // Outward unit normal, turned to agree with the leaving ray.
+    normal: vec3f,
+};
 
 // Radiance of the diffuse environment arriving at `o` from direction `d`.
 fn environment(o: vec3f, d: vec3f) -> vec3f {
-    var l = hit(o - tracer.env_reference.xyz, d, env_map, map_sampler, 3u, HIT_FALSE_POSITION,
+    var l = hit(o - tracer.env_reference.xyz, d, env_map, env_sampler, 3u, HIT_FALSE_POSITION,
                 tracer.env_iterations).xyz;
     if (dot(l, l) < 1e-12) { l = d; }
-    return textureSampleLevel(env_map, map_sampler, l, 0.0).rgb;
+    return textureSampleLevel(env_map, env_sampler, l, 0.0).rgb;
 }
 
 // The next piece along an outside ray, per the search mode.
@@ -184,32 +161,12 @@ fn follow(r: PathRay) -> vec3f {
         return r.weight * environment(r.origin, r.dir);
     }
     let point = r.origin + r.dir * h.hit.w;
-    // The ray comes from outside: the outward normal must face it (the map's filtered normal
+    // The ray comes from outside: the outward normal must face it (a map's filtered normal
     // can point along the ray at a silhouette or where the piece is not star-shaped).
-    var n_out = piece_normal(h.piece, h.hit.xyz, -r.dir);
+    var n_out = piece_hit_normal(h.piece, r.origin, r.dir, h.hit);
     if (dot(n_out, r.dir) > 0.0) { n_out = -n_out; }
     scatter(r, h.piece, point, n_out);
     return vec3f(0.0);
-}
-
-// One chord inside piece p from `origin` along `dir`: the exit point by Hit() in the piece's
-// refractor map and the outward normal stored there (turned to agree with the leaving ray).
-struct Chord {
-    exit_point: vec3f,
-    normal: vec3f,
-};
-
-fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord {
-    let pc = pieces[p];
-    let R = to_map(p, dir);
-    let h = kind_hit(piece_kind(p), to_map(p, origin - pc.centre.xyz), R);
-    var l = h.xyz;
-    if (dot(l, l) < 1e-12) { l = R; }
-    var c: Chord;
-    c.exit_point = origin + dir * h.w;
-    c.normal = piece_normal(p, l, dir);
-    if (dot(c.normal, dir) < 0.0) { c.normal = -c.normal; }
-    return c;
 }
 
 // A ray inside glass at the depth bound leaves without splitting again: up to

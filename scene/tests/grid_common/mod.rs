@@ -6,7 +6,7 @@
 use glam::{Vec2, Vec3};
 use gpu::prelude::{MISS, ray_sphere};
 use proptest::prelude::*;
-use refractor_maps::grid::BoardGrid;
+use scene::multi_object::grid::BoardGrid;
 
 #[derive(Clone, Debug)]
 pub struct Sphere {

@@ -1,14 +1,14 @@
-//! Properties of the board grid and its nearest-piece search (`refractor_maps::grid`), on
+//! Properties of the board grid and its nearest-piece search (`scene::multi_object::grid`), on
 //! worlds of disjoint spheres whose exact hits are known: walked to the end, the grid finds
 //! the same nearest piece as testing every piece; the paper's first-square shortcut searches
 //! exactly the first occupied cell; every piece is listed in every cell its footprint reaches.
 
-mod common;
+mod grid_common;
 
-use common::*;
 use glam::{IVec2, Vec2};
+use grid_common::*;
 use proptest::prelude::*;
-use refractor_maps::grid::{
+use scene::multi_object::grid::{
     ALL_CELLS, BoardGrid, CELL_CAPACITY, EMPTY, nearest_piece, nearest_piece_brute,
 };
 

@@ -1,0 +1,75 @@
+// ---------------------------------------------------------------------------------------------
+// The per-object search of scene's many-object tracer (trace.wgsl) with refractor distance
+// maps (Dancsik and Minarik, sections 3-4.1): one cube map per kind of piece (outward normal +
+// distance of its own surface from its centre), searched from inside by Hit() for a chord's
+// exit and from outside by hit_from_outside (section 4.1). After the gpu prelude, hit.wgsl and
+// pieces.wgsl. {B} is the search's first binding in @group(2).
+// ---------------------------------------------------------------------------------------------
+
+struct DistanceSearch {
+    // Refinement steps of Hit() in the refractor maps.
+    iterations: u32,
+    // A search from outside is accepted within this distance of the ray (metres).
+    epsilon: f32,
+    _pad0: u32,
+    _pad1: u32,
+};
+
+@group(2) @binding({B}) var<uniform> distance_search: DistanceSearch;
+@group(2) @binding({B+1}) var map_sampler: sampler;
+// {KIND_MAP_BINDINGS}: one `kind_mapK: texture_cube<f32>` per kind at binding {B} + 2 + K.
+
+fn kind_sample(kind: u32, dir: vec3f) -> vec4f {
+    switch kind {
+// {SAMPLE_ARMS}
+    }
+}
+
+// Hit() from inside a piece: x and R in the map's frame, relative to its centre.
+fn kind_hit(kind: u32, x: vec3f, R: vec3f) -> vec4f {
+    switch kind {
+// {INSIDE_ARMS}
+    }
+}
+
+// The search from outside (section 4.1) in the kind's map.
+fn kind_hit_outside(kind: u32, y: vec3f, R: vec3f, bmin: vec3f, bmax: vec3f) -> vec4f {
+    switch kind {
+// {OUTSIDE_ARMS}
+    }
+}
+
+// The search from outside: (hit point in the map's frame, ray parameter) or w < 0.
+fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {
+    let pc = pieces[p];
+    return kind_hit_outside(piece_kind(p), to_map(p, o - pc.centre.xyz), to_map(p, d),
+                            pc.box_min.xyz, pc.box_max.xyz);
+}
+
+// The outward unit normal (world) stored by piece p's map in map-frame direction `l`,
+// `fallback` where the map holds none.
+fn piece_normal(p: u32, l: vec3f, fallback: vec3f) -> vec3f {
+    let n = from_map(p, kind_sample(piece_kind(p), l).xyz);
+    let len = length(n);
+    return select(fallback, n / len, len > 1e-6);
+}
+
+// The normal at piece_hit's answer: the map's normal in the direction of the hit point.
+fn piece_hit_normal(p: u32, o: vec3f, d: vec3f, hit: vec4f) -> vec3f {
+    return piece_normal(p, hit.xyz, -d);
+}
+
+// One chord inside piece p from `origin` along `dir`: the exit point by Hit() in the piece's
+// refractor map and the outward normal stored there (turned to agree with the leaving ray).
+fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord {
+    let pc = pieces[p];
+    let R = to_map(p, dir);
+    let h = kind_hit(piece_kind(p), to_map(p, origin - pc.centre.xyz), R);
+    var l = h.xyz;
+    if (dot(l, l) < 1e-12) { l = R; }
+    var c: Chord;
+    c.exit_point = origin + dir * h.w;
+    c.normal = piece_normal(p, l, dir);
+    if (dot(c.normal, dir) < 0.0) { c.normal = -c.normal; }
+    return c;
+}

@@ -1,0 +1,23 @@
+//! The many-object multi-bounce tracer (Dancsik and Minarik, sections 4.1-4.2), with the search
+//! in one object's map as its parameter (the paper's figure 10: "the refractor distance map
+//! can be replaced by the refractor height map").
+//!
+//! - [`grid`]: the board grid and the nearest piece along a ray (Rust twin of
+//!   `shaders/grid_search.wgsl`).
+//! - [`pieces`]: the piece table (where each specular object stands at a time, its kind).
+//! - [`Tracer`]: the driver: the diffuse environment impostor, the raster pass, and the
+//!   specular objects drawn with `trace.wgsl`, which follows each pixel's tree of reflected and
+//!   refracted rays from piece to piece.
+//! - [`ObjectSearch`]: what the driver asks of one object's map: the hit of a ray from
+//!   outside, the normal there, and the exit of a ray from inside. `refractor-maps` implements
+//!   it with refractor distance maps, `height-maps` with refractor height maps; neither crate
+//!   depends on the other, both on this one.
+
+pub mod grid;
+pub mod pieces;
+mod tracer;
+
+pub use tracer::{
+    GRID_SEARCH_WGSL, MAX_DEPTH, ObjectSearch, SEARCH_FIRST_BINDING, Search, TRACE_WGSL, Tracer,
+    TracerSettings, pieces_centre, storage,
+};

@@ -1,0 +1,328 @@
+//! The driver of the many-object tracer: [`Tracer`], parameterised by an [`ObjectSearch`].
+//!
+//! Each frame ([`Tracer::render`]):
+//!
+//! 1. the environment impostor: the diffuse scene (no specular object) as a distance impostor
+//!    (rgb radiance, alpha distance) from the centre of the pieces' bounds, timed as
+//!    "environment";
+//! 2. the shared raster pass for the diffuse objects;
+//! 3. the pieces drawn with `trace_fs` (`shaders/trace.wgsl`): from the rasterized first hit,
+//!    the tree of reflected and refracted rays through the objects' maps, timed as "trace".
+//!
+//! The piece table and the board grid are made at each frame's time ([`Tracer::group`]): the
+//! moving piece changes cells.
+
+use super::grid::{ALL_CELLS, BoardGrid, EMPTY};
+use super::pieces::{PIECES_WGSL, PieceGpu, pieces_at};
+use crate::kinds::Kinds;
+use crate::{Frame, GpuScene, ObjectFilter, RasterTarget, Scene, TechniqueError, View};
+use glam::Vec3;
+use gpu::cube::CubeTarget;
+use gpu::distance_map::HIT_WGSL;
+use gpu::pass::{self, Load};
+use gpu::wgpu::{self, util::DeviceExt};
+use gpu::{Context, GpuError, Target, Uniform, bind};
+
+/// The board grid's nearest-piece search (needs the prelude; the includer defines
+/// `piece_hit` and `grid_cells`).
+pub const GRID_SEARCH_WGSL: &str = include_str!("../shaders/grid_search.wgsl");
+/// The tracer (after the prelude, `SCENE_WGSL`, `HIT_WGSL`, [`GRID_SEARCH_WGSL`] and
+/// [`PIECES_WGSL`]; with an [`ObjectSearch`]'s WGSL).
+pub const TRACE_WGSL: &str = include_str!("../shaders/trace.wgsl");
+
+/// The first `@group(2)` binding of an [`ObjectSearch`]'s own resources (the tracer's take
+/// 0..6).
+pub const SEARCH_FIRST_BINDING: u32 = 6;
+
+/// Format of the environment impostor.
+const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The search in one object's map that the tracer calls (trace.wgsl's header names the three
+/// functions). Implemented with refractor distance maps (`refractor-maps`) and refractor
+/// height maps (`height-maps`).
+pub trait ObjectSearch {
+    /// WGSL defining `piece_hit`, `piece_hit_normal` and `chord`, after the prelude,
+    /// `SCENE_WGSL`, `HIT_WGSL` and the piece table; its `i`-th resource of
+    /// [`ObjectSearch::binding_types`] at `@group(2) @binding(first_binding + i)`.
+    fn wgsl(&self, first_binding: u32) -> String;
+    /// The binding types of its resources (fragment stage), in order.
+    fn binding_types(&self) -> Vec<wgpu::BindingType>;
+    /// Its resources, in the order of [`ObjectSearch::binding_types`].
+    fn resources(&self) -> Vec<wgpu::BindingResource<'_>>;
+}
+
+/// How a ray that leaves a piece finds the next one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Search {
+    /// It does not: every ray leaving a piece takes the diffuse environment (one piece per
+    /// path, the double refraction of section 3 with one shared environment impostor).
+    None,
+    /// Through the board grid, cell by cell along the ray (section 4.2); `max_cells` occupied
+    /// cells at most (1: the paper's first non-empty square).
+    Grid {
+        /// Occupied cells examined at most per ray.
+        max_cells: u32,
+    },
+    /// Over every piece, nearest hit kept: the paper's N - 1 searches, the slow
+    /// exact-visibility variant.
+    AllPieces,
+}
+
+impl Search {
+    fn wgsl_id(self) -> u32 {
+        match self {
+            Search::None => 0,
+            Search::Grid { .. } => 1,
+            Search::AllPieces => 2,
+        }
+    }
+}
+
+/// The tracer's own parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TracerSettings {
+    /// Interfaces at which a path splits (1: the first surface only).
+    pub depth: u32,
+    /// How a ray leaving a piece finds the next one.
+    pub search: Search,
+    /// Cube face size of the environment impostor.
+    pub env_resolution: u32,
+    /// Hit() refinement steps in the environment impostor.
+    pub env_iterations: u32,
+}
+
+/// Deepest tree of rays the shader follows (its stack holds `MAX_DEPTH + 2` rays).
+pub const MAX_DEPTH: u32 = 8;
+
+/// The uniform block `TracerParams` of trace.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct TracerGpu {
+    env_reference: [f32; 4],
+    grid_min_cell: [f32; 4],
+    grid_count: [i32; 4],
+    depth: u32,
+    search: u32,
+    max_cells: u32,
+    piece_count: u32,
+    env_iterations: u32,
+    _pad: [u32; 3],
+}
+
+/// The many-object tracer of one scene, prepared for one [`ObjectSearch`].
+pub struct Tracer {
+    kinds: Kinds,
+    env: CubeTarget,
+    env_reference: Vec3,
+    layout: wgpu::BindGroupLayout,
+    module: wgpu::ShaderModule,
+    pipeline: wgpu::RenderPipeline,
+    /// The piece of each scene object, [`EMPTY`] for a diffuse one.
+    piece_of_object: wgpu::Buffer,
+}
+
+impl Tracer {
+    /// The tracer of `scene`'s specular objects (`kinds`) searched with `search`; `extra_wgsl`
+    /// is appended to the module (entry points of a technique's own passes over the same
+    /// bindings, such as photon maps).
+    pub fn new(
+        ctx: &Context,
+        scene: &GpuScene,
+        kinds: Kinds,
+        search: &dyn ObjectSearch,
+        settings: &TracerSettings,
+        extra_wgsl: &str,
+        label: &str,
+    ) -> Result<Self, GpuError> {
+        let source = format!(
+            "{}\n{HIT_WGSL}\n{GRID_SEARCH_WGSL}\n{PIECES_WGSL}\n{TRACE_WGSL}\n{}\n{extra_wgsl}",
+            crate::SCENE_WGSL,
+            search.wgsl(SEARCH_FIRST_BINDING),
+        );
+        let module = gpu::shader_with_prelude(ctx, label, &source);
+        let mut entries = vec![
+            bind::uniform(),
+            bind::storage(true),
+            bind::storage(true),
+            bind::storage(true),
+            bind::sampler(),
+            bind::texture_cube(),
+        ];
+        entries.extend(search.binding_types());
+        let layout = bind::layout(ctx, label, wgpu::ShaderStages::FRAGMENT, &entries);
+        let pipeline = crate::scene_pipeline(
+            ctx,
+            label,
+            &scene.pipeline_layout_with(ctx, &[&layout]),
+            &module,
+            "trace_fs",
+            gpu::HDR_FORMAT,
+        );
+        let mut piece_of_object = vec![EMPTY; scene.scene.objects.len()];
+        for (piece, &(object, _)) in kinds.pieces.iter().enumerate() {
+            piece_of_object[object] = piece as u32;
+        }
+        let env = CubeTarget::new(
+            ctx,
+            settings.env_resolution,
+            ENV_FORMAT,
+            "environment impostor",
+        )?;
+        Ok(Self {
+            env_reference: pieces_centre(&scene.scene, &kinds),
+            kinds,
+            env,
+            layout,
+            module,
+            pipeline,
+            piece_of_object: storage(ctx, "piece of object", &piece_of_object),
+        })
+    }
+
+    /// The specular objects and their kinds.
+    pub fn kinds(&self) -> &Kinds {
+        &self.kinds
+    }
+
+    /// The tracer's `@group(2)` layout (its bindings, then the search's).
+    pub fn layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+
+    /// The tracer's shader module (with the search and the extra WGSL).
+    pub fn module(&self) -> &wgpu::ShaderModule {
+        &self.module
+    }
+
+    /// The `@group(2)` at `time`: parameters, the piece table, the board grid, the environment
+    /// impostor and the search's resources. Fails when the pieces cannot be put in a grid.
+    pub fn group(
+        &self,
+        ctx: &Context,
+        scene: &Scene,
+        search: &dyn ObjectSearch,
+        settings: &TracerSettings,
+        time: f32,
+    ) -> Result<wgpu::BindGroup, TechniqueError> {
+        let (pieces, footprints) = pieces_at(scene, &self.kinds, time);
+        let grid = BoardGrid::build(&footprints)
+            .map_err(|e| TechniqueError::Unsupported(e.to_string()))?;
+        Ok(self.group_with(ctx, search, settings, &pieces, &grid))
+    }
+
+    fn group_with(
+        &self,
+        ctx: &Context,
+        search: &dyn ObjectSearch,
+        settings: &TracerSettings,
+        pieces: &[PieceGpu],
+        grid: &BoardGrid,
+    ) -> wgpu::BindGroup {
+        let uniform = TracerGpu {
+            env_reference: self.env_reference.extend(0.0).to_array(),
+            grid_min_cell: [grid.min.x, grid.min.y, grid.cell, 0.0],
+            grid_count: [grid.count.x, grid.count.y, 0, 0],
+            depth: settings.depth,
+            search: settings.search.wgsl_id(),
+            max_cells: match settings.search {
+                Search::Grid { max_cells } => max_cells,
+                _ => ALL_CELLS,
+            },
+            piece_count: pieces.len() as u32,
+            env_iterations: settings.env_iterations,
+            _pad: [0; 3],
+        };
+        let params = Uniform::new(ctx, "tracer params", &uniform);
+        let piece_buffer = storage(ctx, "pieces", pieces);
+        let cells = storage(ctx, "grid cells", &grid.cells);
+        let mut resources = vec![
+            params.binding(),
+            piece_buffer.as_entire_binding(),
+            cells.as_entire_binding(),
+            self.piece_of_object.as_entire_binding(),
+            bind::sampler_resource(&ctx.samplers.linear_clamp),
+            bind::view(&self.env.cube_view),
+        ];
+        resources.extend(search.resources());
+        bind::group(ctx, "many-object tracer", &self.layout, &resources)
+    }
+
+    /// Records a frame: the environment impostor, the diffuse objects, then the traced
+    /// specular objects with `group` (this frame's [`Tracer::group`]). `label` names the trace
+    /// pass.
+    pub fn render(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+        group: &wgpu::BindGroup,
+        label: &str,
+    ) {
+        let ctx = frame.gpu;
+        frame.timer.begin(frame.encoder, "environment");
+        scene.raster_cube(
+            frame,
+            &self.env,
+            self.env_reference,
+            &ObjectFilter::All,
+            false,
+        );
+        frame.timer.end(frame.encoder, "environment");
+
+        let view_proj = view.camera.view_proj(view.width, view.height);
+        let main = RasterTarget {
+            color: &target.color_view,
+            depth: &target.depth_view,
+            format: gpu::HDR_FORMAT,
+            clear: true,
+        };
+        let specular: Vec<usize> = self.kinds.pieces.iter().map(|&(o, _)| o).collect();
+        scene.raster(
+            frame,
+            &main,
+            view_proj,
+            view.camera.eye,
+            &ObjectFilter::Except(specular.clone()),
+            false,
+        );
+        let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            label,
+            &[pass::color(&target.color_view, Load::Keep)],
+            Some(pass::depth(&target.depth_view, Load::Keep)),
+            frame.timer.render_pass("trace"),
+        );
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &camera, &[]);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        pass.set_bind_group(2, group, &[]);
+        scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
+    }
+}
+
+/// The centre of the specular objects' bounds at time 0: the environment impostor's reference
+/// point (above the board, among the pieces: where the paper's per-piece maps are taken from).
+pub fn pieces_centre(scene: &Scene, kinds: &Kinds) -> Vec3 {
+    let objects: Vec<_> = kinds
+        .pieces
+        .iter()
+        .map(|&(o, _)| scene.objects[o].clone())
+        .collect();
+    let (lo, hi) = crate::world_bounds(&objects);
+    (lo + hi) * 0.5
+}
+
+/// A read-only storage buffer holding `data` (padded: a storage binding may not be empty).
+pub fn storage<T: bytemuck::Pod>(ctx: &Context, label: &str, data: &[T]) -> wgpu::Buffer {
+    let bytes: &[u8] = bytemuck::cast_slice(data);
+    let mut contents = bytes.to_vec();
+    contents.resize(bytes.len().max(16), 0);
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: &contents,
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+}
