@@ -10,22 +10,29 @@
 //! - [`search`]: segment selection (figure 7), binary search, the search from outside and from
 //!   inside: the Rust twin of `shaders/height_search.wgsl`.
 //! - [`map`]: the height map of each kind of piece (an orthographic render).
-//! - [`technique`]: the [`HeightMaps`] technique and its variants.
+//! - [`technique`]: the [`HeightMaps`] technique (billboards drawn and searched from the eye)
+//!   and its variants `single` and `double-refraction`.
+//! - [`in_chess`]: `height-maps/in-chess` (figure 10): `scene`'s many-object tracer, the one
+//!   `refractor-maps` drives with distance maps, searching height maps ([`HeightSearch`]).
 //!
 //! See `README.md` for the mapping to the paper, the departures and the failure cases.
 
 #![warn(missing_docs)]
 
+pub mod in_chess;
 pub mod map;
 pub mod search;
 pub mod technique;
 
+pub use in_chess::{HeightMapsInChess, HeightSearch, InChessSettings};
 pub use technique::{HeightMaps, Refraction, Settings};
 
 /// All technique variants of this crate: `height-maps/single`,
-/// `height-maps/double-refraction`.
+/// `height-maps/double-refraction`, `height-maps/in-chess`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
-    technique::variants()
+    let mut all = technique::variants();
+    all.push(Box::new(HeightMapsInChess::new()));
+    all
 }
 
 /// The image checks of this crate (run by the tests crate against the reference along the

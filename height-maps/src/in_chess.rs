@@ -1,0 +1,275 @@
+//! `height-maps/in-chess`: the paper's figure 10, the many-object tracer of section 4 with
+//! refractor height maps in place of refractor distance maps.
+//!
+//! The tracer is `scene::multi_object::Tracer` (the board grid, the depth-first tree of
+//! reflected and refracted rays, the environment impostor), the same code `refractor-maps`
+//! drives with its distance maps; here it calls [`HeightSearch`], whose WGSL
+//! (`shaders/height_object_search.wgsl`) answers the tracer's three questions with the
+//! height-map search of [`crate::search`]. Neither crate depends on the other.
+
+use crate::map::{map_bounds, render_height_maps, upright};
+use crate::search::{HEIGHT_SEARCH_WGSL, Steps};
+use gpu::wgpu;
+use gpu::{Context, Target, Uniform, bind};
+use scene::multi_object::grid::ALL_CELLS;
+use scene::multi_object::{MAX_DEPTH, ObjectSearch, Search, Tracer, TracerSettings, storage};
+use scene::technique::check_param;
+use scene::{
+    Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
+};
+
+const HEIGHT_OBJECT_SEARCH_WGSL: &str = include_str!("shaders/height_object_search.wgsl");
+
+/// The per-object search of the many-object tracer with refractor height maps: each piece's
+/// map on a billboard facing the ray's origin.
+pub struct HeightSearch {
+    maps_view: wgpu::TextureView,
+    params: Uniform<[u32; 4]>,
+    bounds: wgpu::Buffer,
+}
+
+impl HeightSearch {
+    /// The search in `maps` (a layer per kind of `kinds`) with `steps`.
+    pub fn new(
+        ctx: &Context,
+        scene: &Scene,
+        kinds: &Kinds,
+        maps: &wgpu::Texture,
+        steps: Steps,
+    ) -> Self {
+        let bounds: Vec<[f32; 4]> = kinds
+            .representative
+            .iter()
+            .map(|&rep| {
+                let b = map_bounds(&scene.objects[rep]);
+                [b.half_width, b.v_min, b.v_max, b.height]
+            })
+            .collect();
+        Self {
+            maps_view: maps.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            }),
+            params: Uniform::new(ctx, "height search", &[steps.linear, steps.binary, 0, 0]),
+            bounds: storage(ctx, "height-map bounds", &bounds),
+        }
+    }
+}
+
+impl ObjectSearch for HeightSearch {
+    fn wgsl(&self, first_binding: u32) -> String {
+        let interface = HEIGHT_OBJECT_SEARCH_WGSL
+            .replace("{B+1}", &(first_binding + 1).to_string())
+            .replace("{B+2}", &(first_binding + 2).to_string())
+            .replace("{B}", &first_binding.to_string());
+        format!("{HEIGHT_SEARCH_WGSL}\n{interface}")
+    }
+    fn binding_types(&self) -> Vec<wgpu::BindingType> {
+        vec![
+            bind::uniform(),
+            bind::texture(wgpu::TextureViewDimension::D2Array, false),
+            bind::storage(true),
+        ]
+    }
+    fn resources(&self) -> Vec<wgpu::BindingResource<'_>> {
+        vec![
+            self.params.binding(),
+            bind::view(&self.maps_view),
+            self.bounds.as_entire_binding(),
+        ]
+    }
+}
+
+/// Parameters of `height-maps/in-chess`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InChessSettings {
+    /// Interfaces at which a path splits.
+    pub depth: u32,
+    /// Occupied grid cells a ray examines at most.
+    pub max_cells: u32,
+    /// The searches' steps.
+    pub steps: Steps,
+    /// Side of each kind's height map (texels).
+    pub resolution: u32,
+    /// Cube face size of the environment impostor.
+    pub env_resolution: u32,
+    /// Hit() refinement steps in the environment impostor.
+    pub env_iterations: u32,
+}
+
+impl Default for InChessSettings {
+    fn default() -> Self {
+        Self {
+            depth: 4,
+            max_cells: ALL_CELLS,
+            steps: Steps::paper(8),
+            resolution: 256,
+            env_resolution: 256,
+            env_iterations: 4,
+        }
+    }
+}
+
+/// `height-maps/in-chess`.
+pub struct HeightMapsInChess {
+    /// The variant's parameters.
+    pub settings: InChessSettings,
+    state: Option<(Tracer, HeightSearch)>,
+}
+
+impl HeightMapsInChess {
+    /// The variant with default settings.
+    pub fn new() -> Self {
+        Self {
+            settings: InChessSettings::default(),
+            state: None,
+        }
+    }
+
+    fn tracer_settings(&self) -> TracerSettings {
+        TracerSettings {
+            depth: self.settings.depth,
+            search: Search::Grid {
+                max_cells: self.settings.max_cells,
+            },
+            env_resolution: self.settings.env_resolution,
+            env_iterations: self.settings.env_iterations,
+        }
+    }
+}
+
+impl Default for HeightMapsInChess {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Technique for HeightMapsInChess {
+    fn id(&self) -> String {
+        "height-maps/in-chess".into()
+    }
+    fn description(&self) -> String {
+        "the many-object tracer of refractor-maps (board grid, rays between pieces, paths split \
+         at up to 4 interfaces) with refractor height maps in place of distance maps (figure 10)"
+            .into()
+    }
+    fn representative(&self) -> bool {
+        true
+    }
+    fn params(&self) -> Vec<Param> {
+        let s = &self.settings;
+        vec![
+            Param::new(
+                "depth",
+                s.depth as f64,
+                (1.0, MAX_DEPTH as f64),
+                true,
+                "interfaces at which a path splits into reflection and refraction",
+            ),
+            Param::new(
+                "max_cells",
+                s.max_cells.min(1 << 20) as f64,
+                (1.0, (1 << 20) as f64),
+                true,
+                "occupied grid cells a ray examines at most (1: the paper's first non-empty \
+                 square)",
+            ),
+            Param::new(
+                "steps",
+                s.steps.binary as f64,
+                (0.0, 32.0),
+                true,
+                "halvings of each binary search in the height maps",
+            ),
+            Param::new(
+                "linear_steps",
+                s.steps.linear as f64,
+                (0.0, 256.0),
+                true,
+                "even samples along a segment before the binary search (0: the paper's)",
+            ),
+            Param::new(
+                "resolution",
+                s.resolution as f64,
+                (4.0, 4096.0),
+                true,
+                "side of each kind's height map (texels)",
+            ),
+            Param::new(
+                "env_resolution",
+                s.env_resolution as f64,
+                (4.0, 4096.0),
+                true,
+                "cube face size of the diffuse environment impostor (texels)",
+            ),
+            Param::new(
+                "env_iterations",
+                s.env_iterations as f64,
+                (0.0, 64.0),
+                true,
+                "Hit() refinement steps in the environment impostor",
+            ),
+        ]
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id(), &self.params(), name, value)?;
+        let s = &mut self.settings;
+        let v = value as u32;
+        match name {
+            "depth" => s.depth = v,
+            "max_cells" => s.max_cells = v,
+            "steps" => s.steps.binary = v,
+            "linear_steps" => s.steps.linear = v,
+            "resolution" => s.resolution = v,
+            "env_resolution" => s.env_resolution = v,
+            "env_iterations" => s.env_iterations = v,
+            _ => unreachable!("check_param accepted an undeclared parameter"),
+        }
+        self.state = None;
+        Ok(())
+    }
+    fn supports(&self, scene: &Scene) -> bool {
+        let specular = scene.specular_objects();
+        !specular.is_empty() && specular.iter().all(|&o| upright(&scene.objects[o]))
+    }
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        let id = self.id();
+        if !self.supports(&scene.scene) {
+            return Err(TechniqueError::Unsupported(format!(
+                "{id} stands each specular object's height map upright on a billboard turning \
+                 about the vertical: every specular object must keep its mesh's y axis vertical"
+            )));
+        }
+        let kinds = Kinds::of(&scene.scene);
+        let s = &self.settings;
+        scene::technique::check_map_budget(
+            &id,
+            kinds.representative.len(),
+            (s.resolution as u64).pow(2) * 16,
+            "resolution",
+        )?;
+        let maps = render_height_maps(frame, scene, &kinds.representative, s.resolution)?;
+        let search = HeightSearch::new(ctx, &scene.scene, &kinds, &maps, s.steps);
+        let tracer = Tracer::new(ctx, scene, kinds, &search, &self.tracer_settings(), "", &id)?;
+        self.state = Some((tracer, search));
+        Ok(())
+    }
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let id = self.id();
+        let settings = self.tracer_settings();
+        let (tracer, search) = self
+            .state
+            .as_ref()
+            .ok_or_else(|| TechniqueError::NotPrepared(id.clone()))?;
+        let group = tracer.group(frame.gpu, &scene.scene, search, &settings, scene.time())?;
+        tracer.render(frame, scene, view, target, &group, &id);
+        Ok(())
+    }
+}
