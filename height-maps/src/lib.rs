@@ -58,6 +58,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             "one interface: measured FLIP 0.1016 / 0.1321 / 0.1032, RMSE 0.0661 / 0.0789 / \
              0.0665; without the exit the pieces show the board through one bend",
         ),
+        ImageCheck::new("height-maps/in-chess", "chess", 1.0, 1.0, "MEASURE"),
         ImageCheck::new(
             "height-maps/double-refraction",
             "cornell-sphere",
