@@ -1,4 +1,5 @@
-//! `height-maps/in-chess`: the paper's figure 10, the many-object tracer of section 4 with
+//! `height-maps/in-chess`: section 6's closing remark ("the refractor distance map can be
+//! replaced by the refractor height map"), the many-object tracer of sections 4-5 with
 //! refractor height maps in place of refractor distance maps.
 //!
 //! The tracer is `scene::multi_object::Tracer` (the board grid, the depth-first tree of
@@ -7,8 +8,9 @@
 //! (`shaders/height_object_search.wgsl`) answers the tracer's three questions with the
 //! height-map search of [`crate::search`]. Neither crate depends on the other.
 
-use crate::map::{map_bounds, render_height_maps, upright};
+use crate::map::{map_bounds, render_height_maps};
 use crate::search::{HEIGHT_SEARCH_WGSL, Steps};
+use crate::technique::{MapSettings, unsupported};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
 use scene::multi_object::grid::ALL_CELLS;
@@ -87,14 +89,8 @@ pub struct InChessSettings {
     pub depth: u32,
     /// Occupied grid cells a ray examines at most.
     pub max_cells: u32,
-    /// The searches' steps.
-    pub steps: Steps,
-    /// Side of each kind's height map (texels).
-    pub resolution: u32,
-    /// Cube face size of the environment impostor.
-    pub env_resolution: u32,
-    /// Hit() refinement steps in the environment impostor.
-    pub env_iterations: u32,
+    /// The maps and their searches.
+    pub maps: MapSettings,
 }
 
 impl Default for InChessSettings {
@@ -102,10 +98,7 @@ impl Default for InChessSettings {
         Self {
             depth: 4,
             max_cells: ALL_CELLS,
-            steps: Steps::paper(8),
-            resolution: 256,
-            env_resolution: 256,
-            env_iterations: 4,
+            maps: MapSettings::default(),
         }
     }
 }
@@ -132,8 +125,8 @@ impl HeightMapsInChess {
             search: Search::Grid {
                 max_cells: self.settings.max_cells,
             },
-            env_resolution: self.settings.env_resolution,
-            env_iterations: self.settings.env_iterations,
+            env_resolution: self.settings.maps.env_resolution,
+            env_iterations: self.settings.maps.env_iterations,
         }
     }
 }
@@ -149,8 +142,9 @@ impl Technique for HeightMapsInChess {
         "height-maps/in-chess".into()
     }
     fn description(&self) -> String {
-        "the many-object tracer of refractor-maps (board grid, rays between pieces, paths split \
-         at up to 4 interfaces) with refractor height maps in place of distance maps (figure 10)"
+        "scene's many-object tracer, the one refractor-maps runs on distance maps (board grid, \
+         rays between pieces, paths split at up to 4 interfaces), with refractor height maps in \
+         place of distance maps (section 6's closing remark)"
             .into()
     }
     fn representative(&self) -> bool {
@@ -158,7 +152,7 @@ impl Technique for HeightMapsInChess {
     }
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
-        vec![
+        let mut p = vec![
             Param::new(
                 "depth",
                 s.depth as f64,
@@ -174,75 +168,33 @@ impl Technique for HeightMapsInChess {
                 "occupied grid cells a ray examines at most (1: the paper's first non-empty \
                  square)",
             ),
-            Param::new(
-                "steps",
-                s.steps.binary as f64,
-                (0.0, 32.0),
-                true,
-                "halvings of each binary search in the height maps",
-            ),
-            Param::new(
-                "linear_steps",
-                s.steps.linear as f64,
-                (0.0, 256.0),
-                true,
-                "even samples along a segment before the binary search (0: the paper's)",
-            ),
-            Param::new(
-                "resolution",
-                s.resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "side of each kind's height map (texels)",
-            ),
-            Param::new(
-                "env_resolution",
-                s.env_resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "cube face size of the diffuse environment impostor (texels)",
-            ),
-            Param::new(
-                "env_iterations",
-                s.env_iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the environment impostor",
-            ),
-        ]
+        ];
+        p.extend(s.maps.params());
+        p
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         check_param(&self.id(), &self.params(), name, value)?;
         let s = &mut self.settings;
-        let v = value as u32;
         match name {
-            "depth" => s.depth = v,
-            "max_cells" => s.max_cells = v,
-            "steps" => s.steps.binary = v,
-            "linear_steps" => s.steps.linear = v,
-            "resolution" => s.resolution = v,
-            "env_resolution" => s.env_resolution = v,
-            "env_iterations" => s.env_iterations = v,
+            "depth" => s.depth = value as u32,
+            "max_cells" => s.max_cells = value as u32,
+            name if s.maps.set(name, value) => {}
             _ => unreachable!("check_param accepted an undeclared parameter"),
         }
         self.state = None;
         Ok(())
     }
     fn supports(&self, scene: &Scene) -> bool {
-        let specular = scene.specular_objects();
-        !specular.is_empty() && specular.iter().all(|&o| upright(&scene.objects[o]))
+        unsupported(&self.id(), scene).is_none()
     }
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         let id = self.id();
-        if !self.supports(&scene.scene) {
-            return Err(TechniqueError::Unsupported(format!(
-                "{id} stands each specular object's height map upright on a billboard turning \
-                 about the vertical: every specular object must keep its mesh's y axis vertical"
-            )));
+        if let Some(why) = unsupported(&id, &scene.scene) {
+            return Err(TechniqueError::Unsupported(why));
         }
         let kinds = Kinds::of(&scene.scene);
-        let s = &self.settings;
+        let s = &self.settings.maps;
         scene::technique::check_map_budget(
             &id,
             kinds.representative.len(),
@@ -251,7 +203,13 @@ impl Technique for HeightMapsInChess {
         )?;
         let maps = render_height_maps(frame, scene, &kinds.representative, s.resolution)?;
         let search = HeightSearch::new(ctx, &scene.scene, &kinds, &maps, s.steps);
-        let tracer = Tracer::new(ctx, scene, kinds, &search, &self.tracer_settings(), "", &id)?;
+        let settings = self.tracer_settings();
+        let tracer = Tracer::new(ctx, scene, kinds, &search, &settings, "", &id)?;
+        // The board grid at the scene's time: a scene whose pieces cannot be put in a grid is
+        // refused here, not at the first frame.
+        tracer
+            .group(ctx, &scene.scene, &search, &settings, scene.time())
+            .map_err(|e| with_id(&id, e))?;
         self.state = Some((tracer, search));
         Ok(())
     }
@@ -268,8 +226,18 @@ impl Technique for HeightMapsInChess {
             .state
             .as_ref()
             .ok_or_else(|| TechniqueError::NotPrepared(id.clone()))?;
-        let group = tracer.group(frame.gpu, &scene.scene, search, &settings, scene.time())?;
+        let group = tracer
+            .group(frame.gpu, &scene.scene, search, &settings, scene.time())
+            .map_err(|e| with_id(&id, e))?;
         tracer.render(frame, scene, view, target, &group, &id);
         Ok(())
+    }
+}
+
+/// `e` with the variant's id in front.
+fn with_id(id: &str, e: TechniqueError) -> TechniqueError {
+    match e {
+        TechniqueError::Unsupported(m) => TechniqueError::Unsupported(format!("{id}: {m}")),
+        other => other,
     }
 }

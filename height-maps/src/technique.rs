@@ -12,13 +12,14 @@
 //!    (billboard.wgsl), timed as "billboards".
 
 use crate::map::{map_bounds, render_height_maps, upright};
-use crate::search::HEIGHT_SEARCH_WGSL;
+use crate::search::{HEIGHT_SEARCH_WGSL, Steps};
 use glam::Vec3;
 use gpu::cube::CubeTarget;
 use gpu::distance_map::HIT_WGSL;
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, Uniform, bind};
+use scene::multi_object::pieces_centre;
 use scene::technique::check_param;
 use scene::{
     Frame, GpuScene, Kinds, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
@@ -40,22 +41,96 @@ pub enum Refraction {
     Double,
 }
 
-/// Parameters of a [`HeightMaps`] variant (settable by name through
-/// [`Technique::set_param`]).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Settings {
-    /// After the first surface.
-    pub refraction: Refraction,
-    /// Halvings of each binary search.
-    pub steps: u32,
-    /// Even samples along a segment before the binary search (0: the paper's search).
-    pub linear_steps: u32,
+/// The height maps and their searches: what every variant of the crate declares.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapSettings {
+    /// The searches' steps (the binary search's halvings, the optional linear bracket).
+    pub steps: Steps,
     /// Side of each kind's height map (texels).
     pub resolution: u32,
     /// Cube face size of the environment impostor.
     pub env_resolution: u32,
     /// Hit() refinement steps in the environment impostor.
     pub env_iterations: u32,
+}
+
+impl Default for MapSettings {
+    fn default() -> Self {
+        Self {
+            steps: Steps::paper(8),
+            resolution: 256,
+            env_resolution: 256,
+            env_iterations: 4,
+        }
+    }
+}
+
+impl MapSettings {
+    /// The declared parameters.
+    pub(crate) fn params(&self) -> Vec<Param> {
+        vec![
+            Param::new(
+                "steps",
+                self.steps.binary as f64,
+                (0.0, 32.0),
+                true,
+                "halvings of each binary search in the height map",
+            ),
+            Param::new(
+                "linear_steps",
+                self.steps.linear as f64,
+                (0.0, 256.0),
+                true,
+                "even samples along a segment before the binary search (0: the paper's binary \
+                 search alone; more: relief mapping's linear bracket, not in the paper)",
+            ),
+            Param::new(
+                "resolution",
+                self.resolution as f64,
+                (4.0, 4096.0),
+                true,
+                "side of each kind's height map (texels)",
+            ),
+            Param::new(
+                "env_resolution",
+                self.env_resolution as f64,
+                (4.0, 4096.0),
+                true,
+                "cube face size of the diffuse environment impostor (texels)",
+            ),
+            Param::new(
+                "env_iterations",
+                self.env_iterations as f64,
+                (0.0, 64.0),
+                true,
+                "Hit() refinement steps in the environment impostor",
+            ),
+        ]
+    }
+
+    /// Sets parameter `name` if it is one of these (already checked against its range).
+    pub(crate) fn set(&mut self, name: &str, value: f64) -> bool {
+        let v = value as u32;
+        match name {
+            "steps" => self.steps.binary = v,
+            "linear_steps" => self.steps.linear = v,
+            "resolution" => self.resolution = v,
+            "env_resolution" => self.env_resolution = v,
+            "env_iterations" => self.env_iterations = v,
+            _ => return false,
+        }
+        true
+    }
+}
+
+/// Parameters of a [`HeightMaps`] variant (settable by name through
+/// [`Technique::set_param`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// After the first surface.
+    pub refraction: Refraction,
+    /// The maps and their searches.
+    pub maps: MapSettings,
     /// Chords a refracted ray follows inside a piece (double refraction).
     pub chords: u32,
 }
@@ -64,11 +139,7 @@ impl Default for Settings {
     fn default() -> Self {
         Self {
             refraction: Refraction::Double,
-            steps: 8,
-            linear_steps: 0,
-            resolution: 256,
-            env_resolution: 256,
-            env_iterations: 4,
+            maps: MapSettings::default(),
             chords: 3,
         }
     }
@@ -175,84 +246,37 @@ impl Technique for HeightMaps {
         self.representative
     }
     fn params(&self) -> Vec<Param> {
-        let s = &self.settings;
-        vec![
-            Param::new(
-                "steps",
-                s.steps as f64,
-                (0.0, 32.0),
-                true,
-                "halvings of each binary search in the height map",
-            ),
-            Param::new(
-                "linear_steps",
-                s.linear_steps as f64,
-                (0.0, 256.0),
-                true,
-                "even samples along a segment before the binary search (0: the paper's binary \
-                 search alone; more: relief mapping's linear bracket, not in the paper)",
-            ),
-            Param::new(
-                "resolution",
-                s.resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "side of each kind's height map (texels)",
-            ),
-            Param::new(
-                "env_resolution",
-                s.env_resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "cube face size of the diffuse environment impostor (texels)",
-            ),
-            Param::new(
-                "env_iterations",
-                s.env_iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the environment impostor",
-            ),
-            Param::new(
-                "chords",
-                s.chords as f64,
-                (1.0, 8.0),
-                true,
-                "chords a refracted ray follows inside a piece (double refraction)",
-            ),
-        ]
+        let mut p = self.settings.maps.params();
+        p.push(Param::new(
+            "chords",
+            self.settings.chords as f64,
+            (1.0, 8.0),
+            true,
+            "chords a refracted ray follows inside a piece (double refraction)",
+        ));
+        p
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         check_param(&self.id, &self.params(), name, value)?;
         let s = &mut self.settings;
-        let v = value as u32;
         match name {
-            "steps" => s.steps = v,
-            "linear_steps" => s.linear_steps = v,
-            "resolution" => s.resolution = v,
-            "env_resolution" => s.env_resolution = v,
-            "env_iterations" => s.env_iterations = v,
-            "chords" => s.chords = v,
+            "chords" => s.chords = value as u32,
+            name if s.maps.set(name, value) => {}
             _ => unreachable!("check_param accepted an undeclared parameter"),
         }
         self.state = None;
         Ok(())
     }
     fn supports(&self, scene: &Scene) -> bool {
-        let specular = scene.specular_objects();
-        !specular.is_empty() && specular.iter().all(|&o| upright(&scene.objects[o]))
+        unsupported(&self.id, scene).is_none()
     }
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
-        if !self.supports(&scene.scene) {
-            return Err(TechniqueError::Unsupported(format!(
-                "{} stands each specular object's height map upright on a billboard turning \
-                 about the vertical: every specular object must keep its mesh's y axis vertical",
-                self.id
-            )));
+        if let Some(why) = unsupported(&self.id, &scene.scene) {
+            return Err(TechniqueError::Unsupported(why));
         }
         let kinds = Kinds::of(&scene.scene);
-        let s = &self.settings;
+        let s = &self.settings.maps;
         scene::technique::check_map_budget(
             &self.id,
             kinds.representative.len(),
@@ -355,15 +379,25 @@ impl Technique for HeightMaps {
     }
 }
 
-/// The centre of the pieces' bounds at time 0: the environment impostor's reference point.
-fn pieces_centre(scene: &Scene, kinds: &Kinds) -> Vec3 {
-    let objects: Vec<_> = kinds
-        .pieces
+/// Why `scene` cannot be rendered by a variant named `id`, if it cannot: it needs specular
+/// objects, each standing upright (the billboard turns about the vertical).
+pub(crate) fn unsupported(id: &str, scene: &Scene) -> Option<String> {
+    let specular = scene.specular_objects();
+    if specular.is_empty() {
+        return Some(format!(
+            "{id} renders specular objects and this scene has none"
+        ));
+    }
+    specular
         .iter()
-        .map(|&(o, _)| scene.objects[o].clone())
-        .collect();
-    let (lo, hi) = scene::world_bounds(&objects);
-    (lo + hi) * 0.5
+        .find(|&&o| !upright(&scene.objects[o]))
+        .map(|&o| {
+            format!(
+                "{id} stands each specular object's height map upright on a billboard turning \
+                 about the vertical, and `{}` does not keep its mesh's y axis vertical",
+                scene.objects[o].name
+            )
+        })
 }
 
 /// This frame's `@group(2)`: parameters, pieces, height maps, environment impostor.
@@ -376,13 +410,13 @@ fn frame_group(
 ) -> wgpu::BindGroup {
     let params = ParamsGpu {
         env_reference: state.env_reference.extend(0.0).to_array(),
-        linear_steps: settings.linear_steps,
-        steps: settings.steps,
+        linear_steps: settings.maps.steps.linear,
+        steps: settings.maps.steps.binary,
         refraction: match settings.refraction {
             Refraction::Single => 0,
             Refraction::Double => 1,
         },
-        env_iterations: settings.env_iterations,
+        env_iterations: settings.maps.env_iterations,
         chords: settings.chords,
         _pad: [0; 3],
     };

@@ -430,9 +430,13 @@ impl Caustics {
     }
 
     /// GPU bytes of the caustic maps with these settings for `pieces` pieces and `lights`
-    /// lights (for the map budget).
+    /// lights, at most (for the map budget): a photon map is a square of tiles, so the static
+    /// pieces' holds up to the next square number of tiles, and the moving pieces' is counted
+    /// as large again.
     pub(crate) fn bytes(settings: &CausticSettings, pieces: usize, lights: usize) -> u64 {
-        let photon_pixels = (pieces * lights.max(1)) as u64 * (settings.photons as u64).pow(2);
+        let tiles = (pieces * lights.max(1)) as f64;
+        let square = tiles.sqrt().ceil().powi(2) as u64;
+        let photon_pixels = 2 * square * (settings.photons as u64).pow(2);
         let light_map = (settings.lightmap_resolution as u64).pow(2) * 16;
         photon_pixels * (2 * 16 + 4) + 2 * light_map
     }

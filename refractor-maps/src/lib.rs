@@ -8,7 +8,7 @@
 //!
 //! - [`pieces`]: kinds (one map per mesh) and each kind's refractor map.
 //! - [`technique`]: the [`RefractorMaps`] variants of section 4: `scene`'s many-object tracer
-//!   (`scene::multi_object`: the board grid, the tree of rays, figure 10's exchangeable
+//!   (`scene::multi_object`: the board grid, the tree of rays, section 6's exchangeable
 //!   per-object search) searching refractor distance maps ([`technique::DistanceSearch`]).
 //! - [`environment`]: the [`EnvironmentMaps`] technique (section 5): per-piece environment
 //!   impostors holding multi-bounce radiance, fully updated or with the moving piece

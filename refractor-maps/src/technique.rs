@@ -454,7 +454,7 @@ impl Technique for RefractorMaps {
                         self.id
                     ))
                 })?;
-                Some(Caustics::new(
+                let caustics = Caustics::new(
                     ctx,
                     scene,
                     tracer.kinds(),
@@ -462,7 +462,8 @@ impl Technique for RefractorMaps {
                     tracer.layout(),
                     c,
                     receiver,
-                )?)
+                );
+                Some(caustics.map_err(|e| prefixed(&self.id, e))?)
             }
         };
         if let Some(caustics) = &caustics {

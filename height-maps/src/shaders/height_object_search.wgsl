@@ -1,7 +1,8 @@
 // ---------------------------------------------------------------------------------------------
 // The per-object search of scene's many-object tracer (scene/src/shaders/trace.wgsl) with
 // refractor height maps: section 6's "in the algorithm described in 5.2, the refractor distance
-// map can be replaced by the refractor height map" (figure 10). After the prelude, the piece
+// map can be replaced by the refractor height map", section 6's last paragraph). After the
+// prelude, the piece
 // table (pieces.wgsl), trace.wgsl's Chord and height_search.wgsl. {B} is the first binding.
 //
 // A piece's billboard faces the ray's origin (the search from outside) or, for a ray inside

@@ -1,6 +1,6 @@
 //! The many-object multi-bounce tracer (Dancsik and Minarik, sections 4.1-4.2), with the search
-//! in one object's map as its parameter (the paper's figure 10: "the refractor distance map
-//! can be replaced by the refractor height map").
+//! in one object's map as its parameter (section 6 closes: "In the algorithm described in 5.2,
+//! the refractor distance map can be replaced by the refractor height map").
 //!
 //! - [`grid`]: the board grid and the nearest piece along a ray (Rust twin of
 //!   `shaders/grid_search.wgsl`).

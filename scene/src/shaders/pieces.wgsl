@@ -1,5 +1,5 @@
 // ---------------------------------------------------------------------------------------------
-// The piece table both refractor-map shaders read (Rust: refractor-maps/src/pieces.rs
+// The piece table both refractor-map shaders read (Rust: scene/src/multi_object/pieces.rs
 // `PieceGpu`). The including shader declares `pieces: array<Piece>` at its own binding.
 // ---------------------------------------------------------------------------------------------
 

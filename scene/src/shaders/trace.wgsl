@@ -1,5 +1,5 @@
 // ---------------------------------------------------------------------------------------------
-// Many-object multi-bounce ray tracing (Dancsik and Minarik, sections 4.1-4.2, figure 10), after
+// Many-object multi-bounce ray tracing (Dancsik and Minarik, sections 4.1-4.2 and 6), after
 // the gpu prelude + scene.wgsl + hit.wgsl + grid_search.wgsl + pieces.wgsl + the per-object
 // search (scene::multi_object::ObjectSearch: refractor distance maps, refractor height maps).
 //
