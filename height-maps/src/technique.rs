@@ -13,23 +13,17 @@
 
 use crate::map::{map_bounds, render_height_maps, upright};
 use crate::search::{HEIGHT_SEARCH_WGSL, Steps};
-use glam::Vec3;
-use gpu::cube::CubeTarget;
 use gpu::distance_map::HIT_WGSL;
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, Uniform, bind};
-use scene::multi_object::pieces_centre;
+use scene::multi_object::{EnvironmentImpostor, raster_diffuse};
 use scene::technique::check_param;
 use scene::{
-    Frame, GpuScene, Kinds, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
-    TechniqueResult, View,
+    Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
 };
 
 const BILLBOARD_WGSL: &str = include_str!("shaders/billboard.wgsl");
-
-/// Format of the environment impostor.
-const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// What the refracted ray does after the first surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -159,8 +153,7 @@ struct State {
     kinds: Kinds,
     maps: wgpu::Texture,
     maps_view: wgpu::TextureView,
-    env: CubeTarget,
-    env_reference: Vec3,
+    env: EnvironmentImpostor,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
 }
@@ -309,9 +302,8 @@ impl Technique for HeightMaps {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        let env = CubeTarget::new(ctx, s.env_resolution, ENV_FORMAT, "environment impostor")?;
+        let env = EnvironmentImpostor::new(ctx, &scene.scene, &kinds, s.env_resolution)?;
         self.state = Some(State {
-            env_reference: pieces_centre(&scene.scene, &kinds),
             kinds,
             maps,
             maps_view,
@@ -335,32 +327,9 @@ impl Technique for HeightMaps {
         let ctx = frame.gpu;
         let time = scene.time();
 
-        frame.timer.begin(frame.encoder, "environment");
-        scene.raster_cube(
-            frame,
-            &state.env,
-            state.env_reference,
-            &ObjectFilter::All,
-            false,
-        );
-        frame.timer.end(frame.encoder, "environment");
-
-        let view_proj = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget {
-            color: &target.color_view,
-            depth: &target.depth_view,
-            format: gpu::HDR_FORMAT,
-            clear: true,
-        };
+        state.env.capture(frame, scene);
         let specular: Vec<usize> = state.kinds.pieces.iter().map(|&(o, _)| o).collect();
-        scene.raster(
-            frame,
-            &main,
-            view_proj,
-            view.camera.eye,
-            &ObjectFilter::Except(specular),
-            false,
-        );
+        let view_proj = raster_diffuse(frame, scene, view, target, &specular);
         let group = frame_group(ctx, state, &self.settings, &scene.scene, time);
         let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
         let mut pass = gpu::pass::begin(
@@ -409,7 +378,7 @@ fn frame_group(
     time: f32,
 ) -> wgpu::BindGroup {
     let params = ParamsGpu {
-        env_reference: state.env_reference.extend(0.0).to_array(),
+        env_reference: state.env.reference.extend(0.0).to_array(),
         linear_steps: settings.maps.steps.linear,
         steps: settings.maps.steps.binary,
         refraction: match settings.refraction {
@@ -450,7 +419,7 @@ fn frame_group(
             uniform.binding(),
             piece_buffer.as_entire_binding(),
             bind::view(&state.maps_view),
-            bind::view(&state.env.cube_view),
+            bind::view(state.env.view()),
             bind::sampler_resource(&ctx.samplers.linear_clamp),
         ],
     )

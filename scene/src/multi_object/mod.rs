@@ -18,6 +18,6 @@ pub mod pieces;
 mod tracer;
 
 pub use tracer::{
-    GRID_SEARCH_WGSL, MAX_DEPTH, ObjectSearch, SEARCH_FIRST_BINDING, Search, TRACE_WGSL, Tracer,
-    TracerSettings, pieces_centre, storage,
+    EnvironmentImpostor, GRID_SEARCH_WGSL, MAX_DEPTH, ObjectSearch, SEARCH_FIRST_BINDING, Search,
+    TRACE_WGSL, Tracer, TracerSettings, pieces_centre, raster_diffuse, storage,
 };

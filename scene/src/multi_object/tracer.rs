@@ -112,8 +112,7 @@ struct TracerGpu {
 /// The many-object tracer of one scene, prepared for one [`ObjectSearch`].
 pub struct Tracer {
     kinds: Kinds,
-    env: CubeTarget,
-    env_reference: Vec3,
+    env: EnvironmentImpostor,
     layout: wgpu::BindGroupLayout,
     module: wgpu::ShaderModule,
     pipeline: wgpu::RenderPipeline,
@@ -162,14 +161,8 @@ impl Tracer {
         for (piece, &(object, _)) in kinds.pieces.iter().enumerate() {
             piece_of_object[object] = piece as u32;
         }
-        let env = CubeTarget::new(
-            ctx,
-            settings.env_resolution,
-            ENV_FORMAT,
-            "environment impostor",
-        )?;
+        let env = EnvironmentImpostor::new(ctx, &scene.scene, &kinds, settings.env_resolution)?;
         Ok(Self {
-            env_reference: pieces_centre(&scene.scene, &kinds),
             kinds,
             env,
             layout,
@@ -219,7 +212,7 @@ impl Tracer {
         grid: &BoardGrid,
     ) -> wgpu::BindGroup {
         let uniform = TracerGpu {
-            env_reference: self.env_reference.extend(0.0).to_array(),
+            env_reference: self.env.reference.extend(0.0).to_array(),
             grid_min_cell: [grid.min.x, grid.min.y, grid.cell, 0.0],
             grid_count: [grid.count.x, grid.count.y, 0, 0],
             depth: settings.depth,
@@ -241,7 +234,7 @@ impl Tracer {
             cells.as_entire_binding(),
             self.piece_of_object.as_entire_binding(),
             bind::sampler_resource(&ctx.samplers.linear_clamp),
-            bind::view(&self.env.cube_view),
+            bind::view(self.env.view()),
         ];
         resources.extend(search.resources());
         bind::group(ctx, "many-object tracer", &self.layout, &resources)
@@ -260,32 +253,9 @@ impl Tracer {
         label: &str,
     ) {
         let ctx = frame.gpu;
-        frame.timer.begin(frame.encoder, "environment");
-        scene.raster_cube(
-            frame,
-            &self.env,
-            self.env_reference,
-            &ObjectFilter::All,
-            false,
-        );
-        frame.timer.end(frame.encoder, "environment");
-
-        let view_proj = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget {
-            color: &target.color_view,
-            depth: &target.depth_view,
-            format: gpu::HDR_FORMAT,
-            clear: true,
-        };
+        self.env.capture(frame, scene);
         let specular: Vec<usize> = self.kinds.pieces.iter().map(|&(o, _)| o).collect();
-        scene.raster(
-            frame,
-            &main,
-            view_proj,
-            view.camera.eye,
-            &ObjectFilter::Except(specular.clone()),
-            false,
-        );
+        let view_proj = raster_diffuse(frame, scene, view, target, &specular);
         let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
         let mut pass = gpu::pass::begin(
             frame.encoder,
@@ -300,6 +270,69 @@ impl Tracer {
         pass.set_bind_group(2, group, &[]);
         scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
     }
+}
+
+/// The diffuse scene (no specular object) as one distance impostor (rgb radiance, alpha
+/// distance) from the centre of the specular objects' bounds: what a ray that finds no
+/// specular object sees (`environment()` in trace.wgsl and height-maps' billboards).
+pub struct EnvironmentImpostor {
+    cube: CubeTarget,
+    /// The reference point (world).
+    pub reference: Vec3,
+}
+
+impl EnvironmentImpostor {
+    /// An impostor of `resolution` texels per face for the specular objects `kinds`.
+    pub fn new(
+        ctx: &Context,
+        scene: &Scene,
+        kinds: &Kinds,
+        resolution: u32,
+    ) -> Result<Self, GpuError> {
+        Ok(Self {
+            cube: CubeTarget::new(ctx, resolution, ENV_FORMAT, "environment impostor")?,
+            reference: pieces_centre(scene, kinds),
+        })
+    }
+
+    /// Renders it at the scene's time (timed as "environment").
+    pub fn capture(&self, frame: &mut Frame, scene: &GpuScene) {
+        frame.timer.begin(frame.encoder, "environment");
+        scene.raster_cube(frame, &self.cube, self.reference, &ObjectFilter::All, false);
+        frame.timer.end(frame.encoder, "environment");
+    }
+
+    /// Its cube view.
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.cube.cube_view
+    }
+}
+
+/// The shared raster pass into `target` (cleared) of every object but `specular`; returns the
+/// view's view-projection matrix.
+pub fn raster_diffuse(
+    frame: &mut Frame,
+    scene: &GpuScene,
+    view: &View,
+    target: &Target,
+    specular: &[usize],
+) -> glam::Mat4 {
+    let view_proj = view.camera.view_proj(view.width, view.height);
+    let main = RasterTarget {
+        color: &target.color_view,
+        depth: &target.depth_view,
+        format: gpu::HDR_FORMAT,
+        clear: true,
+    };
+    scene.raster(
+        frame,
+        &main,
+        view_proj,
+        view.camera.eye,
+        &ObjectFilter::Except(specular.to_vec()),
+        false,
+    );
+    view_proj
 }
 
 /// The centre of the specular objects' bounds at time 0: the environment impostor's reference
