@@ -20,7 +20,7 @@ pub use bind::{Samplers, Uniform};
 pub use context::{AdapterSummary, Context};
 pub use target::{
     DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, depth_texture, layer_view, map_buffer, read_buffer,
-    read_texture_bytes, read_texture_f32, read_texture_f32x4,
+    read_texture_bytes, read_texture_f32, read_texture_f32x4, render_texture,
 };
 pub use timer::{GpuTimer, TimeStats, TimerKind};
 pub use wgpu;

@@ -204,6 +204,25 @@ pub fn depth_texture(
     layers: u32,
     label: &str,
 ) -> wgpu::Texture {
+    render_texture(
+        ctx,
+        label,
+        (width, height, layers),
+        DEPTH_FORMAT,
+        wgpu::TextureUsages::COPY_SRC,
+    )
+}
+
+/// A 2D texture of `(width, height, layers)` in `format` that passes render into and shaders
+/// sample (render attachment + texture binding), with `extra` usages (`COPY_SRC` to read it
+/// back): the maps a technique renders once and reads later.
+pub fn render_texture(
+    ctx: &crate::Context,
+    label: &str,
+    (width, height, layers): (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    extra: wgpu::TextureUsages,
+) -> wgpu::Texture {
     ctx.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
@@ -214,10 +233,10 @@ pub fn depth_texture(
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: DEPTH_FORMAT,
+        format,
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
+            | extra,
         view_formats: &[],
     })
 }

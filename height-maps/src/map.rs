@@ -84,22 +84,13 @@ pub fn render_height_maps(
     let ctx = frame.gpu;
     let layers = representatives.len().max(1) as u32;
     let maps = ctx.allocating("refractor height maps", || {
-        ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("refractor height maps"),
-            size: wgpu::Extent3d {
-                width: resolution,
-                height: resolution,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: HEIGHT_MAP_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        })
+        gpu::render_texture(
+            ctx,
+            "refractor height maps",
+            (resolution, resolution, layers),
+            HEIGHT_MAP_FORMAT,
+            wgpu::TextureUsages::COPY_SRC,
+        )
     })?;
     let depth = gpu::depth_texture(ctx, resolution, resolution, 1, "height map depth")
         .create_view(&Default::default());
@@ -138,12 +129,7 @@ pub fn render_height_maps(
         let camera = scene.camera_bind_group(ctx, proj * view * to_map, Vec3::ZERO);
         let uniform = Uniform::new(ctx, "height map pass", &to_map.to_cols_array_2d());
         let group = bind::group(ctx, "height map pass", &layout, &[uniform.binding()]);
-        let target = maps.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2),
-            base_array_layer: layer as u32,
-            array_layer_count: Some(1),
-            ..Default::default()
-        });
+        let target = gpu::layer_view(&maps, layer as u32);
         let empty = Load::Clear(wgpu::Color {
             r: 0.0,
             g: 0.0,

@@ -291,22 +291,13 @@ impl Caustics {
             CausticPath::LightMap => settings.lightmap_resolution,
             CausticPath::Grid => 1,
         };
-        let light_map = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("caustic light map"),
-            size: wgpu::Extent3d {
-                width: side,
-                height: side,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: LIGHT_MAP_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let light_map = gpu::render_texture(
+            ctx,
+            "caustic light map",
+            (side, side, 1),
+            LIGHT_MAP_FORMAT,
+            wgpu::TextureUsages::COPY_SRC,
+        );
         let light_map_view = light_map.create_view(&Default::default());
         Ok(Self {
             settings: settings.clone(),
@@ -356,22 +347,13 @@ impl Caustics {
     pub fn generator_maps(&self, ctx: &Context, env_size: u32) -> Result<GeneratorMaps, GpuError> {
         let size = self.settings.resolution;
         let photon_target = |label| {
-            ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size,
-                    height: size,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: PHOTON_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            })
+            gpu::render_texture(
+                ctx,
+                label,
+                (size, size, 1),
+                PHOTON_FORMAT,
+                wgpu::TextureUsages::COPY_SRC,
+            )
         };
         let grid_bytes = match self.settings.path {
             CausticPath::Grid => 6 * 3 * 4 * (self.settings.grid as u64).pow(2),

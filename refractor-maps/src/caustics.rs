@@ -219,8 +219,14 @@ impl PhotonMap {
             )));
         }
         let view = |format, label: &str| {
-            texture(ctx, side, format, label, wgpu::TextureUsages::empty())
-                .create_view(&Default::default())
+            gpu::render_texture(
+                ctx,
+                label,
+                (side, side, 1),
+                format,
+                wgpu::TextureUsages::empty(),
+            )
+            .create_view(&Default::default())
         };
         Ok(Self {
             tiles_per_row,
@@ -233,31 +239,6 @@ impl PhotonMap {
     fn side(&self, photons: u32) -> u32 {
         self.tiles_per_row * photons
     }
-}
-
-fn texture(
-    ctx: &Context,
-    side: u32,
-    format: wgpu::TextureFormat,
-    label: &str,
-    extra: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: side,
-            height: side,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | extra,
-        view_formats: &[],
-    })
 }
 
 /// A light map: the receiver's chart filling the texture.
@@ -331,11 +312,12 @@ impl Caustics {
                 usage: wgpu::BufferUsages::STORAGE,
             });
         let light_map = |label| {
-            let texture = texture(
+            let side = settings.lightmap_resolution;
+            let texture = gpu::render_texture(
                 ctx,
-                settings.lightmap_resolution,
-                LIGHT_MAP_FORMAT,
                 label,
+                (side, side, 1),
+                LIGHT_MAP_FORMAT,
                 wgpu::TextureUsages::COPY_SRC,
             );
             let view = texture.create_view(&Default::default());
