@@ -11,7 +11,8 @@
 //! Both faces are drawn (no culling), so a closed object gives its front and back surfaces in
 //! successive layers.
 //!
-//! Per layer the peeler produces, in two 2D-array textures with one array layer per peel layer:
+//! Per layer the peeler produces, in three 2D-array textures with one array layer per peel
+//! layer:
 //!
 //! - colour ([`DepthPeeler::FORMAT`], `Rgba32Float`): `xyz` = the interpolated vertex normal,
 //!   normalised, in world space (the object's normal matrix applied) and as stored in the mesh
@@ -19,6 +20,10 @@
 //!   normals on back surfaces too); `w` = the Euclidean distance from the eye to the surface
 //!   point (not the clip depth). Empty texels are `(0, 0, 0, 0)`: a visible surface always has
 //!   `w > 0`.
+//! - surface ([`DepthPeeler::FORMAT`]): `x` = the object's index in the scene (as a float,
+//!   exact below 2^24), `yz` = the interpolated texture coordinates, `w` = 1; empty texels are
+//!   `(0, 0, 0, 0)`. With the normal and the distance this is what a technique needs to shade
+//!   the surface at any layer (`surface_albedo`, `specular_event` of `scene.wgsl`).
 //! - depth ([`gpu::DEPTH_FORMAT`]): the clip-space depth in [0, 1] of the same fragment; empty
 //!   texels hold the clear value 1.
 //!
@@ -31,7 +36,7 @@ use gpu::pass;
 use gpu::wgpu;
 use gpu::{Context, GpuError, Uniform, bind};
 
-use crate::{Frame, GpuScene, ObjectFilter, SCENE_WGSL, scene_pipeline};
+use crate::{Frame, GpuScene, ObjectFilter, SCENE_WGSL, scene_pipeline_with};
 
 const PEEL_WGSL: &str = r#"
 struct Peel {
@@ -45,8 +50,13 @@ struct Peel {
 
 // Drawn with scene_vs, whose position is @invariant: re-rasterising the same triangle in the
 // next pass gives bit-identical depth.
+struct PeelTargets {
+    @location(0) normal_distance: vec4f,
+    @location(1) surface: vec4f,
+};
+
 @fragment
-fn peel_fs(in: SceneVertexOut) -> @location(0) vec4f {
+fn peel_fs(in: SceneVertexOut) -> PeelTargets {
     if (peel.layer > 0u) {
         // Keep only what lies strictly behind the previous layer (an empty texel there holds
         // depth 1, so everything is discarded and this layer stays empty too).
@@ -55,7 +65,10 @@ fn peel_fs(in: SceneVertexOut) -> @location(0) vec4f {
             discard;
         }
     }
-    return vec4f(normalize(in.normal), distance(in.world, camera.eye.xyz));
+    return PeelTargets(
+        vec4f(normalize(in.normal), distance(in.world, camera.eye.xyz)),
+        vec4f(f32(in.object), in.uv, 1.0),
+    );
 }
 "#;
 
@@ -77,10 +90,13 @@ pub struct DepthPeeler {
     layers: u32,
     epsilon: f32,
     color: wgpu::Texture,
+    surface: wgpu::Texture,
     depth: wgpu::Texture,
     color_layer_views: Vec<wgpu::TextureView>,
+    surface_layer_views: Vec<wgpu::TextureView>,
     depth_layer_views: Vec<wgpu::TextureView>,
     color_array_view: wgpu::TextureView,
+    surface_array_view: wgpu::TextureView,
     depth_array_view: wgpu::TextureView,
     pipeline: wgpu::RenderPipeline,
     uniforms: Vec<Uniform<PeelUniforms>>,
@@ -118,22 +134,17 @@ impl DepthPeeler {
     }
 
     fn create(ctx: &Context, gpu_scene: &GpuScene, width: u32, height: u32, layers: u32) -> Self {
-        let color = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("depth peel layers"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: Self::FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let layer_texture = |label| {
+            gpu::render_texture(
+                ctx,
+                label,
+                (width, height, layers),
+                Self::FORMAT,
+                wgpu::TextureUsages::COPY_SRC,
+            )
+        };
+        let color = layer_texture("depth peel layers");
+        let surface = layer_texture("depth peel surfaces");
         let depth = gpu::depth_texture(ctx, width, height, layers, "depth peel depth");
         // Layer 0 compares against nothing, but its bind group still needs a depth view.
         let unused_depth = gpu::depth_texture(ctx, 1, 1, 1, "depth peel unused depth");
@@ -146,6 +157,8 @@ impl DepthPeeler {
             })
         };
         let color_layer_views: Vec<_> = (0..layers).map(|l| gpu::layer_view(&color, l)).collect();
+        let surface_layer_views: Vec<_> =
+            (0..layers).map(|l| gpu::layer_view(&surface, l)).collect();
         let depth_layer_views: Vec<_> = (0..layers).map(|l| gpu::layer_view(&depth, l)).collect();
 
         let peel_layout = bind::layout(
@@ -189,7 +202,18 @@ impl DepthPeeler {
         let module =
             gpu::shader_with_prelude(ctx, "depth peel", &format!("{SCENE_WGSL}\n{PEEL_WGSL}"));
         let layout = gpu_scene.pipeline_layout_with(ctx, &[&peel_layout]);
-        let pipeline = scene_pipeline(ctx, "depth peel", &layout, &module, "peel_fs", Self::FORMAT);
+        let pipeline = scene_pipeline_with(
+            ctx,
+            "depth peel",
+            &layout,
+            &module,
+            "peel_fs",
+            &[
+                pass::color_target(Self::FORMAT, None),
+                pass::color_target(Self::FORMAT, None),
+            ],
+            (true, wgpu::CompareFunction::Less),
+        );
 
         Self {
             width,
@@ -197,10 +221,13 @@ impl DepthPeeler {
             layers,
             epsilon: Self::DEFAULT_EPSILON,
             color_array_view: array_view(&color),
+            surface_array_view: array_view(&surface),
             depth_array_view: array_view(&depth),
             color,
+            surface,
             depth,
             color_layer_views,
+            surface_layer_views,
             depth_layer_views,
             pipeline,
             uniforms,
@@ -287,10 +314,10 @@ impl DepthPeeler {
             let mut pass = pass::begin(
                 frame.encoder,
                 "depth peel layer",
-                &[pass::color(
-                    &self.color_layer_views[layer],
-                    pass::CLEAR_BLACK,
-                )],
+                &[
+                    pass::color(&self.color_layer_views[layer], pass::CLEAR_BLACK),
+                    pass::color(&self.surface_layer_views[layer], pass::CLEAR_BLACK),
+                ],
                 Some(pass::depth(&self.depth_layer_views[layer], pass::CLEAR_FAR)),
                 writes,
             );
@@ -308,6 +335,18 @@ impl DepthPeeler {
     /// non-filtering sampler).
     pub fn layers_view(&self) -> &wgpu::TextureView {
         &self.color_array_view
+    }
+
+    /// All layers' surfaces (object index, texture coordinates, 1) as one `D2Array` view of
+    /// [`Self::FORMAT`], like [`Self::layers_view`].
+    pub fn surfaces_view(&self) -> &wgpu::TextureView {
+        &self.surface_array_view
+    }
+
+    /// Reads one layer's surfaces back: `[object, u, v, 1]` per pixel (zero where empty).
+    pub fn read_surface(&self, ctx: &Context, layer: u32) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.check_layer(layer)?;
+        gpu::read_texture_f32x4(ctx, &self.surface, layer)
     }
 
     /// All layers' clip depths as one `D2Array` view, for `texture_depth_2d_array` bindings.

@@ -537,3 +537,76 @@ fn bad_input_is_an_error() {
     assert_empty(&peeled, 0);
     assert_empty(&peeled, 1);
 }
+
+/// On built-in scenes (the pool's waves and ladder, the bunny, the chess pieces), along each
+/// camera path: at every pixel the non-empty layers come first, their clip depths strictly
+/// increase (their distances do not decrease beyond rounding: two surfaces in contact, the
+/// bunny's base on the floor, may round to the same f32 distance), and each holds the index of a scene object in its surface texture (the object the
+/// surface belongs to: every object's layer-0 pixels are where the camera sees it).
+#[test]
+fn builtin_scenes_peel_into_strictly_increasing_layers() {
+    let ctx = testkit::context();
+    let _lock = testkit::gpu_lock();
+    let size = 48;
+    for spec in ["pool", "refraction-bunny", "chess"] {
+        let scene = scene::load(spec).expect("scene");
+        let mut gpu_scene = GpuScene::new(ctx, &scene).expect("scene uploads");
+        let layers = 8;
+        let peeler = DepthPeeler::new(ctx, &gpu_scene, size, size, layers).expect("peeler");
+        for time in [0.0, scene.camera_path.duration()] {
+            let cam = scene.camera_at(time);
+            let camera = Camera {
+                view_proj: cam.view_proj(size, size),
+                eye: cam.eye,
+            };
+            peel_with(&peeler, &mut gpu_scene, &ObjectFilter::All, &camera, time);
+            let read: Vec<_> = (0..layers)
+                .map(|l| {
+                    (
+                        peeler.read_layer(ctx, l).expect("layer"),
+                        peeler.read_surface(ctx, l).expect("surface"),
+                        peeler.read_depth(ctx, l).expect("depth"),
+                    )
+                })
+                .collect();
+            let mut deepest = 0;
+            for p in 0..(size * size) as usize {
+                let (mut previous, mut previous_depth) = (0.0, -1.0);
+                let mut ended = false;
+                for (l, (layer, surface, depth)) in read.iter().enumerate() {
+                    let d = layer[p][3];
+                    if d <= 0.0 {
+                        ended = true;
+                        assert_eq!(surface[p], [0.0; 4], "{spec} t={time} pixel {p} layer {l}");
+                        continue;
+                    }
+                    assert!(
+                        !ended,
+                        "{spec} t={time} pixel {p}: layer {l} after an empty one"
+                    );
+                    // Distances come from the interpolated world position, depths from the
+                    // clip position: their roundings differ by an ulp or so.
+                    assert!(
+                        d >= previous * (1.0 - 1e-5),
+                        "{spec} t={time} pixel {p}: {d} after {previous}"
+                    );
+                    assert!(
+                        depth[p] > previous_depth,
+                        "{spec} t={time} pixel {p}: clip depth {} after {previous_depth}",
+                        depth[p]
+                    );
+                    previous_depth = depth[p];
+                    let object = surface[p][0];
+                    assert!(
+                        object.fract() == 0.0 && (object as usize) < scene.objects.len(),
+                        "{spec} pixel {p} layer {l}: object {object}"
+                    );
+                    assert_eq!(surface[p][3], 1.0);
+                    previous = d;
+                    deepest = deepest.max(l + 1);
+                }
+            }
+            assert!(deepest >= 2, "{spec}: only {deepest} layers anywhere");
+        }
+    }
+}

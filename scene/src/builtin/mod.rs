@@ -14,6 +14,7 @@
 //! | [`chess`] | `chess` (and the piece meshes the refractor-map techniques build maps of) |
 //! | [`city`] | `city` (and the interior generators the `interior-mapping` crate reuses) |
 //! | [`smoke`] | `smoke` |
+//! | [`pool`] | `pool` (a swimming pool with a glass height-field water surface) |
 //! | [`textures`] | texture helpers any scene may use (`checker_texture`, `from_texels`) |
 //! | this file | the registry ([`builtin_scenes`], [`build`]) and spec parsing |
 //!
@@ -30,6 +31,7 @@ pub mod bunny;
 pub mod chess;
 pub mod city;
 pub mod cornell;
+pub mod pool;
 pub mod smoke;
 pub mod textures;
 
@@ -268,6 +270,19 @@ fn registry() -> Vec<Builtin> {
                 )],
             },
             build: |a| Ok(smoke::smoke(a.num("particles")? as usize)),
+        },
+        Builtin {
+            info: SceneInfo {
+                name: "pool",
+                description: "a tiled swimming pool under the sun: glass height-field water                               (drifting waves), a ladder and a ball in the water; seen by a                               swimmer under the surface",
+                params: vec![word(
+                    "view",
+                    "below",
+                    "below: under the surface (caustics seen directly); above: from the \
+                     pool's end (the reference has no caustics seen through the surface)",
+                )],
+            },
+            build: |a| pool::pool(&a.get("view")),
         },
     ]
 }
