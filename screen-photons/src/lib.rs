@@ -1,0 +1,97 @@
+//! Screen-space photon tracing (Krüger, Bürger and Westermann: "Interactive Screen-Space
+//! Accurate Photon Tracing on GPUs", EGSR 2006; `../shared/papers/screen-space-photon-tracing.md`,
+//! sections 2-4): caustics without photon maps. Photons leave the light through the specular
+//! surfaces (the transfer map), their rays are marched in screen space over a layered depth
+//! image of the eye's view, and where they meet a diffuse surface their flux is splatted onto
+//! the image; the same march traces view rays through refractors.
+//!
+//! - [`march`]: the screen-space march over an LDI (segment clipping and projection, the
+//!   paper's tolerance test and the engines' thickness test, section 4's monotone layers):
+//!   the Rust twin of `shaders/ldi.wgsl`.
+//! - [`splat`]: the splat kernel and the weights of oriented splats and screen-aligned
+//!   sprites: the twin of `shaders/splat.wgsl`'s `splat_weight`.
+//! - [`technique`]: the passes of a frame and the variants `lines`, `dda`, `sprites`,
+//!   `refraction`, `refraction-dda`.
+//!
+//! See `README.md` for the mapping to the paper, the departures and the failure cases.
+
+pub mod march;
+pub mod splat;
+pub mod technique;
+
+pub use technique::{March, Refraction, ScreenPhotons, Settings, Splat, Variant};
+
+/// All technique variants of this crate.
+pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
+    technique::variants()
+        .into_iter()
+        .map(|v| Box::new(ScreenPhotons::new(v)) as Box<dyn scene::Technique>)
+        .collect()
+}
+
+/// The image checks of this crate (run by the tests crate against the reference along the
+/// camera path).
+pub fn image_checks() -> Vec<scene::ImageCheck> {
+    use scene::ImageCheck;
+    vec![
+        ImageCheck::new(
+            "screen-photons/dda",
+            "pool",
+            0.40,
+            0.19,
+            "caustics through the waves, photons marched by the DDA: measured FLIP 0.3589 / \
+             0.3660 / 0.3113, RMSE 0.1719 / 0.1731 / 0.1708 at t = 0, 1, 2 (64 x 64); the shared \
+             raster pass, which leaves everything under the water dark, has FLIP 0.6536",
+        ),
+        ImageCheck::new(
+            "screen-photons/lines",
+            "pool",
+            0.50,
+            0.22,
+            "the paper's line marcher: measured FLIP 0.4544 / 0.4501 / 0.4099, RMSE 0.2033 / \
+             0.2036 / 0.2011 (64 x 64: at this size a pixel step skips the tolerance window on \
+             the grazing floor, README \"Failure cases\"); raster 0.6536",
+        ),
+        ImageCheck::new(
+            "screen-photons/lines",
+            "cornell-sphere",
+            0.072,
+            0.34,
+            "the sphere's caustic through two refractions (section 2.3): measured FLIP 0.0648 / \
+             0.0520 / 0.0648, RMSE 0.2459 / 0.3114 / 0.2459; raster (no caustic) FLIP 0.1728, \
+             RMSE 0.4896",
+        ),
+        ImageCheck::new(
+            "screen-photons/dda",
+            "cornell-sphere",
+            0.065,
+            0.25,
+            "measured FLIP 0.0583 / 0.0495 / 0.0583, RMSE 0.2300 / 0.2112 / 0.2300",
+        ),
+        ImageCheck::new(
+            "screen-photons/refraction",
+            "refraction-bunny",
+            0.095,
+            0.077,
+            "section 4's refraction through monotone layers: measured FLIP 0.0808 / 0.0680 / \
+             0.0862, RMSE 0.0649 / 0.0583 / 0.0701; raster FLIP 0.1472",
+        ),
+        ImageCheck::new(
+            "screen-photons/refraction-dda",
+            "refraction-bunny",
+            0.085,
+            0.067,
+            "refraction with the DDA: measured FLIP 0.0768 / 0.0669 / 0.0674, RMSE 0.0609 / \
+             0.0584 / 0.0582",
+        ),
+        ImageCheck::new(
+            "screen-photons/shadows",
+            "cornell-sphere",
+            0.125,
+            0.54,
+            "screen-space shadow rays: measured FLIP 0.1124 / 0.0855 / 0.1124, RMSE 0.4872 / \
+             0.3923 / 0.4872 (the variant has no caustics: the RMSE is the reference's caustic, \
+             as for raster's 0.4896)",
+        ),
+    ]
+}

@@ -1,0 +1,272 @@
+// ---------------------------------------------------------------------------------------------
+// The screen-space march of a ray over a layered depth image (LDI): the WGSL twin of
+// `src/march.rs` (same algorithm, names and constants; see its documentation).
+//
+// The includer declares:
+//   var<uniform> ldi: LdiParams;
+//   var ldi_layers: texture_2d_array<f32>;    // xyz authored normal, w distance (0 = empty)
+//   var ldi_surfaces: texture_2d_array<f32>;  // x object index, yz uv, w 1
+//   var refractor_layers, refractor_surfaces  // the same for the LDI of the refractors alone
+//   fn ldi_is_specular(object: u32) -> bool;
+// Every function reading an LDI takes `which`: LDI_SCENE (all objects) or LDI_REFRACTORS.
+// (the technique's passes at @group(2), the conformance kernel at @group(0)).
+// ---------------------------------------------------------------------------------------------
+
+struct LdiParams {
+    // World to clip of the eye the LDI was peeled from (depth in [0, 1]).
+    view_proj: mat4x4f,
+    // Its inverse (clip to world).
+    inv_view_proj: mat4x4f,
+    // xyz: the eye.
+    eye: vec4f,
+    // Width, height, layers, the longest line in samples.
+    size: vec4u,
+    // x: tolerance (the paper's test), y: thickness (the DDA's), z: t_skip, w: unused.
+    tests: vec4f,
+    // The scene's bounding box (rays are marched only inside it).
+    bounds_min: vec4f,
+    bounds_max: vec4f,
+};
+
+struct LdiTexel {
+    distance: f32,
+    normal: vec3f,
+    object: u32,
+    specular: bool,
+};
+
+const LDI_SCENE: u32 = 0u;
+const LDI_REFRACTORS: u32 = 1u;
+
+fn ldi_texel(which: u32, x: u32, y: u32, layer: u32) -> LdiTexel {
+    var a: vec4f;
+    var object: u32;
+    if (which == LDI_SCENE) {
+        a = textureLoad(ldi_layers, vec2u(x, y), layer, 0);
+        object = u32(textureLoad(ldi_surfaces, vec2u(x, y), layer, 0).x);
+    } else {
+        a = textureLoad(refractor_layers, vec2u(x, y), layer, 0);
+        object = u32(textureLoad(refractor_surfaces, vec2u(x, y), layer, 0).x);
+    }
+    var t: LdiTexel;
+    t.distance = a.w;
+    t.normal = a.xyz;
+    t.object = object;
+    t.specular = a.w > 0.0 && ldi_is_specular(object);
+    return t;
+}
+
+struct Segment {
+    origin: vec3f,
+    dir: vec3f,
+    t0: f32,
+    t1: f32,
+    w0: f32,
+    w1: f32,
+    p0: vec2f,
+    p1: vec2f,
+    steps: u32,
+    // false: no part of the ray is in view.
+    visible: bool,
+};
+
+fn ldi_pixel_of(c: vec4f) -> vec2f {
+    let size = vec2f(ldi.size.xy);
+    return vec2f((c.x / c.w + 1.0) * 0.5 * size.x, (1.0 - c.y / c.w) * 0.5 * size.y);
+}
+
+// The part of the ray origin + t dir, t >= 0, inside the scene's bounding box (empty: x > y).
+fn scene_range(origin: vec3f, dir: vec3f) -> vec2f {
+    let r = ray_box(origin, dir, ldi.bounds_min.xyz, ldi.bounds_max.xyz);
+    return vec2f(max(r.x, 0.0), r.y);
+}
+
+// Liang-Barsky clip of origin + t dir, t in [t_min, t_max], to the view frustum, projected.
+fn clip_segment(origin: vec3f, dir: vec3f, t_min: f32, t_max: f32) -> Segment {
+    var s: Segment;
+    s.origin = origin;
+    s.dir = dir;
+    s.visible = false;
+    let a = ldi.view_proj * vec4f(origin, 1.0);
+    let b = ldi.view_proj * vec4f(dir, 0.0);
+    var fa = array<f32, 6>(a.w + a.x, a.w - a.x, a.w + a.y, a.w - a.y, a.z, a.w - a.z);
+    var fb = array<f32, 6>(b.w + b.x, b.w - b.x, b.w + b.y, b.w - b.y, b.z, b.w - b.z);
+    var t0 = t_min;
+    var t1 = t_max;
+    for (var i = 0; i < 6; i++) {
+        if (fb[i] == 0.0) {
+            if (fa[i] < 0.0) { return s; }
+        } else {
+            let t = -fa[i] / fb[i];
+            if (fb[i] > 0.0) { t0 = max(t0, t); } else { t1 = min(t1, t); }
+        }
+    }
+    if (!(t0 < t1)) { return s; }
+    let c0 = a + b * t0;
+    let c1 = a + b * t1;
+    if (!(c0.w > 0.0 && c1.w > 0.0)) { return s; }
+    s.t0 = t0;
+    s.t1 = t1;
+    s.w0 = c0.w;
+    s.w1 = c1.w;
+    s.p0 = ldi_pixel_of(c0);
+    s.p1 = ldi_pixel_of(c1);
+    let span = abs(s.p1 - s.p0);
+    // At least one sample per 2 * tolerance of ray length (the minimum line length).
+    let along = ceil((t1 - t0) / (2.0 * ldi.tests.x));
+    s.steps = clamp(u32(min(max(ceil(max(span.x, span.y)), along), 1e6)), 1u, ldi.size.w);
+    s.visible = true;
+    return s;
+}
+
+// The ray parameter at screen fraction s (1/w is linear in screen space).
+fn segment_t_at(s: Segment, f: f32) -> f32 {
+    let u = f * s.w0 / ((1.0 - f) * s.w1 + f * s.w0);
+    return s.t0 + u * (s.t1 - s.t0);
+}
+
+fn segment_fraction(s: Segment, k: u32) -> f32 {
+    return (f32(k) + 0.5) / f32(s.steps);
+}
+
+fn segment_pixel(s: Segment, k: u32) -> vec2u {
+    let p = s.p0 + (s.p1 - s.p0) * segment_fraction(s, k);
+    return min(vec2u(max(floor(p), vec2f(0.0))), ldi.size.xy - vec2u(1u));
+}
+
+// The point of the LDI's texel (x, y) at `distance` from the eye (on the pixel centre's ray).
+fn ldi_point(x: u32, y: u32, distance: f32) -> vec3f {
+    let size = vec2f(ldi.size.xy);
+    let ndc = vec2f(2.0 * (f32(x) + 0.5) / size.x - 1.0, 1.0 - 2.0 * (f32(y) + 0.5) / size.y);
+    let far = ldi.inv_view_proj * vec4f(ndc, 1.0, 1.0);
+    return ldi.eye.xyz + normalize(far.xyz / far.w - ldi.eye.xyz) * distance;
+}
+
+// Where a ray that hit texel `texel` at parameter `t` (a sample's, up to a pixel's travel off
+// the surface) meets the surface: its intersection with the texel's tangent plane when that
+// lies within `reach` of t, else the sample's point projected onto the plane.
+fn point_on_surface(origin: vec3f, dir: vec3f, t: f32, texel: LdiTexel, x: u32, y: u32, reach: f32) -> vec3f {
+    let on = ldi_point(x, y, texel.distance);
+    let n = normalize(texel.normal);
+    let denom = dot(dir, n);
+    let p = origin + dir * t;
+    if (abs(denom) > 1e-4) {
+        let tp = dot(on - origin, n) / denom;
+        if (abs(tp - t) <= reach) { return origin + dir * tp; }
+    }
+    return p - n * dot(p - on, n);
+}
+
+// The ray length one sample spans.
+fn segment_step(s: Segment) -> f32 {
+    return (s.t1 - s.t0) / f32(s.steps);
+}
+
+fn segment_distance(s: Segment, t: f32) -> f32 {
+    return length(s.origin + s.dir * t - ldi.eye.xyz);
+}
+
+// Which surfaces may stop a ray: a ray outside glass enters specular surfaces through their
+// front, one inside leaves through their back; a shadow ray stops at anything.
+const SIDE_OUTSIDE: u32 = 0u;
+const SIDE_INSIDE: u32 = 1u;
+const SIDE_ANY: u32 = 2u;
+
+fn side_of(inside: bool) -> u32 {
+    return select(SIDE_OUTSIDE, SIDE_INSIDE, inside);
+}
+
+// A specular surface stops a ray only from the side the ray is on.
+fn side_ok(texel: LdiTexel, dir: vec3f, side: u32) -> bool {
+    return side == SIDE_ANY || !texel.specular || ((dot(texel.normal, dir) > 0.0) == (side == SIDE_INSIDE));
+}
+
+const TEST_TOLERANCE: u32 = 0u;
+const TEST_THICKNESS: u32 = 1u;
+
+// A hit of a march: x = t (ray parameter, 0 = none), y = layer, zw = pixel.
+struct LdiHit {
+    t: f32,
+    layer: u32,
+    pixel: vec2u,
+    step: u32,
+    found: bool,
+};
+
+fn no_hit() -> LdiHit {
+    return LdiHit(0.0, 0u, vec2u(0u), 0u, false);
+}
+
+// The layer hit at sample k under `test` (tolerance: the layer nearest the ray's distance;
+// thickness: the first layer overlapping), if any.
+fn test_sample(which: u32, s: Segment, k: u32, test: u32, side: u32) -> LdiHit {
+    var hit = no_hit();
+    let f = segment_fraction(s, k);
+    let t = segment_t_at(s, f);
+    if (t < ldi.tests.z) { return hit; }
+    let px = segment_pixel(s, k);
+    let d = segment_distance(s, t);
+    var lo = d;
+    var hi = d;
+    if (test == TEST_THICKNESS) {
+        let half = 0.5 / f32(s.steps);
+        let da = segment_distance(s, segment_t_at(s, max(f - half, 0.0)));
+        let db = segment_distance(s, segment_t_at(s, min(f + half, 1.0)));
+        lo = min(min(da, db), d);
+        hi = max(max(da, db), d);
+    }
+    var best_gap = 3.0e38;
+    for (var layer = 0u; layer < ldi.size.z; layer++) {
+        let texel = ldi_texel(which, px.x, px.y, layer);
+        if (texel.distance <= 0.0) { break; }
+        if (!side_ok(texel, s.dir, side)) { continue; }
+        if (test == TEST_TOLERANCE) {
+            let gap = abs(d - texel.distance);
+            if (gap < ldi.tests.x && gap < best_gap) {
+                best_gap = gap;
+                hit = LdiHit(t, layer, px, k, true);
+            }
+        } else if (lo <= texel.distance + ldi.tests.y && hi >= texel.distance) {
+            hit = LdiHit(t, layer, px, k, true);
+            break;
+        }
+    }
+    return hit;
+}
+
+// The DDA march: samples in order, the thickness test, the first hit.
+fn march_dda(which: u32, s: Segment, side: u32) -> LdiHit {
+    if (!s.visible) { return no_hit(); }
+    for (var k = 0u; k < s.steps; k++) {
+        let hit = test_sample(which, s, k, TEST_THICKNESS, side);
+        if (hit.found) { return hit; }
+    }
+    return no_hit();
+}
+
+// The paper's tolerance test walked in order: the first sample a line's fragments would
+// report after the reduction (what the line marcher computes in parallel, for rays a pass
+// traces one per pixel: section 4's view rays).
+fn march_tolerance(which: u32, s: Segment, side: u32) -> LdiHit {
+    if (!s.visible) { return no_hit(); }
+    for (var k = 0u; k < s.steps; k++) {
+        let hit = test_sample(which, s, k, TEST_TOLERANCE, side);
+        if (hit.found) { return hit; }
+    }
+    return no_hit();
+}
+
+// Section 4's monotone march: the ray's next intersection is assumed to be in `layer`; the
+// first sample at which the ray is behind that layer.
+fn march_monotone(which: u32, s: Segment, layer: u32) -> LdiHit {
+    if (!s.visible || layer >= ldi.size.z) { return no_hit(); }
+    for (var k = 0u; k < s.steps; k++) {
+        let t = segment_t_at(s, segment_fraction(s, k));
+        let px = segment_pixel(s, k);
+        let texel = ldi_texel(which, px.x, px.y, layer);
+        if (texel.distance > 0.0 && segment_distance(s, t) >= texel.distance) {
+            return LdiHit(t, layer, px, k, true);
+        }
+    }
+    return no_hit();
+}

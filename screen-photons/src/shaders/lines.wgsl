@@ -1,0 +1,69 @@
+// ---------------------------------------------------------------------------------------------
+// The paper's line marcher (section 2.1): each photon ray of a batch is drawn as a horizontal
+// line into its own row of an offscreen buffer, as many fragments long as the ray covers
+// pixels on the screen; each fragment tests its sample against every LDI layer (tolerance
+// test) and writes (t, layer, pixel) where it finds a surface. `reduce_main` then keeps the
+// first hit of each row by a log-step reduction.
+// ---------------------------------------------------------------------------------------------
+
+struct Batch {
+    // First photon of the batch, rows of the buffer, width of the buffer (samples).
+    first: u32,
+    rows: u32,
+    width: u32,
+    _pad: u32,
+};
+
+@group(3) @binding(0) var<storage, read> photons: array<Photon>;
+@group(3) @binding(1) var<uniform> batch: Batch;
+
+struct LineOut {
+    @builtin(position) position: vec4f,
+    @location(0) @interpolate(flat) photon: u32,
+    @location(1) @interpolate(flat) ends: vec4f,   // t0, t1, w0, w1
+    @location(2) @interpolate(flat) pixels: vec4f, // p0, p1
+    @location(3) @interpolate(flat) steps: u32,
+};
+
+@vertex
+fn line_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) row: u32) -> LineOut {
+    var out: LineOut;
+    let i = batch.first + row;
+    out.photon = i;
+    out.position = vec4f(-2.0, -2.0, 0.5, 1.0);
+    out.steps = 0u;
+    if (i >= arrayLength(&photons)) { return out; }
+    let p = photons[i];
+    if (p.origin.w < 0.5) { return out; }
+    let s = photon_segment(p);
+    if (!s.visible) { return out; }
+    // Row `row`, from the left edge to `steps` samples: n_f fragments at x = k + 1/2.
+    let x = select(0.0, f32(s.steps), v == 1u);
+    let width = f32(batch.width);
+    let rows = f32(batch.rows);
+    out.position = vec4f(2.0 * x / width - 1.0, 1.0 - 2.0 * (f32(row) + 0.5) / rows, 0.5, 1.0);
+    out.ends = vec4f(s.t0, s.t1, s.w0, s.w1);
+    out.pixels = vec4f(s.p0, s.p1);
+    out.steps = s.steps;
+    return out;
+}
+
+@fragment
+fn line_fs(in: LineOut) -> @location(0) vec4f {
+    let p = photons[in.photon];
+    var s: Segment;
+    s.origin = p.origin.xyz;
+    s.dir = p.dir.xyz;
+    s.t0 = in.ends.x;
+    s.t1 = in.ends.y;
+    s.w0 = in.ends.z;
+    s.w1 = in.ends.w;
+    s.p0 = in.pixels.xy;
+    s.p1 = in.pixels.zw;
+    s.steps = max(in.steps, 1u);
+    s.visible = true;
+    let k = min(u32(in.position.x), s.steps - 1u);
+    let h = test_sample(LDI_SCENE, s, k, TEST_TOLERANCE, side_of(photon_is_inside(p)));
+    // No discard: a fragment without a hit writes zero (t = 0 is "none").
+    return select(vec4f(0.0), vec4f(h.t, f32(h.layer), vec2f(h.pixel)), h.found && u32(in.position.x) < in.steps);
+}

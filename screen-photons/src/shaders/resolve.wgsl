@@ -1,0 +1,68 @@
+// ---------------------------------------------------------------------------------------------
+// After a march: a photon that met a specular surface in the LDI reflects or refracts there
+// and travels on (the recursive specular-to-specular transfer of section 2.3: the updated
+// photon is the next transfer map); one that met a diffuse surface becomes a receiver point;
+// one that met nothing (it left the view) is done.
+// ---------------------------------------------------------------------------------------------
+
+struct ResolveParams {
+    // Specular events allowed after the transfer map.
+    max_bounces: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+};
+
+@group(3) @binding(0) var<storage, read_write> photons: array<Photon>;
+@group(3) @binding(1) var<storage, read> hits: array<vec4f>;
+@group(3) @binding(2) var<storage, read_write> receivers: array<Receiver>;
+@group(3) @binding(3) var<uniform> resolve: ResolveParams;
+
+@compute @workgroup_size(64)
+fn resolve_main(@builtin(global_invocation_id) g: vec3u) {
+    let i = g.x;
+    if (i >= arrayLength(&photons)) { return; }
+    var p = photons[i];
+    if (p.origin.w < 0.5) { return; }
+    let h = hits[i];
+    if (h.x <= 0.0) {
+        p.origin.w = 0.0;
+        photons[i] = p;
+        return;
+    }
+    let texel = ldi_texel(LDI_SCENE, u32(h.z), u32(h.w), u32(h.y));
+    // The sample is up to a pixel's travel off the surface: put the point on it.
+    let reach = segment_step(photon_segment(p)) + ldi.tests.x;
+    let at = point_on_surface(p.origin.xyz, p.dir.xyz, h.x, texel, u32(h.z), u32(h.w), reach);
+    if (!texel.specular) {
+        let n = normalize(texel.normal);
+        receivers[i] = Receiver(
+            vec4f(at, 1.0),
+            vec4f(select(n, -n, dot(n, p.dir.xyz) > 0.0), 0.0),
+            vec4f(p.power.rgb, 0.0),
+        );
+        p.origin.w = 0.0;
+        photons[i] = p;
+        return;
+    }
+    if (u32(p.power.w) >= resolve.max_bounces) {
+        p.origin.w = 0.0;
+        photons[i] = p;
+        return;
+    }
+    let e = specular_event(texel.object, texel.normal, at, p.origin.xyz, p.dir.xyz);
+    var weight = e.reflectance;
+    var dir = e.reflected;
+    var inside = photon_is_inside(p);
+    if (!e.is_metal && e.refracted.w > 0.5) {
+        weight = vec3f(1.0 - e.reflectance.x);
+        dir = e.refracted.xyz;
+        inside = e.entering;
+    } else if (!e.is_metal) {
+        weight = vec3f(1.0);
+    }
+    p.origin = vec4f(at, 1.0);
+    p.dir = vec4f(dir, select(0.0, 1.0, inside));
+    p.power = vec4f(p.power.rgb * weight, p.power.w + 1.0);
+    photons[i] = p;
+}

@@ -1,0 +1,102 @@
+// ---------------------------------------------------------------------------------------------
+// Screen-space refraction tracing (section 4) of the specular surfaces seen by the eye. At the
+// visible surface the view ray splits (specular_event). The refracted ray, when it enters a
+// refractor, is traced through the refractors' LDI to its exit: the paper's monotone rule
+// (the n-th intersection is in layer n + 1; `mode` 0) or the DDA over every layer with a
+// thickness (`mode` 1); the exit normal comes from that layer, and a ray reflected there
+// (total internal reflection) tries the next layer once more. The rays that leave (reflected
+// at the surface, refracted out) are retraced into the scene's LDI with the same test as the
+// mode's photons (the tolerance test walked in order, or the DDA) and shaded there with the
+// shared diffuse model; a ray that meets nothing there, or leaves the view, sees the
+// background (the paper's environment lookup).
+// ---------------------------------------------------------------------------------------------
+
+struct SpecularParams {
+    // 0: the paper's monotone layers and tolerance test; 1: the DDA with thickness.
+    mode: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+};
+
+@group(3) @binding(0) var<uniform> specular: SpecularParams;
+
+const EXIT_CHORDS: u32 = 2u;
+
+// Radiance arriving at `origin` from direction `dir`: the first diffuse surface of the scene's
+// LDI along it, shaded with direct light (what the reference computes there), else the
+// background.
+fn retrace(origin: vec3f, dir: vec3f, inside: bool) -> vec3f {
+    let side = side_of(inside);
+    let range = scene_range(origin, dir);
+    let s = clip_segment(origin, dir, range.x, range.y);
+    var h: LdiHit;
+    if (specular.mode == 1u) {
+        h = march_dda(LDI_SCENE, s, side);
+    } else {
+        h = march_tolerance(LDI_SCENE, s, side);
+    }
+    if (!h.found) { return scene_info.background.rgb; }
+    let texel = ldi_texel(LDI_SCENE, h.pixel.x, h.pixel.y, h.layer);
+    if (texel.specular) { return scene_info.background.rgb; }
+    // The sample is up to a step off the surface (behind it, for the thickness test): shade
+    // the point on the surface, or the shadow test would put it behind the wall it lights.
+    let p = point_on_surface(origin, dir, h.t, texel, h.pixel.x, h.pixel.y, segment_step(s) + ldi.tests.x);
+    let uv = textureLoad(ldi_surfaces, h.pixel, h.layer, 0).yz;
+    let n = facing_normal(texel.normal, p, origin);
+    return shade_diffuse(p, n, surface_albedo(texel.object, uv));
+}
+
+// The exit of a ray refracted into a refractor at layer 0: its chord through the
+// refractors' LDI; returns the radiance leaving the refractor toward `origin`.
+fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
+    var o = origin;
+    var dir = dir_in;
+    var radiance = vec3f(0.0);
+    var travelling = true;
+    for (var chord = 0u; chord < EXIT_CHORDS; chord++) {
+        if (!travelling) { break; }
+        let range = scene_range(o, dir);
+        let s = clip_segment(o, dir, range.x, range.y);
+        var h: LdiHit;
+        if (specular.mode == 1u) {
+            h = march_dda(LDI_REFRACTORS, s, SIDE_INSIDE);
+        } else {
+            h = march_monotone(LDI_REFRACTORS, s, chord + 1u);
+        }
+        if (!h.found) {
+            radiance = scene_info.background.rgb;
+            travelling = false;
+        } else {
+            let texel = ldi_texel(LDI_REFRACTORS, h.pixel.x, h.pixel.y, h.layer);
+            let p = point_on_surface(o, dir, h.t, texel, h.pixel.x, h.pixel.y, segment_step(s) + ldi.tests.x);
+            let e = specular_event(texel.object, texel.normal, p, o, dir);
+            if (e.refracted.w > 0.5) {
+                radiance = (1.0 - e.reflectance.x) * retrace(p, e.refracted.xyz, false);
+                travelling = false;
+            } else {
+                o = p;
+                dir = e.reflected;
+            }
+        }
+    }
+    return radiance;
+}
+
+@fragment
+fn specular_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    let eye = camera.eye.xyz;
+    let view = normalize(in.world - eye);
+    let e = specular_event(in.object, in.normal, in.world, eye, view);
+    // The reflected ray stays in the medium of the view ray; the refracted one crosses.
+    let reflected = retrace(in.world, e.reflected, !e.entering);
+    var refracted = vec3f(0.0);
+    if (e.refracted.w > 0.5) {
+        if (e.entering) {
+            refracted = through_refractor(in.world, e.refracted.xyz);
+        } else {
+            refracted = retrace(in.world, e.refracted.xyz, false);
+        }
+    }
+    return vec4f(specular_shade(e, reflected, refracted), BACKGROUND_DISTANCE);
+}

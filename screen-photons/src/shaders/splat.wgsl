@@ -1,0 +1,78 @@
+// ---------------------------------------------------------------------------------------------
+// Energy splats (section 3.1): one quad per receiver point covering its splat's footprint on
+// the screen; each pixel receives the photon's flux times a cone kernel of the distance d
+// between the receiver point C and the point X its view ray meets on the splat's plane:
+//   E += flux * 3 / (pi s^2) * max(0, 1 - d / s)
+// (the paper's "s - d" normalised so that the kernel integrates to 1 over the plane: the
+// flux is conserved). `oriented`: the plane is the receiver's tangent plane (the paper's
+// sprite ray caster, equation 1) and X must be the visible surface (its distance within the
+// tolerance of LDI layer 0). `sprite`: the plane faces the viewer (screen-aligned point
+// sprites, the naive variant), drawn where C is not hidden.
+// ---------------------------------------------------------------------------------------------
+
+struct SplatParams {
+    inv_view_proj: mat4x4f,
+    // xyz: the eye's forward axis; w: focal length in pixels (height / (2 tan(fov / 2))).
+    forward: vec4f,
+    // Width, height (pixels), splat radius s (m), depth tolerance of the visibility test (m).
+    size: vec4f,
+    // 0: oriented (tangent plane), 1: screen-aligned sprite.
+    mode: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+};
+
+@group(3) @binding(0) var<storage, read> receivers: array<Receiver>;
+@group(3) @binding(1) var<uniform> splat: SplatParams;
+
+struct SplatOut {
+    @builtin(position) position: vec4f,
+    @location(0) @interpolate(flat) receiver: u32,
+};
+
+const SPLAT_CORNERS = array<vec2f, 6>(
+    vec2f(-1.0, -1.0), vec2f(1.0, -1.0), vec2f(1.0, 1.0),
+    vec2f(-1.0, -1.0), vec2f(1.0, 1.0), vec2f(-1.0, 1.0),
+);
+
+@vertex
+fn splat_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> SplatOut {
+    var out: SplatOut;
+    out.receiver = i;
+    out.position = vec4f(-2.0, -2.0, 0.5, 1.0);
+    let r = receivers[i];
+    if (r.position.w < 0.5) { return out; }
+    let c = r.position.xyz;
+    let eye = camera.eye.xyz;
+    let s = splat.size.z;
+    let z = dot(c - eye, splat.forward.xyz);
+    if (z <= s * 1.01) { return out; }
+    // The footprint of the sphere of radius s about C holds every point of either plane.
+    let radius_px = splat.forward.w * s / (z - s);
+    let clip = camera.view_proj * vec4f(c, 1.0);
+    let centre = vec2f(clip.x / clip.w, clip.y / clip.w);
+    let scale = vec2f(2.0 * radius_px / splat.size.x, 2.0 * radius_px / splat.size.y);
+    out.position = vec4f(centre + SPLAT_CORNERS[v] * scale, 0.5, 1.0);
+    return out;
+}
+
+@fragment
+fn splat_fs(in: SplatOut) -> @location(0) vec4f {
+    let r = receivers[in.receiver];
+    let c = r.position.xyz;
+    let eye = camera.eye.xyz;
+    let px = vec2u(in.position.xy);
+    let ndc = vec2f(2.0 * in.position.x / splat.size.x - 1.0, 1.0 - 2.0 * in.position.y / splat.size.y);
+    let far = splat.inv_view_proj * vec4f(ndc, 1.0, 1.0);
+    let view = normalize(far.xyz / far.w - eye);
+    let visible_distance = textureLoad(ldi_layers, px, 0, 0).w;
+    let sprite = splat.mode == 1u;
+    let n = select(r.normal.xyz, normalize(eye - c), sprite);
+    let w = splat_weight(eye, view, c, n, splat.size.z);
+    let tolerance = splat.size.w;
+    let oriented_visible = abs(w.y - visible_distance) < tolerance;
+    let sprite_visible = distance(c, eye) <= visible_distance + tolerance;
+    let visible = visible_distance > 0.0 && select(oriented_visible, sprite_visible, sprite);
+    return vec4f(r.power.rgb * select(0.0, w.x, visible), 0.0);
+}

@@ -1,0 +1,1330 @@
+//! The screen-photons technique: the passes of a frame and its variants.
+//!
+//! A frame (every pass recorded into the harness's encoder, in this order):
+//!
+//! 1. The shared raster pass draws the diffuse scene (direct light, shadow maps).
+//! 2. *LDI* ("ldi" span): two layered depth images from the eye by `scene::DepthPeeler`: the
+//!    whole scene (photons and retraced rays march over it) and the specular objects alone
+//!    (section 4's LDI "of the transmitting object").
+//! 3. *Caustics* ("caustics" span, the caustic variants only), per light:
+//!    - the transfer map: every object drawn from the light into a `photons` x `photons`
+//!      grid fitted to the caustic casters; a pixel on a specular surface is one photon,
+//!      refracted or reflected there (`transfer.wgsl`), gathered into a photon buffer;
+//!    - `1 + bounces` rounds of a march over the scene's LDI (the paper's lines, `lines.wgsl`
+//!      and `reduce.wgsl`, or the DDA, `dda.wgsl`) and a resolve (`resolve.wgsl`): a photon
+//!      that met a specular surface reflects or refracts and goes on (section 2.3), one that
+//!      met a diffuse surface becomes a receiver point.
+//! 4. *Splats* ("splat" span): a quad per receiver point adds its flux times a normalised
+//!    cone kernel into an irradiance buffer (oriented: section 3.1's tangent-plane ray
+//!    caster; sprites: screen-aligned), and the diffuse surfaces are drawn again adding
+//!    `albedo / pi * E` (`apply.wgsl`).
+//! 5. *Refraction* ("refraction" span): the specular surfaces, shaded by screen-space
+//!    refraction tracing (section 4, `specular.wgsl`).
+
+use glam::{Mat4, Vec3};
+use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR};
+use gpu::wgpu;
+use gpu::{Context, Target, Uniform, bind};
+use scene::{
+    DepthPeeler, Frame, GpuScene, ObjectFilter, Param, RasterTarget, SCENE_WGSL, Scene, Technique,
+    TechniqueError, TechniqueResult, View,
+};
+
+/// The LDI functions (the twin of [`crate::march`]).
+pub const LDI_WGSL: &str = include_str!("shaders/ldi.wgsl");
+/// Photon and receiver structs shared by the photon passes.
+pub const PHOTON_WGSL: &str = include_str!("shaders/photon.wgsl");
+/// The splat kernel and weights (also run by the conformance test).
+pub const SPLAT_WGSL: &str = include_str!("shaders/splat.wgsl");
+const TRANSFER_WGSL: &str = include_str!("shaders/transfer.wgsl");
+const GATHER_WGSL: &str = include_str!("shaders/gather.wgsl");
+const LINES_WGSL: &str = include_str!("shaders/lines.wgsl");
+const REDUCE_WGSL: &str = include_str!("shaders/reduce.wgsl");
+const DDA_WGSL: &str = include_str!("shaders/dda.wgsl");
+const RESOLVE_WGSL: &str = include_str!("shaders/resolve.wgsl");
+const APPLY_WGSL: &str = include_str!("shaders/apply.wgsl");
+const SPECULAR_WGSL: &str = include_str!("shaders/specular.wgsl");
+const SHADOW_MASK_WGSL: &str = include_str!("shaders/shadow_mask.wgsl");
+const SHADOWED_WGSL: &str = include_str!("shaders/shadowed.wgsl");
+
+/// The LDI bindings of the technique's passes (`@group(2)`), and the specular test of
+/// ldi.wgsl from the scene's materials.
+pub const LDI_BINDINGS_WGSL: &str = r#"
+@group(2) @binding(0) var<uniform> ldi: LdiParams;
+@group(2) @binding(1) var ldi_layers: texture_2d_array<f32>;
+@group(2) @binding(2) var ldi_surfaces: texture_2d_array<f32>;
+@group(2) @binding(3) var refractor_layers: texture_2d_array<f32>;
+@group(2) @binding(4) var refractor_surfaces: texture_2d_array<f32>;
+
+fn ldi_is_specular(object: u32) -> bool {
+    return objects[object].material.x != MATERIAL_DIFFUSE;
+}
+"#;
+
+/// Photon buffers, line rows and transfer maps: 32-bit float (the irradiance buffer adds
+/// many photons per pixel).
+const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// How photon rays find their first surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum March {
+    /// The paper's: lines rasterized into rows, the tolerance test, a log-step reduction.
+    Lines,
+    /// One compute invocation per photon marching pixel by pixel with a thickness per layer.
+    Dda,
+}
+
+/// How receiver points spread their flux.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Splat {
+    /// Section 3.1: ray casting the receiver's tangent plane per covered pixel.
+    Oriented,
+    /// Screen-aligned point sprites (the naive variant of the paper's figure 6).
+    Sprite,
+}
+
+/// How the view rays through specular surfaces are traced (section 4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refraction {
+    /// The paper's monotone layers inside refractors and the tolerance test outside.
+    Monotone,
+    /// The DDA with thickness, over every layer.
+    Dda,
+}
+
+/// The parameters of a variant (all declared, all sweepable).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Side of the photon grid: `photons`^2 photons per light.
+    pub photons: u32,
+    /// LDI layers peeled (the paper: "usually sufficient to only consider up to eight").
+    pub layers: u32,
+    /// The paper's world-space tolerance of the line test (m).
+    pub tolerance: f32,
+    /// The DDA's thickness of every surface (m).
+    pub thickness: f32,
+    /// Splat radius in photon spacings at the casters (the grid's pixel at their distance).
+    pub splat_radius: f32,
+    /// Specular events a photon may have after the transfer map (section 2.3).
+    pub bounces: u32,
+    /// Rows of the line buffer: photons per batch of the line marcher.
+    pub rows: u32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            photons: 256,
+            layers: 8,
+            tolerance: 0.03,
+            thickness: 0.1,
+            splat_radius: 3.0,
+            bounces: 2,
+            rows: 4096,
+        }
+    }
+}
+
+impl Settings {
+    fn params(&self) -> Vec<Param> {
+        vec![
+            Param::new(
+                "photons",
+                self.photons as f64,
+                (8.0, 1024.0),
+                true,
+                "side of the photon grid (photons x photons per light; the paper: 128 x 64 to \
+                 1024 x 1024)",
+            ),
+            Param::new(
+                "layers",
+                self.layers as f64,
+                (1.0, 16.0),
+                true,
+                "LDI layers peeled from the eye (depth complexity cap)",
+            ),
+            Param::new(
+                "tolerance",
+                self.tolerance as f64,
+                (1e-4, 1.0),
+                false,
+                "world-space tolerance of the line test (m)",
+            ),
+            Param::new(
+                "thickness",
+                self.thickness as f64,
+                (1e-4, 2.0),
+                false,
+                "thickness of every LDI surface for the DDA test (m)",
+            ),
+            Param::new(
+                "splat_radius",
+                self.splat_radius as f64,
+                (0.25, 32.0),
+                false,
+                "splat radius in photon spacings at the casters",
+            ),
+            Param::new(
+                "bounces",
+                self.bounces as f64,
+                (0.0, 6.0),
+                true,
+                "specular events a photon may have after the transfer map",
+            ),
+            Param::new(
+                "rows",
+                self.rows as f64,
+                (64.0, 8192.0),
+                true,
+                "rows of the line buffer (photons per line batch)",
+            ),
+        ]
+    }
+
+    fn set(&mut self, name: &str, value: f64) {
+        match name {
+            "photons" => self.photons = value as u32,
+            "layers" => self.layers = value as u32,
+            "tolerance" => self.tolerance = value as f32,
+            "thickness" => self.thickness = value as f32,
+            "splat_radius" => self.splat_radius = value as f32,
+            "bounces" => self.bounces = value as u32,
+            "rows" => self.rows = value as u32,
+            _ => unreachable!("checked against params()"),
+        }
+    }
+}
+
+/// A variant: caustics (marcher and splats) or none, the refraction tracing, and the
+/// shadows (the shared pass's shadow maps, or screen-space shadow rays).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Variant {
+    pub name: &'static str,
+    pub caustics: Option<(March, Splat)>,
+    pub refraction: Refraction,
+    pub screen_space_shadows: bool,
+}
+
+/// The variants: `lines`, `dda`, `sprites` (caustics; the specular surfaces traced by the
+/// DDA), `refraction` and `refraction-dda` (refraction tracing alone), `shadows` (screen-space
+/// shadow rays instead of shadow maps, no caustics).
+pub fn variants() -> Vec<Variant> {
+    use March::*;
+    // The caustic variants trace the specular surfaces with the DDA: the paper's tolerance
+    // test misses grazing surfaces (README, "Failure cases"), and its misses would bury the
+    // caustics' error under the surface's; `refraction` measures the paper's tracing alone.
+    let caustics = |name, march, splat| Variant {
+        name,
+        caustics: Some((march, splat)),
+        refraction: Refraction::Dda,
+        screen_space_shadows: false,
+    };
+    vec![
+        caustics("lines", Lines, Splat::Oriented),
+        caustics("dda", Dda, Splat::Oriented),
+        caustics("sprites", Lines, Splat::Sprite),
+        Variant {
+            name: "refraction",
+            caustics: None,
+            refraction: Refraction::Monotone,
+            screen_space_shadows: false,
+        },
+        Variant {
+            name: "refraction-dda",
+            caustics: None,
+            refraction: Refraction::Dda,
+            screen_space_shadows: false,
+        },
+        Variant {
+            name: "shadows",
+            caustics: None,
+            refraction: Refraction::Dda,
+            screen_space_shadows: true,
+        },
+    ]
+}
+
+/// One variant of screen-space photon tracing.
+pub struct ScreenPhotons {
+    variant: Variant,
+    settings: Settings,
+    passes: Option<Passes>,
+    sized: Option<Sized>,
+}
+
+impl ScreenPhotons {
+    pub fn new(variant: Variant) -> Self {
+        Self {
+            variant,
+            settings: Settings::default(),
+            passes: None,
+            sized: None,
+        }
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    fn last_frame(&self) -> TechniqueResult<&Sized> {
+        self.sized
+            .as_ref()
+            .ok_or_else(|| scene::technique::not_prepared(self))
+    }
+
+    /// Diagnostics of the last frame rendered: the hit buffer of the last march, one
+    /// `[t, layer, x, y]` per photon of the transfer map (`t = 0`: no hit). With `bounces = 0`
+    /// these are the first hits of the photons leaving the transfer map.
+    pub fn last_hits(&self, ctx: &Context) -> TechniqueResult<Vec<[f32; 4]>> {
+        let bytes = gpu::read_buffer(ctx, &self.last_frame()?.photons.hits)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// Diagnostics of the last frame rendered (`shadows`): the screen-space visibility of the
+    /// first four lights per pixel, row 0 at the top (1 where the pixel's layer 0 is not a
+    /// diffuse surface).
+    pub fn last_shadow_mask(&self, ctx: &Context) -> TechniqueResult<Vec<[f32; 4]>> {
+        let bytes = gpu::read_buffer(ctx, &self.last_frame()?.shadow_mask)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// Diagnostics of the last frame rendered: layer `layer` of the scene's LDI, `[nx, ny, nz,
+    /// distance]` per pixel (see `scene::DepthPeeler::read_layer`).
+    pub fn last_ldi_layer(&self, ctx: &Context, layer: u32) -> TechniqueResult<Vec<[f32; 4]>> {
+        Ok(self.last_frame()?.scene_ldi.read_layer(ctx, layer)?)
+    }
+}
+
+impl Technique for ScreenPhotons {
+    fn id(&self) -> String {
+        format!("screen-photons/{}", self.variant.name)
+    }
+
+    fn description(&self) -> String {
+        let refraction = match self.variant.refraction {
+            Refraction::Monotone => "refraction traced through monotone LDI layers",
+            Refraction::Dda => "refraction traced by the DDA over every LDI layer",
+        };
+        if self.variant.screen_space_shadows {
+            return format!(
+                "screen-space shadow rays over the eye's LDI (the paper's figures 11-12) instead \
+                 of shadow maps; {refraction}"
+            );
+        }
+        match self.variant.caustics {
+            Some((march, splat)) => format!(
+                "screen-space photon tracing: photons marched over the eye's LDI by {}, {} \
+                 splats; {refraction}",
+                match march {
+                    March::Lines => "rasterized lines (the paper)",
+                    March::Dda => "a compute DDA (engine-style marcher)",
+                },
+                match splat {
+                    Splat::Oriented => "oriented",
+                    Splat::Sprite => "screen-aligned sprite",
+                }
+            ),
+            None => format!("screen-space {refraction}; no caustics"),
+        }
+    }
+
+    fn params(&self) -> Vec<Param> {
+        self.settings.params()
+    }
+
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        scene::technique::check_param(&self.id(), &self.params(), name, value)?;
+        self.settings.set(name, value);
+        // Sizes and batch counts follow the settings: rebuilt at the next frame.
+        self.sized = None;
+        Ok(())
+    }
+
+    fn required_features(&self) -> wgpu::Features {
+        wgpu::Features::FLOAT32_BLENDABLE
+    }
+
+    fn supports(&self, scene: &Scene) -> bool {
+        !scene.specular_objects().is_empty()
+    }
+
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        if !self.supports(&scene.scene) {
+            return Err(TechniqueError::Unsupported(format!(
+                "{} needs a specular object (a refractor or a mirror) in the scene",
+                self.id()
+            )));
+        }
+        let ctx = frame.gpu;
+        ctx.require(wgpu::Features::FLOAT32_BLENDABLE)?;
+        self.passes = Some(ctx.validated(|| Passes::new(ctx, scene))?);
+        self.sized = None;
+        Ok(())
+    }
+
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let Some(passes) = &self.passes else {
+            return Err(scene::technique::not_prepared(self));
+        };
+        let ctx = frame.gpu;
+        let key = (view.width, view.height);
+        if self.sized.as_ref().is_none_or(|s| s.key != key) {
+            self.sized = Some(Sized::new(ctx, scene, &self.settings, key)?);
+        }
+        let sized = self.sized.as_ref().expect("made above");
+        passes.frame(
+            frame,
+            scene,
+            view,
+            target,
+            sized,
+            &self.settings,
+            &self.variant,
+        )
+    }
+}
+
+/// Size-dependent resources: the LDIs, the irradiance buffer, the photon buffers.
+struct Sized {
+    key: (u32, u32),
+    scene_ldi: DepthPeeler,
+    refractor_ldi: DepthPeeler,
+    irradiance: wgpu::TextureView,
+    photons: PhotonBuffers,
+    /// The line buffer: `max_steps` wide, `rows` high.
+    line_rows: wgpu::TextureView,
+    line_width: u32,
+    line_rows_count: u32,
+    /// Transfer map targets: origin, direction, power, depth.
+    transfer: [wgpu::TextureView; 4],
+    /// Screen-space visibility of the first four lights per pixel (the `shadows` variant).
+    shadow_mask: wgpu::Buffer,
+}
+
+struct PhotonBuffers {
+    count: u32,
+    photons: wgpu::Buffer,
+    hits: wgpu::Buffer,
+    receivers: wgpu::Buffer,
+}
+
+impl Sized {
+    fn new(
+        ctx: &Context,
+        scene: &GpuScene,
+        settings: &Settings,
+        (width, height): (u32, u32),
+    ) -> TechniqueResult<Self> {
+        let scene_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
+        let refractor_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
+        let grid = settings.photons;
+        ctx.check_size(grid, grid)?;
+        let count = grid * grid;
+        let storage = |label: &str, bytes: u64| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let photons = ctx.allocating("screen-photons buffers", || PhotonBuffers {
+            count,
+            photons: storage("photons", count as u64 * 48),
+            hits: storage("photon hits", count as u64 * 16),
+            receivers: storage("receivers", count as u64 * 48),
+        })?;
+        let line_width = width.max(height);
+        let line_rows_count = settings.rows.min(count);
+        ctx.check_size(line_width, line_rows_count)?;
+        let texture = |label: &str, w: u32, h: u32, format| {
+            gpu::render_texture(ctx, label, (w, h, 1), format, wgpu::TextureUsages::empty())
+                .create_view(&Default::default())
+        };
+        Ok(Self {
+            key: (width, height),
+            scene_ldi,
+            refractor_ldi,
+            irradiance: texture("caustic irradiance", width, height, MAP_FORMAT),
+            photons,
+            line_rows: texture("line rows", line_width, line_rows_count, MAP_FORMAT),
+            line_width,
+            line_rows_count,
+            shadow_mask: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("shadow mask"),
+                size: width as u64 * height as u64 * 16,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            transfer: [
+                texture("transfer origin", grid, grid, MAP_FORMAT),
+                texture("transfer direction", grid, grid, MAP_FORMAT),
+                texture("transfer power", grid, grid, MAP_FORMAT),
+                gpu::depth_texture(ctx, grid, grid, 1, "transfer depth")
+                    .create_view(&Default::default()),
+            ],
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Uniform blocks (each mirrors the WGSL struct of the same name).
+// ---------------------------------------------------------------------------------------------
+
+/// `LdiParams` of ldi.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LdiParamsGpu {
+    pub view_proj: [[f32; 4]; 4],
+    pub inv_view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    /// Width, height, layers, the longest line in samples.
+    pub size: [u32; 4],
+    /// Tolerance, thickness, t_skip, unused.
+    pub tests: [f32; 4],
+    pub bounds_min: [f32; 4],
+    pub bounds_max: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct TransferParamsGpu {
+    light: [f32; 4],
+    intensity: [f32; 4],
+    axis: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct BatchGpu {
+    first: u32,
+    rows: u32,
+    width: u32,
+    _pad: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ModeGpu {
+    value: u32,
+    _pad: [u32; 3],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SplatParamsGpu {
+    inv_view_proj: [[f32; 4]; 4],
+    forward: [f32; 4],
+    size: [f32; 4],
+    mode: u32,
+    _pad: [u32; 3],
+}
+
+/// The shader of one pass: the prelude, scene.wgsl, the LDI bindings and functions, the
+/// photon structs, then the pass's own file.
+pub fn pass_source(own: &str) -> String {
+    format!("{SCENE_WGSL}\n{LDI_BINDINGS_WGSL}\n{LDI_WGSL}\n{PHOTON_WGSL}\n{own}")
+}
+
+fn compute_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    own: &str,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    let module = gpu::shader_with_prelude(ctx, label, &pass_source(own));
+    ctx.device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+}
+
+/// A pipeline whose vertex stage makes its own geometry (no vertex buffers, no depth).
+fn bufferless_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    own: &str,
+    (vs, fs): (&str, &str),
+    topology: wgpu::PrimitiveTopology,
+    blend: Option<wgpu::BlendState>,
+) -> wgpu::RenderPipeline {
+    let module = gpu::shader_with_prelude(ctx, label, &pass_source(own));
+    ctx.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some(vs),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets: &[pass::color_target(MAP_FORMAT, blend)],
+            }),
+            primitive: wgpu::PrimitiveState {
+                topology,
+                ..Default::default()
+            },
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            multiview_mask: None,
+            cache: None,
+        })
+}
+
+/// Additive blending of every channel (irradiance accumulation).
+const ADD: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// The pipelines and bind-group layouts (per scene: they use its layouts).
+struct Passes {
+    ldi_layout: wgpu::BindGroupLayout,
+    transfer_layout: wgpu::BindGroupLayout,
+    gather_layout: wgpu::BindGroupLayout,
+    lines_layout: wgpu::BindGroupLayout,
+    reduce_layout: wgpu::BindGroupLayout,
+    dda_layout: wgpu::BindGroupLayout,
+    resolve_layout: wgpu::BindGroupLayout,
+    splat_layout: wgpu::BindGroupLayout,
+    apply_layout: wgpu::BindGroupLayout,
+    specular_layout: wgpu::BindGroupLayout,
+    shadow_mask_layout: wgpu::BindGroupLayout,
+    shadowed_layout: wgpu::BindGroupLayout,
+    transfer: wgpu::RenderPipeline,
+    shadow_mask: wgpu::ComputePipeline,
+    shadowed: wgpu::RenderPipeline,
+    gather: wgpu::ComputePipeline,
+    lines: wgpu::RenderPipeline,
+    reduce: wgpu::ComputePipeline,
+    dda: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+    splat: wgpu::RenderPipeline,
+    apply: wgpu::RenderPipeline,
+    specular: wgpu::RenderPipeline,
+}
+
+impl Passes {
+    fn new(ctx: &Context, scene: &GpuScene) -> Self {
+        use wgpu::ShaderStages as S;
+        let all = S::VERTEX_FRAGMENT | S::COMPUTE;
+        let layers = bind::texture(wgpu::TextureViewDimension::D2Array, false);
+        let ldi_layout = bind::layout(
+            ctx,
+            "ldi",
+            all,
+            &[bind::uniform(), layers, layers, layers, layers],
+        );
+        let map = bind::texture_2d_unfilterable();
+        let transfer_layout = bind::layout(ctx, "transfer", S::FRAGMENT, &[bind::uniform()]);
+        let gather_layout = bind::layout(
+            ctx,
+            "gather",
+            S::COMPUTE,
+            &[map, map, map, bind::storage(false), bind::storage(false)],
+        );
+        let lines_layout = bind::layout(
+            ctx,
+            "lines",
+            S::VERTEX_FRAGMENT,
+            &[bind::storage(true), bind::uniform()],
+        );
+        let reduce_layout = bind::layout(
+            ctx,
+            "reduce",
+            S::COMPUTE,
+            &[map, bind::storage(false), bind::uniform()],
+        );
+        let dda_layout = bind::layout(
+            ctx,
+            "dda",
+            S::COMPUTE,
+            &[bind::storage(true), bind::storage(false)],
+        );
+        let resolve_layout = bind::layout(
+            ctx,
+            "resolve",
+            S::COMPUTE,
+            &[
+                bind::storage(false),
+                bind::storage(true),
+                bind::storage(false),
+                bind::uniform(),
+            ],
+        );
+        let splat_layout = bind::layout(
+            ctx,
+            "splat",
+            S::VERTEX_FRAGMENT,
+            &[bind::storage(true), bind::uniform()],
+        );
+        let apply_layout = bind::layout(ctx, "apply", S::FRAGMENT, &[map]);
+        let specular_layout = bind::layout(ctx, "specular", S::FRAGMENT, &[bind::uniform()]);
+        let shadow_mask_layout =
+            bind::layout(ctx, "shadow mask", S::COMPUTE, &[bind::storage(false)]);
+        let shadowed_layout = bind::layout(ctx, "shadowed", S::FRAGMENT, &[bind::storage(true)]);
+
+        let with =
+            |own: &wgpu::BindGroupLayout| scene.pipeline_layout_with(ctx, &[&ldi_layout, own]);
+        let transfer_module = gpu::shader_with_prelude(
+            ctx,
+            "transfer map",
+            &format!("{SCENE_WGSL}\n{TRANSFER_WGSL}"),
+        );
+        let transfer = scene::scene_pipeline_with(
+            ctx,
+            "transfer map",
+            &scene.pipeline_layout_with(ctx, &[&transfer_layout]),
+            &transfer_module,
+            "transfer_fs",
+            &[
+                pass::color_target(MAP_FORMAT, None),
+                pass::color_target(MAP_FORMAT, None),
+                pass::color_target(MAP_FORMAT, None),
+            ],
+            (true, wgpu::CompareFunction::Less),
+        );
+        let hdr_module =
+            |label: &str, own: &str| gpu::shader_with_prelude(ctx, label, &pass_source(own));
+        let apply = scene::scene_pipeline_with(
+            ctx,
+            "caustic apply",
+            &with(&apply_layout),
+            &hdr_module("caustic apply", APPLY_WGSL),
+            "apply_fs",
+            &[pass::color_target(
+                gpu::HDR_FORMAT,
+                Some(ADD_RGB_KEEP_ALPHA),
+            )],
+            (false, wgpu::CompareFunction::Equal),
+        );
+        let specular = scene::scene_pipeline_with(
+            ctx,
+            "screen-space refraction",
+            &with(&specular_layout),
+            &hdr_module("screen-space refraction", SPECULAR_WGSL),
+            "specular_fs",
+            &[pass::color_target(gpu::HDR_FORMAT, None)],
+            (true, wgpu::CompareFunction::Less),
+        );
+        let shadowed = scene::scene_pipeline_with(
+            ctx,
+            "screen-space shadowed",
+            &with(&shadowed_layout),
+            &hdr_module("screen-space shadowed", SHADOWED_WGSL),
+            "shadowed_fs",
+            &[pass::color_target(gpu::HDR_FORMAT, None)],
+            (true, wgpu::CompareFunction::Less),
+        );
+        Self {
+            shadow_mask: compute_pipeline(
+                ctx,
+                "shadow mask",
+                &with(&shadow_mask_layout),
+                SHADOW_MASK_WGSL,
+                "shadow_main",
+            ),
+            shadowed,
+            shadow_mask_layout,
+            shadowed_layout,
+            gather: compute_pipeline(
+                ctx,
+                "gather photons",
+                &with(&gather_layout),
+                GATHER_WGSL,
+                "gather_main",
+            ),
+            lines: bufferless_pipeline(
+                ctx,
+                "photon lines",
+                &with(&lines_layout),
+                LINES_WGSL,
+                ("line_vs", "line_fs"),
+                wgpu::PrimitiveTopology::LineList,
+                None,
+            ),
+            reduce: compute_pipeline(
+                ctx,
+                "reduce rows",
+                &with(&reduce_layout),
+                REDUCE_WGSL,
+                "reduce_main",
+            ),
+            dda: compute_pipeline(ctx, "dda march", &with(&dda_layout), DDA_WGSL, "dda_main"),
+            resolve: compute_pipeline(
+                ctx,
+                "resolve photons",
+                &with(&resolve_layout),
+                RESOLVE_WGSL,
+                "resolve_main",
+            ),
+            splat: bufferless_pipeline(
+                ctx,
+                "splats",
+                &with(&splat_layout),
+                &format!("{}\n{SPLAT_WGSL}", crate::splat::WEIGHT_WGSL),
+                ("splat_vs", "splat_fs"),
+                wgpu::PrimitiveTopology::TriangleList,
+                Some(ADD),
+            ),
+            transfer,
+            apply,
+            specular,
+            ldi_layout,
+            transfer_layout,
+            gather_layout,
+            lines_layout,
+            reduce_layout,
+            dda_layout,
+            resolve_layout,
+            splat_layout,
+            apply_layout,
+            specular_layout,
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn frame(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+        sized: &Sized,
+        settings: &Settings,
+        variant: &Variant,
+    ) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        let (width, height) = (view.width, view.height);
+        let camera = view.camera;
+        let view_proj = camera.view_proj(width, height);
+        let eye = camera.eye;
+        let specular = scene.scene.specular_objects();
+        frame.timer.begin(frame.encoder, "ldi");
+        sized
+            .scene_ldi
+            .peel(frame, scene, &ObjectFilter::All, view_proj, eye)?;
+        sized.refractor_ldi.peel(
+            frame,
+            scene,
+            &ObjectFilter::Only(specular.clone()),
+            view_proj,
+            eye,
+        )?;
+        frame.timer.end(frame.encoder, "ldi");
+
+        // The scene's box at this time, grown a little (rays start on its surfaces).
+        let (lo, hi) = scene_box(&scene.scene, scene.time());
+        let margin = Vec3::splat((hi - lo).length() * 1e-3 + 1e-3);
+        let ldi_params = Uniform::new(
+            ctx,
+            "ldi params",
+            &LdiParamsGpu {
+                view_proj: view_proj.to_cols_array_2d(),
+                inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+                eye: eye.extend(1.0).to_array(),
+                size: [width, height, settings.layers, sized.line_width],
+                tests: [
+                    settings.tolerance,
+                    settings.thickness,
+                    settings.tolerance,
+                    0.0,
+                ],
+                bounds_min: (lo - margin).extend(0.0).to_array(),
+                bounds_max: (hi + margin).extend(0.0).to_array(),
+            },
+        );
+        let ldi_group = bind::group(
+            ctx,
+            "ldi",
+            &self.ldi_layout,
+            &[
+                ldi_params.binding(),
+                bind::view(sized.scene_ldi.layers_view()),
+                bind::view(sized.scene_ldi.surfaces_view()),
+                bind::view(sized.refractor_ldi.layers_view()),
+                bind::view(sized.refractor_ldi.surfaces_view()),
+            ],
+        );
+        let camera_group = scene.camera_bind_group(ctx, view_proj, eye);
+        let groups = Groups {
+            camera: &camera_group,
+            scene: scene.bind_group(),
+            ldi: &ldi_group,
+        };
+
+        if variant.screen_space_shadows {
+            self.screen_space_shadowed(frame, scene, &groups, sized, target, &specular);
+        } else {
+            scene.raster(
+                frame,
+                &RasterTarget {
+                    color: &target.color_view,
+                    depth: &target.depth_view,
+                    format: gpu::HDR_FORMAT,
+                    clear: true,
+                },
+                view_proj,
+                eye,
+                &ObjectFilter::All,
+                false,
+            );
+        }
+
+        if let Some((march, splat)) = variant.caustics {
+            pass::begin(
+                frame.encoder,
+                "clear irradiance",
+                &[pass::color(&sized.irradiance, CLEAR_BLACK)],
+                None,
+                None,
+            );
+            for light in &scene.scene.lights {
+                frame.timer.begin(frame.encoder, "caustics");
+                let spacing = self.transfer(frame, scene, sized, settings, light)?;
+                self.dispatch(
+                    frame,
+                    &groups,
+                    &self.gather,
+                    &bind::group(
+                        ctx,
+                        "gather",
+                        &self.gather_layout,
+                        &[
+                            bind::view(&sized.transfer[0]),
+                            bind::view(&sized.transfer[1]),
+                            bind::view(&sized.transfer[2]),
+                            sized.photons.photons.as_entire_binding(),
+                            sized.photons.receivers.as_entire_binding(),
+                        ],
+                    ),
+                    sized.photons.count.div_ceil(64),
+                );
+                for _ in 0..=settings.bounces {
+                    match march {
+                        March::Lines => self.march_lines(frame, &groups, sized),
+                        March::Dda => self.dispatch(
+                            frame,
+                            &groups,
+                            &self.dda,
+                            &bind::group(
+                                ctx,
+                                "dda",
+                                &self.dda_layout,
+                                &[
+                                    sized.photons.photons.as_entire_binding(),
+                                    sized.photons.hits.as_entire_binding(),
+                                ],
+                            ),
+                            sized.photons.count.div_ceil(64),
+                        ),
+                    }
+                    self.resolve(frame, &groups, sized, settings);
+                }
+                frame.timer.end(frame.encoder, "caustics");
+                frame.timer.begin(frame.encoder, "splat");
+                self.splat(
+                    frame,
+                    &groups,
+                    sized,
+                    view,
+                    splat,
+                    spacing * settings.splat_radius,
+                    settings,
+                );
+                frame.timer.end(frame.encoder, "splat");
+            }
+            let apply_group = bind::group(
+                ctx,
+                "apply",
+                &self.apply_layout,
+                &[bind::view(&sized.irradiance)],
+            );
+            let mut pass = pass::begin(
+                frame.encoder,
+                "caustic apply",
+                &[pass::color(&target.color_view, pass::Load::Keep)],
+                Some(pass::depth(&target.depth_view, pass::Load::Keep)),
+                None,
+            );
+            pass.set_pipeline(&self.apply);
+            groups.set(&mut pass, &apply_group);
+            scene.draw_objects(&mut pass, &ObjectFilter::Except(specular.clone()));
+        }
+
+        frame.timer.begin(frame.encoder, "refraction");
+        let mode = Uniform::new(
+            ctx,
+            "specular mode",
+            &ModeGpu {
+                value: (variant.refraction == Refraction::Dda) as u32,
+                _pad: [0; 3],
+            },
+        );
+        let specular_group = bind::group(ctx, "specular", &self.specular_layout, &[mode.binding()]);
+        {
+            let mut pass = pass::begin(
+                frame.encoder,
+                "screen-space refraction",
+                &[pass::color(&target.color_view, pass::Load::Keep)],
+                Some(pass::depth(&target.depth_view, pass::Load::Keep)),
+                None,
+            );
+            pass.set_pipeline(&self.specular);
+            groups.set(&mut pass, &specular_group);
+            scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
+        }
+        frame.timer.end(frame.encoder, "refraction");
+        Ok(())
+    }
+
+    /// The diffuse surfaces with screen-space shadow rays: the visibility mask (a compute
+    /// pass over layer 0 of the LDI), then the surfaces drawn with it.
+    fn screen_space_shadowed(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        groups: &Groups,
+        sized: &Sized,
+        target: &Target,
+        specular: &[usize],
+    ) {
+        let ctx = frame.gpu;
+        frame.timer.begin(frame.encoder, "shadows");
+        let mask_group = bind::group(
+            ctx,
+            "shadow mask",
+            &self.shadow_mask_layout,
+            &[sized.shadow_mask.as_entire_binding()],
+        );
+        {
+            let mut pass = frame
+                .encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&self.shadow_mask);
+            pass.set_bind_group(0, groups.camera, &[]);
+            pass.set_bind_group(1, groups.scene, &[]);
+            pass.set_bind_group(2, groups.ldi, &[]);
+            pass.set_bind_group(3, &mask_group, &[]);
+            pass.dispatch_workgroups(sized.key.0.div_ceil(8), sized.key.1.div_ceil(8), 1);
+        }
+        frame.timer.end(frame.encoder, "shadows");
+        let group = bind::group(
+            ctx,
+            "shadowed",
+            &self.shadowed_layout,
+            &[sized.shadow_mask.as_entire_binding()],
+        );
+        let background = scene.scene.background;
+        let mut pass = pass::begin(
+            frame.encoder,
+            "screen-space shadowed",
+            &[pass::color(
+                &target.color_view,
+                pass::Load::Clear(wgpu::Color {
+                    r: background.x as f64,
+                    g: background.y as f64,
+                    b: background.z as f64,
+                    a: scene::BACKGROUND_DISTANCE as f64,
+                }),
+            )],
+            Some(pass::depth(&target.depth_view, CLEAR_FAR)),
+            None,
+        );
+        pass.set_pipeline(&self.shadowed);
+        groups.set(&mut pass, &group);
+        scene.draw_objects(&mut pass, &ObjectFilter::Except(specular.to_vec()));
+    }
+
+    /// The transfer map of `light`: returns the photon spacing at the casters' centre (m).
+    fn transfer(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        sized: &Sized,
+        settings: &Settings,
+        light: &scene::PointLight,
+    ) -> TechniqueResult<f32> {
+        let ctx = frame.gpu;
+        let (centre, radius) = casters_sphere(&scene.scene, scene.time());
+        let grid = settings.photons;
+        let (view_proj, params, spacing) = light_view(light, centre, radius, grid);
+        let uniform = Uniform::new(ctx, "transfer params", &params);
+        let group = bind::group(ctx, "transfer", &self.transfer_layout, &[uniform.binding()]);
+        let camera = scene.camera_bind_group(ctx, view_proj, light.position);
+        let mut pass = pass::begin(
+            frame.encoder,
+            "transfer map",
+            &[
+                pass::color(&sized.transfer[0], CLEAR_BLACK),
+                pass::color(&sized.transfer[1], CLEAR_BLACK),
+                pass::color(&sized.transfer[2], CLEAR_BLACK),
+            ],
+            Some(pass::depth(&sized.transfer[3], CLEAR_FAR)),
+            None,
+        );
+        pass.set_pipeline(&self.transfer);
+        pass.set_bind_group(0, &camera, &[]);
+        pass.set_bind_group(1, scene.bind_group(), &[]);
+        pass.set_bind_group(2, &group, &[]);
+        scene.draw_objects(&mut pass, &ObjectFilter::All);
+        Ok(spacing)
+    }
+
+    fn dispatch(
+        &self,
+        frame: &mut Frame,
+        groups: &Groups,
+        pipeline: &wgpu::ComputePipeline,
+        own: &wgpu::BindGroup,
+        workgroups: u32,
+    ) {
+        let mut pass = frame
+            .encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, groups.camera, &[]);
+        pass.set_bind_group(1, groups.scene, &[]);
+        pass.set_bind_group(2, groups.ldi, &[]);
+        pass.set_bind_group(3, own, &[]);
+        pass.dispatch_workgroups(workgroups.max(1), 1, 1);
+    }
+
+    /// The paper's line marcher: batches of `rows` photons, each drawn as lines into the row
+    /// buffer and reduced to the first hit per row.
+    fn march_lines(&self, frame: &mut Frame, groups: &Groups, sized: &Sized) {
+        let ctx = frame.gpu;
+        let rows = sized.line_rows_count;
+        for first in (0..sized.photons.count).step_by(rows as usize) {
+            let batch = Uniform::new(
+                ctx,
+                "line batch",
+                &BatchGpu {
+                    first,
+                    rows,
+                    width: sized.line_width,
+                    _pad: 0,
+                },
+            );
+            let lines_group = bind::group(
+                ctx,
+                "lines",
+                &self.lines_layout,
+                &[sized.photons.photons.as_entire_binding(), batch.binding()],
+            );
+            {
+                let mut pass = pass::begin(
+                    frame.encoder,
+                    "photon lines",
+                    &[pass::color(&sized.line_rows, CLEAR_BLACK)],
+                    None,
+                    None,
+                );
+                pass.set_pipeline(&self.lines);
+                groups.set(&mut pass, &lines_group);
+                pass.draw(0..2, 0..rows);
+            }
+            let reduce_group = bind::group(
+                ctx,
+                "reduce",
+                &self.reduce_layout,
+                &[
+                    bind::view(&sized.line_rows),
+                    sized.photons.hits.as_entire_binding(),
+                    batch.binding(),
+                ],
+            );
+            self.dispatch(frame, groups, &self.reduce, &reduce_group, rows);
+        }
+    }
+
+    fn resolve(&self, frame: &mut Frame, groups: &Groups, sized: &Sized, settings: &Settings) {
+        let ctx = frame.gpu;
+        let params = Uniform::new(
+            ctx,
+            "resolve params",
+            &ModeGpu {
+                value: settings.bounces,
+                _pad: [0; 3],
+            },
+        );
+        let group = bind::group(
+            ctx,
+            "resolve",
+            &self.resolve_layout,
+            &[
+                sized.photons.photons.as_entire_binding(),
+                sized.photons.hits.as_entire_binding(),
+                sized.photons.receivers.as_entire_binding(),
+                params.binding(),
+            ],
+        );
+        self.dispatch(
+            frame,
+            groups,
+            &self.resolve,
+            &group,
+            sized.photons.count.div_ceil(64),
+        );
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn splat(
+        &self,
+        frame: &mut Frame,
+        groups: &Groups,
+        sized: &Sized,
+        view: &View,
+        splat: Splat,
+        radius: f32,
+        settings: &Settings,
+    ) {
+        let ctx = frame.gpu;
+        let camera = view.camera;
+        let (forward, _, _) = camera.basis();
+        let focal = view.height as f32 / (2.0 * (camera.fov_y_deg.to_radians() * 0.5).tan());
+        let params = Uniform::new(
+            ctx,
+            "splat params",
+            &SplatParamsGpu {
+                inv_view_proj: camera
+                    .view_proj(view.width, view.height)
+                    .inverse()
+                    .to_cols_array_2d(),
+                forward: forward.extend(focal).to_array(),
+                size: [
+                    view.width as f32,
+                    view.height as f32,
+                    radius,
+                    settings.tolerance.max(radius * 0.25),
+                ],
+                mode: (splat == Splat::Sprite) as u32,
+                _pad: [0; 3],
+            },
+        );
+        let group = bind::group(
+            ctx,
+            "splat",
+            &self.splat_layout,
+            &[
+                sized.photons.receivers.as_entire_binding(),
+                params.binding(),
+            ],
+        );
+        let mut pass = pass::begin(
+            frame.encoder,
+            "splats",
+            &[pass::color(&sized.irradiance, pass::Load::Keep)],
+            None,
+            None,
+        );
+        pass.set_pipeline(&self.splat);
+        groups.set(&mut pass, &group);
+        pass.draw(0..6, 0..sized.photons.count);
+    }
+}
+
+/// The bind groups every pass of a frame shares.
+struct Groups<'a> {
+    camera: &'a wgpu::BindGroup,
+    scene: &'a wgpu::BindGroup,
+    ldi: &'a wgpu::BindGroup,
+}
+
+impl Groups<'_> {
+    fn set(&self, pass: &mut wgpu::RenderPass<'_>, own: &wgpu::BindGroup) {
+        pass.set_bind_group(0, self.camera, &[]);
+        pass.set_bind_group(1, self.scene, &[]);
+        pass.set_bind_group(2, self.ldi, &[]);
+        pass.set_bind_group(3, own, &[]);
+    }
+}
+
+/// A box holding every object's bounding sphere at `time`.
+fn scene_box(scene: &Scene, time: f32) -> (Vec3, Vec3) {
+    scene.objects.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), o| {
+            let (c, r) = (o.center_at(time), Vec3::splat(o.bounding_radius_at(time)));
+            (lo.min(c - r), hi.max(c + r))
+        },
+    )
+}
+
+/// The bounding sphere of the caustic casters (specular objects and those with the
+/// `CAUSTIC_CASTER` role) at `time`.
+pub fn casters_sphere(scene: &Scene, time: f32) -> (Vec3, f32) {
+    let casters: Vec<_> = scene
+        .objects
+        .iter()
+        .filter(|o| o.material.is_specular() || o.roles.contains(scene::Roles::CAUSTIC_CASTER))
+        .collect();
+    let (lo, hi) = casters.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), o| {
+            let (c, r) = (o.center_at(time), o.bounding_radius_at(time));
+            (lo.min(c - Vec3::splat(r)), hi.max(c + Vec3::splat(r)))
+        },
+    );
+    let centre = (lo + hi) * 0.5;
+    let radius = casters
+        .iter()
+        .map(|o| (o.center_at(time) - centre).length() + o.bounding_radius_at(time))
+        .fold(0.0, f32::max);
+    (centre, radius)
+}
+
+/// The light's view of the casters' sphere: its matrix, the transfer uniform, and the
+/// photon spacing at the sphere's centre.
+fn light_view(
+    light: &scene::PointLight,
+    centre: Vec3,
+    radius: f32,
+    grid: u32,
+) -> (Mat4, TransferParamsGpu, f32) {
+    let radius = radius * 1.02;
+    let to = centre - light.position;
+    let dist = to.length().max(radius * 1.001);
+    let axis = to / to.length().max(1e-9);
+    let half = (radius / dist).clamp(-1.0, 1.0).asin();
+    let up = if axis.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
+    let view = glam::camera::rh::view::look_at_mat4(light.position, centre, up);
+    let near = ((dist - radius) * 0.5).max(1e-3);
+    let proj =
+        glam::camera::rh::proj::directx::perspective(2.0 * half, 1.0, near, dist + 4.0 * radius);
+    let pixel = 2.0 * half.tan() / grid as f32;
+    let params = TransferParamsGpu {
+        light: light.position.extend(1.0).to_array(),
+        intensity: light.intensity.extend(0.0).to_array(),
+        axis: axis.extend(pixel * pixel).to_array(),
+    };
+    (proj * view, params, pixel * dist)
+}

@@ -1,0 +1,312 @@
+//! GPU conformance: the WGSL march (`shaders/ldi.wgsl`) and splat weight (`shaders/splat.wgsl`)
+//! run in compute kernels against their Rust twins (`march`, `splat`) on the same inputs.
+
+use glam::{Vec3, Vec4};
+use gpu::compute::{kernel_entry, kernel_header, run_kernel, run_kernel_with};
+use gpu::wgpu::{self, util::DeviceExt};
+use scene::Camera;
+use screen_photons::march::{self, Eye, Ldi, RayState, Side, Sphere};
+use screen_photons::technique::{LDI_WGSL, LdiParamsGpu};
+
+const TOLERANCE: f32 = 0.03;
+const THICKNESS: f32 = 0.1;
+const W: u32 = 64;
+const H: u32 = 48;
+
+fn eye() -> Eye {
+    let cam = Camera {
+        eye: Vec3::new(0.3, 0.4, 5.0),
+        target: Vec3::new(0.0, 0.0, -1.0),
+        up: Vec3::Y,
+        fov_y_deg: 50.0,
+    };
+    Eye {
+        view_proj: cam.view_proj(W, H),
+        position: cam.eye,
+        width: W,
+        height: H,
+    }
+}
+
+/// A glass sphere in front of a larger diffuse one.
+fn spheres() -> Vec<Sphere> {
+    vec![
+        Sphere {
+            centre: Vec3::ZERO,
+            radius: 1.0,
+            object: 0,
+            specular: true,
+        },
+        Sphere {
+            centre: Vec3::new(1.2, -0.4, -3.0),
+            radius: 1.6,
+            object: 1,
+            specular: false,
+        },
+    ]
+}
+
+/// The kernel's bindings for ldi.wgsl: the LDI at @group(0) from binding 2, the specular flag
+/// of each object from a buffer.
+const KERNEL_BINDINGS: &str = r#"
+@group(0) @binding(2) var<uniform> ldi: LdiParams;
+@group(0) @binding(3) var ldi_layers: texture_2d_array<f32>;
+@group(0) @binding(4) var ldi_surfaces: texture_2d_array<f32>;
+@group(0) @binding(5) var refractor_layers: texture_2d_array<f32>;
+@group(0) @binding(6) var refractor_surfaces: texture_2d_array<f32>;
+@group(0) @binding(7) var<storage, read> specular_flags: array<u32>;
+fn ldi_is_specular(object: u32) -> bool { return specular_flags[object] != 0u; }
+
+struct RayCase {
+    // xyz origin, w: mode (0 DDA, 1 tolerance in order, 2 monotone in layer 1 of the refractors)
+    origin: vec4f,
+    // xyz direction, w: the side (0 outside glass, 1 inside, 2 any: a shadow ray)
+    dir: vec4f,
+};
+"#;
+
+const MARCH_BODY: &str = r#"
+    let c = inputs[i];
+    let range = scene_range(c.origin.xyz, c.dir.xyz);
+    let s = clip_segment(c.origin.xyz, c.dir.xyz, range.x, range.y);
+    let side = u32(c.dir.w);
+    var h: LdiHit;
+    if (c.origin.w == 0.0) {
+        h = march_dda(LDI_SCENE, s, side);
+    } else if (c.origin.w == 1.0) {
+        h = march_tolerance(LDI_SCENE, s, side);
+    } else {
+        h = march_monotone(LDI_REFRACTORS, s, 1u);
+    }
+    outputs[i] = select(vec4f(0.0), vec4f(h.t, f32(h.layer), vec2f(h.pixel)), h.found);
+"#;
+
+/// Uploads an LDI as the two array textures the peeler makes (normal + distance, surface).
+fn upload(ctx: &gpu::Context, ldi: &Ldi) -> (wgpu::Texture, wgpu::Texture) {
+    let make = |label: &str, texel: &dyn Fn(&march::Texel) -> [f32; 4]| {
+        let data: Vec<[f32; 4]> = ldi.texels.iter().map(texel).collect();
+        ctx.device.create_texture_with_data(
+            &ctx.queue,
+            &wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: ldi.width,
+                    height: ldi.height,
+                    depth_or_array_layers: ldi.layers,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba32Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&data),
+        )
+    };
+    (
+        make("ldi layers", &|t| t.normal.extend(t.distance).to_array()),
+        make("ldi surfaces", &|t| {
+            [
+                t.object as f32,
+                0.0,
+                0.0,
+                if t.distance > 0.0 { 1.0 } else { 0.0 },
+            ]
+        }),
+    )
+}
+
+fn params(eye: &Eye, layers: u32) -> LdiParamsGpu {
+    LdiParamsGpu {
+        view_proj: eye.view_proj.to_cols_array_2d(),
+        inv_view_proj: eye.view_proj.inverse().to_cols_array_2d(),
+        eye: eye.position.extend(1.0).to_array(),
+        size: [eye.width, eye.height, layers, march::max_steps(eye)],
+        tests: [TOLERANCE, THICKNESS, TOLERANCE, 0.0],
+        bounds_min: [-20.0, -20.0, -20.0, 0.0],
+        bounds_max: [20.0, 20.0, 20.0, 0.0],
+    }
+}
+
+/// The rays: view rays refracted into the glass sphere (inside) and rays from around the
+/// glass sphere into the scene (outside), in every mode that applies.
+fn cases(eye: &Eye, scene_ldi: &Ldi) -> Vec<[[f32; 4]; 2]> {
+    let mut cases = Vec::new();
+    for y in (0..H).step_by(3) {
+        for x in (0..W).step_by(3) {
+            let front = scene_ldi.get(x, y, 0);
+            let view = eye.pixel_ray(x, y);
+            if front.distance > 0.0 && front.object == 0 {
+                let p = eye.position + view * front.distance;
+                let dir = gpu::prelude::refract_dir(view, front.normal, 1.0 / 1.5).truncate();
+                for mode in [0.0, 1.0, 2.0] {
+                    cases.push([p.extend(mode).to_array(), dir.extend(1.0).to_array()]);
+                }
+            }
+            // A ray from a point near the glass sphere outward, away from the eye.
+            let origin = Vec3::new(x as f32 / W as f32 - 0.5, y as f32 / H as f32 - 0.5, 1.2);
+            let dir = (Vec3::new(0.8, -0.3, -3.0) - origin + Vec3::new(0.0, 0.0, x as f32 * 0.05))
+                .normalize();
+            for mode in [0.0, 1.0] {
+                for side in [0.0, 2.0] {
+                    cases.push([origin.extend(mode).to_array(), dir.extend(side).to_array()]);
+                }
+            }
+        }
+    }
+    cases
+}
+
+fn twin(eye: &Eye, scene_ldi: &Ldi, refractor_ldi: &Ldi, case: &[[f32; 4]; 2]) -> [f32; 4] {
+    let origin = Vec4::from(case[0]);
+    let dir = Vec4::from(case[1]);
+    let state = RayState {
+        side: match dir.w as u32 {
+            0 => Side::Outside,
+            1 => Side::Inside,
+            _ => Side::Any,
+        },
+        t_skip: TOLERANCE,
+    };
+    let range = gpu::prelude::ray_box(
+        origin.truncate(),
+        dir.truncate(),
+        Vec3::splat(-20.0),
+        Vec3::splat(20.0),
+    );
+    let Some(seg) = march::clip(
+        eye,
+        origin.truncate(),
+        dir.truncate(),
+        (range.x.max(0.0), range.y),
+        2.0 * TOLERANCE,
+    ) else {
+        return [0.0; 4];
+    };
+    let hit = match origin.w {
+        0.0 => march::march_dda(scene_ldi, eye, &seg, THICKNESS, state).0,
+        1.0 => march::march_lines(scene_ldi, eye, &seg, TOLERANCE, state).0,
+        _ => march::march_monotone(refractor_ldi, eye, &seg, 1),
+    };
+    hit.map_or([0.0; 4], |h| [h.t, h.layer as f32, h.x as f32, h.y as f32])
+}
+
+#[test]
+fn the_wgsl_march_finds_the_twins_hits() {
+    let _lock = testkit::gpu_lock();
+    let ctx = testkit::context();
+    let eye = eye();
+    let layers = 4;
+    let scene_ldi = Ldi::of_spheres(&eye, layers, &spheres());
+    let refractor_ldi = Ldi::of_spheres(&eye, layers, &spheres()[..1]);
+    let (scene_layers, scene_surfaces) = upload(ctx, &scene_ldi);
+    let (refr_layers, refr_surfaces) = upload(ctx, &refractor_ldi);
+    let uniform = gpu::Uniform::new(ctx, "ldi", &params(&eye, layers));
+    let flags = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("specular flags"),
+            contents: bytemuck::cast_slice(&[1u32, 0]),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    let views: Vec<_> = [&scene_layers, &scene_surfaces, &refr_layers, &refr_surfaces]
+        .iter()
+        .map(|t| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
+        })
+        .collect();
+    let layer_type = gpu::bind::texture(wgpu::TextureViewDimension::D2Array, false);
+    let mut extra = vec![(gpu::bind::uniform(), uniform.binding())];
+    extra.extend(views.iter().map(|v| (layer_type, gpu::bind::view(v))));
+    extra.push((gpu::bind::storage(true), flags.as_entire_binding()));
+
+    let cases = cases(&eye, &scene_ldi);
+    let source = format!(
+        "{}\n{KERNEL_BINDINGS}\n{LDI_WGSL}\n{}{}",
+        gpu::prelude::PRELUDE_WGSL,
+        kernel_header("RayCase", "vec4f"),
+        kernel_entry("march_kernel", MARCH_BODY)
+    );
+    let gpu_hits: Vec<[f32; 4]> =
+        run_kernel_with(ctx, &source, "march_kernel", &cases, 1, &extra).expect("kernel");
+    let mut same = 0;
+    let mut hits = 0;
+    for (case, got) in cases.iter().zip(&gpu_hits) {
+        let want = twin(&eye, &scene_ldi, &refractor_ldi, case);
+        hits += (want[0] > 0.0) as usize;
+        let agree = (got[0] > 0.0) == (want[0] > 0.0)
+            && got[1..] == want[1..]
+            && (got[0] - want[0]).abs() <= 1e-3 * want[0].abs().max(1.0);
+        if agree {
+            same += 1;
+        } else {
+            println!("case {case:?}: gpu {got:?} twin {want:?}");
+        }
+    }
+    println!("{same} of {} cases agree ({hits} hits)", cases.len());
+    assert!(hits > cases.len() / 3, "too few hits to test: {hits}");
+    // Samples that sit on a test's threshold may fall either way in f32 on two devices.
+    assert!(
+        same as f64 >= 0.99 * cases.len() as f64,
+        "{same} of {} agree",
+        cases.len()
+    );
+}
+
+#[test]
+fn the_wgsl_splat_weight_matches_the_twin() {
+    let _lock = testkit::gpu_lock();
+    let ctx = testkit::context();
+    let source = format!(
+        "{}\n{}\n{}{}",
+        gpu::prelude::PRELUDE_WGSL,
+        screen_photons::splat::WEIGHT_WGSL,
+        kernel_header("array<vec4f, 3>", "vec2f"),
+        kernel_entry(
+            "weight_kernel",
+            "let c = inputs[i]; outputs[i] = splat_weight(c[0].xyz, normalize(c[1].xyz), c[2].xyz, \
+             normalize(vec3f(c[0].w, c[1].w, c[2].w)), 0.4);"
+        )
+    );
+    let eye = Vec3::new(0.0, 1.0, 3.0);
+    let mut cases = Vec::new();
+    for i in 0..200 {
+        let f = i as f32 * 0.37;
+        let c = Vec3::new(f.sin() * 0.5, -0.2 + (f * 1.3).cos() * 0.1, (f * 0.7).sin());
+        let view = (c + Vec3::new((f * 2.1).sin(), (f * 1.7).cos(), (f * 0.3).sin()) * 0.3 - eye)
+            .normalize();
+        let n = Vec3::new((f * 0.9).sin() * 0.5, 1.0, (f * 1.1).cos() * 0.5).normalize();
+        cases.push([
+            eye.extend(n.x).to_array(),
+            view.extend(n.y).to_array(),
+            c.extend(n.z).to_array(),
+        ]);
+    }
+    let got: Vec<[f32; 2]> = run_kernel(ctx, &source, "weight_kernel", &cases, 1).expect("kernel");
+    let mut nonzero = 0;
+    for (case, got) in cases.iter().zip(&got) {
+        let n = Vec3::new(case[0][3], case[1][3], case[2][3]).normalize();
+        let (w, tau) = screen_photons::splat::weight(
+            Vec4::from(case[0]).truncate(),
+            Vec4::from(case[1]).truncate().normalize(),
+            Vec4::from(case[2]).truncate(),
+            n,
+            0.4,
+        );
+        nonzero += (w > 0.0) as usize;
+        assert!(
+            (got[0] - w).abs() <= 1e-3 * w.max(1.0),
+            "{case:?}: {got:?} vs {w}"
+        );
+        assert!(
+            (got[1] - tau).abs() <= 1e-4 * tau.max(1.0),
+            "{case:?}: {got:?} vs {tau}"
+        );
+    }
+    assert!(nonzero > 50, "only {nonzero} cases inside a splat");
+}
