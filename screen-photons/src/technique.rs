@@ -401,8 +401,8 @@ struct Sized {
     line_rows: wgpu::TextureView,
     line_width: u32,
     line_rows_count: u32,
-    /// Transfer map targets: origin, direction, power, depth.
-    transfer: [wgpu::TextureView; 4],
+    /// Transfer map targets: origin, direction (transfer.wgsl says what they hold), depth.
+    transfer: [wgpu::TextureView; 3],
     /// Screen-space visibility of the first four lights per pixel (the `shadows` variant).
     shadow_mask: wgpu::Buffer,
 }
@@ -467,7 +467,6 @@ impl Sized {
             transfer: [
                 texture("transfer origin", grid, grid, MAP_FORMAT),
                 texture("transfer direction", grid, grid, MAP_FORMAT),
-                texture("transfer power", grid, grid, MAP_FORMAT),
                 gpu::depth_texture(ctx, grid, grid, 1, "transfer depth")
                     .create_view(&Default::default()),
             ],
@@ -649,7 +648,13 @@ impl Passes {
             ctx,
             "gather",
             S::COMPUTE,
-            &[map, map, map, bind::storage(false), bind::storage(false)],
+            &[
+                map,
+                map,
+                bind::storage(false),
+                bind::storage(false),
+                bind::uniform(),
+            ],
         );
         let lines_layout = bind::layout(
             ctx,
@@ -706,7 +711,6 @@ impl Passes {
             &transfer_module,
             "transfer_fs",
             &[
-                pass::color_target(MAP_FORMAT, None),
                 pass::color_target(MAP_FORMAT, None),
                 pass::color_target(MAP_FORMAT, None),
             ],
@@ -909,7 +913,8 @@ impl Passes {
             );
             for light in &scene.scene.lights {
                 frame.timer.begin(frame.encoder, "caustics");
-                let spacing = self.transfer(frame, scene, sized, settings, light)?;
+                let (spacing, flux) = self.transfer(frame, scene, sized, settings, light)?;
+                let flux = Uniform::new(ctx, "unit flux", &flux.extend(0.0).to_array());
                 self.dispatch(
                     frame,
                     &groups,
@@ -921,9 +926,9 @@ impl Passes {
                         &[
                             bind::view(&sized.transfer[0]),
                             bind::view(&sized.transfer[1]),
-                            bind::view(&sized.transfer[2]),
                             sized.photons.photons.as_entire_binding(),
                             sized.photons.receivers.as_entire_binding(),
+                            flux.binding(),
                         ],
                     ),
                     sized.photons.count.div_ceil(64),
@@ -1064,7 +1069,8 @@ impl Passes {
         scene.draw_objects(&mut pass, &ObjectFilter::Except(specular.to_vec()));
     }
 
-    /// The transfer map of `light`: returns the photon spacing at the casters' centre (m).
+    /// The transfer map of `light`: returns the photon spacing at the casters' centre (m)
+    /// and the flux of a unit weight (the light's intensity times a pixel's solid angle).
     fn transfer(
         &self,
         frame: &mut Frame,
@@ -1072,7 +1078,7 @@ impl Passes {
         sized: &Sized,
         settings: &Settings,
         light: &scene::PointLight,
-    ) -> TechniqueResult<f32> {
+    ) -> TechniqueResult<(f32, Vec3)> {
         let ctx = frame.gpu;
         let (centre, radius) = casters_sphere(&scene.scene, scene.time());
         let grid = settings.photons;
@@ -1086,9 +1092,8 @@ impl Passes {
             &[
                 pass::color(&sized.transfer[0], CLEAR_BLACK),
                 pass::color(&sized.transfer[1], CLEAR_BLACK),
-                pass::color(&sized.transfer[2], CLEAR_BLACK),
             ],
-            Some(pass::depth(&sized.transfer[3], CLEAR_FAR)),
+            Some(pass::depth(&sized.transfer[2], CLEAR_FAR)),
             None,
         );
         pass.set_pipeline(&self.transfer);
@@ -1096,7 +1101,8 @@ impl Passes {
         pass.set_bind_group(1, scene.bind_group(), &[]);
         pass.set_bind_group(2, &group, &[]);
         scene.draw_objects(&mut pass, &ObjectFilter::All);
-        Ok(spacing)
+        let flux = Vec3::from_slice(&params.intensity[..3]) * params.axis[3];
+        Ok((spacing, flux))
     }
 
     fn dispatch(

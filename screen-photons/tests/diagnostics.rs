@@ -160,3 +160,33 @@ fn screen_space_shadows_against_ray_traced_ones() {
         );
     }
 }
+
+/// The depth complexity of each view (section 2.2: the paper counts it to choose the number
+/// of peels, and finds eight layers enough): per pixel the number of non-empty LDI layers,
+/// with 16 layers peeled so that the default cap of 8 can be judged.
+#[test]
+fn depth_complexity_of_the_built_in_views() {
+    let _lock = testkit::gpu_lock();
+    println!("| scene | mean layers per covered pixel | deepest pixel | pixels over 8 layers |");
+    println!("| --- | --- | --- | --- |");
+    for spec in ["pool", "refraction-bunny", "cornell-sphere", "chess"] {
+        let scene = scene::load(spec).unwrap();
+        let mut t = variant("refraction");
+        t.set_param("layers", 16.0).unwrap();
+        render(&mut t, &scene, Shot::along_path(&scene, 0.0, SIZE));
+        let layers: Vec<_> = (0..16)
+            .map(|l| t.last_ldi_layer(context(), l).unwrap())
+            .collect();
+        let counts: Vec<usize> = (0..(SIZE * SIZE) as usize)
+            .map(|p| layers.iter().take_while(|layer| layer[p][3] > 0.0).count())
+            .collect();
+        let covered: Vec<_> = counts.iter().filter(|&&c| c > 0).collect();
+        let mean = covered.iter().map(|&&c| c as f64).sum::<f64>() / covered.len() as f64;
+        let deepest = counts.iter().max().copied().unwrap_or(0);
+        let over = counts.iter().filter(|&&c| c > 8).count() as f64 / counts.len() as f64;
+        println!("| {spec} | {mean:.2} | {deepest} | {over:.4} |");
+        assert!(mean >= 1.0 && deepest >= 2, "{spec}: {mean} {deepest}");
+        // Every layer past the deepest is empty: the peel stopped finding surfaces.
+        assert!(deepest < 16, "{spec}: 16 layers were not enough to count");
+    }
+}

@@ -3,6 +3,13 @@
 // whose nearest surface is specular is one photon, refracted (the transmitted share 1 - F) or
 // reflected (metal, weighted by its Fresnel term) there. Diffuse surfaces only occlude.
 // Camera at @group(0) is the light's view.
+//
+// Two Rgba32Float targets (32 bytes per pixel: WebGPU's default limit of colour bytes per
+// sample), decoded by gather.wgsl:
+//   origin: xyz the point, w the red weight, negative when the photon travels inside glass;
+//   dir:    xy the octahedral direction, zw the green and blue weights;
+// a weight is the share of the light's flux through the pixel: the transmitted or reflected
+// share times cos^3 off the view's axis (0 everywhere: no photon).
 // ---------------------------------------------------------------------------------------------
 
 struct TransferParams {
@@ -20,7 +27,6 @@ struct TransferParams {
 struct TransferTargets {
     @location(0) origin: vec4f,
     @location(1) dir: vec4f,
-    @location(2) power: vec4f,
 };
 
 @fragment
@@ -41,13 +47,12 @@ fn transfer_fs(in: SceneVertexOut) -> TransferTargets {
     } else if (metal) {
         weight = e.reflectance;
     }
-    // Flux through this pixel: I * solid angle, solid angle = area * cos^3 off the axis.
+    // Flux through this pixel: I * solid angle, solid angle = area * cos^3 off the axis (the
+    // gather multiplies by I * area).
     let cos_axis = dot(dir, transfer.axis.xyz);
-    let solid_angle = transfer.axis.w * cos_axis * cos_axis * cos_axis;
-    let alive = select(0.0, 1.0, glass || metal);
+    let w = weight * cos_axis * cos_axis * cos_axis;
     var out: TransferTargets;
-    out.origin = vec4f(in.world, alive);
-    out.dir = vec4f(out_dir, select(0.0, 1.0, inside));
-    out.power = vec4f(transfer.intensity.rgb * solid_angle * weight, 0.0);
+    out.origin = vec4f(in.world, select(w.r, -w.r, inside));
+    out.dir = vec4f(oct_encode(out_dir), w.g, w.b);
     return out;
 }
