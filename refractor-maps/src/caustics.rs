@@ -740,34 +740,22 @@ fn receiver_chart(atlas: &ChartAtlas, object: usize) -> Result<ChartGpu, Techniq
     Ok(atlas.gpu_charts()[i])
 }
 
-/// A tile's view from `light` holding the sphere (`centre`, `radius`) and its
-/// [`PhotonTileGpu`] (the flux a pixel carries: intensity times its solid angle).
+/// A tile's view from `light` holding the sphere (`centre`, `radius`)
+/// (`scene::lightmap::LightView`) and its [`PhotonTileGpu`] (the flux a pixel carries:
+/// intensity times its solid angle).
 fn tile_view(
     light: &scene::PointLight,
     centre: Vec3,
     radius: f32,
     size: u32,
 ) -> (PhotonTileGpu, glam::Mat4) {
-    let radius = radius * 1.05;
-    let to = centre - light.position;
-    let dist = to.length().max(radius * 1.001);
-    let axis = to / to.length().max(1e-9);
-    let half = (radius / dist).clamp(-1.0, 1.0).asin();
-    let up = if axis.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
-    let view = glam::camera::rh::view::look_at_mat4(light.position, centre, up);
-    let proj = glam::camera::rh::proj::directx::perspective(
-        2.0 * half,
-        1.0,
-        ((dist - radius) * 0.5).max(1e-3),
-        dist + 2.0 * radius,
-    );
-    let pixel_area = (2.0 * half.tan() / size as f32).powi(2);
+    let view = scene::lightmap::LightView::of_sphere(light.position, centre, radius, size);
     let tile = PhotonTileGpu {
         light: light.position.extend(1.0).to_array(),
         intensity: light.intensity.extend(0.0).to_array(),
-        axis: axis.extend(pixel_area).to_array(),
+        axis: view.axis.extend(view.pixel_area).to_array(),
     };
-    (tile, proj * view)
+    (tile, view.view_proj)
 }
 
 fn clear(encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView) {

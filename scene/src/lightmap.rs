@@ -18,7 +18,7 @@
 //! (caustics of distance impostors, screen-space photons) shares one splat.
 
 use crate::{Frame, Material, Scene};
-use glam::{Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Uniform, bind};
@@ -355,6 +355,55 @@ impl QuadSplatter {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.draw(0..6, 0..size * size);
+    }
+}
+
+/// A point light's square perspective view holding a sphere: what a photon pass draws from
+/// the light (refractor-maps' photon-map tiles, screen-photons' transfer map). The sphere is
+/// grown 5% so that its silhouette stays inside; near and far planes bracket it (from half
+/// the distance to its front to its back plus a radius).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightView {
+    /// World to clip, depth in [0, 1].
+    pub view_proj: Mat4,
+    /// Unit axis of the view, from the light to the sphere's centre.
+    pub axis: Vec3,
+    /// Area of one pixel on the image plane at unit distance, `(2 tan(fov / 2) / pixels)^2`:
+    /// a pixel's solid angle is this times `cos^3` of its angle off the axis.
+    pub pixel_area: f32,
+    /// Distance from the light to the sphere's centre.
+    pub distance: f32,
+}
+
+impl LightView {
+    /// The view from `light` of the sphere (`centre`, `radius`), `pixels` on a side. The light
+    /// must lie outside the sphere (else the view is the 5% grown sphere's tangent cone from a
+    /// point just outside it).
+    pub fn of_sphere(light: Vec3, centre: Vec3, radius: f32, pixels: u32) -> Self {
+        let radius = radius * 1.05;
+        let to = centre - light;
+        let distance = to.length().max(radius * 1.001);
+        let axis = to / to.length().max(1e-9);
+        let half = (radius / distance).clamp(-1.0, 1.0).asin();
+        let up = if axis.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
+        let view = glam::camera::rh::view::look_at_mat4(light, centre, up);
+        let proj = glam::camera::rh::proj::directx::perspective(
+            2.0 * half,
+            1.0,
+            ((distance - radius) * 0.5).max(1e-3),
+            distance + 2.0 * radius,
+        );
+        Self {
+            view_proj: proj * view,
+            axis,
+            pixel_area: (2.0 * half.tan() / pixels as f32).powi(2),
+            distance,
+        }
+    }
+
+    /// The width of one pixel at the sphere's centre (m): the spacing of photons there.
+    pub fn spacing(&self) -> f32 {
+        self.pixel_area.sqrt() * self.distance
     }
 }
 

@@ -11,7 +11,7 @@
 //! - [`splat`]: the splat kernel and the weights of oriented splats and screen-aligned
 //!   sprites: the twin of `shaders/splat.wgsl`'s `splat_weight`.
 //! - [`technique`]: the passes of a frame and the variants `lines`, `dda`, `sprites`,
-//!   `refraction`, `refraction-dda`.
+//!   `refraction`, `refraction-dda`, `shadows`.
 //!
 //! See `README.md` for the mapping to the paper, the departures and the failure cases.
 

@@ -18,10 +18,11 @@
 //!   ray's distance range over the sample's pixel must overlap `[d, d + thickness]` of a
 //!   layer, each surface being assumed that thick; the walk stops at the first hit.
 //!
-//! A hit on a specular surface counts only if the ray meets it from the side it is on: a ray
-//! inside glass leaves through a face whose authored normal points along it, a ray in air
-//! enters through one facing it (the Russian-doll test that lets a photon refracted into an
-//! object find the exit instead of the face it came in through). Samples closer than
+//! A hit on glass counts only if the ray meets it from the side it is on: a ray inside glass
+//! leaves through a face whose authored normal points along it, a ray in air enters through
+//! one facing it: what lets a photon refracted into an object find its exit instead of the
+//! face it came in through. Diffuse and metal surfaces stop a ray from either side, and a
+//! shadow ray ([`Side::Any`]) stops at anything. Samples closer than
 //! `t_skip` to the ray's origin are skipped (the surface the ray starts on).
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -35,8 +36,10 @@ pub struct Texel {
     pub normal: Vec3,
     /// Object index.
     pub object: u32,
-    /// Whether the object is specular (glass or metal): the side test applies.
+    /// Whether the object is specular (glass or metal): a photon reflects or refracts here.
     pub specular: bool,
+    /// Whether it is glass: the side rule applies ([`side_ok`]).
+    pub glass: bool,
 }
 
 /// A layered depth image: `layers` layers of `width` x `height` texels, layer 0 nearest.
@@ -97,7 +100,8 @@ impl Eye {
     }
 }
 
-/// A sphere for [`Ldi::of_spheres`]: centre, radius, object index, specular.
+/// A sphere for [`Ldi::of_spheres`]: centre, radius, object index, glass (specular) or
+/// diffuse.
 #[derive(Clone, Copy, Debug)]
 pub struct Sphere {
     pub centre: Vec3,
@@ -130,6 +134,7 @@ impl Ldi {
                                 normal: (p - s.centre) / s.radius,
                                 object: s.object,
                                 specular: s.specular,
+                                glass: s.specular,
                             });
                         }
                     }
@@ -314,13 +319,11 @@ pub struct RayState {
     pub t_skip: f32,
 }
 
-/// Whether a ray travelling along `dir` may stop at `texel`: any diffuse surface; a specular
-/// one only from the side the ray is on (see the module documentation); anything for a
-/// shadow ray.
+/// Whether a ray travelling along `dir` may stop at `texel`: any diffuse or metal surface
+/// (opaque, two-sided); glass only from the side the ray is on (see the module
+/// documentation); anything for a shadow ray.
 pub fn side_ok(texel: &Texel, dir: Vec3, side: Side) -> bool {
-    side == Side::Any
-        || !texel.specular
-        || ((texel.normal.dot(dir) > 0.0) == (side == Side::Inside))
+    side == Side::Any || !texel.glass || ((texel.normal.dot(dir) > 0.0) == (side == Side::Inside))
 }
 
 /// The layer hit at sample `k` under `test`, if any: for the tolerance test the layer whose
@@ -463,8 +466,10 @@ pub fn monotone_holds(
     }
 }
 
-/// The brute-force answer the marchers are held to: among all samples, the first at which
-/// some layer passes `test` (every sample and layer examined, no early exit).
+/// The brute-force answer the marchers are held to, written apart from [`test_sample`]: every
+/// sample and every layer are examined (no early exit, no skipping past an empty layer's
+/// followers), each hit condition spelled out again, and the hit with the smallest `t` (for
+/// the tolerance test, the layer nearest the ray's distance at that sample) is returned.
 pub fn first_hit_brute(
     ldi: &Ldi,
     eye: &Eye,
@@ -472,13 +477,69 @@ pub fn first_hit_brute(
     test: Test,
     state: RayState,
 ) -> Option<Hit> {
-    let mut all = Vec::new();
+    let mut best: Option<(Hit, f32)> = None;
     for k in 0..seg.steps {
-        if let Some(h) = test_sample(ldi, eye, seg, k, test, state) {
-            all.push(h);
+        let s = (k as f32 + 0.5) / seg.steps as f32;
+        let t = seg.t_at(s);
+        if t < state.t_skip {
+            continue;
+        }
+        let p = seg.p0 + (seg.p1 - seg.p0) * s;
+        let x = (p.x.floor().max(0.0) as u32).min(eye.width - 1);
+        let y = (p.y.floor().max(0.0) as u32).min(eye.height - 1);
+        let d = (seg.origin + seg.dir * t - eye.position).length();
+        // The layers before the first empty one: what the peeler wrote at this pixel.
+        let filled = (0..ldi.layers).take_while(|&l| ldi.get(x, y, l).distance > 0.0);
+        for layer in filled {
+            let texel = ldi.get(x, y, layer);
+            let facing_out = texel.normal.dot(seg.dir) > 0.0;
+            let allowed = match state.side {
+                Side::Any => true,
+                _ if !texel.glass => true,
+                Side::Inside => facing_out,
+                Side::Outside => !facing_out,
+            };
+            if !allowed {
+                continue;
+            }
+            let gap = match test {
+                Test::Tolerance(tolerance) => {
+                    let gap = (d - texel.distance).abs();
+                    if gap >= tolerance {
+                        continue;
+                    }
+                    gap
+                }
+                Test::Thickness(thickness) => {
+                    let half = 0.5 / seg.steps as f32;
+                    let ends = [seg.t_at((s - half).max(0.0)), seg.t_at((s + half).min(1.0))]
+                        .map(|t| (seg.origin + seg.dir * t - eye.position).length());
+                    let lo = ends[0].min(ends[1]).min(d);
+                    let hi = ends[0].max(ends[1]).max(d);
+                    if lo > texel.distance + thickness || hi < texel.distance {
+                        continue;
+                    }
+                    // The first overlapping layer wins: order by layer.
+                    layer as f32
+                }
+            };
+            let hit = Hit {
+                t,
+                x,
+                y,
+                layer,
+                step: k,
+            };
+            let better = match &best {
+                None => true,
+                Some((b, g)) => t < b.t || (t == b.t && gap < *g),
+            };
+            if better {
+                best = Some((hit, gap));
+            }
         }
     }
-    all.into_iter().min_by(|a, b| a.t.total_cmp(&b.t))
+    best.map(|(h, _)| h)
 }
 
 #[cfg(test)]

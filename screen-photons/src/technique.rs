@@ -2,10 +2,12 @@
 //!
 //! A frame (every pass recorded into the harness's encoder, in this order):
 //!
-//! 1. The shared raster pass draws the diffuse scene (direct light, shadow maps).
-//! 2. *LDI* ("ldi" span): two layered depth images from the eye by `scene::DepthPeeler`: the
+//! 1. *LDI* ("ldi" span): two layered depth images from the eye by `scene::DepthPeeler`: the
 //!    whole scene (photons and retraced rays march over it) and the specular objects alone
 //!    (section 4's LDI "of the transmitting object").
+//! 2. The shared raster pass draws the diffuse scene (direct light, shadow maps); the
+//!    `shadows` variant instead draws it with screen-space shadow rays ("shadows" span:
+//!    `shadow_mask.wgsl`, `shadowed.wgsl`).
 //! 3. *Caustics* ("caustics" span, the caustic variants only), per light:
 //!    - the transfer map: every object drawn from the light into a `photons` x `photons`
 //!      grid fitted to the caustic casters; a pixel on a specular surface is one photon,
@@ -47,8 +49,8 @@ const SPECULAR_WGSL: &str = include_str!("shaders/specular.wgsl");
 const SHADOW_MASK_WGSL: &str = include_str!("shaders/shadow_mask.wgsl");
 const SHADOWED_WGSL: &str = include_str!("shaders/shadowed.wgsl");
 
-/// The LDI bindings of the technique's passes (`@group(2)`), and the specular test of
-/// ldi.wgsl from the scene's materials.
+/// The LDI bindings of the technique's passes (`@group(2)`), and the material kind ldi.wgsl
+/// asks for, from the scene's materials (0 diffuse, 1 metal, 2 glass: `MATERIAL_*`).
 pub const LDI_BINDINGS_WGSL: &str = r#"
 @group(2) @binding(0) var<uniform> ldi: LdiParams;
 @group(2) @binding(1) var ldi_layers: texture_2d_array<f32>;
@@ -56,8 +58,8 @@ pub const LDI_BINDINGS_WGSL: &str = r#"
 @group(2) @binding(3) var refractor_layers: texture_2d_array<f32>;
 @group(2) @binding(4) var refractor_surfaces: texture_2d_array<f32>;
 
-fn ldi_is_specular(object: u32) -> bool {
-    return objects[object].material.x != MATERIAL_DIFFUSE;
+fn ldi_kind(object: u32) -> u32 {
+    return u32(objects[object].material.x);
 }
 "#;
 
@@ -284,7 +286,13 @@ impl ScreenPhotons {
     /// first four lights per pixel, row 0 at the top (1 where the pixel's layer 0 is not a
     /// diffuse surface).
     pub fn last_shadow_mask(&self, ctx: &Context) -> TechniqueResult<Vec<[f32; 4]>> {
-        let bytes = gpu::read_buffer(ctx, &self.last_frame()?.shadow_mask)?;
+        let Some(mask) = &self.last_frame()?.shadow_mask else {
+            return Err(TechniqueError::Unsupported(format!(
+                "{} has no screen-space shadow mask (only screen-photons/shadows)",
+                self.id()
+            )));
+        };
+        let bytes = gpu::read_buffer(ctx, mask)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
@@ -292,6 +300,29 @@ impl ScreenPhotons {
     /// distance]` per pixel (see `scene::DepthPeeler::read_layer`).
     pub fn last_ldi_layer(&self, ctx: &Context, layer: u32) -> TechniqueResult<Vec<[f32; 4]>> {
         Ok(self.last_frame()?.scene_ldi.read_layer(ctx, layer)?)
+    }
+
+    /// Diagnostics of the last frame rendered: layer `layer` of the scene's LDI, `[object, u,
+    /// v, 1]` per pixel (see `scene::DepthPeeler::read_surface`).
+    pub fn last_ldi_surface(&self, ctx: &Context, layer: u32) -> TechniqueResult<Vec<[f32; 4]>> {
+        Ok(self.last_frame()?.scene_ldi.read_surface(ctx, layer)?)
+    }
+
+    /// Diagnostics of the last frame rendered: the LDI uniform its marches read (the eye, the
+    /// sizes, the tests, the scene's box).
+    pub fn last_ldi_params(&self) -> TechniqueResult<LdiParamsGpu> {
+        self.last_frame()?
+            .ldi_params
+            .get()
+            .ok_or_else(|| scene::technique::not_prepared(self))
+    }
+
+    /// Diagnostics of the last frame rendered: the photon buffer, `[origin + travelling,
+    /// direction + inside, power + specular events]` per photon (photon.wgsl's `Photon`). With
+    /// `bounces = 0` the origins, directions and powers are the transfer map's.
+    pub fn last_photons(&self, ctx: &Context) -> TechniqueResult<Vec<[[f32; 4]; 3]>> {
+        let bytes = gpu::read_buffer(ctx, &self.last_frame()?.photons.photons)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 }
 
@@ -344,8 +375,14 @@ impl Technique for ScreenPhotons {
         wgpu::Features::FLOAT32_BLENDABLE
     }
 
+    /// A scene with a specular object, every light outside the caustic casters' bounding
+    /// sphere (at time 0; [`light_outside_casters`]).
     fn supports(&self, scene: &Scene) -> bool {
         !scene.specular_objects().is_empty()
+            && scene
+                .lights
+                .iter()
+                .all(|l| light_outside_casters(scene, l, 0.0).is_ok())
     }
 
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
@@ -375,7 +412,8 @@ impl Technique for ScreenPhotons {
         let ctx = frame.gpu;
         let key = (view.width, view.height);
         if self.sized.as_ref().is_none_or(|s| s.key != key) {
-            self.sized = Some(Sized::new(ctx, scene, &self.settings, key)?);
+            let shadows = self.variant.screen_space_shadows;
+            self.sized = Some(Sized::new(ctx, scene, &self.settings, key, shadows)?);
         }
         let sized = self.sized.as_ref().expect("made above");
         passes.frame(
@@ -403,8 +441,11 @@ struct Sized {
     line_rows_count: u32,
     /// Transfer map targets: origin, direction (transfer.wgsl says what they hold), depth.
     transfer: [wgpu::TextureView; 3],
-    /// Screen-space visibility of the first four lights per pixel (the `shadows` variant).
-    shadow_mask: wgpu::Buffer,
+    /// Screen-space visibility of the first four lights per pixel (the `shadows` variant
+    /// only).
+    shadow_mask: Option<wgpu::Buffer>,
+    /// The LDI uniform of the last frame (diagnostics).
+    ldi_params: std::cell::Cell<Option<LdiParamsGpu>>,
 }
 
 struct PhotonBuffers {
@@ -414,13 +455,63 @@ struct PhotonBuffers {
     receivers: wgpu::Buffer,
 }
 
+/// GPU memory one frame's resources may take together (the LDIs dominate: 36 bytes per pixel
+/// and layer, twice).
+pub const FRAME_BUDGET_BYTES: u64 = scene::technique::MAP_BUDGET_BYTES;
+
+/// At most this many line batches per march: `rows` is raised to fit (each batch is a render
+/// pass and a compute pass).
+pub const MAX_LINE_BATCHES: u32 = 256;
+
 impl Sized {
+    /// The bytes of a frame's resources at `width` x `height`.
+    pub fn bytes(settings: &Settings, (width, height): (u32, u32), shadows: bool) -> u64 {
+        let pixels = width as u64 * height as u64;
+        let photons = settings.photons as u64 * settings.photons as u64;
+        let ldis = 2 * pixels * settings.layers as u64 * (2 * 16 + 4);
+        let per_photon = 48 + 16 + 48 + 2 * 16 + 4;
+        let rows = Self::line_rows(settings) as u64 * width.max(height) as u64 * 16;
+        ldis + pixels * 16 * (1 + shadows as u64) + photons * per_photon + rows
+    }
+
+    /// Rows of the line buffer: `rows`, raised so that a march takes at most
+    /// [`MAX_LINE_BATCHES`] batches, and no more than the photons.
+    fn line_rows(settings: &Settings) -> u32 {
+        let count = settings.photons * settings.photons;
+        settings
+            .rows
+            .max(count.div_ceil(MAX_LINE_BATCHES))
+            .min(count)
+    }
+
     fn new(
         ctx: &Context,
         scene: &GpuScene,
         settings: &Settings,
         (width, height): (u32, u32),
+        shadows: bool,
     ) -> TechniqueResult<Self> {
+        let bytes = Self::bytes(settings, (width, height), shadows);
+        if bytes > FRAME_BUDGET_BYTES {
+            return Err(TechniqueError::OverBudget(format!(
+                "screen-photons at {width}x{height} with {} layers and {}^2 photons needs {:.2} GB \
+                 of GPU memory, over its {} MB budget: lower the size, `layers` or `photons`",
+                settings.layers,
+                settings.photons,
+                bytes as f64 / 1e9,
+                FRAME_BUDGET_BYTES >> 20
+            )));
+        }
+        let max_binding = ctx.device.limits().max_storage_buffer_binding_size as u64;
+        let mask_bytes = width as u64 * height as u64 * 16;
+        if shadows && mask_bytes > max_binding {
+            return Err(TechniqueError::Unsupported(format!(
+                "the shadow mask of {width}x{height} pixels ({} MB) is larger than the adapter's \
+                 largest storage binding ({} MB): lower the size",
+                mask_bytes >> 20,
+                max_binding >> 20
+            )));
+        }
         let scene_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
         let refractor_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
         let grid = settings.photons;
@@ -443,7 +534,7 @@ impl Sized {
             receivers: storage("receivers", count as u64 * 48),
         })?;
         let line_width = width.max(height);
-        let line_rows_count = settings.rows.min(count);
+        let line_rows_count = Self::line_rows(settings);
         ctx.check_size(line_width, line_rows_count)?;
         let texture = |label: &str, w: u32, h: u32, format| {
             gpu::render_texture(ctx, label, (w, h, 1), format, wgpu::TextureUsages::empty())
@@ -458,11 +549,14 @@ impl Sized {
             line_rows: texture("line rows", line_width, line_rows_count, MAP_FORMAT),
             line_width,
             line_rows_count,
-            shadow_mask: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("shadow mask"),
-                size: width as u64 * height as u64 * 16,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
+            ldi_params: std::cell::Cell::new(None),
+            shadow_mask: shadows.then(|| {
+                ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("shadow mask"),
+                    size: mask_bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                })
             }),
             transfer: [
                 texture("transfer origin", grid, grid, MAP_FORMAT),
@@ -848,24 +942,22 @@ impl Passes {
         // The scene's box at this time, grown a little (rays start on its surfaces).
         let (lo, hi) = scene_box(&scene.scene, scene.time());
         let margin = Vec3::splat((hi - lo).length() * 1e-3 + 1e-3);
-        let ldi_params = Uniform::new(
-            ctx,
-            "ldi params",
-            &LdiParamsGpu {
-                view_proj: view_proj.to_cols_array_2d(),
-                inv_view_proj: view_proj.inverse().to_cols_array_2d(),
-                eye: eye.extend(1.0).to_array(),
-                size: [width, height, settings.layers, sized.line_width],
-                tests: [
-                    settings.tolerance,
-                    settings.thickness,
-                    settings.tolerance,
-                    0.0,
-                ],
-                bounds_min: (lo - margin).extend(0.0).to_array(),
-                bounds_max: (hi + margin).extend(0.0).to_array(),
-            },
-        );
+        let ldi_params = LdiParamsGpu {
+            view_proj: view_proj.to_cols_array_2d(),
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+            eye: eye.extend(1.0).to_array(),
+            size: [width, height, settings.layers, sized.line_width],
+            tests: [
+                settings.tolerance,
+                settings.thickness,
+                settings.tolerance,
+                0.0,
+            ],
+            bounds_min: (lo - margin).extend(0.0).to_array(),
+            bounds_max: (hi + margin).extend(0.0).to_array(),
+        };
+        sized.ldi_params.set(Some(ldi_params));
+        let ldi_params = Uniform::new(ctx, "ldi params", &ldi_params);
         let ldi_group = bind::group(
             ctx,
             "ldi",
@@ -885,8 +977,8 @@ impl Passes {
             ldi: &ldi_group,
         };
 
-        if variant.screen_space_shadows {
-            self.screen_space_shadowed(frame, scene, &groups, sized, target, &specular);
+        if let (true, Some(mask)) = (variant.screen_space_shadows, &sized.shadow_mask) {
+            self.screen_space_shadowed(frame, scene, &groups, mask, sized.key, target, &specular);
         } else {
             scene.raster(
                 frame,
@@ -1013,12 +1105,14 @@ impl Passes {
 
     /// The diffuse surfaces with screen-space shadow rays: the visibility mask (a compute
     /// pass over layer 0 of the LDI), then the surfaces drawn with it.
+    #[allow(clippy::too_many_arguments)]
     fn screen_space_shadowed(
         &self,
         frame: &mut Frame,
         scene: &GpuScene,
         groups: &Groups,
-        sized: &Sized,
+        mask: &wgpu::Buffer,
+        (width, height): (u32, u32),
         target: &Target,
         specular: &[usize],
     ) {
@@ -1028,7 +1122,7 @@ impl Passes {
             ctx,
             "shadow mask",
             &self.shadow_mask_layout,
-            &[sized.shadow_mask.as_entire_binding()],
+            &[mask.as_entire_binding()],
         );
         {
             let mut pass = frame
@@ -1039,14 +1133,14 @@ impl Passes {
             pass.set_bind_group(1, groups.scene, &[]);
             pass.set_bind_group(2, groups.ldi, &[]);
             pass.set_bind_group(3, &mask_group, &[]);
-            pass.dispatch_workgroups(sized.key.0.div_ceil(8), sized.key.1.div_ceil(8), 1);
+            pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
         }
         frame.timer.end(frame.encoder, "shadows");
         let group = bind::group(
             ctx,
             "shadowed",
             &self.shadowed_layout,
-            &[sized.shadow_mask.as_entire_binding()],
+            &[mask.as_entire_binding()],
         );
         let background = scene.scene.background;
         let mut pass = pass::begin(
@@ -1080,7 +1174,7 @@ impl Passes {
         light: &scene::PointLight,
     ) -> TechniqueResult<(f32, Vec3)> {
         let ctx = frame.gpu;
-        let (centre, radius) = casters_sphere(&scene.scene, scene.time());
+        let (centre, radius) = light_outside_casters(&scene.scene, light, scene.time())?;
         let grid = settings.photons;
         let (view_proj, params, spacing) = light_view(light, centre, radius, grid);
         let uniform = Uniform::new(ctx, "transfer params", &params);
@@ -1216,7 +1310,12 @@ impl Passes {
         let ctx = frame.gpu;
         let camera = view.camera;
         let (forward, _, _) = camera.basis();
-        let focal = view.height as f32 / (2.0 * (camera.fov_y_deg.to_radians() * 0.5).tan());
+        let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
+        let focal = view.height as f32 / (2.0 * tan_half);
+        // A sphere's projection off the view axis is wider than on it by up to the secant of
+        // the angle to the view's corner (splat_vs sizes its quads with it).
+        let aspect = view.width as f32 / view.height as f32;
+        let corner_secant = (1.0 + tan_half * tan_half * (1.0 + aspect * aspect)).sqrt();
         let params = Uniform::new(
             ctx,
             "splat params",
@@ -1225,7 +1324,7 @@ impl Passes {
                     .view_proj(view.width, view.height)
                     .inverse()
                     .to_cols_array_2d(),
-                forward: forward.extend(focal).to_array(),
+                forward: forward.extend(focal * corner_secant).to_array(),
                 size: [
                     view.width as f32,
                     view.height as f32,
@@ -1308,29 +1407,39 @@ pub fn casters_sphere(scene: &Scene, time: f32) -> (Vec3, f32) {
     (centre, radius)
 }
 
-/// The light's view of the casters' sphere: its matrix, the transfer uniform, and the
-/// photon spacing at the sphere's centre.
+/// The casters' bounding sphere at `time` when `light` lies outside it (a transfer map is one
+/// view from the light, which cannot hold casters around it: the reference emits over the
+/// whole sphere there), else why not.
+pub fn light_outside_casters(
+    scene: &Scene,
+    light: &scene::PointLight,
+    time: f32,
+) -> TechniqueResult<(Vec3, f32)> {
+    let (centre, radius) = casters_sphere(scene, time);
+    if centre.is_finite() && light.position.distance(centre) > radius * 1.05 {
+        return Ok((centre, radius));
+    }
+    Err(TechniqueError::Unsupported(format!(
+        "light \"{}\" lies inside the bounding sphere of the caustic casters (centre {centre}, \
+         radius {radius:.3} m): a transfer map is one view from the light and cannot hold casters \
+         around it",
+        light.name
+    )))
+}
+
+/// The light's view of the casters' sphere (`scene::lightmap::LightView`): its matrix, the
+/// transfer uniform, and the photon spacing at the sphere's centre.
 fn light_view(
     light: &scene::PointLight,
     centre: Vec3,
     radius: f32,
     grid: u32,
 ) -> (Mat4, TransferParamsGpu, f32) {
-    let radius = radius * 1.02;
-    let to = centre - light.position;
-    let dist = to.length().max(radius * 1.001);
-    let axis = to / to.length().max(1e-9);
-    let half = (radius / dist).clamp(-1.0, 1.0).asin();
-    let up = if axis.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
-    let view = glam::camera::rh::view::look_at_mat4(light.position, centre, up);
-    let near = ((dist - radius) * 0.5).max(1e-3);
-    let proj =
-        glam::camera::rh::proj::directx::perspective(2.0 * half, 1.0, near, dist + 4.0 * radius);
-    let pixel = 2.0 * half.tan() / grid as f32;
+    let view = scene::lightmap::LightView::of_sphere(light.position, centre, radius, grid);
     let params = TransferParamsGpu {
         light: light.position.extend(1.0).to_array(),
         intensity: light.intensity.extend(0.0).to_array(),
-        axis: axis.extend(pixel * pixel).to_array(),
+        axis: view.axis.extend(view.pixel_area).to_array(),
     };
-    (proj * view, params, pixel * dist)
+    (view.view_proj, params, view.spacing())
 }

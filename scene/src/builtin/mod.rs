@@ -274,7 +274,9 @@ fn registry() -> Vec<Builtin> {
         Builtin {
             info: SceneInfo {
                 name: "pool",
-                description: "a tiled swimming pool under the sun: glass height-field water                               (drifting waves), a ladder and a ball in the water; seen by a                               swimmer under the surface",
+                description: "a tiled swimming pool under the sun: glass height-field water (drifting \
+                              waves), a ladder and a ball in the water; seen by a swimmer \
+                              under the surface",
                 params: vec![word(
                     "view",
                     "below",

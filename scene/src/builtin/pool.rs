@@ -13,7 +13,8 @@
 //! The waves move by translation: scene objects move rigidly ([`Motion`]), so the wave field is
 //! a fixed sum of sines drifting 0.3 m in x and 0.2 m in z over the camera path, and the
 //! caustic pattern moves with it. The surface is larger than the pool so that it covers the
-//! pool at every time; what lies outside the walls is hidden by them.
+//! pool at every time; from below, what lies outside the walls is hidden by them (from above,
+//! the strip beyond the near wall is in view: a sheet of water outside the pool).
 
 use super::textures::from_texels;
 use crate::mesh::{cuboid, merge, quad, uv_sphere};

@@ -7,7 +7,7 @@
 //   var ldi_layers: texture_2d_array<f32>;    // xyz authored normal, w distance (0 = empty)
 //   var ldi_surfaces: texture_2d_array<f32>;  // x object index, yz uv, w 1
 //   var refractor_layers, refractor_surfaces  // the same for the LDI of the refractors alone
-//   fn ldi_is_specular(object: u32) -> bool;
+//   fn ldi_kind(object: u32) -> u32;           // 0 diffuse, 1 metal, 2 glass
 // Every function reading an LDI takes `which`: LDI_SCENE (all objects) or LDI_REFRACTORS.
 // (the technique's passes at @group(2), the conformance kernel at @group(0)).
 // ---------------------------------------------------------------------------------------------
@@ -32,8 +32,14 @@ struct LdiTexel {
     distance: f32,
     normal: vec3f,
     object: u32,
+    // Metal or glass: a photon reflects or refracts here.
     specular: bool,
+    // Glass: the side rule applies (side_ok).
+    glass: bool,
 };
+
+const KIND_DIFFUSE: u32 = 0u;
+const KIND_GLASS: u32 = 2u;
 
 const LDI_SCENE: u32 = 0u;
 const LDI_REFRACTORS: u32 = 1u;
@@ -52,7 +58,9 @@ fn ldi_texel(which: u32, x: u32, y: u32, layer: u32) -> LdiTexel {
     t.distance = a.w;
     t.normal = a.xyz;
     t.object = object;
-    t.specular = a.w > 0.0 && ldi_is_specular(object);
+    let kind = ldi_kind(object);
+    t.specular = a.w > 0.0 && kind != KIND_DIFFUSE;
+    t.glass = a.w > 0.0 && kind == KIND_GLASS;
     return t;
 }
 
@@ -166,8 +174,9 @@ fn segment_distance(s: Segment, t: f32) -> f32 {
     return length(s.origin + s.dir * t - ldi.eye.xyz);
 }
 
-// Which surfaces may stop a ray: a ray outside glass enters specular surfaces through their
-// front, one inside leaves through their back; a shadow ray stops at anything.
+// Which surfaces may stop a ray: a ray outside glass enters glass through its front faces, one
+// inside leaves through the back faces; diffuse and metal surfaces (opaque) stop a ray from
+// either side, and a shadow ray stops at anything.
 const SIDE_OUTSIDE: u32 = 0u;
 const SIDE_INSIDE: u32 = 1u;
 const SIDE_ANY: u32 = 2u;
@@ -176,15 +185,15 @@ fn side_of(inside: bool) -> u32 {
     return select(SIDE_OUTSIDE, SIDE_INSIDE, inside);
 }
 
-// A specular surface stops a ray only from the side the ray is on.
+// A glass surface stops a ray only from the side the ray is on.
 fn side_ok(texel: LdiTexel, dir: vec3f, side: u32) -> bool {
-    return side == SIDE_ANY || !texel.specular || ((dot(texel.normal, dir) > 0.0) == (side == SIDE_INSIDE));
+    return side == SIDE_ANY || !texel.glass || ((dot(texel.normal, dir) > 0.0) == (side == SIDE_INSIDE));
 }
 
 const TEST_TOLERANCE: u32 = 0u;
 const TEST_THICKNESS: u32 = 1u;
 
-// A hit of a march: x = t (ray parameter, 0 = none), y = layer, zw = pixel.
+// A hit of a march: the ray parameter, the LDI sample (layer, pixel), the sample's index.
 struct LdiHit {
     t: f32,
     layer: u32,

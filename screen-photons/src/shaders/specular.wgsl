@@ -1,10 +1,11 @@
 // ---------------------------------------------------------------------------------------------
 // Screen-space refraction tracing (section 4) of the specular surfaces seen by the eye. At the
 // visible surface the view ray splits (specular_event). The refracted ray, when it enters a
-// refractor, is traced through the refractors' LDI to its exit: the paper's monotone rule
-// (the n-th intersection is in layer n + 1; `mode` 0) or the DDA over every layer with a
-// thickness (`mode` 1); the exit normal comes from that layer, and a ray reflected there
-// (total internal reflection) tries the next layer once more. The rays that leave (reflected
+// refractor, is traced to its exit (through_refractor): the paper's monotone rule in the
+// refractors' LDI (the n-th intersection is in layer n + 1; `mode` 0) or the DDA over every
+// layer of the scene's LDI with a thickness (`mode` 1); the exit normal comes from that
+// layer, and a ray reflected there (total internal reflection) tries the next layer once
+// more. The rays that leave (reflected
 // at the surface, refracted out) are retraced into the scene's LDI with the same test as the
 // mode's photons (the tolerance test walked in order, or the DDA) and shaded there with the
 // shared diffuse model; a ray that meets nothing there, or leaves the view, sees the
@@ -23,9 +24,24 @@ struct SpecularParams {
 
 const EXIT_CHORDS: u32 = 2u;
 
+// The diffuse surface a march hit, shaded with direct light (what the reference computes
+// there); `s` is the marched segment (its step bounds how far the sample is off the surface).
+fn shade_hit(which: u32, h: LdiHit, texel: LdiTexel, origin: vec3f, dir: vec3f, s: Segment) -> vec3f {
+    // The sample is up to a step off the surface (behind it, for the thickness test): shade
+    // the point on the surface, or the shadow test would put it behind the wall it lights.
+    let p = point_on_surface(origin, dir, h.t, texel, h.pixel.x, h.pixel.y, segment_step(s) + ldi.tests.x);
+    var uv: vec2f;
+    if (which == LDI_SCENE) {
+        uv = textureLoad(ldi_surfaces, h.pixel, h.layer, 0).yz;
+    } else {
+        uv = textureLoad(refractor_surfaces, h.pixel, h.layer, 0).yz;
+    }
+    let n = facing_normal(texel.normal, p, origin);
+    return shade_diffuse(p, n, surface_albedo(texel.object, uv));
+}
+
 // Radiance arriving at `origin` from direction `dir`: the first diffuse surface of the scene's
-// LDI along it, shaded with direct light (what the reference computes there), else the
-// background.
+// LDI along it, else the background (also for a second specular surface: not followed).
 fn retrace(origin: vec3f, dir: vec3f, inside: bool) -> vec3f {
     let side = side_of(inside);
     let range = scene_range(origin, dir);
@@ -39,16 +55,16 @@ fn retrace(origin: vec3f, dir: vec3f, inside: bool) -> vec3f {
     if (!h.found) { return scene_info.background.rgb; }
     let texel = ldi_texel(LDI_SCENE, h.pixel.x, h.pixel.y, h.layer);
     if (texel.specular) { return scene_info.background.rgb; }
-    // The sample is up to a step off the surface (behind it, for the thickness test): shade
-    // the point on the surface, or the shadow test would put it behind the wall it lights.
-    let p = point_on_surface(origin, dir, h.t, texel, h.pixel.x, h.pixel.y, segment_step(s) + ldi.tests.x);
-    let uv = textureLoad(ldi_surfaces, h.pixel, h.layer, 0).yz;
-    let n = facing_normal(texel.normal, p, origin);
-    return shade_diffuse(p, n, surface_albedo(texel.object, uv));
+    return shade_hit(LDI_SCENE, h, texel, origin, dir, s);
 }
 
-// The exit of a ray refracted into a refractor at layer 0: its chord through the
-// refractors' LDI; returns the radiance leaving the refractor toward `origin`.
+// The radiance leaving a refractor toward `origin` along a ray refracted into it there. The
+// DDA marches the scene's layers from inside (side rule: glass back faces are the way out,
+// diffuse surfaces inside the refractor stop the ray); the paper's monotone rule reads the
+// refractors' layer `chord + 1`, and where that layer has nothing along the ray (an open
+// surface such as the pool's water, or an exit outside the view) the ray is retraced into the
+// scene from inside. At the exit the refracted share (1 - F) is followed; under total
+// internal reflection the reflected ray tries the next layer, up to EXIT_CHORDS chords.
 fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
     var o = origin;
     var dir = dir_in;
@@ -59,24 +75,35 @@ fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
         let range = scene_range(o, dir);
         let s = clip_segment(o, dir, range.x, range.y);
         var h: LdiHit;
+        var which = LDI_SCENE;
         if (specular.mode == 1u) {
-            h = march_dda(LDI_REFRACTORS, s, SIDE_INSIDE);
+            h = march_dda(LDI_SCENE, s, SIDE_INSIDE);
         } else {
             h = march_monotone(LDI_REFRACTORS, s, chord + 1u);
+            which = LDI_REFRACTORS;
         }
         if (!h.found) {
-            radiance = scene_info.background.rgb;
+            if (specular.mode == 1u) {
+                radiance = scene_info.background.rgb;
+            } else {
+                radiance = retrace(o, dir, true);
+            }
             travelling = false;
         } else {
-            let texel = ldi_texel(LDI_REFRACTORS, h.pixel.x, h.pixel.y, h.layer);
-            let p = point_on_surface(o, dir, h.t, texel, h.pixel.x, h.pixel.y, segment_step(s) + ldi.tests.x);
-            let e = specular_event(texel.object, texel.normal, p, o, dir);
-            if (e.refracted.w > 0.5) {
-                radiance = (1.0 - e.reflectance.x) * retrace(p, e.refracted.xyz, false);
+            let texel = ldi_texel(which, h.pixel.x, h.pixel.y, h.layer);
+            if (!texel.specular) {
+                radiance = shade_hit(which, h, texel, o, dir, s);
                 travelling = false;
             } else {
-                o = p;
-                dir = e.reflected;
+                let p = point_on_surface(o, dir, h.t, texel, h.pixel.x, h.pixel.y, segment_step(s) + ldi.tests.x);
+                let e = specular_event(texel.object, texel.normal, p, o, dir);
+                if (e.refracted.w > 0.5) {
+                    radiance = (1.0 - e.reflectance.x) * retrace(p, e.refracted.xyz, false);
+                    travelling = false;
+                } else {
+                    o = p;
+                    dir = e.reflected;
+                }
             }
         }
     }
@@ -98,5 +125,5 @@ fn specular_fs(in: SceneVertexOut) -> @location(0) vec4f {
             refracted = retrace(in.world, e.refracted.xyz, false);
         }
     }
-    return vec4f(specular_shade(e, reflected, refracted), BACKGROUND_DISTANCE);
+    return vec4f(specular_shade(e, reflected, refracted), distance(in.world, eye));
 }

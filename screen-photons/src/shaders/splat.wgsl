@@ -12,7 +12,8 @@
 
 struct SplatParams {
     inv_view_proj: mat4x4f,
-    // xyz: the eye's forward axis; w: focal length in pixels (height / (2 tan(fov / 2))).
+    // xyz: the eye's forward axis; w: focal length in pixels (height / (2 tan(fov / 2))) times
+    // the secant of the angle between the axis and the view's corner.
     forward: vec4f,
     // Width, height (pixels), splat radius s (m), depth tolerance of the visibility test (m).
     size: vec4f,
@@ -48,7 +49,9 @@ fn splat_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> S
     let s = splat.size.z;
     let z = dot(c - eye, splat.forward.xyz);
     if (z <= s * 1.01) { return out; }
-    // The footprint of the sphere of radius s about C holds every point of either plane.
+    // The footprint of the sphere of radius s about C holds every point of either plane. On
+    // the view axis its radius is f s / (z - s); off the axis the projection stretches, up to
+    // the secant of the view's corner angle, which `forward.w` includes.
     let radius_px = splat.forward.w * s / (z - s);
     let clip = camera.view_proj * vec4f(c, 1.0);
     let centre = vec2f(clip.x / clip.w, clip.y / clip.w);
