@@ -262,6 +262,7 @@ fn street() -> (Scene, Camera) {
         camera,
         camera_path: CameraPath::default(),
         volumes: vec![],
+        medium: None,
         background: Vec3::new(0.35, 0.45, 0.6),
     };
     (scene, camera)

@@ -296,6 +296,7 @@ fn mirror_and_glass_room() -> (Scene, Camera) {
         camera,
         camera_path: CameraPath::default(),
         volumes: vec![],
+        medium: None,
         background: Vec3::ZERO,
     };
     (scene, camera)

@@ -320,6 +320,7 @@ mod tests {
             },
             camera_path: CameraPath::default(),
             volumes: vec![],
+            medium: None,
             background: Vec3::ZERO,
         }
     }

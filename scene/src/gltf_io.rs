@@ -99,7 +99,10 @@
 //!                                        "color": [..], "density": d, "particle": false,
 //!                                        "profile": { "falloff": k, "noise": a,
 //!                                                     "noise_frequency": f },
-//!                                        "motion": [ { "time": t, "offset": [..] }, .. ] } ] } }
+//!                                        "motion": [ { "time": t, "offset": [..] }, .. ] } ],
+//!                         "medium": { "name": "water", "min": [..], "max": [..],
+//!                                     "scattering": [..], "absorption": [..],
+//!                                     "anisotropy": g } } }   ("medium": only when there is one)
 //! nodes[i].extras     { "scene_model": {                       (an object's node)
 //!                         "roles": ["refractor", "caustic-caster"],
 //!                         "motion": [ { "time": t, "offset": [..] }, .. ],
@@ -333,6 +336,42 @@ struct SceneExtras {
     camera_path: Vec<CameraKeyExtras>,
     #[serde(default)]
     volumes: Vec<VolumeExtras>,
+    /// The homogeneous scattering medium, when the scene has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    medium: Option<MediumExtras>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct MediumExtras {
+    name: String,
+    min: V3,
+    max: V3,
+    scattering: V3,
+    absorption: V3,
+    anisotropy: f64,
+}
+
+impl MediumExtras {
+    fn from_medium(m: &crate::Medium) -> Self {
+        Self {
+            name: m.name.clone(),
+            min: v3(m.min),
+            max: v3(m.max),
+            scattering: v3(m.scattering),
+            absorption: v3(m.absorption),
+            anisotropy: m.anisotropy as f64,
+        }
+    }
+    fn medium(&self) -> crate::Medium {
+        crate::Medium {
+            name: self.name.clone(),
+            min: vec3(self.min),
+            max: vec3(self.max),
+            scattering: vec3(self.scattering),
+            absorption: vec3(self.absorption),
+            anisotropy: self.anisotropy as f32,
+        }
+    }
 }
 
 #[derive(Serialize, Deserialize)]
@@ -1087,6 +1126,9 @@ impl Importer<'_> {
             }
             None => frame_objects(&self.objects),
         };
+        let medium = scene_extras
+            .as_ref()
+            .and_then(|x| x.medium.as_ref().map(MediumExtras::medium));
         let (name, background, camera_path, volumes) = match scene_extras {
             Some(x) => (
                 x.name,
@@ -1134,6 +1176,7 @@ impl Importer<'_> {
             camera,
             camera_path,
             volumes,
+            medium,
             background,
         };
         let mut notes = self.notes;
@@ -1646,6 +1689,9 @@ fn check_finite_extras(scene: &Scene) -> Result<(), String> {
             return Err(format!("volume \"{}\" is not finite", v.name));
         }
     }
+    if let Some(m) = &scene.medium {
+        m.validate().map_err(|e| e.to_string())?;
+    }
     for t in &scene.textures {
         if t.width == 0
             || t.height == 0
@@ -1840,6 +1886,7 @@ impl Exporter {
                     motion: motion_extras(&v.motion),
                 })
                 .collect(),
+            medium: scene.medium.as_ref().map(MediumExtras::from_medium),
         };
 
         while !self.bin.len().is_multiple_of(4) {

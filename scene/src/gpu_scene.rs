@@ -20,7 +20,11 @@ use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Uniform, Vertex, bind};
 
 /// Scene bindings and the shared diffuse shading model, in WGSL (needs the `gpu` prelude).
-pub const SCENE_WGSL: &str = include_str!("shaders/scene.wgsl");
+pub const SCENE_WGSL: &str = concat!(
+    include_str!("shaders/medium.wgsl"),
+    "\n",
+    include_str!("shaders/scene.wgsl")
+);
 /// The shared raster pass's fragment shaders (`raster_fs`: the diffuse shading model, distance from
 /// the eye in alpha; `shadow_fs`), after the prelude and [`SCENE_WGSL`]: a technique that draws
 /// the diffuse scene inside its own passes uses `raster_fs`.
@@ -135,6 +139,7 @@ struct SceneInfoGpu {
     specular_as_diffuse: u32,
     _pad: u32,
     background: [f32; 4],
+    medium: crate::medium::MediumGpu,
 }
 
 /// One object's slice of the shared vertex and index buffers.
@@ -244,6 +249,7 @@ impl GpuScene {
             specular_as_diffuse,
             _pad: 0,
             background: scene.background.extend(0.0).to_array(),
+            medium: crate::Medium::gpu(scene.medium.as_ref()),
         };
         let info_buffer = Uniform::new(ctx, "scene info", &info(0));
         let raster_info_buffer = Uniform::new(ctx, "scene info (specular as diffuse)", &info(1));

@@ -14,6 +14,7 @@ pub mod gltf_io;
 mod gpu_scene;
 pub mod kinds;
 pub mod lightmap;
+pub mod medium;
 pub mod mesh;
 mod model;
 pub mod multi_object;
@@ -27,6 +28,7 @@ pub use gpu_scene::{
     albedo_array_extent, begin_scene_pass, scene_pipeline, scene_pipeline_with, shadow_map_size,
 };
 pub use kinds::Kinds;
+pub use medium::Medium;
 pub use model::*;
 pub use technique::{
     Frame, ImageCheck, Param, Technique, TechniqueError, TechniqueResult, Timing, View,

@@ -554,6 +554,8 @@ pub struct Scene {
     pub camera: Camera,
     pub camera_path: CameraPath,
     pub volumes: Vec<Volume>,
+    /// A homogeneous scattering medium (the murky pool's water), or none.
+    pub medium: Option<crate::Medium>,
     /// Radiance of rays that leave the scene.
     pub background: Vec3,
 }
@@ -730,6 +732,9 @@ impl Scene {
         }
         for v in &self.volumes {
             v.validate()?;
+        }
+        if let Some(m) = &self.medium {
+            m.validate()?;
         }
         let c = &self.camera;
         if !c.eye.is_finite() || !c.target.is_finite() || c.eye == c.target {

@@ -64,6 +64,7 @@ fn scene_of(objects: Vec<Object>) -> Scene {
         },
         camera_path: Default::default(),
         volumes: vec![],
+        medium: None,
         background: Vec3::ZERO,
     }
 }

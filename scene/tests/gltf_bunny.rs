@@ -108,6 +108,7 @@ fn convert_bunny_from_npm() {
         },
         camera_path: CameraPath::default(),
         volumes: vec![],
+        medium: None,
         background: Vec3::ZERO,
     };
     scene::gltf_io::export_glb(&scene, &asset_path()).expect("write bunny.glb");

@@ -61,6 +61,7 @@ pub fn small_scene() -> Scene {
         },
         camera_path: Default::default(),
         volumes: vec![],
+        medium: None,
         background: Vec3::ZERO,
     }
 }

@@ -49,6 +49,7 @@ fn scene_with(objects: Vec<Object>, camera: Camera) -> Scene {
         camera,
         camera_path: CameraPath::default(),
         volumes: vec![],
+        medium: None,
         background: BACKGROUND,
     }
 }

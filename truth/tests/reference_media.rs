@@ -48,6 +48,7 @@ fn ball_scene(density: f32) -> (Scene, Volume) {
         camera,
         camera_path: CameraPath::default(),
         volumes: vec![ball.clone()],
+        medium: None,
         background: BACKGROUND,
     };
     (scene, ball)

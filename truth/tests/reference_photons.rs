@@ -22,6 +22,7 @@ fn scene_with(objects: Vec<Object>, light: Vec3, intensity: Vec3, camera: Camera
         camera,
         camera_path: CameraPath::default(),
         volumes: vec![],
+        medium: None,
         background: Vec3::ZERO,
     }
 }

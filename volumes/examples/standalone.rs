@@ -298,6 +298,7 @@ fn smoky_yard() -> (Scene, Camera) {
         camera,
         camera_path: CameraPath::default(),
         volumes,
+        medium: None,
         background: Vec3::new(0.05, 0.06, 0.08),
     };
     (scene, camera)

@@ -161,6 +161,7 @@ pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
             keys: vec![(0.0, camera), (1.0, orbit(12.0)), (2.0, orbit(-12.0))],
         },
         volumes: vec![],
+        medium: None,
         background: Vec3::ZERO,
     })
 }

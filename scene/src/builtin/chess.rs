@@ -302,6 +302,7 @@ pub fn chess(material: &str, ior: f32, slices: u32) -> Result<Scene, SceneError>
             keys: vec![(0.0, camera), (1.0, side_view), (2.0, camera)],
         },
         volumes: vec![],
+        medium: None,
         background: Vec3::new(0.25, 0.28, 0.32),
     })
 }

@@ -173,6 +173,7 @@ pub fn city(
             keys: vec![(0.0, cam(0.0)), (4.0, cam(depth))],
         },
         volumes: vec![],
+        medium: None,
         background: Vec3::new(0.35, 0.45, 0.6),
     })
 }

@@ -151,6 +151,7 @@ fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, Scene
             keys: vec![(0.0, camera), (1.0, moved), (2.0, camera)],
         },
         volumes: vec![],
+        medium: None,
         background: Vec3::ZERO,
     })
 }

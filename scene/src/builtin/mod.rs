@@ -14,7 +14,7 @@
 //! | [`chess`] | `chess` (and the piece meshes the refractor-map techniques build maps of) |
 //! | [`city`] | `city` (and the interior generators the `interior-mapping` crate reuses) |
 //! | [`smoke`] | `smoke` |
-//! | [`pool`] | `pool` (a swimming pool with a glass height-field water surface) |
+//! | [`pool`] | `pool`, `murky-pool` (a swimming pool with a glass height-field water surface; the murky one's water scatters) |
 //! | [`textures`] | texture helpers any scene may use (`checker_texture`, `from_texels`) |
 //! | this file | the registry ([`builtin_scenes`], [`build`]) and spec parsing |
 //!
@@ -277,16 +277,60 @@ fn registry() -> Vec<Builtin> {
                 description: "a tiled swimming pool under the sun: glass height-field water (drifting \
                               waves), a ladder and a ball in the water; seen by a swimmer \
                               under the surface",
-                params: vec![word(
-                    "view",
-                    "below",
-                    "below: under the surface (caustics seen directly); above: from the \
-                     pool's end (the reference has no caustics seen through the surface)",
-                )],
+                params: pool_params("0"),
             },
-            build: |a| pool::pool(&a.get("view")),
+            build: |a| pool::pool(&a.get("view"), pool_murk(a)?),
+        },
+        Builtin {
+            info: SceneInfo {
+                name: "murky-pool",
+                description: "the pool with scattering water (a homogeneous medium below the \
+                              waves): light shafts under the surface",
+                params: pool_params("0.2"),
+            },
+            build: |a| pool::pool(&a.get("view"), pool_murk(a)?),
         },
     ]
+}
+
+/// The parameters of `pool` and `murky-pool` (which differ in the default extinction).
+fn pool_params(extinction: &'static str) -> Vec<SceneParam> {
+    let anisotropy = crate::medium::MAX_ANISOTROPY as f64;
+    vec![
+        word(
+            "view",
+            "below",
+            "below: under the surface (caustics seen directly); above: from the pool's end (the \
+             reference has no caustics seen through the surface)",
+        ),
+        real(
+            "extinction",
+            extinction,
+            (0.0, 10.0),
+            "extinction of the water per metre (0: clear water, no medium)",
+        ),
+        real(
+            "albedo",
+            "0.9",
+            (0.0, 1.0),
+            "single-scattering albedo of the water (scattering / extinction)",
+        ),
+        real(
+            "anisotropy",
+            "0.2",
+            (-anisotropy, anisotropy),
+            "Henyey-Greenstein asymmetry g of the water's scattering",
+        ),
+    ]
+}
+
+/// The water's scattering from a pool spec.
+fn pool_murk(a: &SceneArgs) -> Result<Option<pool::Murk>, SceneError> {
+    Ok(Some(pool::Murk {
+        extinction: a.num("extinction")?,
+        albedo: a.num("albedo")?,
+        anisotropy: a.num("anisotropy")?,
+    }))
 }
 
 /// Every built-in scene.

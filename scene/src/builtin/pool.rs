@@ -19,7 +19,8 @@
 use super::textures::from_texels;
 use crate::mesh::{cuboid, merge, quad, uv_sphere};
 use crate::{
-    Camera, CameraPath, Material, Mesh, Motion, Object, PointLight, Roles, Scene, SceneError,
+    Camera, CameraPath, Material, Medium, Mesh, Motion, Object, PointLight, Roles, Scene,
+    SceneError,
 };
 use glam::{Mat4, Vec2, Vec3};
 
@@ -31,6 +32,39 @@ pub const DEPTH: f32 = 1.6;
 pub const COPING: f32 = 0.3;
 /// Index of refraction of the water.
 pub const WATER_IOR: f32 = 1.33;
+
+/// The water's scattering (`murky-pool`, or `pool:extinction=..`): a homogeneous medium in the
+/// pool below the lowest trough of the waves ([`water_medium`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Murk {
+    /// Extinction coefficient `sigma_t` per metre (every channel).
+    pub extinction: f32,
+    /// Single-scattering albedo `sigma_s / sigma_t`.
+    pub albedo: f32,
+    /// Henyey-Greenstein asymmetry `g`.
+    pub anisotropy: f32,
+}
+
+/// The top of the water's medium: just below the lowest trough (the sum of the amplitudes), so
+/// that the medium is water at every time and everywhere the waves drift.
+pub fn medium_top() -> f32 {
+    -waves().iter().map(|w| w.amplitude).sum::<f32>() - 0.002
+}
+
+/// The water's medium: the pool's inside from the floor to [`medium_top`]. The thin layer of
+/// water above it (at most 13 cm under a crest) is clear: a box cannot follow the waves, and a
+/// medium reaching above a trough would put it in the air.
+pub fn water_medium(murk: Murk) -> Medium {
+    let sigma_s = murk.extinction * murk.albedo;
+    Medium {
+        name: "water".into(),
+        min: Vec3::new(-HALF_WIDTH, -DEPTH, -HALF_LENGTH),
+        max: Vec3::new(HALF_WIDTH, medium_top(), HALF_LENGTH),
+        scattering: Vec3::splat(sigma_s),
+        absorption: Vec3::splat(murk.extinction - sigma_s),
+        anisotropy: murk.anisotropy,
+    }
+}
 
 /// One travelling wave of the surface: height `amplitude * sin(k . (x, z) + phase)`.
 #[derive(Clone, Copy, Debug)]
@@ -108,8 +142,9 @@ fn tile_texture() -> crate::Texture {
     })
 }
 
-/// `pool` seen from `view`: "below" (under the surface, the default) or "above".
-pub fn pool(view: &str) -> Result<Scene, SceneError> {
+/// `pool` seen from `view`: "below" (under the surface, the default) or "above"; with `murk`
+/// the water scatters ([`water_medium`]), with `None` (or no extinction) it is clear.
+pub fn pool(view: &str, murk: Option<Murk>) -> Result<Scene, SceneError> {
     let (below, above) = cameras();
     let keys = match view {
         "below" => below,
@@ -216,6 +251,7 @@ pub fn pool(view: &str) -> Result<Scene, SceneError> {
         camera: keys[0].1,
         camera_path: CameraPath { keys },
         volumes: vec![],
+        medium: murk.filter(|m| m.extinction > 0.0).map(water_medium),
         background: Vec3::new(0.35, 0.5, 0.75),
     })
 }
@@ -254,10 +290,10 @@ mod tests {
     #[test]
     fn pool_is_valid_and_the_water_covers_the_pool_at_every_time() {
         for view in ["below", "above"] {
-            pool(view).unwrap().validate().unwrap();
+            pool(view, None).unwrap().validate().unwrap();
         }
-        assert!(pool("sideways").is_err());
-        let scene = pool("below").unwrap();
+        assert!(pool("sideways", None).is_err());
+        let scene = pool("below", None).unwrap();
         let water = scene.objects.iter().find(|o| o.name == "water").unwrap();
         assert!(water.roles.contains(Roles::CAUSTIC_CASTER));
         for t in [0.0, 1.0, 2.0] {
@@ -279,7 +315,7 @@ mod tests {
 
     #[test]
     fn the_swimmer_is_under_water_and_sees_the_ball_and_the_ladder() {
-        let scene = pool("below").unwrap();
+        let scene = pool("below", None).unwrap();
         let ball = scene.objects.iter().find(|o| o.name == "ball").unwrap();
         let ladder = scene.objects.iter().find(|o| o.name == "ladder").unwrap();
         for (_, cam) in &scene.camera_path.keys {
@@ -297,6 +333,40 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn the_murky_water_is_a_medium_below_every_trough() {
+        let murk = Murk {
+            extinction: 0.2,
+            albedo: 0.9,
+            anisotropy: 0.2,
+        };
+        let scene = pool("below", Some(murk)).unwrap();
+        let m = scene.medium.as_ref().expect("a medium");
+        assert!((m.extinction().x - 0.2).abs() < 1e-6 && (m.scattering.x - 0.18).abs() < 1e-6);
+        let water = scene.objects.iter().find(|o| o.name == "water").unwrap();
+        for t in [0.0, 0.5, 1.0, 1.5, 2.0] {
+            let lowest = water
+                .mesh
+                .positions
+                .iter()
+                .map(|p| water.world_at(t).transform_point3(*p).y)
+                .fold(f32::INFINITY, f32::min);
+            assert!(lowest > m.max.y, "t = {t}: a trough at {lowest}");
+        }
+        assert!(
+            pool(
+                "below",
+                Some(Murk {
+                    extinction: 0.0,
+                    ..murk
+                })
+            )
+            .unwrap()
+            .medium
+            .is_none()
+        );
     }
 
     #[test]

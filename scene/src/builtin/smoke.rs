@@ -116,6 +116,7 @@ pub fn smoke(particles: usize) -> Scene {
             keys: vec![(0.0, camera), (2.0, side)],
         },
         volumes,
+        medium: None,
         background: Vec3::new(0.05, 0.06, 0.08),
     }
 }

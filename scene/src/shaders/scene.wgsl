@@ -40,6 +40,8 @@ struct SceneInfo {
     specular_as_diffuse: u32,
     _pad: u32,
     background: vec4f,
+    // The scene's scattering medium (medium.wgsl); min.w = 0 when it has none.
+    medium: Medium,
 };
 
 const MATERIAL_DIFFUSE: f32 = 0.0;
@@ -57,6 +59,13 @@ const BACKGROUND_DISTANCE: f32 = 60000.0;
 @group(1) @binding(5) var shadow_sampler: sampler;
 @group(1) @binding(6) var<uniform> scene_info: SceneInfo;
 @group(1) @binding(7) var fitted_shadow_maps: texture_2d_array<f32>;
+
+// The scene's homogeneous scattering medium (scene::Medium); medium_present() is false when it
+// has none. The shared raster pass ignores it (as it ignores the volumes): a technique that
+// renders media applies it.
+fn scene_medium() -> Medium {
+    return scene_info.medium;
+}
 
 struct SceneVertexIn {
     @location(0) position: vec3f,
