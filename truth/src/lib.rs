@@ -5,6 +5,8 @@
 //!   module documentation states exactly what it computes and what it leaves out.
 //! - [`media`]: the emission-absorption ray marcher the reference composites every eye ray
 //!   through (the density field it integrates is the scene model's, `scene::density`).
+//! - [`scattering`]: single scattering in the scene's homogeneous medium (direct in-scattering
+//!   along the eye's rays, photon beams after specular events): the truth of light shafts.
 //! - [`composite`]: the reference's media along the primary rays over another renderer's
 //!   image (for tests that want the truth of the media alone).
 //! - [`metrics`]: RMSE, PSNR, FLIP (nv-flip), masked FLIP, NaN count, sRGB conversion.
@@ -20,6 +22,7 @@ pub mod composite;
 pub mod media;
 pub mod metrics;
 pub mod reference;
+pub mod scattering;
 mod technique;
 
 pub use technique::ReferenceTechnique;

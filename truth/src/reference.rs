@@ -77,6 +77,16 @@
 //! its landing point and the eye. The `mask` flags every pixel whose primary ray crosses a
 //! volume sphere in front of its first surface.
 //!
+//! # The scattering medium: light shafts
+//!
+//! A scene's homogeneous scattering medium ([`scene::Medium`], the murky pool's water)
+//! attenuates every eye-pass ray, shadow ray and photon segment by its Beer-Lambert
+//! transmittance, and scatters light into the eye's rays once: light straight from the lights
+//! is integrated along every eye-pass ray, light after specular events (shafts under the
+//! waves) is light-traced as photon beams from the caustic photons' paths. The estimators,
+//! their accuracy and what a beam sees are in [`crate::scattering`]. Without a medium nothing
+//! of this runs and the image is unchanged bit for bit.
+//!
 //! # Light pass: caustics by light tracing
 //!
 //! Light that reaches a diffuse surface through one or more specular interactions (paths
@@ -173,18 +183,22 @@
 //!   [`MIN_THROUGHPUT`].
 //! * Scattering in the volumes: media emit and absorb (below) but are not lit, cast no
 //!   shadows and do not attenuate light on its way to a surface (shadow rays and photons
-//!   pass through them).
+//!   pass through them). The scene's homogeneous *scattering* medium (`Scene::medium`) is
+//!   another matter: it attenuates everything and scatters once (next section).
+//! * Multiple scattering in the medium, and its single scattering seen through a specular
+//!   chain (beams seen only through glass, like caustics seen only through glass).
 //! * Lights other than point lights; absorption in glass; dispersion; polarisation;
 //!   anti-aliasing beyond `samples_per_pixel` (the default samples pixel centres only, like
 //!   a rasterizer without MSAA).
 
 use crate::media::Media;
+use crate::scattering::{BeamSplatter, direct_inscatter, view_depths};
 use glam::{Vec2, Vec3};
 use gpu::HdrImage;
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
 use rayon::prelude::*;
 use scene::bvh::{Hit, SceneBvh};
-use scene::{Camera, Material, Roles, Scene};
+use scene::{Camera, Material, Medium, Roles, Scene};
 use std::f32::consts::{FRAC_1_PI, PI};
 use std::time::Instant;
 
@@ -291,8 +305,10 @@ pub fn render(
         scene,
         bvh: &bvh,
         media: &media,
+        medium: scene.medium.as_ref(),
         max_depth: opts.max_depth,
     };
+    let forward = camera.basis().0;
     let spp = opts.samples_per_pixel.max(1);
     let volumes: Vec<(Vec3, f32)> = scene
         .volumes
@@ -308,6 +324,7 @@ pub fn render(
             let mut pixels = Vec::with_capacity(width as usize);
             let mut ids = Vec::with_capacity(width as usize);
             let mut mask = Vec::with_capacity(width as usize);
+            let mut depths = Vec::with_capacity(width as usize);
             for x in 0..width {
                 let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
                 let dir = camera.ray_dir(px, py, width, height);
@@ -320,13 +337,14 @@ pub fn render(
                     s.x <= s.y && s.y > 0.0 && s.x < t_hit
                 });
                 ids.push(centre_hit.map_or(-1, |h| h.object as i32));
+                depths.push(t_hit * dir.dot(forward));
                 mask.push(special || in_volume);
                 let l = if spp == 1 {
                     let behind = match &centre_hit {
                         Some(h) => tracer.shade(h, dir, 0, Vec3::ONE, &mut counts),
                         None => scene.background,
                     };
-                    media.composite(camera.eye, dir, t_hit, behind)
+                    tracer.through_media(camera.eye, dir, t_hit, behind, true, &mut counts)
                 } else {
                     let mut sum = Vec3::ZERO;
                     for i in 0..spp {
@@ -342,6 +360,7 @@ pub fn render(
                 pixels,
                 ids,
                 mask,
+                depths,
                 counts,
             }
         })
@@ -354,11 +373,13 @@ pub fn render(
     };
     let mut object_ids = Vec::with_capacity((width * height) as usize);
     let mut mask = Vec::with_capacity((width * height) as usize);
+    let mut depths = Vec::with_capacity((width * height) as usize);
     let mut counts = Counts::default();
     for row in rows {
         image.pixels.extend(row.pixels);
         object_ids.extend(row.ids);
         mask.extend(row.mask);
+        depths.extend(row.depths);
         counts.add(&row.counts);
     }
 
@@ -366,7 +387,9 @@ pub fn render(
     let mut photons_stored = 0;
     if opts.photons > 0 {
         let setup = PhotonSetup::caustics(scene);
-        let lt = light_trace_with(scene, &bvh, camera, time, width, height, opts, &setup);
+        let lt = light_trace_with(
+            scene, &bvh, camera, time, width, height, opts, &setup, &depths,
+        );
         for (px, add) in image.pixels.iter_mut().zip(&lt.radiance) {
             px[0] += add.x;
             px[1] += add.y;
@@ -431,8 +454,12 @@ impl PhotonSetup {
 /// The result of a light pass.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightTrace {
-    /// Radiance added per pixel (`width * height`, row 0 at the top).
+    /// Radiance added per pixel (`width * height`, row 0 at the top): the landed photons and
+    /// the photon beams.
     pub radiance: Vec<Vec3>,
+    /// The photon beams' part of `radiance` (single scattering in the scene's medium after
+    /// specular events, [`crate::scattering`]); empty when the scene has no medium.
+    pub beam_radiance: Vec<Vec3>,
     /// Per light: total power (W) of the photons that landed on diffuse surfaces (after
     /// `min_specular_bounces`), whether or not the eye sees the landing point.
     pub deposited: Vec<Vec3>,
@@ -458,7 +485,14 @@ pub fn light_trace(
     setup: &PhotonSetup,
 ) -> LightTrace {
     let bvh = SceneBvh::build(scene, time);
-    light_trace_with(scene, &bvh, camera, time, width, height, opts, setup)
+    let depths = if scene.medium.is_some() {
+        view_depths(&bvh, camera, width, height)
+    } else {
+        vec![]
+    };
+    light_trace_with(
+        scene, &bvh, camera, time, width, height, opts, setup, &depths,
+    )
 }
 
 /// One row of the eye pass.
@@ -466,6 +500,8 @@ struct Row {
     pixels: Vec<[f32; 4]>,
     ids: Vec<i32>,
     mask: Vec<bool>,
+    /// View-space depth of the centre ray's first surface (infinite for none).
+    depths: Vec<f32>,
     counts: Counts,
 }
 
@@ -581,6 +617,8 @@ struct Tracer<'a> {
     bvh: &'a SceneBvh,
     /// The participating media every eye-pass ray is composited through.
     media: &'a Media,
+    /// The scattering medium every ray, photon and shadow ray is attenuated by.
+    medium: Option<&'a Medium>,
     max_depth: u32,
 }
 
@@ -602,7 +640,47 @@ impl Tracer<'_> {
             None => self.scene.background,
         };
         let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
-        self.media.composite(origin, dir, t_hit, behind)
+        self.through_media(origin, dir, t_hit, behind, depth == 0, c)
+    }
+
+    /// `behind` (the radiance at `origin + t_hit dir`) seen from `origin` through the volumes
+    /// (`media`) and the scattering medium (its transmittance and its direct in-scattering,
+    /// `scattering`). A scene with both has the medium composited in front of the volumes (no
+    /// built-in scene has both).
+    /// `primary`: the ray leaves the eye (the medium within `EYE_CLEARANCE` of it scatters
+    /// nothing into it).
+    fn through_media(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        t_hit: f32,
+        behind: Vec3,
+        primary: bool,
+        c: &mut Counts,
+    ) -> Vec3 {
+        let l = self.media.composite(origin, dir, t_hit, behind);
+        let Some(m) = self.medium else {
+            return l;
+        };
+        let Some(span) = m.clip(origin, dir, t_hit) else {
+            return l;
+        };
+        let clearance = if primary {
+            scene::medium::EYE_CLEARANCE
+        } else {
+            0.0
+        };
+        let inscatter = direct_inscatter(
+            self.scene,
+            self.bvh,
+            m,
+            origin,
+            dir,
+            span,
+            clearance,
+            &mut c.shadow,
+        );
+        scene::medium::transmittance_of(m.extinction(), span.y - span.x) * l + inscatter
     }
 
     /// Radiance leaving `hit` back along `dir`.
@@ -678,13 +756,20 @@ impl Tracer<'_> {
             if self.bvh.any_hit(origin, seg / len, len) {
                 continue;
             }
-            sum += light.intensity * (cos / d2);
+            let through = self
+                .medium
+                .map_or(Vec3::ONE, |m| m.transmittance(origin, seg / len, len));
+            sum += light.intensity * through * (cos / d2);
         }
         albedo * FRAC_1_PI * sum
     }
 
     /// Follows one photon from `origin` along `dir` with `power`; calls `land` at the diffuse
-    /// surface where it stops if it made at least `min_bounces` specular interactions.
+    /// surface where it stops if it made at least `min_bounces` specular interactions, and
+    /// `beam(origin, dir, length, power)` for every straight segment it travels after
+    /// `min_bounces` of them (with its power at the segment's start; `length` infinite for
+    /// the last segment of a photon that leaves the scene). The scattering medium attenuates
+    /// its power along every segment.
     #[allow(clippy::too_many_arguments)]
     fn trace_photon(
         &self,
@@ -695,13 +780,21 @@ impl Tracer<'_> {
         rng: &mut SplitMix64,
         rays: &mut u64,
         mut land: impl FnMut(&Hit, &Surface, Vec3, Vec3, Vec3),
+        mut beam: impl FnMut(Vec3, Vec3, f32, Vec3),
     ) {
         let mut bounces = 0;
         loop {
             *rays += 1;
-            let Some(hit) = self.bvh.closest_hit(origin, dir, f32::INFINITY) else {
+            let hit = self.bvh.closest_hit(origin, dir, f32::INFINITY);
+            if bounces >= min_bounces {
+                beam(origin, dir, hit.map_or(f32::INFINITY, |h| h.t), power);
+            }
+            let Some(hit) = hit else {
                 return;
             };
+            if let Some(m) = self.medium {
+                power *= m.transmittance(origin, dir, hit.t);
+            }
             let s = Surface::new(&hit, dir);
             let material = &self.scene.objects[hit.object].material;
             let Some(sc) = scatter(material, &s, dir) else {
@@ -742,6 +835,8 @@ struct Eye<'a> {
     /// Media between a landed photon and the eye attenuate it, as they attenuate the eye
     /// pass's view of the same point.
     media: &'a Media,
+    /// So does the scattering medium.
+    medium: Option<&'a Medium>,
     forward: Vec3,
     width: u32,
     height: u32,
@@ -750,12 +845,19 @@ struct Eye<'a> {
 }
 
 impl<'a> Eye<'a> {
-    fn new(camera: &Camera, width: u32, height: u32, media: &'a Media) -> Self {
+    fn new(
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        media: &'a Media,
+        medium: Option<&'a Medium>,
+    ) -> Self {
         let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
         let aspect = width as f32 / height as f32;
         Eye {
             camera: *camera,
             media,
+            medium,
             forward: (camera.target - camera.eye).normalize(),
             width,
             height,
@@ -806,7 +908,10 @@ impl<'a> Eye<'a> {
         let cos_i_g = s.ng.dot(w_i).max(1e-6);
         let correction = (s.ns.dot(w_i).max(0.0) / cos_i_g).min(MAX_SHADING_CORRECTION);
         let importance = 1.0 / (self.pixel_area * cos_camera * cos_camera * cos_camera);
-        let seen = self.media.transmittance(self.camera.eye, -w_c, d2.sqrt());
+        let seen = self.media.transmittance(self.camera.eye, -w_c, d2.sqrt())
+            * self.medium.map_or(Vec3::ONE, |m| {
+                m.transmittance(self.camera.eye, -w_c, d2.sqrt())
+            });
         let value =
             power * albedo * FRAC_1_PI * (correction * cos_surface / d2 * importance * seen);
         Some(((y * self.width + x) as usize, value))
@@ -908,10 +1013,18 @@ fn chunk_seed(seed: u64, emitter: usize, chunk: u64) -> u64 {
 
 struct ChunkResult {
     splats: Vec<(usize, Vec3)>,
+    /// The chunk's photon beams on the image (empty when the scene has no scattering medium).
+    beams: Vec<Vec3>,
     deposited: Vec<Vec3>,
     rays: u64,
 }
 
+/// Chunks traced in parallel before their results are added up in order: bounds the memory of
+/// the chunks' beam images (a whole image each).
+const CHUNKS_PER_BATCH: usize = 32;
+
+/// The light pass. `depths` (view depth of each pixel's first surface, [`view_depths`]) hides
+/// photon beams behind surfaces; it is only read when the scene has a scattering medium.
 #[allow(clippy::too_many_arguments)]
 fn light_trace_with(
     scene: &Scene,
@@ -922,6 +1035,7 @@ fn light_trace_with(
     height: u32,
     opts: &ReferenceOptions,
     setup: &PhotonSetup,
+    depths: &[f32],
 ) -> LightTrace {
     let n_lights = scene.lights.len();
     let pixels = (width * height) as usize;
@@ -930,6 +1044,7 @@ fn light_trace_with(
     for e in &emitters {
         emitted[e.light] += scene.lights[e.light].intensity * e.solid_angle;
     }
+    // Work units: (emitter, first photon, count), in a fixed order.
     let mut work = Vec::new();
     for (ei, e) in emitters.iter().enumerate() {
         let mut first = 0;
@@ -939,72 +1054,94 @@ fn light_trace_with(
         }
     }
     let media = Media::new(scene, time);
+    let medium = scene.medium.as_ref();
     let tracer = Tracer {
         scene,
         bvh,
         media: &media,
+        medium,
         max_depth: opts.max_depth,
     };
-    let eye = Eye::new(camera, width, height, &media);
-    let results: Vec<ChunkResult> = work
-        .par_iter()
-        .map(|&(ei, first, count)| {
-            let e = &emitters[ei];
-            let light = &scene.lights[e.light];
-            let mut rng = SplitMix64(chunk_seed(opts.seed, ei, first));
-            let mut out = ChunkResult {
-                splats: Vec::new(),
-                deposited: vec![Vec3::ZERO; n_lights],
-                rays: 0,
-            };
-            for _ in 0..count {
-                let (u, v) = (rng.next_f32(), rng.next_f32());
-                let w = e.sample(u, v);
-                // Balance heuristic over the cones of this light that contain w.
-                let mut density = e.photons as f32 / e.solid_angle;
-                for (oj, o) in emitters.iter().enumerate() {
-                    if oj != ei && o.light == e.light && o.contains(w) {
-                        density += o.photons as f32 / o.solid_angle;
-                    }
+    let eye = Eye::new(camera, width, height, &media, medium);
+    let beams = medium.map(|m| BeamSplatter::new(m, camera, width, height, depths));
+    let trace_chunk = |&(ei, first, count): &(usize, u64, u64)| {
+        let e = &emitters[ei];
+        let light = &scene.lights[e.light];
+        let mut rng = SplitMix64(chunk_seed(opts.seed, ei, first));
+        let mut out = ChunkResult {
+            splats: Vec::new(),
+            beams: if beams.is_some() {
+                vec![Vec3::ZERO; pixels]
+            } else {
+                Vec::new()
+            },
+            deposited: vec![Vec3::ZERO; n_lights],
+            rays: 0,
+        };
+        for _ in 0..count {
+            let (u, v) = (rng.next_f32(), rng.next_f32());
+            let w = e.sample(u, v);
+            // Balance heuristic over the cones of this light that contain w.
+            let mut density = e.photons as f32 / e.solid_angle;
+            for (oj, o) in emitters.iter().enumerate() {
+                if oj != ei && o.light == e.light && o.contains(w) {
+                    density += o.photons as f32 / o.solid_angle;
                 }
-                let power = light.intensity / density;
-                let (mut rays, mut eye_rays) = (0, 0);
-                tracer.trace_photon(
-                    light.position,
-                    w,
-                    power,
-                    setup.min_specular_bounces,
-                    &mut rng,
-                    &mut rays,
-                    |_hit, s, albedo, dir, p| {
-                        out.deposited[e.light] += p;
-                        if let Some(splat) = eye.connect(bvh, s, albedo, dir, p, &mut eye_rays) {
-                            out.splats.push(splat);
-                        }
-                    },
-                );
-                out.rays += rays + eye_rays;
             }
-            out
-        })
-        .collect();
+            let power = light.intensity / density;
+            let (mut rays, mut eye_rays) = (0, 0);
+            let beam_image = &mut out.beams;
+            tracer.trace_photon(
+                light.position,
+                w,
+                power,
+                setup.min_specular_bounces,
+                &mut rng,
+                &mut rays,
+                |_hit, s, albedo, dir, p| {
+                    out.deposited[e.light] += p;
+                    if let Some(splat) = eye.connect(bvh, s, albedo, dir, p, &mut eye_rays) {
+                        out.splats.push(splat);
+                    }
+                },
+                |origin, dir, length, p| {
+                    if let Some(b) = &beams {
+                        b.splat(origin, dir, length, p, beam_image);
+                    }
+                },
+            );
+            out.rays += rays + eye_rays;
+        }
+        out
+    };
 
-    // Ordered reduction: the same sums in the same order whatever the thread count.
+    // Ordered reduction (see "Determinism"), a batch of chunks at a time.
     let mut radiance = vec![Vec3::ZERO; pixels];
+    let mut beam_radiance = vec![Vec3::ZERO; if beams.is_some() { pixels } else { 0 }];
     let mut deposited = vec![Vec3::ZERO; n_lights];
     let (mut rays, mut stored) = (0, 0);
-    for r in results {
-        for (i, v) in &r.splats {
-            radiance[*i] += *v;
+    for batch in work.chunks(CHUNKS_PER_BATCH) {
+        let results: Vec<ChunkResult> = batch.par_iter().map(trace_chunk).collect();
+        for r in results {
+            for (i, v) in &r.splats {
+                radiance[*i] += *v;
+            }
+            for (sum, v) in beam_radiance.iter_mut().zip(&r.beams) {
+                *sum += *v;
+            }
+            stored += r.splats.len() as u64;
+            for (d, x) in deposited.iter_mut().zip(&r.deposited) {
+                *d += *x;
+            }
+            rays += r.rays;
         }
-        stored += r.splats.len() as u64;
-        for (d, x) in deposited.iter_mut().zip(&r.deposited) {
-            *d += *x;
-        }
-        rays += r.rays;
+    }
+    for (sum, v) in radiance.iter_mut().zip(&beam_radiance) {
+        *sum += *v;
     }
     LightTrace {
         radiance,
+        beam_radiance,
         deposited,
         emitted,
         photons_traced: emitters.iter().map(|e| e.photons).sum(),
