@@ -22,6 +22,13 @@
 //!    `albedo / pi * E` (`apply.wgsl`).
 //! 5. *Refraction* ("refraction" span): the specular surfaces, shaded by screen-space
 //!    refraction tracing (section 4, `specular.wgsl`).
+//! 6. *Shafts* ("shafts" span, a scene with a scattering medium only): `god-rays` draws the
+//!    march's photon beams as bands into an in-scattering buffer and blurs it (section 3.2,
+//!    `shafts.wgsl`); `froxel-fog` lights a froxel grid from the shadow maps and a caustic map
+//!    of the photons' landings, integrates it and looks it up per pixel (`froxels.wgsl`).
+//!    Then every variant multiplies its image by the medium's transmittance to each pixel's
+//!    first surface and adds the in-scattering (`composite.wgsl`); photons lose the medium's
+//!    transmittance along every march segment (`resolve.wgsl`).
 
 use glam::{Mat4, Vec3};
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR};
@@ -48,6 +55,14 @@ const APPLY_WGSL: &str = include_str!("shaders/apply.wgsl");
 const SPECULAR_WGSL: &str = include_str!("shaders/specular.wgsl");
 const SHADOW_MASK_WGSL: &str = include_str!("shaders/shadow_mask.wgsl");
 const SHADOWED_WGSL: &str = include_str!("shaders/shadowed.wgsl");
+/// A photon beam on the image: the twin of [`crate::shafts`]'s `beam_band` and
+/// `beam_fragment` (pure functions; run by the conformance test).
+pub const BEAM_WGSL: &str = include_str!("shaders/beam.wgsl");
+/// God-ray bands and their blur (after [`BEAM_WGSL`]).
+const SHAFTS_WGSL: &str = include_str!("shaders/shafts.wgsl");
+/// The froxel grid (the twin of [`crate::shafts`]'s slices and integration).
+pub const FROXELS_WGSL: &str = include_str!("shaders/froxels.wgsl");
+const COMPOSITE_WGSL: &str = include_str!("shaders/composite.wgsl");
 
 /// The LDI bindings of the technique's passes (`@group(2)`), and the material kind ldi.wgsl
 /// asks for, from the scene's materials (0 diffuse, 1 metal, 2 glass: `MATERIAL_*`).
@@ -94,6 +109,16 @@ pub enum Refraction {
     Dda,
 }
 
+/// How light shafts in a scattering medium are made (section 3.2 and the engine's way).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shafts {
+    /// The paper's: photon beams drawn as lines (bands), blurred, blended.
+    GodRays,
+    /// Froxel volumetric fog lit by the shadow maps and a caustic map (Wronski 2014,
+    /// Hillaire 2015).
+    Froxels,
+}
+
 /// The parameters of a variant (all declared, all sweepable).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
@@ -111,6 +136,14 @@ pub struct Settings {
     pub bounces: u32,
     /// Rows of the line buffer: photons per batch of the line marcher.
     pub rows: u32,
+    /// Standard deviation of the god rays' Gaussian blur, as a fraction of the image height.
+    pub shaft_blur: f32,
+    /// Side of a froxel tile in pixels.
+    pub froxel_size: u32,
+    /// Depth slices of the froxel grid.
+    pub slices: u32,
+    /// Side of the froxels' caustic map (texels).
+    pub caustic_map: u32,
 }
 
 impl Default for Settings {
@@ -123,6 +156,10 @@ impl Default for Settings {
             splat_radius: 3.0,
             bounces: 2,
             rows: 4096,
+            shaft_blur: 0.01,
+            froxel_size: 8,
+            slices: 64,
+            caustic_map: 128,
         }
     }
 }
@@ -180,6 +217,34 @@ impl Settings {
                 true,
                 "rows of the line buffer (photons per line batch)",
             ),
+            Param::new(
+                "shaft_blur",
+                self.shaft_blur as f64,
+                (0.0, 0.1),
+                false,
+                "god rays: standard deviation of the blur, a fraction of the image height",
+            ),
+            Param::new(
+                "froxel_size",
+                self.froxel_size as f64,
+                (1.0, 64.0),
+                true,
+                "froxel fog: side of a froxel tile (pixels)",
+            ),
+            Param::new(
+                "slices",
+                self.slices as f64,
+                (1.0, 256.0),
+                true,
+                "froxel fog: exponential depth slices",
+            ),
+            Param::new(
+                "caustic_map",
+                self.caustic_map as f64,
+                (8.0, 2048.0),
+                true,
+                "froxel fog: side of the caustic map (texels)",
+            ),
         ]
     }
 
@@ -192,6 +257,10 @@ impl Settings {
             "splat_radius" => self.splat_radius = value as f32,
             "bounces" => self.bounces = value as u32,
             "rows" => self.rows = value as u32,
+            "shaft_blur" => self.shaft_blur = value as f32,
+            "froxel_size" => self.froxel_size = value as u32,
+            "slices" => self.slices = value as u32,
+            "caustic_map" => self.caustic_map = value as u32,
             _ => unreachable!("checked against params()"),
         }
     }
@@ -205,11 +274,14 @@ pub struct Variant {
     pub caustics: Option<(March, Splat)>,
     pub refraction: Refraction,
     pub screen_space_shadows: bool,
+    /// Light shafts (only in a scene with a scattering medium).
+    pub shafts: Option<Shafts>,
 }
 
 /// The variants: `lines`, `dda`, `sprites` (caustics; the specular surfaces traced by the
 /// DDA), `refraction` and `refraction-dda` (refraction tracing alone), `shadows` (screen-space
-/// shadow rays instead of shadow maps, no caustics).
+/// shadow rays instead of shadow maps, no caustics), `god-rays` and `froxel-fog` (the `dda`
+/// caustics plus light shafts, the paper's and the engines').
 pub fn variants() -> Vec<Variant> {
     use March::*;
     // The caustic variants trace the specular surfaces with the DDA: the paper's tolerance
@@ -220,6 +292,11 @@ pub fn variants() -> Vec<Variant> {
         caustics: Some((march, splat)),
         refraction: Refraction::Dda,
         screen_space_shadows: false,
+        shafts: None,
+    };
+    let shafts = |name, shafts| Variant {
+        shafts: Some(shafts),
+        ..caustics(name, Dda, Splat::Oriented)
     };
     vec![
         caustics("lines", Lines, Splat::Oriented),
@@ -230,19 +307,24 @@ pub fn variants() -> Vec<Variant> {
             caustics: None,
             refraction: Refraction::Monotone,
             screen_space_shadows: false,
+            shafts: None,
         },
         Variant {
             name: "refraction-dda",
             caustics: None,
             refraction: Refraction::Dda,
             screen_space_shadows: false,
+            shafts: None,
         },
         Variant {
             name: "shadows",
             caustics: None,
             refraction: Refraction::Dda,
             screen_space_shadows: true,
+            shafts: None,
         },
+        shafts("god-rays", Shafts::GodRays),
+        shafts("froxel-fog", Shafts::Froxels),
     ]
 }
 
@@ -342,6 +424,23 @@ impl Technique for ScreenPhotons {
                  of shadow maps; {refraction}"
             );
         }
+        match self.variant.shafts {
+            Some(Shafts::GodRays) => {
+                return format!(
+                    "light shafts as the paper draws them: the DDA's photon beams drawn as lines \
+                     with exponential attenuation, blurred and blended (section 3.2); caustics \
+                     as `dda`; {refraction}"
+                );
+            }
+            Some(Shafts::Froxels) => {
+                return format!(
+                    "engine baseline: froxel volumetric fog lit by the shadow maps and a caustic \
+                     map of the photons' landings, integrated front to back (Wronski 2014, \
+                     Hillaire 2015); caustics as `dda`; {refraction}"
+                );
+            }
+            None => {}
+        }
         match self.variant.caustics {
             Some((march, splat)) => format!(
                 "screen-space photon tracing: photons marched over the eye's LDI by {}, {} \
@@ -378,7 +477,8 @@ impl Technique for ScreenPhotons {
     /// A scene with a specular object, every light outside the caustic casters' bounding
     /// sphere (at time 0; [`light_outside_casters`]).
     fn supports(&self, scene: &Scene) -> bool {
-        !scene.specular_objects().is_empty()
+        (self.variant.shafts.is_none() || scene.medium.is_some())
+            && !scene.specular_objects().is_empty()
             && scene
                 .lights
                 .iter()
@@ -387,8 +487,13 @@ impl Technique for ScreenPhotons {
 
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         if !self.supports(&scene.scene) {
+            let needs = if self.variant.shafts.is_some() {
+                "a scattering medium (murky-pool) and a specular object"
+            } else {
+                "a specular object (a refractor or a mirror)"
+            };
             return Err(TechniqueError::Unsupported(format!(
-                "{} needs a specular object (a refractor or a mirror) in the scene",
+                "{} needs {needs} in the scene",
                 self.id()
             )));
         }
@@ -412,8 +517,7 @@ impl Technique for ScreenPhotons {
         let ctx = frame.gpu;
         let key = (view.width, view.height);
         if self.sized.as_ref().is_none_or(|s| s.key != key) {
-            let shadows = self.variant.screen_space_shadows;
-            self.sized = Some(Sized::new(ctx, scene, &self.settings, key, shadows)?);
+            self.sized = Some(Sized::new(ctx, scene, &self.settings, key, &self.variant)?);
         }
         let sized = self.sized.as_ref().expect("made above");
         passes.frame(
@@ -446,6 +550,27 @@ struct Sized {
     shadow_mask: Option<wgpu::Buffer>,
     /// The LDI uniform of the last frame (diagnostics).
     ldi_params: std::cell::Cell<Option<LdiParamsGpu>>,
+    /// The medium's resources (a scene with a scattering medium only).
+    media: Option<MediaTargets>,
+    /// The resolve's beam binding when no beams are kept (one unused beam).
+    no_beams: wgpu::Buffer,
+}
+
+/// What a frame in a scattering medium uses: the in-scattering buffer every variant blends
+/// (cleared to nothing for the variants without shafts), and the shafts' own.
+struct MediaTargets {
+    /// In-scattered radiance per pixel (god rays: the bands, then blurred; froxels: the
+    /// lookup).
+    inscatter: wgpu::TextureView,
+    /// The blur's intermediate (god rays).
+    blurred: wgpu::TextureView,
+    /// `photons * rounds` beams (god rays, froxels), or one unused beam.
+    beams: wgpu::Buffer,
+    /// Froxels: the in-scattering grid and its integral, and the caustic map (flux,
+    /// direction); 1-texel stand-ins for the other variants.
+    froxels: [wgpu::TextureView; 2],
+    froxel_grid: [u32; 3],
+    caustic_maps: [wgpu::TextureView; 2],
 }
 
 struct PhotonBuffers {
@@ -464,14 +589,33 @@ pub const FRAME_BUDGET_BYTES: u64 = scene::technique::MAP_BUDGET_BYTES;
 pub const MAX_LINE_BATCHES: u32 = 256;
 
 impl Sized {
-    /// The bytes of a frame's resources at `width` x `height`.
-    pub fn bytes(settings: &Settings, (width, height): (u32, u32), shadows: bool) -> u64 {
+    /// The bytes of a frame's resources at `width` x `height` (`medium`: the scene has a
+    /// scattering medium).
+    pub fn bytes(
+        settings: &Settings,
+        (width, height): (u32, u32),
+        variant: &Variant,
+        medium: bool,
+    ) -> u64 {
         let pixels = width as u64 * height as u64;
         let photons = settings.photons as u64 * settings.photons as u64;
         let ldis = 2 * pixels * settings.layers as u64 * (2 * 16 + 4);
         let per_photon = 48 + 16 + 48 + 2 * 16 + 4;
         let rows = Self::line_rows(settings) as u64 * width.max(height) as u64 * 16;
-        ldis + pixels * 16 * (1 + shadows as u64) + photons * per_photon + rows
+        let shadows = variant.screen_space_shadows as u64;
+        let mut bytes = ldis + pixels * 16 * (1 + shadows) + photons * per_photon + rows;
+        if medium {
+            bytes += 2 * pixels * 16;
+            if variant.shafts.is_some() {
+                bytes += photons * (settings.bounces as u64 + 1) * 48;
+            }
+            if variant.shafts == Some(Shafts::Froxels) {
+                let [x, y, z] = froxel_grid(settings, (width, height));
+                bytes += 2 * (x * y * z) as u64 * 16;
+                bytes += 2 * (settings.caustic_map as u64).pow(2) * 16;
+            }
+        }
+        bytes
     }
 
     /// Rows of the line buffer: `rows`, raised so that a march takes at most
@@ -489,9 +633,11 @@ impl Sized {
         scene: &GpuScene,
         settings: &Settings,
         (width, height): (u32, u32),
-        shadows: bool,
+        variant: &Variant,
     ) -> TechniqueResult<Self> {
-        let bytes = Self::bytes(settings, (width, height), shadows);
+        let shadows = variant.screen_space_shadows;
+        let medium = scene.scene.medium.is_some();
+        let bytes = Self::bytes(settings, (width, height), variant, medium);
         if bytes > FRAME_BUDGET_BYTES {
             return Err(TechniqueError::OverBudget(format!(
                 "screen-photons at {width}x{height} with {} layers and {}^2 photons needs {:.2} GB \
@@ -540,7 +686,16 @@ impl Sized {
             gpu::render_texture(ctx, label, (w, h, 1), format, wgpu::TextureUsages::empty())
                 .create_view(&Default::default())
         };
+        let media = if medium {
+            Some(ctx.allocating("screen-photons medium targets", || {
+                MediaTargets::new(ctx, settings, (width, height), variant, count)
+            })?)
+        } else {
+            None
+        };
         Ok(Self {
+            media,
+            no_beams: storage("no beams", 48),
             key: (width, height),
             scene_ldi,
             refractor_ldi,
@@ -565,6 +720,84 @@ impl Sized {
                     .create_view(&Default::default()),
             ],
         })
+    }
+}
+
+/// The froxel grid at `width` x `height`: tiles across, tiles down, slices.
+fn froxel_grid(settings: &Settings, (width, height): (u32, u32)) -> [u32; 3] {
+    let size = settings.froxel_size.max(1);
+    [
+        width.div_ceil(size),
+        height.div_ceil(size),
+        settings.slices.max(1),
+    ]
+}
+
+impl MediaTargets {
+    fn new(
+        ctx: &Context,
+        settings: &Settings,
+        (width, height): (u32, u32),
+        variant: &Variant,
+        photons: u32,
+    ) -> Self {
+        let texture = |label: &str, (w, h): (u32, u32)| {
+            gpu::render_texture(
+                ctx,
+                label,
+                (w, h, 1),
+                MAP_FORMAT,
+                wgpu::TextureUsages::empty(),
+            )
+            .create_view(&Default::default())
+        };
+        let beams = if variant.shafts.is_some() {
+            photons as u64 * (settings.bounces as u64 + 1)
+        } else {
+            1
+        };
+        let froxels = variant.shafts == Some(Shafts::Froxels);
+        let grid = if froxels {
+            froxel_grid(settings, (width, height))
+        } else {
+            [1, 1, 1]
+        };
+        let volume = |label: &str| {
+            ctx.device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: grid[0],
+                        height: grid[1],
+                        depth_or_array_layers: grid[2],
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D3,
+                    format: MAP_FORMAT,
+                    usage: wgpu::TextureUsages::STORAGE_BINDING
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        let map = if froxels { settings.caustic_map } else { 1 };
+        Self {
+            inscatter: texture("in-scattering", (width, height)),
+            blurred: texture("in-scattering blur", (width, height)),
+            beams: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("photon beams"),
+                size: beams * 48,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+            froxels: [volume("froxel scattering"), volume("froxel integral")],
+            froxel_grid: grid,
+            caustic_maps: [
+                texture("caustic map flux", (map, map)),
+                texture("caustic map direction", (map, map)),
+            ],
+        }
     }
 }
 
@@ -613,6 +846,36 @@ struct ModeGpu {
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ResolveParamsGpu {
+    max_bounces: u32,
+    round: u32,
+    keep_beams: u32,
+    _pad: u32,
+}
+
+/// `ShaftView` of shafts.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ShaftViewGpu {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    forward: [f32; 4],
+    size: [u32; 4],
+}
+
+/// `FroxelParams` of froxels.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct FroxelParamsGpu {
+    light_view_proj: [[f32; 4]; 4],
+    light: [f32; 4],
+    axis: [f32; 4],
+    grid: [u32; 4],
+    slices: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct SplatParamsGpu {
     inv_view_proj: [[f32; 4]; 4],
     forward: [f32; 4],
@@ -656,6 +919,27 @@ fn bufferless_pipeline(
     topology: wgpu::PrimitiveTopology,
     blend: Option<wgpu::BlendState>,
 ) -> wgpu::RenderPipeline {
+    render_pipeline(
+        ctx,
+        label,
+        layout,
+        own,
+        (vs, fs),
+        topology,
+        &[pass::color_target(MAP_FORMAT, blend)],
+    )
+}
+
+/// [`bufferless_pipeline`] with the caller's targets.
+fn render_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    own: &str,
+    (vs, fs): (&str, &str),
+    topology: wgpu::PrimitiveTopology,
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> wgpu::RenderPipeline {
     let module = gpu::shader_with_prelude(ctx, label, &pass_source(own));
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -671,7 +955,7 @@ fn bufferless_pipeline(
                 module: &module,
                 entry_point: Some(fs),
                 compilation_options: Default::default(),
-                targets: &[pass::color_target(MAP_FORMAT, blend)],
+                targets,
             }),
             primitive: wgpu::PrimitiveState {
                 topology,
@@ -698,8 +982,463 @@ const ADD: wgpu::BlendState = wgpu::BlendState {
     },
 };
 
+/// The constants beam.wgsl expects from its includer.
+pub fn beam_constants() -> String {
+    format!(
+        "const CAMERA_NEAR: f32 = {:?};\nconst EYE_CLEARANCE: f32 = {:?};",
+        scene::Camera::NEAR,
+        scene::medium::EYE_CLEARANCE
+    )
+}
+
+/// The target times the source, alpha kept: the image times the medium's transmittance.
+const MULTIPLY_RGB_KEEP_ALPHA: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::Src,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// The passes of a scene with a scattering medium: god rays, froxels, the composite.
+struct MediumPasses {
+    shafts_layout: wgpu::BindGroupLayout,
+    composite_layout: wgpu::BindGroupLayout,
+    froxel_layout: wgpu::BindGroupLayout,
+    bands: wgpu::RenderPipeline,
+    blur: wgpu::RenderPipeline,
+    attenuate: wgpu::RenderPipeline,
+    add_inscatter: wgpu::RenderPipeline,
+    caustic_map: wgpu::RenderPipeline,
+    froxel_scatter: wgpu::ComputePipeline,
+    froxel_integrate: wgpu::ComputePipeline,
+    froxel_lookup: wgpu::RenderPipeline,
+}
+
+impl MediumPasses {
+    fn new(ctx: &Context, scene: &GpuScene, ldi_layout: &wgpu::BindGroupLayout) -> Self {
+        use wgpu::ShaderStages as S;
+        let map = bind::texture_2d_unfilterable();
+        let shafts_layout = bind::layout(
+            ctx,
+            "shafts",
+            S::VERTEX_FRAGMENT,
+            &[bind::storage(true), bind::uniform(), map],
+        );
+        let composite_layout = bind::layout(ctx, "medium composite", S::FRAGMENT, &[map]);
+        let all = S::VERTEX_FRAGMENT | S::COMPUTE;
+        let froxel_layout = bind::layout_with_stages(
+            ctx,
+            "froxels",
+            &[
+                (all, bind::uniform()),
+                (all, bind::storage(true)),
+                (all, map),
+                (all, map),
+                (all, bind::texture(wgpu::TextureViewDimension::D3, false)),
+                (
+                    S::COMPUTE | S::FRAGMENT,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: MAP_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D3,
+                    },
+                ),
+            ],
+        );
+        let with =
+            |own: &wgpu::BindGroupLayout| scene.pipeline_layout_with(ctx, &[ldi_layout, own]);
+        let fullscreen = gpu::fullscreen::FULLSCREEN_VS_WGSL;
+        let shafts = format!(
+            "{fullscreen}\n{}\n{BEAM_WGSL}\n{SHAFTS_WGSL}",
+            beam_constants()
+        );
+        let composite = format!("{fullscreen}\n{COMPOSITE_WGSL}");
+        let froxels = format!("{fullscreen}\n{FROXELS_WGSL}");
+        let hdr = |blend| [pass::color_target(gpu::HDR_FORMAT, Some(blend))];
+        let triangles = wgpu::PrimitiveTopology::TriangleList;
+        Self {
+            bands: bufferless_pipeline(
+                ctx,
+                "god-ray bands",
+                &with(&shafts_layout),
+                &shafts,
+                ("band_vs", "band_fs"),
+                triangles,
+                Some(ADD),
+            ),
+            blur: bufferless_pipeline(
+                ctx,
+                "god-ray blur",
+                &with(&shafts_layout),
+                &shafts,
+                ("fullscreen_vs", "blur_fs"),
+                triangles,
+                None,
+            ),
+            attenuate: render_pipeline(
+                ctx,
+                "medium transmittance",
+                &with(&composite_layout),
+                &composite,
+                ("fullscreen_vs", "attenuate_fs"),
+                triangles,
+                &hdr(MULTIPLY_RGB_KEEP_ALPHA),
+            ),
+            add_inscatter: render_pipeline(
+                ctx,
+                "medium in-scattering",
+                &with(&composite_layout),
+                &composite,
+                ("fullscreen_vs", "inscatter_fs"),
+                triangles,
+                &hdr(ADD_RGB_KEEP_ALPHA),
+            ),
+            caustic_map: render_pipeline(
+                ctx,
+                "froxel caustic map",
+                &with(&froxel_layout),
+                &froxels,
+                ("caustic_map_vs", "caustic_map_fs"),
+                wgpu::PrimitiveTopology::PointList,
+                &[
+                    pass::color_target(MAP_FORMAT, Some(ADD)),
+                    pass::color_target(MAP_FORMAT, Some(ADD)),
+                ],
+            ),
+            froxel_scatter: compute_pipeline(
+                ctx,
+                "froxel scattering",
+                &with(&froxel_layout),
+                &froxels,
+                "froxel_scatter_main",
+            ),
+            froxel_integrate: compute_pipeline(
+                ctx,
+                "froxel integration",
+                &with(&froxel_layout),
+                &froxels,
+                "froxel_integrate_main",
+            ),
+            froxel_lookup: bufferless_pipeline(
+                ctx,
+                "froxel lookup",
+                &with(&froxel_layout),
+                &froxels,
+                ("fullscreen_vs", "froxel_lookup_fs"),
+                triangles,
+                None,
+            ),
+            shafts_layout,
+            composite_layout,
+            froxel_layout,
+        }
+    }
+}
+
+impl MediumPasses {
+    fn shaft_view(&self, view: &View, settings: &Settings) -> ShaftViewGpu {
+        let s = crate::shafts::ShaftView::new(&view.camera, view.width, view.height);
+        ShaftViewGpu {
+            view_proj: s.view_proj.to_cols_array_2d(),
+            eye: s.eye.extend(s.pixel_area).to_array(),
+            forward: s
+                .forward
+                .extend(settings.shaft_blur * view.height as f32)
+                .to_array(),
+            size: [view.width, view.height, 0, 0],
+        }
+    }
+
+    /// God rays: every beam of the march's rounds drawn as a band into the in-scattering
+    /// buffer (section 3.2).
+    fn draw_bands(
+        &self,
+        frame: &mut Frame,
+        groups: &Groups,
+        targets: &MediaTargets,
+        view: &View,
+        settings: &Settings,
+    ) {
+        let ctx = frame.gpu;
+        let beams = (targets.beams.size() / 48) as u32;
+        let mut params = self.shaft_view(view, settings);
+        params.size[2] = beams;
+        let params = Uniform::new(ctx, "shaft view", &params);
+        let group = bind::group(
+            ctx,
+            "god-ray bands",
+            &self.shafts_layout,
+            &[
+                targets.beams.as_entire_binding(),
+                params.binding(),
+                bind::view(&targets.blurred),
+            ],
+        );
+        let mut pass = pass::begin(
+            frame.encoder,
+            "god-ray bands",
+            &[pass::color(&targets.inscatter, pass::Load::Keep)],
+            None,
+            None,
+        );
+        pass.set_pipeline(&self.bands);
+        groups.set(&mut pass, &group);
+        pass.draw(0..6, 0..beams);
+    }
+
+    /// God rays: the separable Gaussian blur of the in-scattering buffer (a constant
+    /// screen-space support, as the paper's).
+    fn blur(
+        &self,
+        frame: &mut Frame,
+        groups: &Groups,
+        targets: &MediaTargets,
+        view: &View,
+        settings: &Settings,
+    ) {
+        if settings.shaft_blur <= 0.0 {
+            return;
+        }
+        let ctx = frame.gpu;
+        for (direction, from, to) in [
+            (0, &targets.inscatter, &targets.blurred),
+            (1, &targets.blurred, &targets.inscatter),
+        ] {
+            let mut params = self.shaft_view(view, settings);
+            params.size[3] = direction;
+            let params = Uniform::new(ctx, "shaft blur", &params);
+            let group = bind::group(
+                ctx,
+                "god-ray blur",
+                &self.shafts_layout,
+                &[
+                    targets.beams.as_entire_binding(),
+                    params.binding(),
+                    bind::view(from),
+                ],
+            );
+            let mut pass = pass::begin(
+                frame.encoder,
+                "god-ray blur",
+                &[pass::color(to, CLEAR_BLACK)],
+                None,
+                None,
+            );
+            pass.set_pipeline(&self.blur);
+            groups.set(&mut pass, &group);
+            gpu::fullscreen::draw(&mut pass);
+        }
+    }
+
+    /// The froxels' uniform: the caustic map's light view (the first light's view of the
+    /// casters, as its transfer map), the grid and its slices.
+    fn froxel_params(
+        &self,
+        targets: &MediaTargets,
+        scene: &GpuScene,
+        view: &View,
+        settings: &Settings,
+    ) -> TechniqueResult<FroxelParamsGpu> {
+        let medium = scene
+            .scene
+            .medium
+            .as_ref()
+            .expect("a medium: checked by the caller");
+        let slices = crate::shafts::Slices::of_medium(medium, view.camera.eye, settings.slices);
+        let (light_view_proj, light, axis) = match scene.scene.lights.first() {
+            Some(light) => {
+                let (centre, radius) = light_outside_casters(&scene.scene, light, scene.time())?;
+                let lv = scene::lightmap::LightView::of_sphere(
+                    light.position,
+                    centre,
+                    radius,
+                    settings.caustic_map,
+                );
+                (
+                    lv.view_proj,
+                    light.position.extend(lv.pixel_area),
+                    lv.axis.extend(1.0),
+                )
+            }
+            None => (Mat4::IDENTITY, glam::Vec4::ZERO, glam::Vec4::ZERO),
+        };
+        let [x, y, z] = targets.froxel_grid;
+        Ok(FroxelParamsGpu {
+            light_view_proj: light_view_proj.to_cols_array_2d(),
+            light: light.to_array(),
+            axis: axis.to_array(),
+            grid: [x, y, z, settings.froxel_size],
+            slices: [
+                slices.near,
+                slices.far,
+                view.width as f32,
+                view.height as f32,
+            ],
+        })
+    }
+
+    fn froxel_group(
+        &self,
+        ctx: &Context,
+        params: &Uniform<FroxelParamsGpu>,
+        targets: &MediaTargets,
+        maps: [&wgpu::TextureView; 2],
+        (read, write): (usize, usize),
+    ) -> wgpu::BindGroup {
+        bind::group(
+            ctx,
+            "froxels",
+            &self.froxel_layout,
+            &[
+                params.binding(),
+                targets.beams.as_entire_binding(),
+                bind::view(maps[0]),
+                bind::view(maps[1]),
+                bind::view(&targets.froxels[read]),
+                bind::view(&targets.froxels[write]),
+            ],
+        )
+    }
+
+    /// Froxels: the caustic map of the first light, one point per beam that landed.
+    fn draw_caustic_map(
+        &self,
+        frame: &mut Frame,
+        groups: &Groups,
+        targets: &MediaTargets,
+        scene: &GpuScene,
+        settings: &Settings,
+    ) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        // The view's size does not enter the caustic map.
+        let view = View {
+            camera: scene.scene.camera,
+            time: scene.time(),
+            width: 1,
+            height: 1,
+        };
+        let params = Uniform::new(
+            ctx,
+            "froxel params",
+            &self.froxel_params(targets, scene, &view, settings)?,
+        );
+        let group = self.froxel_group(
+            ctx,
+            &params,
+            targets,
+            [&targets.inscatter, &targets.blurred],
+            (1, 0),
+        );
+        let mut pass = pass::begin(
+            frame.encoder,
+            "froxel caustic map",
+            &[
+                pass::color(&targets.caustic_maps[0], pass::Load::Keep),
+                pass::color(&targets.caustic_maps[1], pass::Load::Keep),
+            ],
+            None,
+            None,
+        );
+        pass.set_pipeline(&self.caustic_map);
+        groups.set(&mut pass, &group);
+        pass.draw(0..(targets.beams.size() / 48) as u32, 0..1);
+        Ok(())
+    }
+
+    /// Froxels: light the grid, integrate it front to back, look it up per pixel into the
+    /// in-scattering buffer.
+    fn froxels(
+        &self,
+        frame: &mut Frame,
+        groups: &Groups,
+        targets: &MediaTargets,
+        scene: &GpuScene,
+        view: &View,
+        settings: &Settings,
+    ) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        let params = self.froxel_params(targets, scene, view, settings)?;
+        let params = Uniform::new(ctx, "froxel params", &params);
+        let maps = [&targets.caustic_maps[0], &targets.caustic_maps[1]];
+        let [x, y, z] = targets.froxel_grid;
+        for (pipeline, (read, write), workgroups) in [
+            (
+                &self.froxel_scatter,
+                (1, 0),
+                [x.div_ceil(4), y.div_ceil(4), z.div_ceil(4)],
+            ),
+            (
+                &self.froxel_integrate,
+                (0, 1),
+                [x.div_ceil(8), y.div_ceil(8), 1],
+            ),
+        ] {
+            let group = self.froxel_group(ctx, &params, targets, maps, (read, write));
+            let mut pass = frame
+                .encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, groups.camera, &[]);
+            pass.set_bind_group(1, groups.scene, &[]);
+            pass.set_bind_group(2, groups.ldi, &[]);
+            pass.set_bind_group(3, &group, &[]);
+            pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
+        }
+        let group = self.froxel_group(ctx, &params, targets, maps, (1, 0));
+        let mut pass = pass::begin(
+            frame.encoder,
+            "froxel lookup",
+            &[pass::color(&targets.inscatter, CLEAR_BLACK)],
+            None,
+            None,
+        );
+        pass.set_pipeline(&self.froxel_lookup);
+        groups.set(&mut pass, &group);
+        gpu::fullscreen::draw(&mut pass);
+        Ok(())
+    }
+
+    /// Every variant in a medium: the image times the transmittance to its first surface,
+    /// plus the in-scattering buffer.
+    fn composite(
+        &self,
+        frame: &mut Frame,
+        groups: &Groups,
+        targets: &MediaTargets,
+        target: &Target,
+    ) {
+        let ctx = frame.gpu;
+        let group = bind::group(
+            ctx,
+            "medium composite",
+            &self.composite_layout,
+            &[bind::view(&targets.inscatter)],
+        );
+        for pipeline in [&self.attenuate, &self.add_inscatter] {
+            let mut pass = pass::begin(
+                frame.encoder,
+                "medium composite",
+                &[pass::color(&target.color_view, pass::Load::Keep)],
+                None,
+                None,
+            );
+            pass.set_pipeline(pipeline);
+            groups.set(&mut pass, &group);
+            gpu::fullscreen::draw(&mut pass);
+        }
+    }
+}
+
 /// The pipelines and bind-group layouts (per scene: they use its layouts).
 struct Passes {
+    /// A scene with a scattering medium only.
+    medium: Option<MediumPasses>,
     ldi_layout: wgpu::BindGroupLayout,
     transfer_layout: wgpu::BindGroupLayout,
     gather_layout: wgpu::BindGroupLayout,
@@ -777,6 +1516,7 @@ impl Passes {
                 bind::storage(true),
                 bind::storage(false),
                 bind::uniform(),
+                bind::storage(false),
             ],
         );
         let splat_layout = bind::layout(
@@ -843,6 +1583,11 @@ impl Passes {
             (true, wgpu::CompareFunction::Less),
         );
         Self {
+            medium: scene
+                .scene
+                .medium
+                .is_some()
+                .then(|| MediumPasses::new(ctx, scene, &ldi_layout)),
             shadow_mask: compute_pipeline(
                 ctx,
                 "shadow mask",
@@ -995,6 +1740,27 @@ impl Passes {
             );
         }
 
+        let media = sized.media.as_ref().zip(self.medium.as_ref());
+        if let Some((targets, _)) = media {
+            pass::begin(
+                frame.encoder,
+                "clear in-scattering",
+                &[pass::color(&targets.inscatter, CLEAR_BLACK)],
+                None,
+                None,
+            );
+            pass::begin(
+                frame.encoder,
+                "clear caustic map",
+                &[
+                    pass::color(&targets.caustic_maps[0], CLEAR_BLACK),
+                    pass::color(&targets.caustic_maps[1], CLEAR_BLACK),
+                ],
+                None,
+                None,
+            );
+        }
+        let keep_beams = media.is_some() && variant.shafts.is_some();
         if let Some((march, splat)) = variant.caustics {
             pass::begin(
                 frame.encoder,
@@ -1003,7 +1769,7 @@ impl Passes {
                 None,
                 None,
             );
-            for light in &scene.scene.lights {
+            for (light_index, light) in scene.scene.lights.iter().enumerate() {
                 frame.timer.begin(frame.encoder, "caustics");
                 let (spacing, flux) = self.transfer(frame, scene, sized, settings, light)?;
                 let flux = Uniform::new(ctx, "unit flux", &flux.extend(0.0).to_array());
@@ -1025,7 +1791,7 @@ impl Passes {
                     ),
                     sized.photons.count.div_ceil(64),
                 );
-                for _ in 0..=settings.bounces {
+                for round in 0..=settings.bounces {
                     match march {
                         March::Lines => self.march_lines(frame, &groups, sized),
                         March::Dda => self.dispatch(
@@ -1044,9 +1810,24 @@ impl Passes {
                             sized.photons.count.div_ceil(64),
                         ),
                     }
-                    self.resolve(frame, &groups, sized, settings);
+                    let beams = media.map(|(targets, _)| &targets.beams);
+                    let keep = beams.filter(|_| keep_beams);
+                    self.resolve(frame, &groups, sized, settings, round, keep);
                 }
                 frame.timer.end(frame.encoder, "caustics");
+                if let (Some((targets, passes)), true) = (media, keep_beams) {
+                    frame.timer.begin(frame.encoder, "shafts");
+                    match variant.shafts {
+                        Some(Shafts::GodRays) => {
+                            passes.draw_bands(frame, &groups, targets, view, settings)
+                        }
+                        Some(Shafts::Froxels) if light_index == 0 => {
+                            passes.draw_caustic_map(frame, &groups, targets, scene, settings)?
+                        }
+                        _ => {}
+                    }
+                    frame.timer.end(frame.encoder, "shafts");
+                }
                 frame.timer.begin(frame.encoder, "splat");
                 self.splat(
                     frame,
@@ -1100,6 +1881,20 @@ impl Passes {
             scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
         }
         frame.timer.end(frame.encoder, "refraction");
+        if let Some((targets, passes)) = media {
+            frame.timer.begin(frame.encoder, "shafts");
+            match variant.shafts {
+                Some(Shafts::GodRays) => passes.blur(frame, &groups, targets, view, settings),
+                Some(Shafts::Froxels) => {
+                    passes.froxels(frame, &groups, targets, scene, view, settings)?
+                }
+                None => {}
+            }
+            frame.timer.end(frame.encoder, "shafts");
+            frame.timer.begin(frame.encoder, "medium");
+            passes.composite(frame, &groups, targets, target);
+            frame.timer.end(frame.encoder, "medium");
+        }
         Ok(())
     }
 
@@ -1266,16 +2061,28 @@ impl Passes {
         }
     }
 
-    fn resolve(&self, frame: &mut Frame, groups: &Groups, sized: &Sized, settings: &Settings) {
+    /// Resolves round `round`'s hits; `beams`: keep each photon ray as a beam there.
+    fn resolve(
+        &self,
+        frame: &mut Frame,
+        groups: &Groups,
+        sized: &Sized,
+        settings: &Settings,
+        round: u32,
+        beams: Option<&wgpu::Buffer>,
+    ) {
         let ctx = frame.gpu;
         let params = Uniform::new(
             ctx,
             "resolve params",
-            &ModeGpu {
-                value: settings.bounces,
-                _pad: [0; 3],
+            &ResolveParamsGpu {
+                max_bounces: settings.bounces,
+                round,
+                keep_beams: beams.is_some() as u32,
+                _pad: 0,
             },
         );
+        let beams = beams.unwrap_or(&sized.no_beams);
         let group = bind::group(
             ctx,
             "resolve",
@@ -1285,6 +2092,7 @@ impl Passes {
                 sized.photons.hits.as_entire_binding(),
                 sized.photons.receivers.as_entire_binding(),
                 params.binding(),
+                beams.as_entire_binding(),
             ],
         );
         self.dispatch(

@@ -414,3 +414,144 @@ fn the_marchers_in_a_frame_find_the_twins_first_hits() {
         }
     }
 }
+
+/// One beam-fragment case: the medium, the view, the beam, the pixel and its surface.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct BeamCase {
+    medium: scene::medium::MediumGpu,
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    forward: [f32; 4],
+    size: [u32; 4],
+    origin: [f32; 4],
+    dir: [f32; 4],
+    power: [f32; 4],
+    /// xy pixel centre, z surface distance.
+    pixel: [f32; 4],
+}
+
+/// The bands of photon beams (`beam.wgsl`'s `beam_band` and `beam_fragment`) against the twin
+/// (`screen_photons::shafts`): random media, eyes inside and outside them, beams through them
+/// and the pixels of each beam's band; and a mutated tent is detected.
+#[test]
+fn the_wgsl_beam_fragments_match_the_twin() {
+    use screen_photons::shafts::{Beam, ShaftView, beam_band, beam_fragment};
+    let _lock = testkit::gpu_lock();
+    let ctx = testkit::context();
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut rnd = move |lo: f32, hi: f32| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        lo + (hi - lo) * ((state % 1_000_000) as f32 / 1_000_000.0)
+    };
+    let mut cases = Vec::new();
+    let mut twins = Vec::new();
+    while cases.len() < 4096 {
+        let min = Vec3::new(rnd(-3.0, -1.0), rnd(-2.0, -1.0), rnd(-5.0, -3.0));
+        let medium = scene::Medium {
+            name: "m".into(),
+            min,
+            max: min + Vec3::new(rnd(1.0, 4.0), rnd(1.0, 3.0), rnd(1.0, 4.0)),
+            scattering: Vec3::new(rnd(0.05, 0.5), rnd(0.05, 0.5), rnd(0.05, 0.5)),
+            absorption: Vec3::new(rnd(0.0, 0.3), rnd(0.0, 0.3), rnd(0.0, 0.3)),
+            anisotropy: rnd(-0.8, 0.8),
+        };
+        let camera = Camera {
+            eye: Vec3::new(rnd(-1.0, 1.0), rnd(-1.5, 0.5), rnd(-2.0, 1.0)),
+            target: Vec3::new(rnd(-1.0, 1.0), rnd(-2.0, 0.0), -6.0),
+            up: Vec3::Y,
+            fov_y_deg: rnd(40.0, 80.0),
+        };
+        let view = ShaftView::new(&camera, 64, 48);
+        let origin = Vec3::new(rnd(-2.0, 2.0), rnd(0.0, 1.0), rnd(-5.0, -2.0));
+        let beam = Beam {
+            origin,
+            dir: (Vec3::new(rnd(-2.0, 2.0), -2.0, rnd(-5.0, -2.0)) - origin).normalize(),
+            length: rnd(1.0, 4.0),
+            power: Vec3::new(rnd(0.1, 1.0), rnd(0.1, 1.0), rnd(0.1, 1.0)),
+        };
+        let Some(band) = beam_band(&view, &medium, &beam) else {
+            continue;
+        };
+        // Pixels along and beside the band.
+        for _ in 0..16 {
+            let f = rnd(0.0, 1.0);
+            let p = band.p0 + (band.p1 - band.p0) * f;
+            let pixel = (p + Vec3::new(rnd(-2.0, 2.0), rnd(-2.0, 2.0), 0.0).truncate()).floor()
+                + glam::Vec2::splat(0.5);
+            let surface = if rnd(0.0, 1.0) < 0.2 {
+                rnd(0.1, 4.0)
+            } else {
+                1e30
+            };
+            twins.push(beam_fragment(&view, &medium, &beam, &band, pixel, surface));
+            cases.push(BeamCase {
+                medium: scene::Medium::gpu(Some(&medium)),
+                view_proj: view.view_proj.to_cols_array_2d(),
+                eye: view.eye.extend(view.pixel_area).to_array(),
+                forward: view.forward.extend(0.0).to_array(),
+                size: [view.width, view.height, 0, 0],
+                origin: beam.origin.extend(1.0).to_array(),
+                dir: beam.dir.extend(beam.length).to_array(),
+                power: beam.power.extend(0.0).to_array(),
+                pixel: [pixel.x, pixel.y, surface, 0.0],
+            });
+        }
+    }
+    let source = |tent: &str| {
+        format!(
+            "{prelude}\n{medium}\n{photon_structs}\n{constants}\n{beam}\n\
+             struct BeamCase {{ medium: Medium, view_proj: mat4x4f, eye: vec4f, forward: vec4f, \
+             size: vec4u, origin: vec4f, dir: vec4f, power: vec4f, pixel: vec4f }};\n\
+             var<private> shaft: ShaftView;\n\
+             var<private> case_medium: Medium;\n\
+             fn scene_medium() -> Medium {{ return case_medium; }}\n\
+             {header}\n{entry}",
+            prelude = gpu::prelude::PRELUDE_WGSL,
+            medium = scene::medium::MEDIUM_WGSL,
+            photon_structs = BEAM_STRUCT,
+            constants = screen_photons::technique::beam_constants(),
+            beam = screen_photons::technique::BEAM_WGSL
+                .replace("max(1.0 - abs(across) / BAND_HALF_WIDTH, 0.0)", tent),
+            header = kernel_header("BeamCase", "vec4f"),
+            entry = kernel_entry(
+                "beam_kernel",
+                "    let c = inputs[i];\n    \
+                 case_medium = c.medium;\n    \
+                 shaft = ShaftView(c.view_proj, c.eye, c.forward, c.size);\n    \
+                 let b = Beam(c.origin, c.dir, c.power);\n    \
+                 let band = beam_band(b);\n    \
+                 outputs[i] = vec4f(beam_fragment(b, band, c.pixel.xy, c.pixel.z), \
+                 select(0.0, 1.0, band.ok));",
+            ),
+        )
+    };
+    let compare = |tent: &str| {
+        let got: Vec<Vec4> =
+            run_kernel(ctx, &source(tent), "beam_kernel", &cases, 1).expect("kernel");
+        let lit = twins.iter().filter(|t| t.max_element() > 0.0).count();
+        let bad = got
+            .iter()
+            .zip(&twins)
+            .filter(|(g, t)| {
+                g.w != 1.0
+                    || (g.truncate() - **t).abs().max_element() > 1e-5 + 2e-3 * t.max_element()
+            })
+            .count();
+        (bad, lit)
+    };
+    let (bad, lit) = compare("max(1.0 - abs(across) / BAND_HALF_WIDTH, 0.0)");
+    println!(
+        "beam fragments: {bad} of {} differ ({lit} lit)",
+        cases.len()
+    );
+    assert!(lit > 1000, "only {lit} cases light their pixel");
+    assert_eq!(bad, 0);
+    let (bad, _) = compare("max(1.0 - abs(across) / (2.0 * BAND_HALF_WIDTH), 0.0)");
+    assert!(bad > 500, "a wider tent went unnoticed ({bad} differ)");
+}
+
+/// The `Beam` struct of photon.wgsl (the rest of that file needs the LDI bindings).
+const BEAM_STRUCT: &str = "struct Beam { origin: vec4f, dir: vec4f, power: vec4f };";

@@ -191,3 +191,70 @@ fn depth_complexity_of_the_built_in_views() {
         assert!(deepest < 16, "{spec}: 16 layers were not enough to count");
     }
 }
+
+/// The light shafts' energy against the reference's photon beams on `murky-pool` (run with
+/// `--nocapture` for the README's figures): `god-rays` minus `dda` (the same frame without
+/// shafts: same photons, same transmittance) is the drawn bands after the blur; `froxel-fog`
+/// minus `dda` the froxels' in-scattering; the reference's `beam_radiance` the ground truth
+/// of the same light (single scattering after the waves). Sums over the image, per channel.
+#[test]
+fn shafts_carry_the_reference_beams_energy() {
+    let _lock = testkit::gpu_lock();
+    let scene = scene::load("murky-pool").unwrap();
+    let size = 64;
+    let shot = Shot::along_path(&scene, 0.0, size);
+    let sum = |img: &gpu::HdrImage| {
+        img.pixels
+            .iter()
+            .fold(Vec3::ZERO, |a, p| a + Vec3::from_slice(&p[..3]))
+    };
+    let without = sum(&render(&mut variant("dda"), &scene, shot));
+    let god_rays = sum(&render(&mut variant("god-rays"), &scene, shot)) - without;
+    let froxels = sum(&render(&mut variant("froxel-fog"), &scene, shot)) - without;
+    let opts = truth::reference::ReferenceOptions {
+        photons: 1_000_000,
+        ..Default::default()
+    };
+    let beams = truth::reference::light_trace(
+        &scene,
+        &scene.camera_at(0.0),
+        0.0,
+        size,
+        size,
+        &opts,
+        &truth::reference::PhotonSetup::caustics(&scene),
+    )
+    .beam_radiance
+    .iter()
+    .fold(Vec3::ZERO, |a, b| a + *b);
+    println!(
+        "| in-scattered light, summed over the image (64 x 64) | red | ratio to the reference |"
+    );
+    println!("| --- | --- | --- |");
+    println!(
+        "| reference (photon beams, 1 000 000 photons) | {:.3} | 1 |",
+        beams.x
+    );
+    println!(
+        "| god-rays (bands, blurred) | {:.3} | {:.3} |",
+        god_rays.x,
+        god_rays.x / beams.x
+    );
+    println!(
+        "| froxel-fog | {:.3} | {:.3} |",
+        froxels.x,
+        froxels.x / beams.x
+    );
+    assert!(beams.x > 1.0, "the reference has shafts: {beams}");
+    // Bounds: the measured ratios with a margin.
+    let ratio = god_rays / beams;
+    assert!(
+        (ratio - Vec3::ONE).abs().max_element() < 0.2,
+        "god rays carry {ratio} of the reference's in-scattering"
+    );
+    let ratio = froxels / beams;
+    assert!(
+        ratio.min_element() > 0.3 && ratio.max_element() < 2.0,
+        "froxels carry {ratio}"
+    );
+}

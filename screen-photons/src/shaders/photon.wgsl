@@ -37,3 +37,19 @@ fn photon_segment(p: Photon) -> Segment {
     let range = scene_range(p.origin.xyz, p.dir.xyz);
     return clip_segment(p.origin.xyz, p.dir.xyz, range.x, range.y);
 }
+
+// A photon ray of one march round, for the light shafts (section 3.2): written by the resolve.
+struct Beam {
+    // xyz: where the photon left its last specular surface; w: 1 for a beam, 0 for none.
+    origin: vec4f,
+    // xyz: unit direction; w: length to its first hit (or to where it leaves the scene).
+    dir: vec4f,
+    // rgb: flux at the origin (W); w: 1 when it ended on a diffuse surface.
+    power: vec4f,
+};
+
+// The distance to the first surface seen in pixel (x, y) (infinite where there is none).
+fn surface_distance(x: u32, y: u32) -> f32 {
+    let d = textureLoad(ldi_layers, vec2u(x, y), 0, 0).w;
+    return select(1e30, d, d > 0.0);
+}

@@ -9,7 +9,9 @@
 // at the surface, refracted out) are retraced into the scene's LDI with the same test as the
 // mode's photons (the tolerance test walked in order, or the DDA) and shaded there with the
 // shared diffuse model; a ray that meets nothing there, or leaves the view, sees the
-// background (the paper's environment lookup).
+// background (the paper's environment lookup). In a scene with a scattering medium every
+// traced segment is attenuated by its transmittance (what the eye's own segment loses is
+// composite.wgsl's; light scattered into these rays is not added).
 // ---------------------------------------------------------------------------------------------
 
 struct SpecularParams {
@@ -37,7 +39,8 @@ fn shade_hit(which: u32, h: LdiHit, texel: LdiTexel, origin: vec3f, dir: vec3f, 
         uv = textureLoad(refractor_surfaces, h.pixel, h.layer, 0).yz;
     }
     let n = facing_normal(texel.normal, p, origin);
-    return shade_diffuse(p, n, surface_albedo(texel.object, uv));
+    return shade_diffuse(p, n, surface_albedo(texel.object, uv))
+        * medium_transmittance_between(scene_medium(), origin, p);
 }
 
 // Radiance arriving at `origin` from direction `dir`: the first diffuse surface of the scene's
@@ -69,6 +72,7 @@ fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
     var o = origin;
     var dir = dir_in;
     var radiance = vec3f(0.0);
+    var throughput = vec3f(1.0);
     var travelling = true;
     for (var chord = 0u; chord < EXIT_CHORDS; chord++) {
         if (!travelling) { break; }
@@ -97,6 +101,7 @@ fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
             } else {
                 let p = point_on_surface(o, dir, h.t, texel, h.pixel.x, h.pixel.y, segment_step(s) + ldi.tests.x);
                 let e = specular_event(texel.object, texel.normal, p, o, dir);
+                throughput *= medium_transmittance_between(scene_medium(), o, p);
                 if (e.refracted.w > 0.5) {
                     radiance = (1.0 - e.reflectance.x) * retrace(p, e.refracted.xyz, false);
                     travelling = false;
@@ -107,7 +112,7 @@ fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
             }
         }
     }
-    return radiance;
+    return radiance * throughput;
 }
 
 @fragment
