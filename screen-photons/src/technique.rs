@@ -25,7 +25,7 @@
 //! 6. *Shafts* ("shafts" span, a scene with a scattering medium only): `god-rays` draws the
 //!    march's photon beams as bands into an in-scattering buffer and blurs it (section 3.2,
 //!    `shafts.wgsl`); `froxel-fog` lights a froxel grid from the shadow maps and a caustic map
-//!    of the photons' landings, integrates it and looks it up per pixel (`froxels.wgsl`).
+//!    of where the photons end, integrates it and looks it up per pixel (`froxels.wgsl`).
 //!    Then every variant multiplies its image by the medium's transmittance to each pixel's
 //!    first surface and adds the in-scattering (`composite.wgsl`); photons lose the medium's
 //!    transmittance along every march segment (`resolve.wgsl`).
@@ -435,7 +435,7 @@ impl Technique for ScreenPhotons {
             Some(Shafts::Froxels) => {
                 return format!(
                     "engine baseline: froxel volumetric fog lit by the shadow maps and a caustic \
-                     map of the photons' landings, integrated front to back (Wronski 2014, \
+                     map of where the photons end, integrated front to back (Wronski 2014, \
                      Hillaire 2015); caustics as `dda`; {refraction}"
                 );
             }
@@ -1306,7 +1306,7 @@ impl MediumPasses {
         )
     }
 
-    /// Froxels: the caustic map of the first light, one point per beam that landed.
+    /// Froxels: the caustic map of the first light, one point per photon's last beam.
     fn draw_caustic_map(
         &self,
         frame: &mut Frame,

@@ -25,14 +25,27 @@ pub fn primary_distances(
     height: u32,
 ) -> Vec<f32> {
     let bvh = SceneBvh::build(scene, time);
+    primary_hits(&bvh, camera, width, height, |t, _| t)
+}
+
+/// Per pixel (row 0 at the top), `f(t, dir)` of the primary ray through the pixel centre,
+/// `dir` its direction and `t` the distance to its first surface (`f32::INFINITY` where it
+/// sees none).
+pub fn primary_hits(
+    bvh: &SceneBvh,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    f: impl Fn(f32, Vec3) -> f32,
+) -> Vec<f32> {
     let mut out = Vec::with_capacity((width * height) as usize);
     for y in 0..height {
         for x in 0..width {
             let dir = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, width, height);
-            out.push(
-                bvh.closest_hit(camera.eye, dir, f32::INFINITY)
-                    .map_or(f32::INFINITY, |h| h.t),
-            );
+            let t = bvh
+                .closest_hit(camera.eye, dir, f32::INFINITY)
+                .map_or(f32::INFINITY, |h| h.t);
+            out.push(f(t, dir));
         }
     }
     out

@@ -298,15 +298,5 @@ impl<'a> BeamSplatter<'a> {
 /// centre ray, infinite where it meets none: what [`BeamSplatter`] hides beams behind.
 pub fn view_depths(bvh: &SceneBvh, camera: &Camera, width: u32, height: u32) -> Vec<f32> {
     let forward = camera.basis().0;
-    let mut out = Vec::with_capacity((width * height) as usize);
-    for y in 0..height {
-        for x in 0..width {
-            let dir = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, width, height);
-            out.push(
-                bvh.closest_hit(camera.eye, dir, f32::INFINITY)
-                    .map_or(f32::INFINITY, |h| h.t * dir.dot(forward)),
-            );
-        }
-    }
-    out
+    crate::composite::primary_hits(bvh, camera, width, height, |t, dir| t * dir.dot(forward))
 }

@@ -51,8 +51,10 @@ fn tile_ray(tile: vec2u) -> vec3f {
     return view_ray(centre);
 }
 
-// The caustic map: every photon beam that ended on a diffuse surface adds its flux (at the
-// beam's start) and direction at its landing point's texel. One point per beam.
+// The caustic map: every photon's last beam adds its flux (at the beam's start) and direction
+// at the texel of its end: where it landed on a diffuse surface, or, for a photon the view
+// lost, where it leaves the scene's box (an engine's caustic map, made in light space, does
+// not depend on the view). One point per beam.
 struct MapOut {
     @builtin(position) position: vec4f,
     @location(0) @interpolate(flat) beam: u32,
@@ -64,7 +66,7 @@ fn caustic_map_vs(@builtin(vertex_index) i: u32) -> MapOut {
     out.beam = i;
     out.position = vec4f(2.0, 2.0, 0.0, 1.0);
     let b = beams[i];
-    if (b.origin.w < 0.5 || b.power.w < 0.5) { return out; }
+    if (b.origin.w < 0.5 || b.power.w < 0.5) { return out; }  // no beam, or not the last
     let end = b.origin.xyz + b.dir.xyz * b.dir.w;
     let c = fog.light_view_proj * vec4f(end, 1.0);
     if (c.w <= 0.0) { return out; }

@@ -44,7 +44,8 @@ struct Beam {
     origin: vec4f,
     // xyz: unit direction; w: length to its first hit (or to where it leaves the scene).
     dir: vec4f,
-    // rgb: flux at the origin (W); w: 1 when it ended on a diffuse surface.
+    // rgb: flux at the origin (W); w: how the photon ended there: 1 on a diffuse surface, 2
+    // where it left the scene's box (the view lost it), 0 at a specular surface (it goes on).
     power: vec4f,
 };
 

@@ -43,7 +43,9 @@ fn resolve_main(@builtin(global_invocation_id) g: vec3u) {
     let h = hits[i];
     beam = Beam(vec4f(p.origin.xyz, 1.0), vec4f(p.dir.xyz, 0.0), vec4f(p.power.rgb, 0.0));
     if (h.x <= 0.0) {
+        // Lost by the view: the beam runs to where it leaves the scene's box.
         beam.dir.w = max(scene_range(p.origin.xyz, p.dir.xyz).y, 0.0);
+        beam.power.w = 2.0;
         keep_beam(i, beam);
         p.origin.w = 0.0;
         photons[i] = p;
