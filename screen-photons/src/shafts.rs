@@ -410,11 +410,17 @@ mod tests {
         let dir = (Vec3::new(0.3, -1.2, -5.0) - view.eye).normalize();
         let s = Vec3::new(0.2, 0.1, 0.05);
         let out = integrate_tile(&m, &slices, view.eye, dir, &[s; 64]);
-        // Constant in-scattering: S (1 - T) / sigma_t over the whole part inside the box.
+        // Constant in-scattering: integral of S T(entry, t) dt over the part inside the box
+        // beyond `near`, by a fine midpoint rule (independent of `slice_integral`).
         let span = m.clip(view.eye, dir, f32::INFINITY).unwrap();
         let sigma_t = m.extinction();
-        let before = transmittance_of(sigma_t, span.x.max(slices.near) - span.x);
-        let want = s * before * slice_integral(sigma_t, span.y - span.x.max(slices.near));
+        let (a, b) = (span.x.max(slices.near), span.y);
+        let n = 100_000;
+        let dt = (b - a) / n as f32;
+        let want = (0..n).fold(Vec3::ZERO, |sum, i| {
+            let t = a + (i as f32 + 0.5) * dt;
+            sum + s * transmittance_of(sigma_t, t - span.x) * dt
+        });
         let got = *out.last().unwrap();
         assert!((got - want).abs().max_element() < 1e-4, "{got} vs {want}");
         // Monotone non-decreasing.

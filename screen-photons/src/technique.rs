@@ -686,6 +686,17 @@ impl Sized {
             gpu::render_texture(ctx, label, (w, h, 1), format, wgpu::TextureUsages::empty())
                 .create_view(&Default::default())
         };
+        let beam_bytes = count as u64 * (settings.bounces as u64 + 1) * 48;
+        if medium && variant.shafts.is_some() && beam_bytes > max_binding {
+            return Err(TechniqueError::OverBudget(format!(
+                "the photon beams of {}^2 photons and {} bounces ({} MB) are larger than the \
+                 adapter's largest storage binding ({} MB): lower `photons` or `bounces`",
+                settings.photons,
+                settings.bounces,
+                beam_bytes >> 20,
+                max_binding >> 20
+            )));
+        }
         let media = if medium {
             Some(ctx.allocating("screen-photons medium targets", || {
                 MediaTargets::new(ctx, settings, (width, height), variant, count)

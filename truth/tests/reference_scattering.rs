@@ -1,6 +1,7 @@
 //! The reference's single scattering in a homogeneous medium (`truth::scattering`):
 //!
-//! - without a medium, or with one that does nothing, the image is the same bit for bit;
+//! - a medium that does nothing (no scattering, no absorption) leaves the image the same bit for
+//!   bit (without a medium the new code paths do not run at all: `Option::None` skips them);
 //! - a purely absorbing medium is Beer-Lambert over the chord the eye's ray crosses;
 //! - the two estimators agree: photon beams light-traced straight from the light (no specular
 //!   event) carry the same in-scattered light as the eye pass's direct in-scattering, which

@@ -3,8 +3,10 @@
 // The twin of `src/shafts.rs` (`beam_band`, `beam_fragment`). Pure functions of a `Beam`
 // (photon.wgsl) and the private or uniform `shaft: ShaftView` the includer declares, with
 // `scene_medium()`; the includer also defines CAMERA_NEAR (scene::Camera::NEAR) and
-// EYE_CLEARANCE (scene::medium::EYE_CLEARANCE). No early returns: lavapipe's fragment stage
-// crashed on them (README, "Known lavapipe issue").
+// EYE_CLEARANCE (scene::medium::EYE_CLEARANCE). No early returns: lavapipe (Mesa 22.3) crashed
+// in the band pass's fragment stage with them, as in refractor-maps' photon_fs (its README,
+// "llvmpipe"). The reverse happens too: `medium_clip` written with selects made it crash
+// ("stack smashing") in the froxel passes, so that one keeps its returns.
 // ---------------------------------------------------------------------------------------------
 
 struct ShaftView {

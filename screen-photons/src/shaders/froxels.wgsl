@@ -5,7 +5,9 @@
 // from a caustic map: where the photons landed, seen from the first light (flux and mean
 // direction per texel), what an engine projects from the light as a caustics texture. The
 // grid is integrated front to back per tile and looked up per pixel at its surface's
-// distance. The twin of `src/shafts.rs` (`Slices`, `integrate_tile`).
+// distance. `src/shafts.rs` (`Slices`, `integrate_tile`) is the CPU model of the slicing and
+// the integration, unit-tested there; this pass is checked as a whole by the shafts' energy
+// against the reference (tests/diagnostics.rs).
 // ---------------------------------------------------------------------------------------------
 
 struct FroxelParams {
@@ -148,7 +150,14 @@ fn froxel_inscatter(p: vec3f, view: vec3f) -> vec3f {
 fn froxel_scatter_main(@builtin(global_invocation_id) g: vec3u) {
     if (any(g >= fog.grid.xyz)) { return; }
     let dir = tile_ray(g.xy);
-    let d = slice_boundary(f32(g.z) + 0.5);
+    // The centre of the slice's part inside the medium (the integration credits that part
+    // alone), else of the slice.
+    let whole = medium_clip(scene_medium(), ldi.eye.xyz, dir, 1e30);
+    let d0 = slice_boundary(f32(g.z));
+    let d1 = slice_boundary(f32(g.z) + 1.0);
+    let a = max(d0, whole.x);
+    let b = min(d1, whole.y);
+    let d = select(0.5 * (d0 + d1), 0.5 * (a + b), b > a);
     let p = ldi.eye.xyz + dir * d;
     textureStore(froxels_out, g, vec4f(froxel_inscatter(p, dir), 1.0));
 }

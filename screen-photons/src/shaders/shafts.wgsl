@@ -43,7 +43,9 @@ fn band_fs(in: BandOut) -> @location(0) vec4f {
     return vec4f(l, 0.0);
 }
 
-// One direction of the separable Gaussian blur (sigma = shaft.forward.w pixels, 3 sigma).
+// One direction of the separable Gaussian blur (sigma = shaft.forward.w pixels, 3 sigma, at
+// most 64 pixels), normalised over the taps inside the image (a uniform image stays uniform
+// up to its edges, which a fixed normalisation would darken).
 @fragment
 fn blur_fs(in: FullscreenOut) -> @location(0) vec4f {
     let sigma = shaft.forward.w;
@@ -56,10 +58,9 @@ fn blur_fs(in: FullscreenOut) -> @location(0) vec4f {
     for (var k = -radius; k <= radius; k++) {
         let w = exp(-0.5 * f32(k * k) / max(sigma * sigma, 1e-6));
         let q = xy + step * k;
-        weights += w;
-        if (all(q >= vec2i(0)) && all(q < size)) {
-            sum += w * textureLoad(shafts_in, vec2u(q), 0).rgb;
-        }
+        let inside = all(q >= vec2i(0)) && all(q < size);
+        weights += select(0.0, w, inside);
+        sum += select(0.0, w, inside) * textureLoad(shafts_in, vec2u(clamp(q, vec2i(0), size - 1)), 0).rgb;
     }
     return vec4f(sum / weights, 0.0);
 }

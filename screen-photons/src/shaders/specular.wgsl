@@ -55,9 +55,13 @@ fn retrace(origin: vec3f, dir: vec3f, inside: bool) -> vec3f {
     } else {
         h = march_tolerance(LDI_SCENE, s, side);
     }
-    if (!h.found) { return scene_info.background.rgb; }
+    // The background (the paper's environment lookup) is seen through all of the medium the
+    // ray crosses, as the reference sees it.
+    let background = scene_info.background.rgb
+        * medium_transmittance(scene_medium(), origin, dir, 1e30);
+    if (!h.found) { return background; }
     let texel = ldi_texel(LDI_SCENE, h.pixel.x, h.pixel.y, h.layer);
-    if (texel.specular) { return scene_info.background.rgb; }
+    if (texel.specular) { return background; }
     return shade_hit(LDI_SCENE, h, texel, origin, dir, s);
 }
 
@@ -88,7 +92,8 @@ fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
         }
         if (!h.found) {
             if (specular.mode == 1u) {
-                radiance = scene_info.background.rgb;
+                radiance = scene_info.background.rgb
+                    * medium_transmittance(scene_medium(), o, dir, 1e30);
             } else {
                 radiance = retrace(o, dir, true);
             }
