@@ -96,7 +96,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             0.088,
             "light shafts as the paper draws them (photon beams, blurred): measured FLIP 0.1861 / \
              0.1850 / 0.1661, RMSE 0.0784 / 0.0792 / 0.0809 at t = 0, 1, 2 (64 x 64); `harness \
-             compare --size 64x64` puts `dda`, the same frame without shafts, at FLIP 0.43 and \
+             compare --size 64x64` puts `dda`, the same frame without shafts, at FLIP 0.42 and \
              raster at 0.82",
         ),
         ImageCheck::new(
