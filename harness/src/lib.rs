@@ -45,6 +45,7 @@ pub fn registry() -> Vec<Box<dyn Technique>> {
     techniques.extend(refractor_maps::techniques());
     techniques.extend(height_maps::techniques());
     techniques.extend(screen_photons::techniques());
+    techniques.extend(image_space_refraction::techniques());
     techniques.extend(volumes::techniques());
     techniques.extend(interior_mapping::techniques());
     // ---- end of registry ----
@@ -61,6 +62,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
     checks.extend(refractor_maps::image_checks());
     checks.extend(height_maps::image_checks());
     checks.extend(screen_photons::image_checks());
+    checks.extend(image_space_refraction::image_checks());
     checks.extend(volumes::image_checks());
     checks.extend(interior_mapping::image_checks());
     // ---- end of image checks ----

@@ -1,0 +1,167 @@
+// Image-space refraction through two interfaces (Hu and Qin 2006, section 2.1) and its
+// baselines, after the gpu prelude + scene.wgsl + search.wgsl (+ nearby.wgsl, which defines
+// `outgoing_radiance`).
+//
+// Each frame the refractor's front- and back-facing surfaces are drawn from the eye into two
+// buffers (`front_buffer_fs`, `back_buffer_fs`: outward normal, view depth): nothing is
+// precomputed, so a deforming refractor works. Then each pixel of a specular object splits at
+// its visible surface P1 (specular_event) and follows the refracted ray T1:
+//   VARIANT_ONE_INTERFACE: T1 looks the environment up (no second interface);
+//   VARIANT_WYMAN:         P2 = P1 + d T1, d interpolated between d_V and the per-vertex d_N
+//                          (the method the paper improves), N2 from the back buffer;
+//   VARIANT_HU_QIN:        the side P2 lies on (silhouette search + angle test, or back side
+//                          first), d_T iterated on that side's depth buffer, N2 from its normals;
+//   VARIANT_THICKNESS:     the engine's screen-space refraction (HDRP's sphere model): T1 runs
+//                          through a sphere of diameter `thickness` tangent at P1, then to a
+//                          plane at the opaque depth behind the pixel, and the opaque scene's
+//                          colour is read where that point projects.
+// The exit ray T2 (or the reflected ray R) takes the radiance `outgoing_radiance(origin, dir)`
+// gives: the environment map, or with nearby geometry its rectangle impostors first.
+
+struct RefractParams {
+    // xyz: the refractor's centre (the environment map's reference point); w: bounding radius.
+    centre: vec4f,
+    variant: u32,
+    strategy: u32,
+    max_iterations: u32,
+    nearby: u32,
+    tolerance: f32,
+    initial_step: f32,
+    // Diameter of the thickness proxy's sphere (m).
+    thickness: f32,
+    _pad: f32,
+};
+
+@group(2) @binding(0) var env_map: texture_cube<f32>;
+@group(2) @binding(1) var env_sampler: sampler;
+@group(2) @binding(2) var<uniform> params: RefractParams;
+@group(2) @binding(3) var<uniform> eye_params: EyeParams;
+@group(2) @binding(4) var front_buffer: texture_2d<f32>;
+@group(2) @binding(5) var back_buffer: texture_2d<f32>;
+// The opaque scene drawn before the refractors (rgb radiance, a eye distance): what the
+// thickness proxy samples.
+@group(2) @binding(6) var scene_color: texture_2d<f32>;
+// Wyman's d_N: the refractor's thickness along its inward normal at each vertex of the scene's
+// vertex buffer (0 for other objects), computed once in prepare.
+@group(2) @binding(7) var<storage, read> normal_thickness: array<f32>;
+
+const VARIANT_ONE_INTERFACE: u32 = 0u;
+const VARIANT_WYMAN: u32 = 1u;
+const VARIANT_HU_QIN: u32 = 2u;
+const VARIANT_THICKNESS: u32 = 3u;
+// Exit rays start this far outside the surface they leave (metres).
+const SURFACE_OFFSET: f32 = 1e-4;
+
+struct RefractorOut {
+    @invariant @builtin(position) clip: vec4f,
+    @location(0) world: vec3f,
+    @location(1) normal: vec3f,
+    @location(2) uv: vec2f,
+    @location(3) @interpolate(flat) object: u32,
+    @location(4) d_n: f32,
+};
+
+@vertex
+fn refractor_vs(v: SceneVertexIn, @builtin(instance_index) object: u32,
+                @builtin(vertex_index) vertex: u32) -> RefractorOut {
+    // scene_vs's placement (an entry point cannot be called).
+    let o = objects[object];
+    let world = (o.model * vec4f(v.position, 1.0)).xyz;
+    var out: RefractorOut;
+    out.clip = camera.view_proj * vec4f(world, 1.0);
+    out.world = world;
+    out.normal = (o.normal_matrix * vec4f(v.normal, 0.0)).xyz;
+    out.uv = v.uv;
+    out.object = object;
+    out.d_n = normal_thickness[vertex];
+    return out;
+}
+
+// ---- front and back buffers -----------------------------------------------------------------
+
+// Outward normal and view depth of a fragment on the wanted side; the side is the authored
+// normal against the geometric normal turned to the eye (robust to smooth normals at the
+// silhouette). View depth is clip w (= distance along the camera's forward axis).
+fn buffer_fragment(in: SceneVertexOut, want_front: bool) -> vec4f {
+    let eye = camera.eye.xyz;
+    let n = normalize(in.normal);
+    let front = dot(n, geometric_facing_normal(in.world, eye)) > 0.0;
+    if (front != want_front) { discard; }
+    return vec4f(n, (camera.view_proj * vec4f(in.world, 1.0)).w);
+}
+
+@fragment
+fn front_buffer_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    return buffer_fragment(in, true);
+}
+
+@fragment
+fn back_buffer_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    return buffer_fragment(in, false);
+}
+
+// ---- the refractor --------------------------------------------------------------------------
+
+fn env_lookup(dir: vec3f) -> vec3f {
+    return textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb;
+}
+
+// HDRP's sphere model with EstimateRaycast: see the header.
+fn thickness_proxy(pixel: vec2f, p1: vec3f, n1: vec3f, t1: vec3f, v: vec3f) -> vec3f {
+    let eye = camera.eye.xyz;
+    let p_out = p1 + t1 * (-dot(n1, t1) * params.thickness);
+    let opaque = textureLoad(scene_color, vec2i(floor(pixel)), 0).a;
+    let along = dot(v, p_out - eye);
+    let denom = dot(v, t1);
+    if (denom <= 1e-4) { return outgoing_radiance(p_out, t1); }
+    let hit = p_out + t1 * (max(opaque - along, 0.0) / denom);
+    let q = eye_project(eye_params, hit);
+    if (q.z <= 0.0 || q.x < 0.0 || q.y < 0.0 || q.x >= eye_params.size.x || q.y >= eye_params.size.y) {
+        return outgoing_radiance(p_out, t1);
+    }
+    return textureLoad(scene_color, vec2i(floor(q.xy)), 0).rgb;
+}
+
+// Radiance arriving at the eye along the refracted ray T1 entering at p1.
+fn through_refractor(in: RefractorOut, e: SpecularEvent, v: vec3f) -> vec3f {
+    let t1 = e.refracted.xyz;
+    let p1 = in.world;
+    let ior = objects[in.object].material.y;
+    if (params.variant == VARIANT_ONE_INTERFACE) {
+        return outgoing_radiance(p1, t1);
+    }
+    if (params.variant == VARIANT_THICKNESS) {
+        return thickness_proxy(in.clip.xy, p1, e.normal, t1, v);
+    }
+    var exit: Exit;
+    if (params.variant == VARIANT_WYMAN) {
+        exit = wyman_exit(eye_params, p1, v, e.normal, t1, in.d_n);
+    } else {
+        let it = Iteration(params.tolerance, params.max_iterations, params.initial_step);
+        exit = hu_qin_exit(eye_params, p1, v, t1, params.strategy, it);
+    }
+    let t2 = exit_direction(exit, t1, ior);
+    // Leaving (w = 1) the ray starts just outside; totally reflected (w = 0) it would stay
+    // inside: its radiance is approximated by the environment in that direction.
+    let n = normalize(exit.normal);
+    let outward = select(-n, n, dot(n, t1) > 0.0);
+    let origin = exit.point + outward * select(-SURFACE_OFFSET, SURFACE_OFFSET, t2.w > 0.5);
+    return outgoing_radiance(origin, t2.xyz);
+}
+
+@fragment
+fn refract_fs(in: RefractorOut) -> @location(0) vec4f {
+    let eye = camera.eye.xyz;
+    let v = normalize(in.world - eye);
+    let e = specular_event(in.object, in.normal, in.world, eye, v);
+    let reflected = outgoing_radiance(in.world, e.reflected);
+    var refracted = reflected;
+    if (e.refracted.w > 0.5) {
+        if (e.entering) {
+            refracted = through_refractor(in, e, v);
+        } else {
+            refracted = outgoing_radiance(in.world, e.refracted.xyz);
+        }
+    }
+    return vec4f(specular_shade(e, reflected, refracted), distance(in.world, eye));
+}

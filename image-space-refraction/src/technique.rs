@@ -1,0 +1,714 @@
+//! The image-space refraction techniques: one [`Refraction`] type configured as each variant.
+//!
+//! Per frame (nothing is precomputed but the baseline's `d_N`):
+//!
+//! 1. "regenerate": per specular object an environment cube map from its centre (the paper's
+//!    environment map; the scene without that object, `scene::foundation::render_environment`);
+//! 2. "buffers": the specular objects' front- and back-facing surfaces from the eye into two
+//!    `Rgba32Float` buffers (outward normal, view depth), the inputs of the searches of
+//!    [`crate::search`];
+//! 3. the opaque scene by the shared raster pass; the thickness proxy copies it (the engine's
+//!    scene-colour buffer);
+//! 4. "lookup": the specular objects drawn with `refract.wgsl`, which follows each pixel's
+//!    refracted ray through the variant's second interface to the environment.
+
+use crate::search::Eye;
+use glam::{Mat4, Vec3};
+use gpu::cube::CubeTarget;
+use gpu::wgpu;
+use gpu::{Context, Target, Uniform, bind};
+use scene::technique::{check_map_budget, check_param, not_prepared};
+use scene::{
+    Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
+    TechniqueResult, View,
+};
+
+/// WGSL of the searches (`search.rs`'s twin); needs the gpu prelude before it and the
+/// includer's `front_buffer`/`back_buffer` textures.
+pub const SEARCH_WGSL: &str = include_str!("shaders/search.wgsl");
+const REFRACT_WGSL: &str = include_str!("shaders/refract.wgsl");
+const ENVIRONMENT_WGSL: &str = include_str!("shaders/environment.wgsl");
+
+/// Format of the environment cube maps.
+pub const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the front and back buffers (outward normal, view depth).
+pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// How a variant finds the second interface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// The refracted ray `T1` looks the environment up at once (one interface).
+    OneInterface,
+    /// Wyman 2005: `P2 = P1 + d T1`, `d` interpolated between the view-ray thickness and the
+    /// precomputed thickness along the normal; back-facing `N2` (the method the paper improves).
+    TwoInterfaceBaseline,
+    /// Hu and Qin 2006, section 2.1: side by angle test (or back first), iterative `d_T`.
+    HuQin,
+    /// The engine approach (HDRP's sphere model): one bend, a thickness, the scene colour.
+    ThicknessProxy,
+}
+
+impl Variant {
+    fn wgsl_id(self) -> u32 {
+        match self {
+            Variant::OneInterface => 0,
+            Variant::TwoInterfaceBaseline => 1,
+            Variant::HuQin => 2,
+            Variant::ThicknessProxy => 3,
+        }
+    }
+    fn needs_buffers(self) -> bool {
+        matches!(self, Variant::TwoInterfaceBaseline | Variant::HuQin)
+    }
+}
+
+/// Parameters of a [`Refraction`] (settable by name through [`Technique::set_param`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// The second-interface method.
+    pub variant: Variant,
+    /// Face size of the environment cube maps (`resolution`).
+    pub env_resolution: u32,
+    /// `d_T` iteration: stop when a correction is at most this (metres, `tolerance`).
+    pub tolerance: f32,
+    /// `d_T` iteration: most corrections (`iterations`).
+    pub max_iterations: u32,
+    /// `d_T` iteration: the first `d_T` as a fraction of the refractor's bounding radius
+    /// (`initial_step`).
+    pub initial_step: f32,
+    /// Section 4's acceleration: back side first, front side when `P2` leaves the silhouette
+    /// (`back_first` 1), instead of the silhouette search and angle test (0).
+    pub back_first: bool,
+    /// Thickness proxy: the sphere's diameter as a fraction of the object's bounding
+    /// diameter (`thickness`).
+    pub thickness: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            variant: Variant::HuQin,
+            env_resolution: 256,
+            tolerance: 1e-3,
+            max_iterations: 8,
+            initial_step: 0.1,
+            back_first: false,
+            thickness: 1.0,
+        }
+    }
+}
+
+/// The WGSL `EyeParams` (search.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct EyeGpu {
+    view_proj: [[f32; 4]; 4],
+    inverse_view_proj: [[f32; 4]; 4],
+    position: [f32; 4],
+    forward: [f32; 4],
+    size: [f32; 4],
+}
+
+impl From<&Eye> for EyeGpu {
+    fn from(e: &Eye) -> Self {
+        Self {
+            view_proj: e.view_proj.to_cols_array_2d(),
+            inverse_view_proj: e.view_proj.inverse().to_cols_array_2d(),
+            position: e.position.extend(1.0).to_array(),
+            forward: e.forward.extend(0.0).to_array(),
+            size: [e.width as f32, e.height as f32, 0.0, 0.0],
+        }
+    }
+}
+
+/// The WGSL `RefractParams` (refract.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ParamsGpu {
+    centre: [f32; 4],
+    variant: u32,
+    strategy: u32,
+    max_iterations: u32,
+    nearby: u32,
+    tolerance: f32,
+    initial_step: f32,
+    thickness: f32,
+    _pad: f32,
+}
+
+/// An image-space refraction variant.
+pub struct Refraction {
+    id: String,
+    description: String,
+    representative: bool,
+    /// The variant's parameters.
+    pub settings: Settings,
+    state: Option<State>,
+}
+
+struct State {
+    layout: wgpu::BindGroupLayout,
+    front_pipeline: wgpu::RenderPipeline,
+    back_pipeline: wgpu::RenderPipeline,
+    refract_pipeline: wgpu::RenderPipeline,
+    maps: Vec<ObjectMap>,
+    normal_thickness: wgpu::Buffer,
+    eye: Uniform<EyeGpu>,
+    screen: Option<Screen>,
+}
+
+/// One specular object's environment map and parameters.
+struct ObjectMap {
+    object: usize,
+    cube: CubeTarget,
+    params: Uniform<ParamsGpu>,
+}
+
+/// The resources that follow the view's size.
+struct Screen {
+    width: u32,
+    height: u32,
+    front: wgpu::TextureView,
+    back: wgpu::TextureView,
+    depth: wgpu::TextureView,
+    scene_color: wgpu::Texture,
+    groups: Vec<wgpu::BindGroup>,
+}
+
+impl Refraction {
+    /// A variant named `id` with its description and settings ([`crate::techniques`] lists
+    /// the configured ones).
+    pub fn new(id: &str, description: &str, settings: Settings) -> Self {
+        Self {
+            id: id.into(),
+            description: description.into(),
+            representative: true,
+            settings,
+            state: None,
+        }
+    }
+
+    /// Leaves the variant out of the default `harness compare` (`--all-variants` runs it).
+    pub fn exhaustive(mut self) -> Self {
+        self.representative = false;
+        self
+    }
+
+    fn params_gpu(&self, scene: &GpuScene, object: usize) -> ParamsGpu {
+        let o = &scene.scene.objects[object];
+        let time = scene.time();
+        let radius = o.bounding_radius_at(time);
+        let s = &self.settings;
+        ParamsGpu {
+            centre: o.center_at(time).extend(radius).to_array(),
+            variant: s.variant.wgsl_id(),
+            strategy: u32::from(s.back_first),
+            max_iterations: s.max_iterations,
+            nearby: 0,
+            tolerance: s.tolerance,
+            initial_step: s.initial_step * radius,
+            thickness: s.thickness * 2.0 * radius,
+            _pad: 0.0,
+        }
+    }
+}
+
+/// The variants of this crate.
+pub fn variants() -> Vec<Box<dyn Technique>> {
+    let with = |variant, back_first| Settings {
+        variant,
+        back_first,
+        ..Settings::default()
+    };
+    let id = |v: &str| format!("image-space-refraction/{v}");
+    vec![
+        Box::new(Refraction::new(
+            &id("one-interface"),
+            "refraction at the visible surface only, the environment map looked up with T1",
+            with(Variant::OneInterface, false),
+        )),
+        Box::new(Refraction::new(
+            &id("two-interface-baseline"),
+            "Wyman 2005: exit point from the view-ray and precomputed normal thickness, \
+             back-facing normal (the method Hu and Qin improve)",
+            with(Variant::TwoInterfaceBaseline, false),
+        )),
+        Box::new(Refraction::new(
+            &id("hu-qin"),
+            "Hu and Qin 2006: front/back buffers every frame, silhouette search and angle \
+             test, iterative d_T, environment map",
+            with(Variant::HuQin, false),
+        )),
+        Box::new(Refraction::new(
+            &id("hu-qin-back-first"),
+            "hu-qin with section 4's acceleration: back side first, front side when P2 \
+             leaves the silhouette",
+            with(Variant::HuQin, true),
+        )),
+        Box::new(Refraction::new(
+            &id("thickness-proxy"),
+            "engine baseline: screen-space refraction with a thickness proxy (HDRP's sphere \
+             model: one bend, a sphere's chord, the scene colour buffer)",
+            with(Variant::ThicknessProxy, false),
+        )),
+    ]
+}
+
+fn param(
+    name: &'static str,
+    default: f64,
+    min: f64,
+    max: f64,
+    integer: bool,
+    help: &'static str,
+) -> Param {
+    Param {
+        name,
+        default,
+        min,
+        max,
+        integer,
+        help,
+    }
+}
+
+impl Technique for Refraction {
+    fn id(&self) -> String {
+        self.id.clone()
+    }
+    fn description(&self) -> String {
+        self.description.clone()
+    }
+    fn representative(&self) -> bool {
+        self.representative
+    }
+    fn params(&self) -> Vec<Param> {
+        let d = Settings::default();
+        let mut params = vec![param(
+            "resolution",
+            d.env_resolution as f64,
+            4.0,
+            4096.0,
+            true,
+            "environment cube map face size (texels)",
+        )];
+        match self.settings.variant {
+            Variant::HuQin => params.extend([
+                param(
+                    "tolerance",
+                    d.tolerance as f64,
+                    1e-6,
+                    1.0,
+                    false,
+                    "d_T iteration stops when a correction is at most this (m of view depth)",
+                ),
+                param(
+                    "iterations",
+                    d.max_iterations as f64,
+                    1.0,
+                    64.0,
+                    true,
+                    "d_T iteration: most corrections",
+                ),
+                param(
+                    "initial_step",
+                    d.initial_step as f64,
+                    1e-4,
+                    2.0,
+                    false,
+                    "d_T iteration: first d_T as a fraction of the refractor's bounding radius",
+                ),
+                param(
+                    "back_first",
+                    f64::from(u8::from(self.settings.back_first)),
+                    0.0,
+                    1.0,
+                    true,
+                    "1: section 4's acceleration (back side first); 0: silhouette search and \
+                     angle test",
+                ),
+            ]),
+            Variant::ThicknessProxy => params.push(param(
+                "thickness",
+                d.thickness as f64,
+                0.0,
+                4.0,
+                false,
+                "the proxy sphere's diameter as a fraction of the object's bounding diameter",
+            )),
+            _ => {}
+        }
+        params
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id, &self.params(), name, value)?;
+        let s = &mut self.settings;
+        match name {
+            "resolution" => s.env_resolution = value as u32,
+            "tolerance" => s.tolerance = value as f32,
+            "iterations" => s.max_iterations = value as u32,
+            "initial_step" => s.initial_step = value as f32,
+            "back_first" => s.back_first = value != 0.0,
+            "thickness" => s.thickness = value as f32,
+            _ => unreachable!("check_param accepted only declared names"),
+        }
+        Ok(())
+    }
+    fn supports(&self, scene: &Scene) -> bool {
+        scene.objects.iter().any(|o| o.material.is_specular())
+    }
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        let specular: Vec<usize> = (0..scene.scene.objects.len())
+            .filter(|&i| scene.scene.objects[i].material.is_specular())
+            .collect();
+        let resolution = self.settings.env_resolution;
+        check_map_budget(
+            &self.id,
+            specular.len(),
+            CubeTarget::bytes(resolution, ENV_FORMAT),
+            "resolution",
+        )?;
+        let layout = group_layout(ctx);
+        let (front_pipeline, back_pipeline, refract_pipeline) =
+            pipelines(ctx, scene, &layout, ENVIRONMENT_WGSL);
+        let mut maps = Vec::new();
+        for &object in &specular {
+            maps.push(ObjectMap {
+                object,
+                cube: CubeTarget::new(ctx, resolution, ENV_FORMAT, "environment map")?,
+                params: Uniform::new(ctx, "refract params", &self.params_gpu(scene, object)),
+            });
+        }
+        let thickness = normal_thickness(scene, &specular);
+        let normal_thickness = storage_buffer(ctx, "d_N per vertex", &thickness);
+        let eye = Uniform::new(ctx, "eye", &EyeGpu::from(&placeholder_eye()));
+        self.state = Some(State {
+            layout,
+            front_pipeline,
+            back_pipeline,
+            refract_pipeline,
+            maps,
+            normal_thickness,
+            eye,
+            screen: None,
+        });
+        Ok(())
+    }
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let params: Vec<ParamsGpu> = match &self.state {
+            Some(state) => state
+                .maps
+                .iter()
+                .map(|m| self.params_gpu(scene, m.object))
+                .collect(),
+            None => return Err(not_prepared(self)),
+        };
+        let variant = self.settings.variant;
+        let Some(state) = self.state.as_mut() else {
+            return Err(TechniqueError::NotPrepared(self.id.clone()));
+        };
+        let ctx = frame.gpu;
+        if variant == Variant::ThicknessProxy
+            && !target.color.usage().contains(wgpu::TextureUsages::COPY_SRC)
+        {
+            return Err(TechniqueError::Unsupported(
+                "the thickness proxy copies the target's colour (the scene colour buffer): \
+                 its texture needs the COPY_SRC usage"
+                    .into(),
+            ));
+        }
+        state.ensure_screen(ctx, view.width, view.height);
+        let eye = Eye::of_camera(&view.camera, view.width, view.height);
+        state.eye.write(ctx, &EyeGpu::from(&eye));
+        for (map, p) in state.maps.iter().zip(&params) {
+            map.params.write(ctx, p);
+        }
+
+        frame.timer.begin(frame.encoder, "regenerate");
+        for map in &state.maps {
+            scene::foundation::render_environment(frame, scene, &map.cube, map.object);
+        }
+        frame.timer.end(frame.encoder, "regenerate");
+
+        let specular: Vec<usize> = state.maps.iter().map(|m| m.object).collect();
+        let view_proj = view.camera.view_proj(view.width, view.height);
+        let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
+        let screen = state.screen.as_ref().expect("ensure_screen made it");
+        if variant.needs_buffers() {
+            frame.timer.begin(frame.encoder, "buffers");
+            for (pipeline, buffer) in [
+                (&state.front_pipeline, &screen.front),
+                (&state.back_pipeline, &screen.back),
+            ] {
+                let mut pass = gpu::pass::begin(
+                    frame.encoder,
+                    "front/back buffer",
+                    &[gpu::pass::color(buffer, gpu::pass::CLEAR_BLACK)],
+                    Some(gpu::pass::depth(&screen.depth, gpu::pass::CLEAR_FAR)),
+                    None,
+                );
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &camera, &[]);
+                pass.set_bind_group(1, scene.bind_group(), &[]);
+                scene.draw_objects(&mut pass, &ObjectFilter::Only(specular.clone()));
+            }
+            frame.timer.end(frame.encoder, "buffers");
+        }
+
+        let main = RasterTarget {
+            color: &target.color_view,
+            depth: &target.depth_view,
+            format: gpu::HDR_FORMAT,
+            clear: true,
+        };
+        scene.raster(
+            frame,
+            &main,
+            view_proj,
+            view.camera.eye,
+            &ObjectFilter::Except(specular.clone()),
+            false,
+        );
+        if variant == Variant::ThicknessProxy {
+            frame.encoder.copy_texture_to_texture(
+                target.color.as_image_copy(),
+                screen.scene_color.as_image_copy(),
+                screen.scene_color.size(),
+            );
+        }
+
+        frame.timer.begin(frame.encoder, "lookup");
+        {
+            let mut pass = scene::begin_scene_pass(
+                frame.encoder,
+                &RasterTarget {
+                    clear: false,
+                    ..main
+                },
+                scene.scene.background,
+                "image-space refraction",
+            );
+            pass.set_pipeline(&state.refract_pipeline);
+            pass.set_bind_group(0, &camera, &[]);
+            pass.set_bind_group(1, scene.bind_group(), &[]);
+            for (map, group) in state.maps.iter().zip(&screen.groups) {
+                pass.set_bind_group(2, group, &[]);
+                scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![map.object]));
+            }
+        }
+        frame.timer.end(frame.encoder, "lookup");
+        Ok(())
+    }
+}
+
+impl State {
+    /// (Re)makes the buffers and bind groups when the view's size changes.
+    fn ensure_screen(&mut self, ctx: &Context, width: u32, height: u32) {
+        if self
+            .screen
+            .as_ref()
+            .is_some_and(|s| s.width == width && s.height == height)
+        {
+            return;
+        }
+        let size = (width, height, 1);
+        let view = |t: &wgpu::Texture| t.create_view(&Default::default());
+        let front = gpu::render_texture(
+            ctx,
+            "front buffer",
+            size,
+            BUFFER_FORMAT,
+            wgpu::TextureUsages::empty(),
+        );
+        let back = gpu::render_texture(
+            ctx,
+            "back buffer",
+            size,
+            BUFFER_FORMAT,
+            wgpu::TextureUsages::empty(),
+        );
+        let depth = gpu::depth_texture(ctx, width, height, 1, "front/back depth");
+        let scene_color = gpu::render_texture(
+            ctx,
+            "scene colour",
+            size,
+            gpu::HDR_FORMAT,
+            wgpu::TextureUsages::COPY_DST,
+        );
+        let (front, back, depth, scene_color_view) =
+            (view(&front), view(&back), view(&depth), view(&scene_color));
+        let groups = self
+            .maps
+            .iter()
+            .map(|m| {
+                bind::group(
+                    ctx,
+                    "image-space refraction",
+                    &self.layout,
+                    &[
+                        bind::view(&m.cube.cube_view),
+                        bind::sampler_resource(&ctx.samplers.linear_clamp),
+                        m.params.binding(),
+                        self.eye.binding(),
+                        bind::view(&front),
+                        bind::view(&back),
+                        bind::view(&scene_color_view),
+                        self.normal_thickness.as_entire_binding(),
+                    ],
+                )
+            })
+            .collect();
+        self.screen = Some(Screen {
+            width,
+            height,
+            front,
+            back,
+            depth,
+            scene_color,
+            groups,
+        });
+    }
+}
+
+/// `@group(2)` of refract.wgsl.
+fn group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+    bind::layout(
+        ctx,
+        "image-space refraction",
+        wgpu::ShaderStages::VERTEX_FRAGMENT,
+        &[
+            bind::texture_cube(),            // env_map
+            bind::sampler(),                 // env_sampler
+            bind::uniform(),                 // params
+            bind::uniform(),                 // eye_params
+            bind::texture_2d_unfilterable(), // front_buffer
+            bind::texture_2d_unfilterable(), // back_buffer
+            bind::texture_2d_unfilterable(), // scene_color
+            bind::storage(true),             // normal_thickness
+        ],
+    )
+}
+
+/// The buffer pipelines (front, back) and the refractor's pipeline, from one module whose
+/// `outgoing_radiance` is `radiance_wgsl`.
+fn pipelines(
+    ctx: &Context,
+    scene: &GpuScene,
+    layout: &wgpu::BindGroupLayout,
+    radiance_wgsl: &str,
+) -> (
+    wgpu::RenderPipeline,
+    wgpu::RenderPipeline,
+    wgpu::RenderPipeline,
+) {
+    let source = format!(
+        "{}\n{SEARCH_WGSL}\n{radiance_wgsl}\n{REFRACT_WGSL}",
+        scene::SCENE_WGSL
+    );
+    let module = gpu::shader_with_prelude(ctx, "image-space refraction", &source);
+    let buffers_layout = scene.pipeline_layout_with(ctx, &[]);
+    let buffer_pipeline = |entry: &str| {
+        scene::scene_pipeline_with(
+            ctx,
+            entry,
+            &buffers_layout,
+            &module,
+            entry,
+            &[gpu::pass::color_target(BUFFER_FORMAT, None)],
+            (true, wgpu::CompareFunction::Less),
+        )
+    };
+    let refract_layout = scene.pipeline_layout_with(ctx, &[layout]);
+    let refract = ctx
+        .device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("image-space refraction"),
+            layout: Some(&refract_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("refractor_vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(gpu::Vertex::layout())],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("refract_fs"),
+                compilation_options: Default::default(),
+                targets: &[gpu::pass::color_target(gpu::HDR_FORMAT, None)],
+            }),
+            primitive: Default::default(),
+            depth_stencil: Some(gpu::pass::depth_state(true, wgpu::CompareFunction::Less)),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+    (
+        buffer_pipeline("front_buffer_fs"),
+        buffer_pipeline("back_buffer_fs"),
+        refract,
+    )
+}
+
+/// Wyman's `d_N`: per vertex of each specular object, the distance along the inward normal
+/// to the object's other side at time 0 (0 without a hit), at the vertex's place in the
+/// scene's vertex buffer; 0 for other objects. The precomputation the paper does away with:
+/// it is stale once the object deforms.
+pub fn normal_thickness(scene: &GpuScene, objects: &[usize]) -> Vec<f32> {
+    let total: usize = scene
+        .scene
+        .objects
+        .iter()
+        .map(|o| o.mesh.positions.len())
+        .sum();
+    let mut thickness = vec![0.0; total.max(1)];
+    if objects.is_empty() {
+        return thickness;
+    }
+    let bvh = scene::bvh::SceneBvh::build(&scene.scene, 0.0);
+    for &object in objects {
+        let o = &scene.scene.objects[object];
+        let world = o.world_at(0.0);
+        let normals = o.normal_matrix_at(0.0);
+        let offset = 1e-4 * o.bounding_radius_at(0.0).max(1e-3);
+        let base = scene.draws[object].base_vertex as usize;
+        for (i, (p, n)) in o.mesh.positions.iter().zip(&o.mesh.normals).enumerate() {
+            let inward = -(normals * *n).normalize_or_zero();
+            if inward == Vec3::ZERO {
+                continue;
+            }
+            let origin = world.transform_point3(*p) + inward * offset;
+            if let Some(hit) = bvh.closest_hit_where(origin, inward, f32::MAX, |h| h == object) {
+                thickness[base + i] = hit.t + offset;
+            }
+        }
+    }
+    thickness
+}
+
+fn storage_buffer(ctx: &Context, label: &str, data: &[f32]) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(data),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+}
+
+/// An eye for the uniform's first contents (overwritten before every frame).
+fn placeholder_eye() -> Eye {
+    Eye {
+        view_proj: Mat4::IDENTITY,
+        position: Vec3::ZERO,
+        forward: Vec3::NEG_Z,
+        width: 1,
+        height: 1,
+    }
+}
