@@ -14,10 +14,12 @@
 
 #![warn(missing_docs)]
 
+pub mod nearby;
+pub mod rectangles;
 pub mod search;
 pub mod technique;
 
-pub use technique::{Refraction, Settings, Variant};
+pub use technique::{Nearby, Refraction, Settings, Variant};
 
 /// All variants: `image-space-refraction/one-interface`, `two-interface-baseline`, `hu-qin`,
 /// `hu-qin-back-first`, `thickness-proxy` (the engine baseline).

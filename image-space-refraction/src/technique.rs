@@ -12,6 +12,7 @@
 //! 4. "lookup": the specular objects drawn with `refract.wgsl`, which follows each pixel's
 //!    refracted ray through the variant's second interface to the environment.
 
+use crate::rectangles::{self, NearbyParamsGpu, Rectangles};
 use crate::search::Eye;
 use glam::{Mat4, Vec3};
 use gpu::cube::CubeTarget;
@@ -28,6 +29,7 @@ use scene::{
 pub const SEARCH_WGSL: &str = include_str!("shaders/search.wgsl");
 const REFRACT_WGSL: &str = include_str!("shaders/refract.wgsl");
 const ENVIRONMENT_WGSL: &str = include_str!("shaders/environment.wgsl");
+const NEARBY_WGSL: &str = include_str!("shaders/nearby.wgsl");
 
 /// Format of the environment cube maps.
 pub const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -82,6 +84,40 @@ pub struct Settings {
     /// Thickness proxy: the sphere's diameter as a fraction of the object's bounding
     /// diameter (`thickness`).
     pub thickness: f32,
+    /// Nearby geometry as rectangle impostors (section 2.2), or the environment map alone.
+    pub nearby: Option<Nearby>,
+}
+
+/// Parameters of the rectangle impostors of nearby geometry (section 2.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nearby {
+    /// Figure 16's iterative depth correction from figure 17's seed (`corrected`), or the
+    /// texel where the ray meets the rectangle (figure 13).
+    pub corrected: bool,
+    /// Seeds on the ray for the first point of the correction (`seeds`).
+    pub seeds: u32,
+    /// Most corrections (`corrections`).
+    pub iterations: u32,
+    /// Depth tolerance of a correction, metres (`depth_tolerance`).
+    pub tolerance: f32,
+    /// Side of each impostor texture (`impostor_resolution`).
+    pub resolution: u32,
+    /// Reflective and refractive nearby objects drawn into their textures with their own
+    /// (one-interface) shading: recursive reflections and refractions (section 2.2.1).
+    pub recursive: bool,
+}
+
+impl Default for Nearby {
+    fn default() -> Self {
+        Self {
+            corrected: true,
+            seeds: 8,
+            iterations: 4,
+            tolerance: 1e-3,
+            resolution: 256,
+            recursive: false,
+        }
+    }
 }
 
 impl Default for Settings {
@@ -94,6 +130,7 @@ impl Default for Settings {
             initial_step: 0.1,
             back_first: false,
             thickness: 1.0,
+            nearby: None,
         }
     }
 }
@@ -151,7 +188,11 @@ struct State {
     front_pipeline: wgpu::RenderPipeline,
     back_pipeline: wgpu::RenderPipeline,
     refract_pipeline: wgpu::RenderPipeline,
+    /// Recursive variant: the one-interface, environment-only pipeline that draws a specular
+    /// nearby object into its rectangle's texture.
+    impostor_pipeline: Option<wgpu::RenderPipeline>,
     maps: Vec<ObjectMap>,
+    rectangles: Option<Rectangles>,
     normal_thickness: wgpu::Buffer,
     eye: Uniform<EyeGpu>,
     screen: Option<Screen>,
@@ -162,6 +203,9 @@ struct ObjectMap {
     object: usize,
     cube: CubeTarget,
     params: Uniform<ParamsGpu>,
+    /// The same with the one-interface variant: how the object is drawn into the rectangle
+    /// textures of the recursive variant.
+    impostor_params: Uniform<ParamsGpu>,
 }
 
 /// The resources that follow the view's size.
@@ -173,6 +217,7 @@ struct Screen {
     depth: wgpu::TextureView,
     scene_color: wgpu::Texture,
     groups: Vec<wgpu::BindGroup>,
+    impostor_groups: Vec<wgpu::BindGroup>,
 }
 
 impl Refraction {
@@ -221,6 +266,14 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
         ..Settings::default()
     };
     let id = |v: &str| format!("image-space-refraction/{v}");
+    let nearby = |corrected, recursive| Settings {
+        nearby: Some(Nearby {
+            corrected,
+            recursive,
+            ..Nearby::default()
+        }),
+        ..Settings::default()
+    };
     vec![
         Box::new(Refraction::new(
             &id("one-interface"),
@@ -244,6 +297,24 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
             "hu-qin with section 4's acceleration: back side first, front side when P2 \
              leaves the silhouette",
             with(Variant::HuQin, true),
+        )),
+        Box::new(Refraction::new(
+            &id("nearby-uncorrected"),
+            "hu-qin with nearby objects as rectangle impostors (section 2.2), the texel where \
+             the ray meets the rectangle",
+            nearby(false, false),
+        )),
+        Box::new(Refraction::new(
+            &id("nearby-corrected"),
+            "hu-qin with rectangle impostors and the iterative depth correction from the \
+             paper's seed (figures 16-17)",
+            nearby(true, false),
+        )),
+        Box::new(Refraction::new(
+            &id("recursive"),
+            "nearby-corrected with reflective and refractive nearby objects drawn into their \
+             textures with their own shading (recursive reflections and refractions)",
+            nearby(true, true),
         )),
         Box::new(Refraction::new(
             &id("thickness-proxy"),
@@ -338,6 +409,45 @@ impl Technique for Refraction {
             )),
             _ => {}
         }
+        if let Some(n) = self.settings.nearby {
+            let d = Nearby::default();
+            params.push(param(
+                "impostor_resolution",
+                d.resolution as f64,
+                8.0,
+                4096.0,
+                true,
+                "side of each rectangle impostor's texture (texels)",
+            ));
+            if n.corrected {
+                params.extend([
+                    param(
+                        "seeds",
+                        d.seeds as f64,
+                        1.0,
+                        64.0,
+                        true,
+                        "points on the ray tried as the correction's start (figure 17)",
+                    ),
+                    param(
+                        "corrections",
+                        d.iterations as f64,
+                        1.0,
+                        64.0,
+                        true,
+                        "most depth corrections of a rectangle lookup (figure 16)",
+                    ),
+                    param(
+                        "depth_tolerance",
+                        d.tolerance as f64,
+                        1e-6,
+                        1.0,
+                        false,
+                        "a correction stops within this depth difference (m)",
+                    ),
+                ]);
+            }
+        }
         params
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
@@ -350,6 +460,15 @@ impl Technique for Refraction {
             "initial_step" => s.initial_step = value as f32,
             "back_first" => s.back_first = value != 0.0,
             "thickness" => s.thickness = value as f32,
+            "impostor_resolution" | "seeds" | "corrections" | "depth_tolerance" => {
+                let n = s.nearby.as_mut().expect("declared only with nearby geometry");
+                match name {
+                    "impostor_resolution" => n.resolution = value as u32,
+                    "seeds" => n.seeds = value as u32,
+                    "corrections" => n.iterations = value as u32,
+                    _ => n.tolerance = value as f32,
+                }
+            }
             _ => unreachable!("check_param accepted only declared names"),
         }
         Ok(())
@@ -370,17 +489,50 @@ impl Technique for Refraction {
             "resolution",
         )?;
         let layout = group_layout(ctx);
-        let (front_pipeline, back_pipeline, refract_pipeline) =
-            pipelines(ctx, scene, &layout, ENVIRONMENT_WGSL);
+        let nearby_layout = rectangles::group_layout(ctx);
+        let (front_pipeline, back_pipeline, refract_pipeline) = match self.settings.nearby {
+            Some(_) => pipelines(ctx, scene, &[&layout, &nearby_layout], NEARBY_WGSL),
+            None => pipelines(ctx, scene, &[&layout], ENVIRONMENT_WGSL),
+        };
+        let impostor_pipeline = self
+            .settings
+            .nearby
+            .filter(|n| n.recursive)
+            .map(|_| pipelines(ctx, scene, &[&layout], ENVIRONMENT_WGSL).2);
+        let rectangles = match self.settings.nearby {
+            Some(n) => {
+                check_map_budget(
+                    &self.id,
+                    scene.scene.objects.len() * specular.len(),
+                    u64::from(n.resolution).pow(2) * 20,
+                    "impostor_resolution",
+                )?;
+                let params = NearbyParamsGpu::new(0, n.corrected, n.seeds, n.iterations, n.tolerance);
+                Some(ctx.allocating("rectangle impostors", || {
+                    Rectangles::new(ctx, &scene.scene, &specular, n.resolution, params)
+                })?)
+            }
+            None => None,
+        };
         let mut maps = Vec::new();
         for &object in &specular {
+            let params = self.params_gpu(scene, object);
+            let one_interface = ParamsGpu {
+                variant: Variant::OneInterface.wgsl_id(),
+                ..params
+            };
             maps.push(ObjectMap {
                 object,
                 cube: CubeTarget::new(ctx, resolution, ENV_FORMAT, "environment map")?,
-                params: Uniform::new(ctx, "refract params", &self.params_gpu(scene, object)),
+                params: Uniform::new(ctx, "refract params", &params),
+                impostor_params: Uniform::new(ctx, "impostor params", &one_interface),
             });
         }
-        let thickness = normal_thickness(scene, &specular);
+        let thickness = if self.settings.variant == Variant::TwoInterfaceBaseline {
+            normal_thickness(scene, &specular)
+        } else {
+            vec![0.0]
+        };
         let normal_thickness = storage_buffer(ctx, "d_N per vertex", &thickness);
         let eye = Uniform::new(ctx, "eye", &EyeGpu::from(&placeholder_eye()));
         self.state = Some(State {
@@ -388,7 +540,9 @@ impl Technique for Refraction {
             front_pipeline,
             back_pipeline,
             refract_pipeline,
+            impostor_pipeline,
             maps,
+            rectangles,
             normal_thickness,
             eye,
             screen: None,
@@ -429,18 +583,65 @@ impl Technique for Refraction {
         state.eye.write(ctx, &EyeGpu::from(&eye));
         for (map, p) in state.maps.iter().zip(&params) {
             map.params.write(ctx, p);
+            let one_interface = ParamsGpu {
+                variant: Variant::OneInterface.wgsl_id(),
+                ..*p
+            };
+            map.impostor_params.write(ctx, &one_interface);
         }
+        if let Some(rects) = state.rectangles.as_mut() {
+            rects.place(ctx, scene);
+        }
+        let state = &*state;
 
+        // The environment: everything but the object itself and its rectangles.
+        let in_rectangles = state
+            .rectangles
+            .as_ref()
+            .map(|r| r.objects())
+            .unwrap_or_default();
         frame.timer.begin(frame.encoder, "regenerate");
         for map in &state.maps {
-            scene::foundation::render_environment(frame, scene, &map.cube, map.object);
+            let centre = scene.scene.objects[map.object].center_at(scene.time());
+            let mut left_out = in_rectangles.clone();
+            left_out.push(map.object);
+            scene.raster_cube(frame, &map.cube, centre, &ObjectFilter::Except(left_out), false);
         }
         frame.timer.end(frame.encoder, "regenerate");
+
+        let screen = state.screen.as_ref().expect("ensure_screen made it");
+        if let Some(rects) = &state.rectangles {
+            frame.timer.begin(frame.encoder, "impostors");
+            let mut draw = |frame: &mut Frame, object: usize, view_proj, eye, target: RasterTarget| {
+                let i = state.maps.iter().position(|m| m.object == object);
+                let (Some(i), Some(pipeline)) = (i, &state.impostor_pipeline) else {
+                    return;
+                };
+                let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
+                let mut pass = scene::begin_scene_pass(
+                    frame.encoder,
+                    &target,
+                    scene.scene.background,
+                    "recursive impostor",
+                );
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &camera, &[]);
+                pass.set_bind_group(1, scene.bind_group(), &[]);
+                pass.set_bind_group(2, &screen.impostor_groups[i], &[]);
+                scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![object]));
+            };
+            let recursive = state.impostor_pipeline.is_some();
+            rects.render(
+                frame,
+                scene,
+                if recursive { Some(&mut draw) } else { None },
+            );
+            frame.timer.end(frame.encoder, "impostors");
+        }
 
         let specular: Vec<usize> = state.maps.iter().map(|m| m.object).collect();
         let view_proj = view.camera.view_proj(view.width, view.height);
         let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
-        let screen = state.screen.as_ref().expect("ensure_screen made it");
         if variant.needs_buffers() {
             frame.timer.begin(frame.encoder, "buffers");
             for (pipeline, buffer) in [
@@ -498,8 +699,11 @@ impl Technique for Refraction {
             pass.set_pipeline(&state.refract_pipeline);
             pass.set_bind_group(0, &camera, &[]);
             pass.set_bind_group(1, scene.bind_group(), &[]);
-            for (map, group) in state.maps.iter().zip(&screen.groups) {
+            for (k, (map, group)) in state.maps.iter().zip(&screen.groups).enumerate() {
                 pass.set_bind_group(2, group, &[]);
+                if let Some(rects) = &state.rectangles {
+                    pass.set_bind_group(3, &rects.refractors[k].group, &[]);
+                }
                 scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![map.object]));
             }
         }
@@ -520,20 +724,9 @@ impl State {
         }
         let size = (width, height, 1);
         let view = |t: &wgpu::Texture| t.create_view(&Default::default());
-        let front = gpu::render_texture(
-            ctx,
-            "front buffer",
-            size,
-            BUFFER_FORMAT,
-            wgpu::TextureUsages::empty(),
-        );
-        let back = gpu::render_texture(
-            ctx,
-            "back buffer",
-            size,
-            BUFFER_FORMAT,
-            wgpu::TextureUsages::empty(),
-        );
+        let none = wgpu::TextureUsages::empty();
+        let front = gpu::render_texture(ctx, "front buffer", size, BUFFER_FORMAT, none);
+        let back = gpu::render_texture(ctx, "back buffer", size, BUFFER_FORMAT, none);
         let depth = gpu::depth_texture(ctx, width, height, 1, "front/back depth");
         let scene_color = gpu::render_texture(
             ctx,
@@ -544,26 +737,28 @@ impl State {
         );
         let (front, back, depth, scene_color_view) =
             (view(&front), view(&back), view(&depth), view(&scene_color));
-        let groups = self
+        let group = |m: &ObjectMap, params: &Uniform<ParamsGpu>| {
+            bind::group(
+                ctx,
+                "image-space refraction",
+                &self.layout,
+                &[
+                    bind::view(&m.cube.cube_view),
+                    bind::sampler_resource(&ctx.samplers.linear_clamp),
+                    params.binding(),
+                    self.eye.binding(),
+                    bind::view(&front),
+                    bind::view(&back),
+                    bind::view(&scene_color_view),
+                    self.normal_thickness.as_entire_binding(),
+                ],
+            )
+        };
+        let groups = self.maps.iter().map(|m| group(m, &m.params)).collect();
+        let impostor_groups = self
             .maps
             .iter()
-            .map(|m| {
-                bind::group(
-                    ctx,
-                    "image-space refraction",
-                    &self.layout,
-                    &[
-                        bind::view(&m.cube.cube_view),
-                        bind::sampler_resource(&ctx.samplers.linear_clamp),
-                        m.params.binding(),
-                        self.eye.binding(),
-                        bind::view(&front),
-                        bind::view(&back),
-                        bind::view(&scene_color_view),
-                        self.normal_thickness.as_entire_binding(),
-                    ],
-                )
-            })
+            .map(|m| group(m, &m.impostor_params))
             .collect();
         self.screen = Some(Screen {
             width,
@@ -573,6 +768,7 @@ impl State {
             depth,
             scene_color,
             groups,
+            impostor_groups,
         });
     }
 }
@@ -601,7 +797,7 @@ fn group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
 fn pipelines(
     ctx: &Context,
     scene: &GpuScene,
-    layout: &wgpu::BindGroupLayout,
+    layouts: &[&wgpu::BindGroupLayout],
     radiance_wgsl: &str,
 ) -> (
     wgpu::RenderPipeline,
@@ -609,7 +805,7 @@ fn pipelines(
     wgpu::RenderPipeline,
 ) {
     let source = format!(
-        "{}\n{SEARCH_WGSL}\n{radiance_wgsl}\n{REFRACT_WGSL}",
+        "{}\n{SEARCH_WGSL}\n{REFRACT_WGSL}\n{radiance_wgsl}",
         scene::SCENE_WGSL
     );
     let module = gpu::shader_with_prelude(ctx, "image-space refraction", &source);
@@ -625,7 +821,7 @@ fn pipelines(
             (true, wgpu::CompareFunction::Less),
         )
     };
-    let refract_layout = scene.pipeline_layout_with(ctx, &[layout]);
+    let refract_layout = scene.pipeline_layout_with(ctx, layouts);
     let refract = ctx
         .device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
