@@ -4,7 +4,9 @@
 //! ray hit first?" (closest hit) and "does anything block this segment?" (any hit). Both are
 //! answered by one acceleration structure over *all* world-space triangles of the scene:
 //!
-//! 1. **Flatten.** Each object's mesh is transformed to world space with
+//! 1. **Flatten.** Each object's mesh, at `time` (a deforming object's vertices and normals
+//!    are [`Object::positions_at`](crate::Object::positions_at) and
+//!    [`Object::normals_at`](crate::Object::normals_at)), is transformed to world space with
 //!    [`Object::world_at`](crate::Object::world_at)`(time)`. Each triangle remembers where it
 //!    came from (object index, triangle index within that object's mesh) and carries the
 //!    attributes shading needs: the three vertex normals, transformed by
@@ -94,8 +96,10 @@ impl SceneBvh {
             let normal_matrix: Mat3 = object.normal_matrix_at(time);
             let mirrored = Mat3::from_mat4(world).determinant() < 0.0;
             let mesh = &object.mesh;
-            let positions: Vec<Vec3> = mesh
-                .positions
+            // The vertices at `time`: a deforming object's morph blended in.
+            let normals = object.normals_at(time);
+            let positions: Vec<Vec3> = object
+                .positions_at(time)
                 .iter()
                 .map(|p| world.transform_point3(*p))
                 .collect();
@@ -112,7 +116,7 @@ impl SceneBvh {
                     geometric_normal = -geometric_normal;
                 }
                 let vertex_normal = |i: usize| {
-                    mesh.normals
+                    normals
                         .get(i)
                         .map(|n| (normal_matrix * *n).normalize_or(geometric_normal))
                         .unwrap_or(geometric_normal)
@@ -454,6 +458,42 @@ mod tests {
             bvh.closest_hit_where(o, Vec3::NEG_Z, 100.0, |i| i != 0)
                 .is_none()
         );
+    }
+
+    /// A unit sphere whose morph target is the sphere of radius 2 (weight 0 -> 1 over one
+    /// second): the BVH at time t holds the sphere of radius 1 + w(t). The ray along -z
+    /// through the centre meets the mesh at a vertex (the equator vertex at phi = 3 pi / 2),
+    /// so the distance is exact up to rounding.
+    #[test]
+    fn bvh_at_a_time_hits_the_morphed_surface() {
+        let mesh = uv_sphere(1.0, 16, 64);
+        let morph = crate::Morph {
+            positions: mesh.positions.iter().map(|p| *p * 2.0).collect(),
+            normals: mesh.normals.clone(),
+            keys: vec![(0.0, 0.0), (1.0, 1.0)],
+        };
+        let centre = Vec3::new(1.0, 0.5, 0.0);
+        let sphere = Object::new("morphing", mesh, white(), Mat4::from_translation(centre))
+            .with_morph(morph);
+        let scene = scene_of(vec![sphere]);
+        scene.validate().unwrap();
+        for (time, radius) in [(0.0, 1.0), (0.5, 1.5), (1.0, 2.0), (3.0, 2.0)] {
+            let bvh = SceneBvh::build(&scene, time);
+            let origin = centre + Vec3::Z * 10.0;
+            let h = bvh.closest_hit(origin, Vec3::NEG_Z, f32::INFINITY).unwrap();
+            assert!(
+                (h.t - (10.0 - radius)).abs() < 1e-5,
+                "t = {time}: hit at {} for radius {radius}",
+                h.t
+            );
+            assert!((h.normal - Vec3::Z).length() < 1e-5, "{}", h.normal);
+            let (lo, hi) = bvh.bounds();
+            assert!((hi.y - lo.y - 2.0 * radius).abs() < 1e-4);
+            // From the centre, every direction meets the surface within the mesh's sagitta.
+            let h = bvh.closest_hit(centre, Vec3::new(0.3, 0.8, -0.2).normalize(), 100.0);
+            let t = h.unwrap().t;
+            assert!(t <= radius + 1e-5 && t > radius * 0.98, "{t} vs {radius}");
+        }
     }
 
     #[test]

@@ -1,7 +1,11 @@
 //! glTF 2.0 import (`.gltf` and `.glb`) and binary glTF (`.glb`) export.
 //!
-//! The export is lossless for every [`Scene`]: `import_slice(&to_glb_bytes(&s)?, ..) == s`
-//! (every built-in scene is checked by `tests/gltf_roundtrip.rs`). The core glTF written
+//! The export is lossless for every [`Scene`] without a [`crate::Morph`]:
+//! `import_slice(&to_glb_bytes(&s)?, ..) == s` (every built-in scene is checked by
+//! `tests/gltf_roundtrip.rs`). A deforming object is exported as it is at time 0 (its
+//! [`crate::Object::positions_at`] and [`crate::Object::normals_at`] of time 0 as the mesh)
+//! and its morph target and weight keys are not written: the import reads glTF morph targets
+//! no more than those of other files. The core glTF written
 //! beside the exact data is chosen so that a viewer such as Blender shows something sensible;
 //! the exact workspace data lives in `extras` under the key [`EXTRAS_KEY`] (`"scene_model"`).
 //! The importer also reads files written by other tools, with the mapping below.
@@ -1757,7 +1761,19 @@ impl Exporter {
     fn run(mut self, scene: &Scene) -> Result<Vec<u8>, SceneError> {
         let (mut nodes, mut meshes, mut materials) = (vec![], vec![], vec![]);
         for o in &scene.objects {
-            let m = &o.mesh;
+            // A deforming object is written as it is at time 0 (its morph is not exported).
+            let at_zero;
+            let m = match &o.morph {
+                None => &o.mesh,
+                Some(_) => {
+                    at_zero = crate::Mesh {
+                        positions: o.positions_at(0.0).into_owned(),
+                        normals: o.normals_at(0.0).into_owned(),
+                        ..o.mesh.clone()
+                    };
+                    &at_zero
+                }
+            };
             let pos = self.accessor(
                 bytemuck::cast_slice(&m.positions),
                 ARRAY_BUFFER,

@@ -1,10 +1,11 @@
 //! The scene on the GPU and the shared raster pass.
 //!
-//! `GpuScene` uploads every object once (object-space vertices, one index range per object,
-//! a storage buffer of per-object transforms and materials, the lights, the diffuse textures
-//! as one texture array) and owns one distance shadow map per light: a cube map around a
-//! light inside (or near) the scene's bounding sphere, or one 2D map fitted to that sphere for
-//! a light farther than 1.5 radii from its centre (`FittedShadow`). Its raster pass
+//! `GpuScene` uploads every object once (object-space vertices, those of a deforming object
+//! rewritten at each new time; one index range per object; a storage buffer of per-object
+//! transforms and materials; the lights; the diffuse textures as one texture array) and owns
+//! one distance shadow map per light: a cube map around a light inside (or near) the scene's
+//! bounding sphere, or one 2D map fitted to that sphere for a light farther than 1.5 radii
+//! from its centre (`FittedShadow`). Its raster pass
 //! shades diffuse surfaces exactly like the CPU reference (`shaders/scene.wgsl`), so every
 //! technique differs from the reference only where its special objects are.
 //!
@@ -195,7 +196,10 @@ impl GpuScene {
         let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("scene vertices"),
             contents: bytemuck::cast_slice(&vertices),
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+            // COPY_DST: `set_time` rewrites the vertices of deforming objects.
+            usage: wgpu::BufferUsages::VERTEX
+                | wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST,
         });
         let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("scene indices"),
@@ -410,10 +414,17 @@ impl GpuScene {
         pipeline_layout(ctx, &self.camera_layout, &self.scene_layout, extra)
     }
 
-    /// Moves objects to `time` (transforms uploaded) and re-renders the shadow maps when
-    /// anything moved, recording into `frame`: call once per frame before drawing.
+    /// Moves objects to `time` (transforms uploaded), deforms the deforming ones (their
+    /// vertices at `time`, [`Object::positions_at`] and [`Object::normals_at`], rewritten in
+    /// their range of [`Self::vertex_buffer`]) and re-renders the shadow maps when anything
+    /// moved or deformed, recording into `frame`: call once per frame before drawing. The
+    /// writes are queue writes, applied when the frame is submitted, before its passes.
     pub fn set_time(&mut self, frame: &mut Frame, time: f32) {
-        let moving = self.scene.objects.iter().any(|o| !o.motion.is_static());
+        let moving = self
+            .scene
+            .objects
+            .iter()
+            .any(|o| !o.motion.is_static() || o.is_deforming());
         if self.time == Some(time) || (self.time.is_some() && !moving) {
             return;
         }
@@ -422,6 +433,16 @@ impl GpuScene {
             0,
             bytemuck::cast_slice(&object_records(&self.scene, time)),
         );
+        for (o, draw) in self.scene.objects.iter().zip(&self.draws) {
+            if o.is_deforming() {
+                let offset = draw.base_vertex as u64 * std::mem::size_of::<Vertex>() as u64;
+                frame.gpu.queue.write_buffer(
+                    &self.vertex_buffer,
+                    offset,
+                    bytemuck::cast_slice(&object_vertices(o, time)),
+                );
+            }
+        }
         self.time = Some(time);
         self.render_shadows(frame);
     }
@@ -791,20 +812,25 @@ fn pack_meshes(objects: &[Object]) -> (Vec<Vertex>, Vec<u32>, Vec<DrawRange>) {
             base_vertex: vertices.len() as i32,
         });
         indices.extend_from_slice(&o.mesh.indices);
-        vertices.extend(
-            o.mesh
-                .positions
-                .iter()
-                .zip(&o.mesh.normals)
-                .zip(&o.mesh.uvs)
-                .map(|((p, n), uv)| Vertex {
-                    position: p.to_array(),
-                    normal: n.to_array(),
-                    uv: uv.to_array(),
-                }),
-        );
+        vertices.extend(object_vertices(o, 0.0));
     }
     (vertices, indices, draws)
+}
+
+/// The object-space vertices of `o` at `time` (a deforming object's morph blended in), in the
+/// shared vertex buffer's layout: the upload packs them at time 0, `set_time` rewrites a
+/// deforming object's range.
+fn object_vertices(o: &Object, time: f32) -> Vec<Vertex> {
+    o.positions_at(time)
+        .iter()
+        .zip(o.normals_at(time).iter())
+        .zip(&o.mesh.uvs)
+        .map(|((p, n), uv)| Vertex {
+            position: p.to_array(),
+            normal: n.to_array(),
+            uv: uv.to_array(),
+        })
+        .collect()
 }
 
 fn object_records(scene: &Scene, time: f32) -> Vec<ObjectGpu> {
@@ -927,15 +953,17 @@ impl FittedShadow {
     }
 }
 
-/// Bounding sphere of every object over its motion (centre of the box of all world vertices
-/// at time 0, radius grown by the largest motion offset).
+/// Bounding sphere of every object over its motion and deformation (centre of the box of all
+/// world vertices at time 0 and of the morph targets placed there, radius grown by the
+/// largest motion offset): a morphed vertex lies between its base and target positions.
 fn scene_bounding_sphere(scene: &Scene) -> (Vec3, f32) {
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);
     let mut travel: f32 = 0.0;
     for o in &scene.objects {
         let world = o.world_at(0.0);
-        for p in &o.mesh.positions {
+        let target = o.morph.iter().flat_map(|m| &m.positions);
+        for p in o.mesh.positions.iter().chain(target) {
             let w = world.transform_point3(*p);
             lo = lo.min(w);
             hi = hi.max(w);

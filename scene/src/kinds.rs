@@ -6,6 +6,10 @@
 //! pieces). The map is made around one object of the kind (its representative) and used for
 //! every other, with a ray turned into the representative's frame where the objects differ by
 //! a rotation (the black knights face the other way).
+//!
+//! Kinds are grouped, and their maps made, from the base meshes: a deforming object
+//! ([`crate::Object::is_deforming`]) is a precomputation its map does not follow (its
+//! [`crate::Morph`] simply invalidates the map while it deforms).
 
 use crate::Scene;
 use glam::Mat3;

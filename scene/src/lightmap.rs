@@ -117,7 +117,9 @@ impl ChartAtlas {
 
     /// Charts for the diffuse objects of `scene` that `receives` accepts (by index): a
     /// technique whose photons land on a few known receivers (the chessboard) gives them the
-    /// whole atlas.
+    /// whole atlas. Charts are precomputed from the base meshes: a deforming receiver
+    /// ([`crate::Object::is_deforming`]) invalidates its charts (they do not follow its
+    /// [`crate::Morph`]).
     pub fn of_objects(scene: &Scene, size: u32, receives: impl Fn(usize) -> bool) -> Self {
         let mut charts = Vec::new();
         let mut chart_of = vec![NO_CHART; 6 * scene.objects.len()];

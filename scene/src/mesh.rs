@@ -1,6 +1,7 @@
-//! Procedural meshes for the built-in scenes: quads, boxes, spheres, cylinders, and lofts
+//! Procedural meshes for the built-in scenes: quads, boxes, spheres, cylinders, lofts
 //! (surfaces through a stack of elliptical cross-sections: a surface of revolution is the case
-//! of circles on the axis).
+//! of circles on the axis) and tubes (circles swept along a curve), and smooth normals of a
+//! mesh whose vertices repeat along seams.
 
 use crate::Mesh;
 use glam::{Vec2, Vec3};
@@ -280,6 +281,114 @@ fn ring_cap(ring: Ring, slices: u32, up: bool) -> Mesh {
     c
 }
 
+/// A closed tube along the polyline `path` (at least two points): a circle of radius
+/// `radii[i]` round each point, in the plane perpendicular to the path there (the tangent is
+/// the direction between the neighbouring points), turned from point to point by the least
+/// rotation (a rotation-minimising frame, so the tube does not twist), with `slices` vertices
+/// round each circle; flat caps close both ends. Normals are smooth along the tube (area
+/// weighted, like [`loft`]'s) and flat on the caps; triangles wind counter-clockwise seen from
+/// outside. Like a loft it is watertight: every edge (by position) is shared by two triangles
+/// that use it in opposite directions.
+pub fn tube(path: &[Vec3], radii: &[f32], slices: u32) -> Mesh {
+    assert!(
+        path.len() >= 2 && radii.len() == path.len() && slices >= 3,
+        "a tube needs 2 points, one radius per point and 3 slices"
+    );
+    let last = path.len() - 1;
+    let tangent = |i: usize| (path[(i + 1).min(last)] - path[i.saturating_sub(1)]).normalize();
+    // (normal, binormal, tangent) right-handed: the circle turns counter-clockwise about the
+    // tangent, as a loft's rings turn about +y, so the loft's winding faces outwards here too.
+    let mut frames = Vec::with_capacity(path.len());
+    let mut normal = tangent(0).any_orthonormal_vector();
+    for i in 0..path.len() {
+        if i > 0 {
+            normal = glam::Quat::from_rotation_arc(tangent(i - 1), tangent(i)) * normal;
+        }
+        let t = tangent(i);
+        let n = (normal - t * t.dot(normal)).normalize();
+        frames.push((n, t.cross(n), t));
+    }
+    let at = |i: usize, j: u32| {
+        let phi = 2.0 * PI * j as f32 / slices as f32;
+        let (n, b, _) = frames[i];
+        path[i] + radii[i] * (n * phi.cos() + b * phi.sin())
+    };
+    let mut band = Mesh::default();
+    for i in 0..path.len() {
+        for j in 0..slices {
+            band.positions.push(at(i, j));
+            band.uvs
+                .push(Vec2::new(j as f32 / slices as f32, i as f32 / last as f32));
+        }
+    }
+    for k in 0..last as u32 {
+        for j in 0..slices {
+            let (a, a1) = (k * slices + j, k * slices + (j + 1) % slices);
+            let (b, b1) = (a + slices, a1 + slices);
+            band.indices.extend([a, a1, b, b, a1, b1]);
+        }
+    }
+    band.normals = vec![Vec3::ZERO; band.positions.len()];
+    band.repair_normals();
+    let cap = |i: usize, forward: bool| {
+        let (_, _, t) = frames[i];
+        let n = if forward { t } else { -t };
+        let mut c = Mesh::default();
+        c.positions.push(path[i]);
+        c.uvs.push(Vec2::splat(0.5));
+        for j in 0..slices {
+            let phi = 2.0 * PI * j as f32 / slices as f32;
+            c.positions.push(at(i, j));
+            c.uvs
+                .push(Vec2::new(0.5 + 0.5 * phi.cos(), 0.5 - 0.5 * phi.sin()));
+        }
+        c.normals = vec![n; c.positions.len()];
+        for j in 0..slices {
+            let (a, b) = (1 + j, 1 + (j + 1) % slices);
+            if forward {
+                c.indices.extend([0, a, b]);
+            } else {
+                c.indices.extend([0, b, a]);
+            }
+        }
+        c
+    };
+    merge(&[band, cap(0, false), cap(last, true)])
+}
+
+/// Smooth vertex normals of `mesh` from its positions: the area-weighted sum of the face
+/// normals of the triangles round each *position*, so that vertices repeated at the same
+/// place (the seam and the poles of [`uv_sphere`], the seam of a loft) share one normal and
+/// the surface shades without a crease there. Positions closer than a millionth of the mesh's
+/// size count as one (the sines of a UV sphere's last ring and seam are not exactly zero). A
+/// position no triangle with an area uses gets +Y. Replaces every normal; the positions, uvs
+/// and triangles stay.
+pub fn smooth_normals(mesh: &mut Mesh) {
+    let (lo, hi) = mesh.bounds();
+    let cell = ((hi - lo).max_element() * 1e-6).max(f32::MIN_POSITIVE);
+    let key = |p: Vec3| (p / cell).round().as_i64vec3().to_array();
+    let mut sums: std::collections::HashMap<[i64; 3], Vec3> = Default::default();
+    for t in mesh.indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
+        let face = (b - a).cross(c - a);
+        if face.is_finite() {
+            for p in [a, b, c] {
+                *sums.entry(key(p)).or_insert(Vec3::ZERO) += face;
+            }
+        }
+    }
+    mesh.normals = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            sums.get(&key(*p))
+                .copied()
+                .unwrap_or(Vec3::ZERO)
+                .normalize_or(Vec3::Y)
+        })
+        .collect();
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -293,6 +402,7 @@ mod tests {
             uv_sphere(1.0, 8, 12),
             cylinder(0.5, 2.0, 12),
             loft(&test_outline(), 12, 30.0),
+            test_tube(),
         ] {
             for t in mesh.indices.chunks(3) {
                 let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
@@ -325,6 +435,67 @@ mod tests {
             Ring::circle(0.9, 0.3),
             Ring::circle(0.9, 0.0),
         ]
+    }
+
+    /// A tube that bends through a half turn and tapers.
+    fn test_tube() -> Mesh {
+        let path: Vec<Vec3> = (0..=12)
+            .map(|i| {
+                let a = PI * i as f32 / 12.0;
+                Vec3::new(a.sin(), -a.cos(), 0.3 * a)
+            })
+            .collect();
+        let radii: Vec<f32> = (0..=12).map(|i| 0.2 - 0.01 * i as f32).collect();
+        tube(&path, &radii, 10)
+    }
+
+    /// Every edge of a tube is used once in each direction, and it encloses a positive
+    /// volume close to that of its circles swept along the path (a closed, outward surface).
+    #[test]
+    fn a_tube_is_closed_and_faces_outwards() {
+        let mesh = test_tube();
+        assert_watertight(&mesh);
+        let volume: f32 = mesh
+            .indices
+            .chunks(3)
+            .map(|t| {
+                let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
+        // Path length of the helix-like arc: pi * sqrt(1 + 0.3^2); mean radius 0.14.
+        let swept = PI * 0.14f32 * 0.14 * PI * (1.0f32 + 0.09).sqrt();
+        assert!(
+            volume > 0.8 * swept && volume < 1.1 * swept,
+            "{volume} vs {swept}"
+        );
+    }
+
+    /// The smooth normals of a UV sphere are its radial directions, seam and poles included.
+    #[test]
+    fn smooth_normals_weld_the_seam_and_poles() {
+        let mut mesh = uv_sphere(2.0, 12, 24);
+        let radial = mesh.normals.clone();
+        mesh.normals.iter_mut().for_each(|n| *n = Vec3::ZERO);
+        smooth_normals(&mut mesh);
+        for (n, r) in mesh.normals.iter().zip(&radial) {
+            assert!(n.dot(*r) > 0.995, "{n} vs {r}");
+        }
+    }
+
+    fn assert_watertight(mesh: &Mesh) {
+        let key = |i: u32| mesh.positions[i as usize].to_array().map(f32::to_bits);
+        let mut edges = std::collections::HashMap::new();
+        for t in mesh.indices.chunks(3) {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *edges.entry((key(a), key(b))).or_insert(0) += 1;
+            }
+        }
+        for (&(a, b), &count) in &edges {
+            assert_eq!(count, 1, "edge used {count} times one way");
+            assert_eq!(edges.get(&(b, a)), Some(&1), "edge without its twin");
+        }
+        assert!(mesh.normals.iter().all(|n| n.is_normalized()));
     }
 
     /// Every edge of a loft, keyed by its end positions, is used once in each direction.

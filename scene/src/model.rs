@@ -1,9 +1,13 @@
 //! The scene model shared by the reference renderer, the GPU upload and every technique.
 //!
 //! Units are metres, right-handed, +Y up. Meshes are stored in object space; an object's
-//! world transform is its `transform` followed by its animated translation at time t.
+//! world transform is its `transform` followed by its animated translation at time t. An
+//! object may also deform: its [`Morph`] blends the mesh's vertices toward a second set over
+//! time, and [`Object::positions_at`]/[`Object::normals_at`] give the object-space vertices
+//! at a time (what the BVH, the bounds and the GPU upload place in the world).
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
+use std::borrow::Cow;
 
 /// A triangle mesh in object space. `normals` and `uvs` have one entry per position.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -277,6 +281,34 @@ impl Motion {
     }
 }
 
+/// How an object deforms: a morph target, an object-space copy of the mesh's vertices
+/// displaced into another shape (one position and one normal per vertex of the object's mesh,
+/// same order; the triangles, uvs and everything else stay the mesh's), and piecewise-linear
+/// weight keyframes (time in seconds, weight in [0, 1]), sampled like [`Motion`]'s. At weight
+/// `w` a vertex lies at `(1 - w) base + w target` and its normal is the renormalised
+/// `(1 - w) base + w target` normal. No keys is weight 0 (the base mesh) at every time.
+///
+/// The object's world transform and [`Motion`] apply after the blend. Precomputation made from
+/// the base mesh ([`crate::kinds::Kinds`], light-map charts) knows nothing of the deformation:
+/// a deforming object ([`Object::is_deforming`]) simply invalidates it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Morph {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub keys: Vec<(f32, f32)>,
+}
+
+impl Morph {
+    /// The weight of the target at `time` (0 without keys).
+    pub fn weight(&self, time: f32) -> f32 {
+        sample_keys(&self.keys, time, |a, b, s| a + (b - a) * s).unwrap_or(0.0)
+    }
+    /// Whether the weight changes over time (keys with different weights).
+    pub fn is_animated(&self) -> bool {
+        self.keys.windows(2).any(|k| k[0].1 != k[1].1)
+    }
+}
+
 /// Interior layout of a building hull (for interior mapping): room size per axis, metres.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Building {
@@ -293,6 +325,8 @@ pub struct Object {
     pub roles: Roles,
     pub motion: Motion,
     pub building: Option<Building>,
+    /// A morph target that deforms the mesh over time, or none (a rigid object).
+    pub morph: Option<Morph>,
 }
 
 impl Object {
@@ -305,11 +339,84 @@ impl Object {
             roles: Roles::NONE,
             motion: Motion::default(),
             building: None,
+            morph: None,
         }
     }
     pub fn with_roles(mut self, roles: Roles) -> Self {
         self.roles = roles;
         self
+    }
+    /// The object with a [`Morph`] target (same vertex count as its mesh: see
+    /// [`Scene::validate`]).
+    pub fn with_morph(mut self, morph: Morph) -> Self {
+        self.morph = Some(morph);
+        self
+    }
+    /// Whether the object's shape changes over time: it has a [`Morph`] whose weight varies.
+    /// Such an object moves for everything that caches its geometry (the GPU scene rewrites
+    /// its vertices and re-renders the shadow maps at every new time).
+    pub fn is_deforming(&self) -> bool {
+        self.morph.as_ref().is_some_and(Morph::is_animated)
+    }
+    /// The morph weight at `time` (0 without a usable morph: none, or one whose vertex
+    /// count differs from the mesh's, which [`Scene::validate`] refuses).
+    fn morph_at(&self, time: f32) -> Option<(&Morph, f32)> {
+        let m = self.morph.as_ref()?;
+        let n = self.mesh.positions.len();
+        if m.positions.len() != n || m.normals.len() != self.mesh.normals.len() {
+            return None;
+        }
+        let w = m.weight(time);
+        (w != 0.0).then_some((m, w))
+    }
+    /// Object-space vertex positions at `time`: the mesh's, blended toward the [`Morph`]
+    /// target by its weight (`(1 - w) base + w target`). Borrowed from the mesh when there is
+    /// no morph or its weight is 0.
+    pub fn positions_at(&self, time: f32) -> Cow<'_, [Vec3]> {
+        match self.morph_at(time) {
+            None => Cow::Borrowed(&self.mesh.positions),
+            Some((m, w)) => Cow::Owned(
+                self.mesh
+                    .positions
+                    .iter()
+                    .zip(&m.positions)
+                    .map(|(a, b)| a.lerp(*b, w))
+                    .collect(),
+            ),
+        }
+    }
+    /// Object-space vertex normals at `time`: the mesh's, or, with a [`Morph`] of non-zero
+    /// weight, the blend `(1 - w) base + w target` renormalised (the base normal, normalised,
+    /// where the blend vanishes). Borrowed from the mesh when there is no morph or its weight
+    /// is 0.
+    pub fn normals_at(&self, time: f32) -> Cow<'_, [Vec3]> {
+        match self.morph_at(time) {
+            None => Cow::Borrowed(&self.mesh.normals),
+            Some((m, w)) => Cow::Owned(
+                self.mesh
+                    .normals
+                    .iter()
+                    .zip(&m.normals)
+                    .map(|(a, b)| a.lerp(*b, w).normalize_or(a.normalize_or(Vec3::Y)))
+                    .collect(),
+            ),
+        }
+    }
+    /// Object-space bounds (min, max) of the vertices at `time` ([`Self::positions_at`],
+    /// without allocating); empty bounds are (+inf, -inf).
+    pub fn bounds_at(&self, time: f32) -> (Vec3, Vec3) {
+        let fold = |(lo, hi): (Vec3, Vec3), p: Vec3| (lo.min(p), hi.max(p));
+        let empty = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        match self.morph_at(time) {
+            None => self.mesh.positions.iter().copied().fold(empty, fold),
+            Some((m, w)) => self
+                .mesh
+                .positions
+                .iter()
+                .zip(&m.positions)
+                .map(|(a, b)| a.lerp(*b, w))
+                .fold(empty, fold),
+        }
     }
     /// Object-to-world matrix at `time`.
     pub fn world_at(&self, time: f32) -> Mat4 {
@@ -320,14 +427,17 @@ impl Object {
         Mat3::from_mat4(self.world_at(time)).inverse().transpose()
     }
     /// World-space centre of the object's bounding box at `time` (the reference point of
-    /// environment maps taken "from the object's centre").
+    /// environment maps taken "from the object's centre"): the centre of the object-space box
+    /// of the vertices at that time ([`Self::bounds_at`], which follows a [`Morph`]), placed by
+    /// the world transform at that time. One pass over the vertices, no allocation.
     pub fn center_at(&self, time: f32) -> Vec3 {
-        let (lo, hi) = self.mesh.bounds();
+        let (lo, hi) = self.bounds_at(time);
         self.world_at(time).transform_point3((lo + hi) * 0.5)
     }
-    /// The largest absolute world coordinate any vertex reaches over the object's motion
-    /// (`None` for an empty mesh): what [`Scene::validate`] holds against
-    /// [`MAX_WORLD_COORDINATE`].
+    /// The largest absolute world coordinate any vertex reaches over the object's motion and
+    /// deformation (`None` for an empty mesh): what [`Scene::validate`] holds against
+    /// [`MAX_WORLD_COORDINATE`]. A morphed vertex lies between its base and target positions,
+    /// so both are counted.
     pub fn world_extent(&self) -> Option<f32> {
         let travel = self
             .motion
@@ -335,20 +445,22 @@ impl Object {
             .iter()
             .map(|(_, v)| v.abs().max_element())
             .fold(0.0, f32::max);
+        let target = self.morph.iter().flat_map(|m| &m.positions);
         self.mesh
             .positions
             .iter()
+            .chain(target)
             .map(|p| self.transform.transform_point3(*p).abs().max_element())
             .reduce(f32::max)
             .map(|e| e + travel)
     }
 
-    /// Radius of a world-space sphere around `center_at` that bounds the object.
+    /// Radius of a world-space sphere around `center_at` that bounds the object at `time`
+    /// (its vertices at that time, [`Self::positions_at`]).
     pub fn bounding_radius_at(&self, time: f32) -> f32 {
         let world = self.world_at(time);
         let c = self.center_at(time);
-        self.mesh
-            .positions
+        self.positions_at(time)
             .iter()
             .map(|p| world.transform_point3(*p).distance(c))
             .fold(0.0, f32::max)
@@ -683,6 +795,9 @@ impl Scene {
                     o.name
                 ));
             }
+            if let Some(m) = &o.morph {
+                check_morph(o, m).map_err(crate::SceneError::Invalid)?;
+            }
             if let Some(why) = o.material.check() {
                 return bad(format!("object \"{}\" has a {why}", o.name));
             }
@@ -763,7 +878,7 @@ impl Scene {
 }
 
 /// World-space bounds (min, max) of the objects' vertices under their transforms, without
-/// motion; empty bounds are (+inf, -inf).
+/// motion or deformation (the base meshes); empty bounds are (+inf, -inf).
 pub fn world_bounds(objects: &[Object]) -> (Vec3, Vec3) {
     objects
         .iter()
@@ -777,6 +892,49 @@ pub fn world_bounds(objects: &[Object]) -> (Vec3, Vec3) {
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
             |(lo, hi), p| (lo.min(p), hi.max(p)),
         )
+}
+
+/// Why `morph` cannot deform `o`, as a sentence, or `Ok`: the target has one finite position
+/// and one finite, non-zero normal per vertex of the mesh, and the keys have finite,
+/// increasing times and finite weights in [0, 1].
+fn check_morph(o: &Object, morph: &Morph) -> Result<(), String> {
+    let name = &o.name;
+    let vertices = o.mesh.positions.len();
+    if morph.positions.len() != vertices || morph.normals.len() != vertices {
+        return Err(format!(
+            "object \"{name}\" has a morph target of {} positions and {} normals for a mesh \
+             of {vertices} vertices (a target has one of each per vertex)",
+            morph.positions.len(),
+            morph.normals.len()
+        ));
+    }
+    if morph.positions.iter().any(|p| !p.is_finite()) {
+        return Err(format!(
+            "object \"{name}\" has a non-finite morph target position"
+        ));
+    }
+    if let Some(n) = morph
+        .normals
+        .iter()
+        .position(|n| !(n.length_squared().is_finite() && n.length_squared() >= 1e-12))
+    {
+        return Err(format!(
+            "object \"{name}\" has a zero-length or non-finite morph target normal at vertex {n}"
+        ));
+    }
+    if let Some((t, w)) = morph.keys.iter().find(|(_, w)| !(0.0..=1.0).contains(w)) {
+        return Err(format!(
+            "object \"{name}\" has a morph weight {w} at t = {t}, outside [0, 1]"
+        ));
+    }
+    if morph.keys.iter().any(|(t, _)| !t.is_finite())
+        || morph.keys.windows(2).any(|k| !(k[0].0 < k[1].0))
+    {
+        return Err(format!(
+            "object \"{name}\" has morph keys whose times are not finite and increasing"
+        ));
+    }
+    Ok(())
 }
 
 /// Radiance of the uniform sky [`Scene::add_default_lighting`] gives a scene with a black
@@ -870,5 +1028,132 @@ impl Volume {
         } else {
             Ok(())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit sphere whose morph target is the sphere of radius 2 (same normals), weight
+    /// 0 -> 1 over one second.
+    fn growing_sphere() -> Object {
+        let mesh = crate::mesh::uv_sphere(1.0, 8, 16);
+        let morph = Morph {
+            positions: mesh.positions.iter().map(|p| *p * 2.0).collect(),
+            normals: mesh.normals.clone(),
+            keys: vec![(0.0, 0.0), (1.0, 1.0)],
+        };
+        Object::new(
+            "growing",
+            mesh,
+            Material::diffuse(0.5, 0.5, 0.5),
+            Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0)),
+        )
+        .with_morph(morph)
+    }
+
+    #[test]
+    fn positions_at_blends_and_normals_at_renormalises() {
+        let mut o = growing_sphere();
+        assert!(o.is_deforming());
+        // Weight 0: the mesh itself, borrowed.
+        assert!(matches!(o.positions_at(0.0), Cow::Borrowed(_)));
+        assert!(matches!(o.normals_at(-1.0), Cow::Borrowed(_)));
+        // Weight 0.5 at t = 0.5: radius 1.5.
+        let p = o.positions_at(0.5);
+        for (q, base) in p.iter().zip(&o.mesh.positions) {
+            assert!((*q - *base * 1.5).length() < 1e-6, "{q} vs {base}");
+        }
+        assert!((o.bounds_at(0.5).1 - Vec3::splat(1.5)).abs().max_element() < 1e-5);
+        assert!((o.bounding_radius_at(1.0) - 2.0).abs() < 1e-5);
+        assert!((o.center_at(1.0) - Vec3::Y).length() < 1e-5);
+        // Normals: blend a target that turns every normal by 90 degrees; the halfway normal
+        // is the unit bisector, not the half-length sum.
+        let turned: Vec<Vec3> = o
+            .mesh
+            .normals
+            .iter()
+            .map(|n| n.any_orthonormal_vector())
+            .collect();
+        o.morph.as_mut().unwrap().normals = turned.clone();
+        let n = o.normals_at(0.5);
+        for ((m, a), b) in n.iter().zip(&o.mesh.normals).zip(&turned) {
+            assert!((m.length() - 1.0).abs() < 1e-5);
+            assert!((*m - (*a + *b).normalize()).length() < 1e-5);
+        }
+        // Keys past the end hold the last weight; a constant weight does not deform.
+        assert_eq!(o.morph.as_ref().unwrap().weight(7.0), 1.0);
+        o.morph.as_mut().unwrap().keys = vec![(0.0, 0.3), (2.0, 0.3)];
+        assert!(!o.is_deforming());
+        assert!(matches!(o.positions_at(1.0), Cow::Owned(_)));
+        // Without a morph nothing changes.
+        o.morph = None;
+        assert!(matches!(o.positions_at(1.0), Cow::Borrowed(_)));
+        assert!(!o.is_deforming());
+    }
+
+    fn scene_with(object: Object) -> Scene {
+        Scene {
+            name: "morph".into(),
+            objects: vec![object],
+            textures: vec![],
+            lights: vec![],
+            camera: Camera {
+                eye: Vec3::new(0.0, 1.0, 5.0),
+                target: Vec3::Y,
+                up: Vec3::Y,
+                fov_y_deg: 45.0,
+            },
+            camera_path: CameraPath::default(),
+            volumes: vec![],
+            medium: None,
+            background: Vec3::ZERO,
+        }
+    }
+
+    fn invalid(object: Object) -> String {
+        match scene_with(object).validate() {
+            Err(crate::SceneError::Invalid(why)) => why,
+            other => panic!("expected an invalid scene, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn validate_checks_morph_targets() {
+        scene_with(growing_sphere()).validate().unwrap();
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().positions.pop();
+        let why = invalid(o);
+        assert!(
+            why.contains("morph target of") && why.contains("vertices"),
+            "{why}"
+        );
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().normals.push(Vec3::Y);
+        assert!(invalid(o).contains("morph target of"));
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().keys[1].1 = 1.5;
+        let why = invalid(o);
+        assert!(why.contains("morph weight 1.5"), "{why}");
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().keys[0].1 = f32::NAN;
+        assert!(invalid(o).contains("morph weight"));
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().keys = vec![(1.0, 0.0), (0.5, 1.0)];
+        assert!(invalid(o).contains("increasing"));
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().keys[0].0 = f32::INFINITY;
+        assert!(invalid(o).contains("increasing"));
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().positions[3].x = f32::NAN;
+        assert!(invalid(o).contains("non-finite morph target position"));
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().normals[2] = Vec3::ZERO;
+        assert!(invalid(o).contains("morph target normal at vertex 2"));
+        // The target counts toward the world extent.
+        let mut o = growing_sphere();
+        o.morph.as_mut().unwrap().positions[0] = Vec3::new(2.0e4, 0.0, 0.0);
+        assert!(invalid(o).contains("from the origin"));
     }
 }

@@ -4,15 +4,13 @@
 //!
 //! The bunny mesh is `assets/bunny.glb` (3674 triangles, height 1, base at y = 0, centred
 //! on x = z = 0; see `assets/README.md` for its source, licence and conversion), embedded
-//! in the crate and read with the glTF importer.
+//! in the crate and read with the glTF importer ([`super::assets::bunny_mesh`]).
 
+use super::assets::bunny_mesh;
 use super::textures::checker_texture;
 use crate::mesh::{cuboid, quad};
 use crate::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError};
 use glam::{Mat4, Quat, Vec2, Vec3};
-
-/// The bunny asset: one object whose mesh has height 1 and its base at y = 0.
-const BUNNY_GLB: &[u8] = include_bytes!("../../assets/bunny.glb");
 
 /// Height of the bunny in the scene, metres.
 const BUNNY_HEIGHT: f32 = 0.6;
@@ -28,13 +26,7 @@ pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
             r.end()
         )));
     }
-    let asset = crate::gltf_io::import_slice(BUNNY_GLB, "assets/bunny.glb")?;
-    let mesh = asset
-        .objects
-        .into_iter()
-        .next()
-        .ok_or_else(|| SceneError::Invalid("assets/bunny.glb holds no mesh".into()))?
-        .mesh;
+    let mesh = bunny_mesh()?;
 
     // Room: floor y = 0 from z = -1.2 to 2.5, checker wall at z = -1.2 facing +z. The wall
     // is 6 x 3 m so that it fills the background of the camera path; the texture repeats

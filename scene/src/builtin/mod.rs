@@ -15,11 +15,14 @@
 //! | [`city`] | `city` (and the interior generators the `interior-mapping` crate reuses) |
 //! | [`smoke`] | `smoke` |
 //! | [`pool`] | `pool`, `murky-pool` (a swimming pool with a glass height-field water surface; the murky one's water scatters) |
+//! | [`hu_qin`] | `hu-qin` (one glass refractor, possibly deforming, before nearby meshes: Hu and Qin 2006) |
 //! | [`textures`] | texture helpers any scene may use (`checker_texture`, `from_texels`) |
+//! | [`assets`] | meshes of the embedded assets any scene may use (`bunny_mesh`) |
 //! | this file | the registry ([`builtin_scenes`], [`build`]) and spec parsing |
 //!
 //! A scene file builds its scene from typed arguments and imports only from [`textures`],
-//! [`crate::mesh`] and the scene model, never from another scene file or from this registry.
+//! [`assets`], [`crate::mesh`] and the scene model, never from another scene file or from this
+//! registry.
 //! **Adding a scene is one new file plus one registry entry**: write `chess.rs` with a
 //! `pub fn chess(..) -> Result<Scene, SceneError>`, add `pub mod chess;` below and one
 //! `Builtin` to `registry()` (its [`SceneInfo`] with the declared parameters, and the
@@ -27,10 +30,12 @@
 //! (`scene::load`, `harness list`, `harness compare`'s default scene list, the registry tests)
 //! picks the new entry up from there.
 
+pub mod assets;
 pub mod bunny;
 pub mod chess;
 pub mod city;
 pub mod cornell;
+pub mod hu_qin;
 pub mod pool;
 pub mod smoke;
 pub mod textures;
@@ -289,6 +294,24 @@ fn registry() -> Vec<Builtin> {
                 params: pool_params("0.2"),
             },
             build: |a| pool::pool(&a.get("view"), pool_murk(a)?),
+        },
+        Builtin {
+            info: SceneInfo {
+                name: "hu-qin",
+                description: "one glass refractor (sphere, teapot, bunny or a deforming sphere) \
+                              before nearby coloured meshes, casting a caustic on the floor \
+                              (Hu and Qin 2006)",
+                params: vec![
+                    word("refractor", "sphere", hu_qin::REFRACTOR_HELP),
+                    real(
+                        "ior",
+                        "1.15",
+                        (*ior.start() as f64, *ior.end() as f64),
+                        "index of refraction of the refractor",
+                    ),
+                ],
+            },
+            build: |a| hu_qin::hu_qin(&a.get("refractor"), a.num("ior")?),
         },
     ]
 }

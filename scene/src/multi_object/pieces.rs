@@ -56,10 +56,11 @@ pub fn map_box(rep: &crate::Object) -> (Vec3, Vec3) {
     (lo - centre, hi - centre)
 }
 
-/// World bounds of an object's vertices at `time`.
+/// World bounds of an object's vertices at `time` (a deforming object's at that time; the
+/// kind's map itself is made of the base mesh, which a deformation invalidates).
 fn world_box(o: &crate::Object, time: f32) -> (Vec3, Vec3) {
     let world = o.world_at(time);
-    o.mesh.positions.iter().fold(
+    o.positions_at(time).iter().fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
         |(lo, hi), p| {
             let w = world.transform_point3(*p);

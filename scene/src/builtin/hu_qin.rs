@@ -1,0 +1,406 @@
+//! The `hu-qin` scene: one glass refractor in front of a few nearby diffuse meshes, on a
+//! floor before a checker backdrop, lit by one point light that makes the refractor cast a
+//! caustic on the floor in view: the setting of Hu and Qin 2006 ("Interactive approximate
+//! rendering of reflections, refractions, and caustics", Table 1 and figure 24: a sphere of
+//! index 1.15, a teapot or a bunny, with nearby geometry seen through it).
+//!
+//! The refractor (about 0.55 m across, its bounding box centred at [`REFRACTOR_CENTRE`],
+//! 0.35 m above the floor) is one of:
+//!
+//! - `sphere`: a UV sphere of radius 0.28 m;
+//! - `teapot`: a teapot built from [`crate::mesh`]: a lofted body with a lid and knob, a
+//!   tapered spout and a handle (two tubes), each part closed (watertight) with outward
+//!   normals; the spout and handle reach a few centimetres into the body, so the solid is the
+//!   union of three closed parts (the small overlaps are glass seen through glass). The handle
+//!   and spout make it concave;
+//! - `bunny`: the Stanford bunny of `assets/bunny.glb`, 0.55 m tall;
+//! - `morph`: the sphere with a [`Morph`] target, a tilted peanut (each vertex scaled
+//!   radially by `0.85 (1 + 0.35 (2 (n.a)^2 - 1))`, `n` its direction, `a` the peanut's
+//!   axis), weight 0 -> 1 -> 0 over the camera path: a deforming refractor, what image-space
+//!   refraction renders without preprocessing.
+//!
+//! There is no room: the environment is the sky (the background radiance), the floor and the
+//! backdrop wall.
+
+use super::assets::bunny_mesh;
+use super::textures::checker_texture;
+use crate::mesh::{Ring, cuboid, cylinder, loft, merge, quad, smooth_normals, tube, uv_sphere};
+use crate::{
+    Camera, CameraPath, Material, Mesh, Morph, Object, PointLight, Roles, Scene, SceneError,
+};
+use glam::{Mat4, Quat, Vec2, Vec3};
+
+/// The values of the `refractor` parameter.
+pub const REFRACTOR_HELP: &str = "the glass object: sphere, teapot, bunny, morph (the sphere \
+                                  deforming into a peanut and back over the camera path)";
+
+/// Where the refractor's bounding box is centred (at time 0 for `morph`).
+pub const REFRACTOR_CENTRE: Vec3 = Vec3::new(0.0, 0.35, 0.0);
+
+/// Radius of the `sphere` (and of `morph` at weight 0), metres.
+const SPHERE_RADIUS: f32 = 0.28;
+
+/// Height of the `bunny`, metres.
+const BUNNY_HEIGHT: f32 = 0.55;
+
+/// Length of the camera path (and of the morph's cycle), seconds.
+const DURATION: f32 = 2.0;
+
+/// `hu-qin` with the refractor `refractor` (one of [`REFRACTOR_HELP`]) of index `ior` (in
+/// [`Material::IOR_RANGE`]).
+pub fn hu_qin(refractor: &str, ior: f32) -> Result<Scene, SceneError> {
+    if !Material::IOR_RANGE.contains(&ior) {
+        let r = Material::IOR_RANGE;
+        return Err(SceneError::BadParam(format!(
+            "ior={ior} is outside [{}, {}]",
+            r.start(),
+            r.end()
+        )));
+    }
+    let (mesh, morph) = match refractor {
+        "sphere" => (uv_sphere(SPHERE_RADIUS, 32, 64), None),
+        "teapot" => (teapot(), None),
+        "bunny" => {
+            let mut mesh = bunny_mesh()?;
+            for p in &mut mesh.positions {
+                *p *= BUNNY_HEIGHT;
+            }
+            (mesh, None)
+        }
+        "morph" => {
+            let sphere = uv_sphere(SPHERE_RADIUS, 32, 64);
+            let morph = peanut_target(&sphere);
+            (sphere, Some(morph))
+        }
+        other => {
+            return Err(SceneError::BadParam(format!(
+                "unknown refractor \"{other}\" ({REFRACTOR_HELP})"
+            )));
+        }
+    };
+    let (lo, hi) = mesh.bounds();
+    let mut glass = Object::new(
+        refractor,
+        mesh,
+        Material::glass(ior),
+        Mat4::from_translation(REFRACTOR_CENTRE - (lo + hi) * 0.5),
+    )
+    .with_roles(Roles::REFRACTOR | Roles::CAUSTIC_CASTER);
+    glass.morph = morph;
+
+    // Floor y = 0 from z = -1.4 to 2.6; checker wall at z = -1.4 facing +z, 6 x 3 m, the
+    // texture repeated 3 x 1.5 times (8 x 8 cells each): 0.25 m cells.
+    let id = Mat4::IDENTITY;
+    let mut objects = vec![
+        Object::new(
+            "floor",
+            quad(
+                Vec3::new(-3.0, 0.0, 2.6),
+                Vec3::X * 6.0,
+                Vec3::NEG_Z * 4.0,
+                Vec2::ONE,
+            ),
+            Material::diffuse(0.6, 0.6, 0.58),
+            id,
+        ),
+        Object::new(
+            "checker wall",
+            quad(
+                Vec3::new(-3.0, 0.0, -1.4),
+                Vec3::X * 6.0,
+                Vec3::Y * 3.0,
+                Vec2::new(3.0, 1.5),
+            ),
+            Material::Diffuse {
+                albedo: Vec3::ONE,
+                texture: Some(0),
+            },
+            id,
+        ),
+    ];
+
+    // The nearby meshes, 0.65-0.75 m from the refractor, turned to show the camera faces the
+    // light reaches: a red box behind it on the left, a green cylinder and a blue sphere just
+    // behind it (seen through it from the camera), a yellow box behind it on the right, past
+    // the caustic.
+    let placed = |name: &str, mesh: Mesh, at: Vec3, yaw: f32, m: Material| {
+        Object::new(
+            name,
+            mesh,
+            m,
+            Mat4::from_rotation_translation(Quat::from_rotation_y(yaw), at),
+        )
+    };
+    let block = |x: f32, y: f32, z: f32| {
+        cuboid(
+            Vec3::new(-x * 0.5, 0.0, -z * 0.5),
+            Vec3::new(x * 0.5, y, z * 0.5),
+        )
+    };
+    objects.push(placed(
+        "red box",
+        block(0.25, 0.4, 0.25),
+        Vec3::new(-0.5, 0.0, -0.45),
+        0.4,
+        Material::diffuse(0.75, 0.12, 0.1),
+    ));
+    objects.push(placed(
+        "green cylinder",
+        cylinder(0.08, 0.45, 32),
+        Vec3::new(0.17, 0.0, -0.7),
+        0.0,
+        Material::diffuse(0.15, 0.6, 0.2),
+    ));
+    objects.push(placed(
+        "blue sphere",
+        uv_sphere(0.12, 16, 32),
+        Vec3::new(-0.17, 0.12, -0.65),
+        0.0,
+        Material::diffuse(0.12, 0.22, 0.75),
+    ));
+    objects.push(placed(
+        "yellow box",
+        block(0.2, 0.3, 0.2),
+        Vec3::new(0.62, 0.0, -0.42),
+        -0.4,
+        Material::diffuse(0.8, 0.68, 0.15),
+    ));
+    objects.push(glass);
+
+    // Camera: looks at the refractor from about 1.75 m, somewhat from above, so that the
+    // refractor fills about half the image height and the nearby meshes show beside and
+    // through it; the path orbits the target by +-15 degrees about the vertical axis.
+    let target = Vec3::new(0.0, 0.3, -0.1);
+    let orbit = |deg: f32| Camera {
+        eye: target + Quat::from_rotation_y(deg.to_radians()) * Vec3::new(0.0, 0.5, 1.7),
+        target,
+        up: Vec3::Y,
+        fov_y_deg: 40.0,
+    };
+    let camera = orbit(0.0);
+
+    Ok(Scene {
+        name: String::new(),
+        objects,
+        textures: vec![checker_texture(
+            "wall checker",
+            64,
+            8,
+            [210, 205, 190],
+            [70, 80, 110],
+        )],
+        // Left of, above and in front of the refractor: its caustic falls on the floor to its
+        // right and a little behind it, in view.
+        lights: vec![PointLight {
+            name: "key light".into(),
+            position: Vec3::new(-1.2, 1.8, 0.5),
+            intensity: Vec3::splat(14.0),
+        }],
+        camera,
+        camera_path: CameraPath {
+            keys: vec![
+                (0.0, camera),
+                (0.5 * DURATION, orbit(15.0)),
+                (DURATION, orbit(-15.0)),
+            ],
+        },
+        volumes: vec![],
+        medium: None,
+        background: Vec3::new(0.25, 0.3, 0.4),
+    })
+}
+
+/// The morph target of `sphere` (a [`uv_sphere`] about the origin): every vertex scaled
+/// radially into a tilted peanut, normals recomputed from the displaced surface; weight
+/// 0 -> 1 -> 0 over the camera path.
+fn peanut_target(sphere: &Mesh) -> Morph {
+    let axis = Vec3::new(1.0, 0.5, 0.3).normalize();
+    let mut target = sphere.clone();
+    for p in &mut target.positions {
+        let n = p.normalize_or_zero();
+        let c = n.dot(axis);
+        *p *= 0.85 * (1.0 + 0.35 * (2.0 * c * c - 1.0));
+    }
+    smooth_normals(&mut target);
+    Morph {
+        positions: target.positions,
+        normals: target.normals,
+        keys: vec![(0.0, 0.0), (0.5 * DURATION, 1.0), (DURATION, 0.0)],
+    }
+}
+
+/// A glass teapot about 0.55 m across and 0.4 m tall, its base at y = 0, body round the y
+/// axis, spout towards +x and handle towards -x: three closed parts (see the module
+/// documentation).
+fn teapot() -> Mesh {
+    // Body and lid as one surface of revolution: base, belly, shoulder, rim, a dome lid and a
+    // knob closed by an apex.
+    let outline = [
+        (0.0, 0.12),
+        (0.015, 0.15),
+        (0.05, 0.18),
+        (0.1, 0.198),
+        (0.15, 0.2),
+        (0.2, 0.19),
+        (0.245, 0.165),
+        (0.28, 0.13),
+        (0.3, 0.11),
+        (0.305, 0.09),
+        (0.33, 0.075),
+        (0.35, 0.045),
+        (0.355, 0.022),
+        (0.375, 0.03),
+        (0.395, 0.02),
+        (0.4, 0.0),
+    ];
+    let rings: Vec<Ring> = outline.iter().map(|&(y, r)| Ring::circle(y, r)).collect();
+    let body = loft(&rings, 48, 40.0);
+
+    // Spout: a tapered tube from inside the lower body (which is about 0.2 m wide there) out
+    // and up, along a quadratic Bezier curve.
+    let (p0, p1, p2) = (
+        Vec3::new(0.13, 0.1, 0.0),
+        Vec3::new(0.25, 0.13, 0.0),
+        Vec3::new(0.3, 0.31, 0.0),
+    );
+    let n = 16;
+    let spout_path: Vec<Vec3> = (0..=n)
+        .map(|i| {
+            let t = i as f32 / n as f32;
+            p0 * (1.0 - t) * (1.0 - t) + p1 * 2.0 * t * (1.0 - t) + p2 * t * t
+        })
+        .collect();
+    let spout_radii: Vec<f32> = (0..=n)
+        .map(|i| 0.045 - 0.022 * i as f32 / n as f32)
+        .collect();
+    let spout = tube(&spout_path, &spout_radii, 24);
+
+    // Handle: a half ellipse on the -x side from y = 0.08 to 0.25 whose ends go straight
+    // into the body wall (0.16-0.19 m from the axis there) to 0.12 m from the axis.
+    let handle_path: Vec<Vec3> = (0..=n)
+        .map(|i| {
+            let a = std::f32::consts::PI * (i as f32 / n as f32 - 0.5);
+            Vec3::new(-0.12 - 0.13 * a.cos(), 0.165 + 0.085 * a.sin(), 0.0)
+        })
+        .collect();
+    let handle = tube(&handle_path, &vec![0.022; n + 1], 20);
+    merge(&[body, spout, handle])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn refractor(scene: &Scene) -> &Object {
+        scene
+            .objects
+            .iter()
+            .find(|o| o.material.is_specular())
+            .unwrap()
+    }
+
+    #[test]
+    fn every_refractor_is_valid_sized_and_placed() {
+        for name in ["sphere", "teapot", "bunny", "morph"] {
+            let scene = hu_qin(name, 1.15).unwrap();
+            scene.validate().unwrap();
+            assert_eq!(scene.specular_objects().len(), 1, "{name}");
+            let glass = refractor(&scene);
+            assert_eq!(glass.material, Material::glass(1.15));
+            assert!(
+                glass
+                    .roles
+                    .contains(Roles::REFRACTOR | Roles::CAUSTIC_CASTER)
+            );
+            let centre = glass.center_at(0.0);
+            assert!(centre.distance(REFRACTOR_CENTRE) < 1e-4, "{name}: {centre}");
+            let (lo, hi) = glass.bounds_at(0.0);
+            let size = (hi - lo).max_element();
+            assert!((0.5..=0.62).contains(&size), "{name}: {size} m across");
+            assert!(
+                centre.y - 0.5 * (hi.y - lo.y) > 0.0,
+                "{name}: below the floor"
+            );
+            // The refractor is in view along the whole path.
+            for (_, cam) in &scene.camera_path.keys {
+                let p = cam.project(centre, 256, 256).unwrap();
+                assert!((64.0..192.0).contains(&p.x) && (64.0..192.0).contains(&p.y));
+            }
+            // No nearby mesh's bounding sphere holds the refractor's centre; each is within
+            // 0.5-1 m of it.
+            for o in &scene.objects {
+                if o.material.is_specular() || o.name == "floor" || o.name == "checker wall" {
+                    continue;
+                }
+                let d = o.center_at(0.0).distance(centre);
+                assert!(d > o.bounding_radius_at(0.0), "{name}: {} holds it", o.name);
+                let xz = (o.center_at(0.0) - centre) * Vec3::new(1.0, 0.0, 1.0);
+                assert!((0.5..=1.0).contains(&xz.length()), "{}: {d}", o.name);
+            }
+        }
+        assert!(matches!(
+            hu_qin("cube", 1.15),
+            Err(SceneError::BadParam(m)) if m.contains("sphere, teapot, bunny, morph")
+        ));
+        assert!(hu_qin("sphere", 5.0).is_err());
+    }
+
+    /// The teapot is closed with outward normals: every edge (by position) is used once in
+    /// each direction, the enclosed volume is positive, and every triangle winds with its
+    /// vertex normals.
+    #[test]
+    fn the_teapot_is_closed_and_faces_outwards() {
+        let mesh = teapot();
+        let key = |i: u32| mesh.positions[i as usize].to_array().map(f32::to_bits);
+        let mut edges = std::collections::HashMap::new();
+        for t in mesh.indices.chunks(3) {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *edges.entry((key(a), key(b))).or_insert(0) += 1;
+            }
+        }
+        for (&(a, b), &count) in &edges {
+            assert_eq!(count, 1, "edge used {count} times one way");
+            assert_eq!(edges.get(&(b, a)), Some(&1), "edge without its twin");
+        }
+        let mut volume = 0.0;
+        for t in mesh.indices.chunks(3) {
+            let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
+            volume += a.dot(b.cross(c)) / 6.0;
+            let face = (b - a).cross(c - a);
+            if face.length() > 1e-9 {
+                let n: Vec3 = t.iter().map(|&i| mesh.normals[i as usize]).sum();
+                assert!(
+                    face.dot(n) > 0.0,
+                    "triangle {t:?} winds against its normals"
+                );
+            }
+        }
+        assert!(volume > 0.02, "{volume} m^3");
+        assert!(mesh.triangle_count() < 5000);
+    }
+
+    #[test]
+    fn the_morphing_refractor_deforms_along_the_path() {
+        let scene = hu_qin("morph", 1.15).unwrap();
+        let glass = refractor(&scene);
+        assert!(glass.is_deforming());
+        let morph = glass.morph.as_ref().unwrap();
+        assert_eq!(morph.weight(0.0), 0.0);
+        assert_eq!(morph.weight(0.5 * DURATION), 1.0);
+        assert_eq!(morph.weight(DURATION), 0.0);
+        assert_eq!(scene.camera_path.duration(), DURATION);
+        // At the middle of the path the peanut is longer than the sphere along its axis and
+        // narrower across it, and it stays above the floor.
+        let (lo, hi) = glass.bounds_at(0.5 * DURATION);
+        assert!((hi - lo).max_element() > 2.0 * SPHERE_RADIUS * 1.05);
+        assert!((hi - lo).min_element() < 2.0 * SPHERE_RADIUS * 0.9);
+        let world = glass.world_at(0.5 * DURATION);
+        let lowest = glass
+            .positions_at(0.5 * DURATION)
+            .iter()
+            .map(|p| world.transform_point3(*p).y)
+            .fold(f32::INFINITY, f32::min);
+        assert!(lowest > 0.05, "{lowest}");
+        assert!(morph.normals.iter().all(|n| n.is_normalized()));
+    }
+}

@@ -1,0 +1,140 @@
+//! A deforming object on the GPU: `GpuScene::set_time` rewrites its vertices, so the shared
+//! raster pass draws the morphed surface at each time, and re-renders the shadow maps, so the
+//! shadow it casts deforms with it.
+//!
+//! The object is a diffuse unit UV sphere at the origin whose `Morph` target is the sphere of
+//! radius 2 (weight 0 at t = 0, 1 at t = 1), above a floor at y = -2.2 lit by a point light
+//! 8 m above the sphere's centre. The raster pass writes the distance from the eye in alpha,
+//! so the centre pixel reads the distance to the sphere's front (the eye's distance to the
+//! centre minus the radius, within the mesh's sagitta), and a floor point 2.2 m from the
+//! light's axis is lit under the small sphere (its shadow has a radius of about 1.3 m there)
+//! and shadowed under the large one (about 2.6 m).
+
+use glam::{Mat4, Vec2, Vec3};
+use gpu::Target;
+use scene::{
+    Camera, GpuScene, Material, Morph, Object, ObjectFilter, PointLight, RasterTarget, Scene,
+};
+
+const SIZE: u32 = 65;
+
+fn morphing_scene() -> Scene {
+    let mesh = scene::mesh::uv_sphere(1.0, 32, 64);
+    let morph = Morph {
+        positions: mesh.positions.iter().map(|p| *p * 2.0).collect(),
+        normals: mesh.normals.clone(),
+        keys: vec![(0.0, 0.0), (1.0, 1.0)],
+    };
+    let sphere = Object::new(
+        "morphing sphere",
+        mesh,
+        Material::diffuse(0.6, 0.6, 0.6),
+        Mat4::IDENTITY,
+    )
+    .with_morph(morph);
+    let floor = Object::new(
+        "floor",
+        scene::mesh::quad(
+            Vec3::new(-6.0, -2.2, 6.0),
+            Vec3::X * 12.0,
+            Vec3::NEG_Z * 12.0,
+            Vec2::ONE,
+        ),
+        Material::diffuse(0.5, 0.5, 0.5),
+        Mat4::IDENTITY,
+    );
+    Scene {
+        name: "deforming".into(),
+        objects: vec![sphere, floor],
+        textures: vec![],
+        lights: vec![PointLight {
+            name: "light".into(),
+            position: Vec3::new(0.0, 8.0, 0.0),
+            intensity: Vec3::splat(200.0),
+        }],
+        camera: Camera {
+            eye: Vec3::new(0.0, 0.5, 9.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_deg: 45.0,
+        },
+        camera_path: Default::default(),
+        volumes: vec![],
+        medium: None,
+        background: Vec3::ZERO,
+    }
+}
+
+/// Renders the raster pass of `gpu_scene` at `time` with the scene's camera.
+fn raster_at(gpu_scene: &mut GpuScene, target: &Target, time: f32) -> gpu::HdrImage {
+    let ctx = testkit::context();
+    let camera = gpu_scene.scene.camera;
+    testkit::submit(ctx, gpu_scene, time, |frame, s| {
+        s.raster(
+            frame,
+            &RasterTarget {
+                color: &target.color_view,
+                depth: &target.depth_view,
+                format: gpu::HDR_FORMAT,
+                clear: true,
+            },
+            camera.view_proj(SIZE, SIZE),
+            camera.eye,
+            &ObjectFilter::All,
+            false,
+        )
+    });
+    target.read(ctx).expect("read back")
+}
+
+#[test]
+fn set_time_on_a_morphing_object_changes_what_the_raster_pass_draws() {
+    let _gpu = testkit::gpu_lock();
+    let ctx = testkit::context();
+    let scene = morphing_scene();
+    assert!(scene.objects[0].is_deforming());
+    let mut gpu_scene = GpuScene::new(ctx, &scene).expect("scene uploads");
+    let target = Target::new(ctx, SIZE, SIZE).expect("target");
+    let camera = scene.camera;
+    let centre = SIZE / 2;
+    let floor_point = Vec3::new(2.2, -2.2, 0.0);
+    let p = camera.project(floor_point, SIZE, SIZE).unwrap();
+    let (fx, fy) = (p.x as u32, p.y as u32);
+    let luminance = |px: [f32; 4]| (px[0] + px[1] + px[2]) / 3.0;
+
+    let mut images = Vec::new();
+    // Back to t = 0 last: the rewritten vertices return to the base mesh.
+    for (time, radius) in [(0.0, 1.0), (1.0, 2.0), (0.5, 1.5), (0.0, 1.0)] {
+        let image = raster_at(&mut gpu_scene, &target, time);
+        assert_eq!(image.non_finite_count(), 0);
+        let front = image.get(centre, centre)[3];
+        let expected = camera.eye.length() - radius;
+        assert!(
+            (front - expected).abs() < 0.01 * radius,
+            "t = {time}: the sphere's front is {front} m from the eye, expected {expected}"
+        );
+        // The floor point is seen (not the sphere) at every time.
+        let floor = image.get(fx, fy);
+        let along = camera.eye.distance(floor_point);
+        assert!(
+            (floor[3] - along).abs() < 0.1,
+            "t = {time}: the floor point's pixel is {} m away, expected {along}",
+            floor[3]
+        );
+        images.push((time, luminance(floor), image));
+    }
+    let (lit, shadowed) = (images[0].1, images[1].1);
+    assert!(
+        lit > 0.1 && shadowed < 0.1 * lit,
+        "the floor 2.2 m off the light's axis should be lit under the unit sphere ({lit}) and \
+         in the radius-2 sphere's shadow ({shadowed}): the shadow maps follow the deformation"
+    );
+    assert!(
+        images[0].2 != images[1].2,
+        "the images at t = 0 and 1 are the same"
+    );
+    assert!(
+        images[0].2 == images[3].2,
+        "t = 0 after t = 1 draws what the first t = 0 drew"
+    );
+}
