@@ -14,6 +14,7 @@
 
 #![warn(missing_docs)]
 
+pub mod caustics;
 pub mod nearby;
 pub mod rectangles;
 pub mod search;

@@ -45,7 +45,11 @@ impl Rect {
     /// `radius`, seen from the refractor's centre `from` (figure 13's initial pass).
     pub fn square(from: Vec3, centre: Vec3, radius: f32) -> Self {
         let direction = (centre - from).normalize_or(Vec3::NEG_Z);
-        let hint = if direction.y.abs() < 0.99 { Vec3::Y } else { Vec3::X };
+        let hint = if direction.y.abs() < 0.99 {
+            Vec3::Y
+        } else {
+            Vec3::X
+        };
         let axis_u = direction.cross(hint).normalize();
         let axis_v = axis_u.cross(direction);
         let distance = (centre - from).dot(direction);
@@ -73,9 +77,19 @@ impl Rect {
         let direction = -normal;
         // Right-handed frame looking along `direction`: u x v must equal -direction.
         let (axis_u, axis_v, half_u, half_v) = if u.cross(v).dot(direction) < 0.0 {
-            (u.normalize(), v.normalize(), 0.5 * u.length(), 0.5 * v.length())
+            (
+                u.normalize(),
+                v.normalize(),
+                0.5 * u.length(),
+                0.5 * v.length(),
+            )
         } else {
-            (v.normalize(), u.normalize(), 0.5 * v.length(), 0.5 * u.length())
+            (
+                v.normalize(),
+                u.normalize(),
+                0.5 * v.length(),
+                0.5 * u.length(),
+            )
         };
         let depth = 0.5 * (half_u + half_v).max(1e-2);
         Self {
@@ -239,4 +253,28 @@ pub fn nearby_hit(
         }
     }
     best
+}
+
+/// Impostor depth textures in memory, as the shader reads them: one square layer per
+/// rectangle, normalized depth per texel (rows top to bottom), 1 where the object does not
+/// cover it; nearest texel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthLayers {
+    /// Side of each layer.
+    pub resolution: u32,
+    /// One layer per rectangle.
+    pub layers: Vec<Vec<f32>>,
+}
+
+impl ImpostorDepth for DepthLayers {
+    fn depth(&self, rect: usize, uv: Vec2) -> Option<f32> {
+        if !(uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all()) {
+            return None;
+        }
+        let res = self.resolution as f32;
+        let x = (uv.x * res).floor().min(res - 1.0) as usize;
+        let y = (uv.y * res).floor().min(res - 1.0) as usize;
+        let d = self.layers[rect][y * self.resolution as usize + x];
+        (d < 1.0).then_some(d)
+    }
 }

@@ -122,9 +122,11 @@ impl Member {
                 world.transform_vector3(v),
                 from,
             ),
-            Shape::Square => {
-                Rect::square(from, object.center_at(time), object.bounding_radius_at(time))
-            }
+            Shape::Square => Rect::square(
+                from,
+                object.center_at(time),
+                object.bounding_radius_at(time),
+            ),
         }
     }
 }
@@ -148,7 +150,11 @@ pub fn members(scene: &scene::Scene, refractor: usize) -> Vec<Member> {
         })
         .collect();
     members.sort_by(|a, b| a.0.total_cmp(&b.0));
-    members.into_iter().take(MAX_RECTS).map(|(_, m)| m).collect()
+    members
+        .into_iter()
+        .take(MAX_RECTS)
+        .map(|(_, m)| m)
+        .collect()
 }
 
 /// The parallel projection of a rectangle's texture (figure 13's `glOrtho` along the
@@ -174,7 +180,7 @@ pub struct RefractorRects {
     pub members: Vec<Member>,
     /// The first texture array layer of its rectangles.
     pub first_layer: u32,
-    rects: wgpu::Buffer,
+    pub(crate) rects: wgpu::Buffer,
     /// Kept alive for `group`, which binds it.
     _params: Uniform<NearbyParamsGpu>,
     /// `@group(3)` of nearby.wgsl.
@@ -204,10 +210,10 @@ pub fn group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
         "nearby rectangles",
         wgpu::ShaderStages::FRAGMENT,
         &[
-            bind::storage(true),                                          // rects
-            bind::uniform(),                                              // nearby
-            bind::texture(wgpu::TextureViewDimension::D2Array, false),    // impostor_color
-            bind::depth_texture(wgpu::TextureViewDimension::D2Array),     // impostor_depth
+            bind::storage(true),                                       // rects
+            bind::uniform(),                                           // nearby
+            bind::texture(wgpu::TextureViewDimension::D2Array, false), // impostor_color
+            bind::depth_texture(wgpu::TextureViewDimension::D2Array),  // impostor_depth
         ],
     )
 }

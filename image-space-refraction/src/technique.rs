@@ -12,6 +12,7 @@
 //! 4. "lookup": the specular objects drawn with `refract.wgsl`, which follows each pixel's
 //!    refracted ray through the variant's second interface to the environment.
 
+use crate::caustics::{CausticSettings, Caustics, RefractorBindings};
 use crate::rectangles::{self, NearbyParamsGpu, Rectangles};
 use crate::search::Eye;
 use glam::{Mat4, Vec3};
@@ -29,7 +30,13 @@ use scene::{
 pub const SEARCH_WGSL: &str = include_str!("shaders/search.wgsl");
 const REFRACT_WGSL: &str = include_str!("shaders/refract.wgsl");
 const ENVIRONMENT_WGSL: &str = include_str!("shaders/environment.wgsl");
-const NEARBY_WGSL: &str = include_str!("shaders/nearby.wgsl");
+const NEARBY_WGSL: &str = concat!(
+    include_str!("shaders/rect.wgsl"),
+    "\n",
+    include_str!("shaders/nearby.wgsl"),
+    "\n",
+    include_str!("shaders/photon.wgsl")
+);
 
 /// Format of the environment cube maps.
 pub const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -86,6 +93,8 @@ pub struct Settings {
     pub thickness: f32,
     /// Nearby geometry as rectangle impostors (section 2.2), or the environment map alone.
     pub nearby: Option<Nearby>,
+    /// Caustics (section 3; needs `nearby`: photons land on the rectangles).
+    pub caustics: Option<CausticSettings>,
 }
 
 /// Parameters of the rectangle impostors of nearby geometry (section 2.2).
@@ -131,6 +140,7 @@ impl Default for Settings {
             back_first: false,
             thickness: 1.0,
             nearby: None,
+            caustics: None,
         }
     }
 }
@@ -144,6 +154,16 @@ pub struct EyeGpu {
     position: [f32; 4],
     forward: [f32; 4],
     size: [f32; 4],
+}
+
+impl EyeGpu {
+    /// A light's view for the photon pass: `size.z` its pixel size at unit distance, `size.w`
+    /// the light's index.
+    pub fn for_light(mut self, pixel_size: f32, light: u32) -> Self {
+        self.size[2] = pixel_size;
+        self.size[3] = light as f32;
+        self
+    }
 }
 
 impl From<&Eye> for EyeGpu {
@@ -193,6 +213,7 @@ struct State {
     impostor_pipeline: Option<wgpu::RenderPipeline>,
     maps: Vec<ObjectMap>,
     rectangles: Option<Rectangles>,
+    caustics: Option<Caustics>,
     normal_thickness: wgpu::Buffer,
     eye: Uniform<EyeGpu>,
     screen: Option<Screen>,
@@ -239,6 +260,16 @@ impl Refraction {
         self
     }
 
+    /// The caustic passes, once prepared (caustic variants; for tests).
+    pub fn caustics(&self) -> Option<&Caustics> {
+        self.state.as_ref()?.caustics.as_ref()
+    }
+
+    /// The rectangle impostors, once prepared (nearby variants; for tests).
+    pub fn rectangles(&self) -> Option<&Rectangles> {
+        self.state.as_ref()?.rectangles.as_ref()
+    }
+
     fn params_gpu(&self, scene: &GpuScene, object: usize) -> ParamsGpu {
         let o = &scene.scene.objects[object];
         let time = scene.time();
@@ -260,6 +291,19 @@ impl Refraction {
 
 /// The variants of this crate.
 pub fn variants() -> Vec<Box<dyn Technique>> {
+    configured()
+        .into_iter()
+        .map(|r| Box::new(r) as Box<dyn Technique>)
+        .collect()
+}
+
+/// One variant by its name (`hu-qin`, `caustics`, ...), as its concrete type.
+pub fn variant(name: &str) -> Option<Refraction> {
+    let id = format!("image-space-refraction/{name}");
+    configured().into_iter().find(|r| r.id == id)
+}
+
+fn configured() -> Vec<Refraction> {
     let with = |variant, back_first| Settings {
         variant,
         back_first,
@@ -275,48 +319,58 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
         ..Settings::default()
     };
     vec![
-        Box::new(Refraction::new(
+        (Refraction::new(
             &id("one-interface"),
             "refraction at the visible surface only, the environment map looked up with T1",
             with(Variant::OneInterface, false),
         )),
-        Box::new(Refraction::new(
+        (Refraction::new(
             &id("two-interface-baseline"),
             "Wyman 2005: exit point from the view-ray and precomputed normal thickness, \
              back-facing normal (the method Hu and Qin improve)",
             with(Variant::TwoInterfaceBaseline, false),
         )),
-        Box::new(Refraction::new(
+        (Refraction::new(
             &id("hu-qin"),
             "Hu and Qin 2006: front/back buffers every frame, silhouette search and angle \
              test, iterative d_T, environment map",
             with(Variant::HuQin, false),
         )),
-        Box::new(Refraction::new(
+        (Refraction::new(
             &id("hu-qin-back-first"),
             "hu-qin with section 4's acceleration: back side first, front side when P2 \
              leaves the silhouette",
             with(Variant::HuQin, true),
         )),
-        Box::new(Refraction::new(
+        (Refraction::new(
             &id("nearby-uncorrected"),
             "hu-qin with nearby objects as rectangle impostors (section 2.2), the texel where \
              the ray meets the rectangle",
             nearby(false, false),
         )),
-        Box::new(Refraction::new(
+        (Refraction::new(
             &id("nearby-corrected"),
             "hu-qin with rectangle impostors and the iterative depth correction from the \
              paper's seed (figures 16-17)",
             nearby(true, false),
         )),
-        Box::new(Refraction::new(
+        (Refraction::new(
             &id("recursive"),
             "nearby-corrected with reflective and refractive nearby objects drawn into their \
              textures with their own shading (recursive reflections and refractions)",
             nearby(true, true),
         )),
-        Box::new(Refraction::new(
+        (Refraction::new(
+            &id("caustics"),
+            "nearby-corrected with caustics: photon buffers from the lights through the \
+             refractor, caustic textures on the rectangles filtered on the GPU, caustic \
+             mapping onto the receivers (section 3)",
+            Settings {
+                caustics: Some(CausticSettings::default()),
+                ..nearby(true, false)
+            },
+        )),
+        (Refraction::new(
             &id("thickness-proxy"),
             "engine baseline: screen-space refraction with a thickness proxy (HDRP's sphere \
              model: one bend, a sphere's chord, the scene colour buffer)",
@@ -409,6 +463,44 @@ impl Technique for Refraction {
             )),
             _ => {}
         }
+        if self.settings.caustics.is_some() {
+            let d = CausticSettings::default();
+            params.extend([
+                param(
+                    "photon_buffer",
+                    d.photon_size as f64,
+                    8.0,
+                    2048.0,
+                    true,
+                    "side of each light's photon buffer (photons per light: its square)",
+                ),
+                param(
+                    "caustic_resolution",
+                    d.resolution as f64,
+                    8.0,
+                    2048.0,
+                    true,
+                    "side of each rectangle's caustic texture (texels)",
+                ),
+                param(
+                    "filter_k",
+                    d.k as f64,
+                    0.0,
+                    8.0,
+                    true,
+                    "the caustic filter's half size k (section 3.2; the paper's default 2)",
+                ),
+                param(
+                    "filter_s",
+                    d.scale as f64,
+                    0.0,
+                    100.0,
+                    false,
+                    "the caustic filter's scale s (1: the photons' power; the filter is \
+                     normalized by its weights)",
+                ),
+            ]);
+        }
         if let Some(n) = self.settings.nearby {
             let d = Nearby::default();
             params.push(param(
@@ -460,8 +552,20 @@ impl Technique for Refraction {
             "initial_step" => s.initial_step = value as f32,
             "back_first" => s.back_first = value != 0.0,
             "thickness" => s.thickness = value as f32,
+            "photon_buffer" | "caustic_resolution" | "filter_k" | "filter_s" => {
+                let c = s.caustics.as_mut().expect("declared only with caustics");
+                match name {
+                    "photon_buffer" => c.photon_size = value as u32,
+                    "caustic_resolution" => c.resolution = value as u32,
+                    "filter_k" => c.k = value as u32,
+                    _ => c.scale = value as f32,
+                }
+            }
             "impostor_resolution" | "seeds" | "corrections" | "depth_tolerance" => {
-                let n = s.nearby.as_mut().expect("declared only with nearby geometry");
+                let n = s
+                    .nearby
+                    .as_mut()
+                    .expect("declared only with nearby geometry");
                 match name {
                     "impostor_resolution" => n.resolution = value as u32,
                     "seeds" => n.seeds = value as u32,
@@ -490,7 +594,7 @@ impl Technique for Refraction {
         )?;
         let layout = group_layout(ctx);
         let nearby_layout = rectangles::group_layout(ctx);
-        let (front_pipeline, back_pipeline, refract_pipeline) = match self.settings.nearby {
+        let made = match self.settings.nearby {
             Some(_) => pipelines(ctx, scene, &[&layout, &nearby_layout], NEARBY_WGSL),
             None => pipelines(ctx, scene, &[&layout], ENVIRONMENT_WGSL),
         };
@@ -498,7 +602,7 @@ impl Technique for Refraction {
             .settings
             .nearby
             .filter(|n| n.recursive)
-            .map(|_| pipelines(ctx, scene, &[&layout], ENVIRONMENT_WGSL).2);
+            .map(|_| pipelines(ctx, scene, &[&layout], ENVIRONMENT_WGSL).refract);
         let rectangles = match self.settings.nearby {
             Some(n) => {
                 check_map_budget(
@@ -507,7 +611,8 @@ impl Technique for Refraction {
                     u64::from(n.resolution).pow(2) * 20,
                     "impostor_resolution",
                 )?;
-                let params = NearbyParamsGpu::new(0, n.corrected, n.seeds, n.iterations, n.tolerance);
+                let params =
+                    NearbyParamsGpu::new(0, n.corrected, n.seeds, n.iterations, n.tolerance);
                 Some(ctx.allocating("rectangle impostors", || {
                     Rectangles::new(ctx, &scene.scene, &specular, n.resolution, params)
                 })?)
@@ -535,14 +640,32 @@ impl Technique for Refraction {
         };
         let normal_thickness = storage_buffer(ctx, "d_N per vertex", &thickness);
         let eye = Uniform::new(ctx, "eye", &EyeGpu::from(&placeholder_eye()));
+        let caustics = match (self.settings.caustics, &rectangles, made.photon) {
+            (Some(settings), Some(rects), Some(photon_pipeline)) => {
+                let bindings = RefractorBindings {
+                    layout: &layout,
+                    refractors: maps
+                        .iter()
+                        .map(|m| (&m.cube.cube_view, m.params.binding()))
+                        .collect(),
+                    normal_thickness: &normal_thickness,
+                    photon_pipeline,
+                };
+                Some(ctx.allocating("caustics", || {
+                    Caustics::new(ctx, scene, settings, rects, bindings)
+                })?)
+            }
+            _ => None,
+        };
         self.state = Some(State {
             layout,
-            front_pipeline,
-            back_pipeline,
-            refract_pipeline,
+            front_pipeline: made.front,
+            back_pipeline: made.back,
+            refract_pipeline: made.refract,
             impostor_pipeline,
             maps,
             rectangles,
+            caustics,
             normal_thickness,
             eye,
             screen: None,
@@ -605,38 +728,53 @@ impl Technique for Refraction {
             let centre = scene.scene.objects[map.object].center_at(scene.time());
             let mut left_out = in_rectangles.clone();
             left_out.push(map.object);
-            scene.raster_cube(frame, &map.cube, centre, &ObjectFilter::Except(left_out), false);
+            scene.raster_cube(
+                frame,
+                &map.cube,
+                centre,
+                &ObjectFilter::Except(left_out),
+                false,
+            );
         }
         frame.timer.end(frame.encoder, "regenerate");
 
         let screen = state.screen.as_ref().expect("ensure_screen made it");
         if let Some(rects) = &state.rectangles {
             frame.timer.begin(frame.encoder, "impostors");
-            let mut draw = |frame: &mut Frame, object: usize, view_proj, eye, target: RasterTarget| {
-                let i = state.maps.iter().position(|m| m.object == object);
-                let (Some(i), Some(pipeline)) = (i, &state.impostor_pipeline) else {
-                    return;
+            let mut draw =
+                |frame: &mut Frame, object: usize, view_proj, eye, target: RasterTarget| {
+                    let i = state.maps.iter().position(|m| m.object == object);
+                    let (Some(i), Some(pipeline)) = (i, &state.impostor_pipeline) else {
+                        return;
+                    };
+                    let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
+                    let mut pass = scene::begin_scene_pass(
+                        frame.encoder,
+                        &target,
+                        scene.scene.background,
+                        "recursive impostor",
+                    );
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, &camera, &[]);
+                    pass.set_bind_group(1, scene.bind_group(), &[]);
+                    pass.set_bind_group(2, &screen.impostor_groups[i], &[]);
+                    scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![object]));
                 };
-                let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
-                let mut pass = scene::begin_scene_pass(
-                    frame.encoder,
-                    &target,
-                    scene.scene.background,
-                    "recursive impostor",
-                );
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &camera, &[]);
-                pass.set_bind_group(1, scene.bind_group(), &[]);
-                pass.set_bind_group(2, &screen.impostor_groups[i], &[]);
-                scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![object]));
-            };
             let recursive = state.impostor_pipeline.is_some();
-            rects.render(
-                frame,
-                scene,
-                if recursive { Some(&mut draw) } else { None },
-            );
+            rects.render(frame, scene, if recursive { Some(&mut draw) } else { None });
             frame.timer.end(frame.encoder, "impostors");
+            if let Some(caustics) = &state.caustics {
+                frame.timer.begin(frame.encoder, "caustics");
+                let refractors: Vec<usize> = state.maps.iter().map(|m| m.object).collect();
+                caustics.record(
+                    frame,
+                    scene,
+                    &refractors,
+                    rects,
+                    [&state.front_pipeline, &state.back_pipeline],
+                );
+                frame.timer.end(frame.encoder, "caustics");
+            }
         }
 
         let specular: Vec<usize> = state.maps.iter().map(|m| m.object).collect();
@@ -677,6 +815,9 @@ impl Technique for Refraction {
             &ObjectFilter::Except(specular.clone()),
             false,
         );
+        if let (Some(caustics), Some(rects)) = (&state.caustics, &state.rectangles) {
+            caustics.map(frame, scene, &camera, rects, &main);
+        }
         if variant == Variant::ThicknessProxy {
             frame.encoder.copy_texture_to_texture(
                 target.color.as_image_copy(),
@@ -799,11 +940,7 @@ fn pipelines(
     scene: &GpuScene,
     layouts: &[&wgpu::BindGroupLayout],
     radiance_wgsl: &str,
-) -> (
-    wgpu::RenderPipeline,
-    wgpu::RenderPipeline,
-    wgpu::RenderPipeline,
-) {
+) -> Pipelines {
     let source = format!(
         "{}\n{SEARCH_WGSL}\n{REFRACT_WGSL}\n{radiance_wgsl}",
         scene::SCENE_WGSL
@@ -845,11 +982,49 @@ fn pipelines(
             multiview_mask: None,
             cache: None,
         });
-    (
-        buffer_pipeline("front_buffer_fs"),
-        buffer_pipeline("back_buffer_fs"),
+    // Only the nearby module (`layouts` with @group(3)) has photon_fs.
+    let photon = (layouts.len() > 1).then(|| {
+        ctx.device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("photon buffer"),
+                layout: Some(&refract_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("refractor_vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(gpu::Vertex::layout())],
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("photon_fs"),
+                    compilation_options: Default::default(),
+                    targets: &[
+                        gpu::pass::color_target(BUFFER_FORMAT, None),
+                        gpu::pass::color_target(BUFFER_FORMAT, None),
+                    ],
+                }),
+                primitive: Default::default(),
+                depth_stencil: Some(gpu::pass::depth_state(true, wgpu::CompareFunction::Less)),
+                multisample: Default::default(),
+                multiview_mask: None,
+                cache: None,
+            })
+    });
+    Pipelines {
+        front: buffer_pipeline("front_buffer_fs"),
+        back: buffer_pipeline("back_buffer_fs"),
         refract,
-    )
+        photon,
+    }
+}
+
+/// The pipelines of one shader module.
+struct Pipelines {
+    front: wgpu::RenderPipeline,
+    back: wgpu::RenderPipeline,
+    refract: wgpu::RenderPipeline,
+    /// The photon pass (with nearby geometry only: photons land on the rectangles).
+    photon: Option<wgpu::RenderPipeline>,
 }
 
 /// Wyman's `d_N`: per vertex of each specular object, the distance along the inward normal

@@ -274,3 +274,62 @@ fn back_first_misjudges_few_exits() {
     println!("back-first names the wrong side for {wrong} of {total} entries ({share:.4})");
     assert!(share < 0.05, "{wrong} of {total}");
 }
+
+/// Photons from a point light through the sphere onto a floor, as the photon buffer traces
+/// them (the light's view at 128 x 128, the angle test): where they land against where the
+/// exact refraction puts them. Printed as quantiles of the landing error (in sphere radii).
+#[test]
+fn photons_land_near_their_exact_landing_points() {
+    let light = Vec3::new(-2.4, 3.6, 1.0);
+    let centre = Vec3::ZERO;
+    let floor = -1.3;
+    let size = 128;
+    let distance = light.distance(centre);
+    let half = (1.05 * RADIUS / distance).asin();
+    let camera = scene::Camera {
+        eye: light,
+        target: centre,
+        up: Vec3::Y,
+        fov_y_deg: (2.0 * half).to_degrees(),
+    };
+    let e = Eye::of_camera(&camera, size, size);
+    let buffers = search::FrontBack::sphere(&e, centre, RADIUS);
+    let land = |p: Vec3, d: Vec3| p + d * ((floor - p.y) / d.y);
+    let mut errors = Vec::new();
+    for ior in [1.15f32, 1.5] {
+        errors.clear();
+        for y in 0..size {
+            for x in 0..size {
+                let pixel = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                let Some(front) = buffers.texel(Side::Front, pixel) else {
+                    continue;
+                };
+                let p1 = e.unproject(pixel, front.depth);
+                let v = (p1 - light).normalize();
+                let t1 = gpu::prelude::refract_dir(v, front.normal, 1.0 / ior).truncate();
+                let exact_exit = exact_exit(&Sphere { eye: e, centre }, p1, t1);
+                let n2 = exact_exit.normalize();
+                let exact_t2 = gpu::prelude::refract_dir(t1, -n2, ior);
+                let exit = hu_qin_exit(&buffers, &e, p1, v, t1, Strategy::AngleTest, &FINE);
+                let t2 = exit_direction(&exit, t1, ior);
+                if exact_t2.w < 0.5 || t2.w < 0.5 || exact_t2.y >= 0.0 || t2.y >= 0.0 {
+                    continue;
+                }
+                let a = land(exact_exit, exact_t2.truncate());
+                let b = land(exit.point, t2.truncate());
+                errors.push(a.distance(b) / RADIUS);
+            }
+        }
+        errors.sort_by(f32::total_cmp);
+        let q = |f: f32| errors[((errors.len() - 1) as f32 * f) as usize];
+        println!(
+            "ior {ior}: {} photons, landing error (radii) median {:.4}, 90% {:.4}, 99% {:.4}, max {:.4}",
+            errors.len(),
+            q(0.5),
+            q(0.9),
+            q(0.99),
+            q(1.0)
+        );
+        assert!(q(0.9) < 0.05, "90% of photons land within 0.05 radii");
+    }
+}

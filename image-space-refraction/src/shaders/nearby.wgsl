@@ -1,20 +1,7 @@
 // Nearby geometry as rectangle impostors (Hu and Qin 2006, section 2.2): the WGSL of the Rust
 // twin `src/nearby.rs` (same algorithms and names; read its comments). After the prelude and
-// refract.wgsl's bindings; defines `outgoing_radiance`, which refract.wgsl calls for every ray
+// refract.wgsl's bindings and rect.wgsl; defines `outgoing_radiance`, which refract.wgsl calls for every ray
 // that leaves the refractor: the nearest rectangle's texel, else the environment map.
-
-struct Rect {
-    // xyz: centre; w: half extent along axis_u.
-    centre: vec4f,
-    // xyz: unit u axis; w: half extent along axis_v.
-    axis_u: vec4f,
-    // xyz: unit v axis (up); w: near depth.
-    axis_v: vec4f,
-    // xyz: unit projection direction; w: far depth.
-    direction: vec4f,
-    // xyz: depth origin; w: texture array layer.
-    origin: vec4f,
-};
 
 struct NearbyParams {
     count: u32,
@@ -32,34 +19,6 @@ struct NearbyParams {
 @group(3) @binding(1) var<uniform> nearby: NearbyParams;
 @group(3) @binding(2) var impostor_color: texture_2d_array<f32>;
 @group(3) @binding(3) var impostor_depth: texture_depth_2d_array;
-
-struct RectHit {
-    t: f32,
-    uv: vec2f,
-    hit: bool,
-};
-
-fn rect_project(r: Rect, p: vec3f) -> vec3f {
-    let local = p - r.centre.xyz;
-    return vec3f(0.5 + dot(local, r.axis_u.xyz) / (2.0 * r.centre.w),
-                 0.5 - dot(local, r.axis_v.xyz) / (2.0 * r.axis_u.w),
-                 dot(p - r.origin.xyz, r.direction.xyz));
-}
-
-fn rect_depth_of(r: Rect, normalized: f32) -> f32 {
-    return r.axis_v.w + normalized * (r.direction.w - r.axis_v.w);
-}
-
-fn rect_hit(r: Rect, origin: vec3f, dir: vec3f) -> RectHit {
-    var none = RectHit(0.0, vec2f(0.0), false);
-    let denom = dot(dir, r.direction.xyz);
-    if (abs(denom) < 1e-8) { return none; }
-    let t = dot(r.centre.xyz - origin, r.direction.xyz) / denom;
-    if (!(t > 0.0)) { return none; }
-    let uv = rect_project(r, origin + dir * t).xy;
-    if (any(uv < vec2f(0.0)) || any(uv > vec2f(1.0))) { return none; }
-    return RectHit(t, uv, true);
-}
 
 fn impostor_texel(r: Rect, uv: vec2f) -> vec2i {
     let size = vec2f(textureDimensions(impostor_depth));
