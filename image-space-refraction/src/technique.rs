@@ -227,6 +227,9 @@ struct ObjectMap {
     /// The same with the one-interface variant: how the object is drawn into the rectangle
     /// textures of the recursive variant.
     impostor_params: Uniform<ParamsGpu>,
+    /// Recursive variant: the whole environment (nearby objects included) from the object's
+    /// centre, which its one-interface shading in the rectangle textures looks up.
+    full_cube: Option<CubeTarget>,
 }
 
 /// The resources that follow the view's size.
@@ -626,8 +629,19 @@ impl Technique for Refraction {
                 variant: Variant::OneInterface.wgsl_id(),
                 ..params
             };
+            let recursive = self.settings.nearby.is_some_and(|n| n.recursive);
             maps.push(ObjectMap {
                 object,
+                full_cube: if recursive {
+                    Some(CubeTarget::new(
+                        ctx,
+                        resolution,
+                        ENV_FORMAT,
+                        "whole environment",
+                    )?)
+                } else {
+                    None
+                },
                 cube: CubeTarget::new(ctx, resolution, ENV_FORMAT, "environment map")?,
                 params: Uniform::new(ctx, "refract params", &params),
                 impostor_params: Uniform::new(ctx, "impostor params", &one_interface),
@@ -735,6 +749,10 @@ impl Technique for Refraction {
                 &ObjectFilter::Except(left_out),
                 false,
             );
+            if let Some(full) = &map.full_cube {
+                let own = ObjectFilter::Except(vec![map.object]);
+                scene.raster_cube(frame, full, centre, &own, false);
+            }
         }
         frame.timer.end(frame.encoder, "regenerate");
 
@@ -878,13 +896,13 @@ impl State {
         );
         let (front, back, depth, scene_color_view) =
             (view(&front), view(&back), view(&depth), view(&scene_color));
-        let group = |m: &ObjectMap, params: &Uniform<ParamsGpu>| {
+        let group = |cube: &CubeTarget, params: &Uniform<ParamsGpu>| {
             bind::group(
                 ctx,
                 "image-space refraction",
                 &self.layout,
                 &[
-                    bind::view(&m.cube.cube_view),
+                    bind::view(&cube.cube_view),
                     bind::sampler_resource(&ctx.samplers.linear_clamp),
                     params.binding(),
                     self.eye.binding(),
@@ -895,11 +913,15 @@ impl State {
                 ],
             )
         };
-        let groups = self.maps.iter().map(|m| group(m, &m.params)).collect();
+        let groups = self
+            .maps
+            .iter()
+            .map(|m| group(&m.cube, &m.params))
+            .collect();
         let impostor_groups = self
             .maps
             .iter()
-            .map(|m| group(m, &m.impostor_params))
+            .map(|m| group(m.full_cube.as_ref().unwrap_or(&m.cube), &m.impostor_params))
             .collect();
         self.screen = Some(Screen {
             width,

@@ -47,8 +47,10 @@ const BUNNY_HEIGHT: f32 = 0.55;
 const DURATION: f32 = 2.0;
 
 /// `hu-qin` with the refractor `refractor` (one of [`REFRACTOR_HELP`]) of index `ior` (in
-/// [`Material::IOR_RANGE`]).
-pub fn hu_qin(refractor: &str, ior: f32) -> Result<Scene, SceneError> {
+/// [`Material::IOR_RANGE`]); with `gold_sphere` the small sphere beside it is gold instead of
+/// blue diffuse: a reflector that the refractor sees and that sees the refractor (recursive
+/// reflections and refractions, the paper's figure 1b and 24g).
+pub fn hu_qin(refractor: &str, ior: f32, gold_sphere: bool) -> Result<Scene, SceneError> {
     if !Material::IOR_RANGE.contains(&ior) {
         let r = Material::IOR_RANGE;
         return Err(SceneError::BadParam(format!(
@@ -151,13 +153,26 @@ pub fn hu_qin(refractor: &str, ior: f32) -> Result<Scene, SceneError> {
         0.0,
         Material::diffuse(0.15, 0.6, 0.2),
     ));
-    objects.push(placed(
-        "blue sphere",
+    let small_sphere = placed(
+        if gold_sphere {
+            "gold sphere"
+        } else {
+            "blue sphere"
+        },
         uv_sphere(0.12, 16, 32),
         Vec3::new(-0.17, 0.12, -0.65),
         0.0,
-        Material::diffuse(0.12, 0.22, 0.75),
-    ));
+        if gold_sphere {
+            Material::gold()
+        } else {
+            Material::diffuse(0.12, 0.22, 0.75)
+        },
+    );
+    objects.push(if gold_sphere {
+        small_sphere.with_roles(Roles::REFLECTOR)
+    } else {
+        small_sphere
+    });
     objects.push(placed(
         "yellow box",
         block(0.2, 0.3, 0.2),
@@ -302,7 +317,7 @@ mod tests {
     #[test]
     fn every_refractor_is_valid_sized_and_placed() {
         for name in ["sphere", "teapot", "bunny", "morph"] {
-            let scene = hu_qin(name, 1.15).unwrap();
+            let scene = hu_qin(name, 1.15, false).unwrap();
             scene.validate().unwrap();
             assert_eq!(scene.specular_objects().len(), 1, "{name}");
             let glass = refractor(&scene);
@@ -339,10 +354,10 @@ mod tests {
             }
         }
         assert!(matches!(
-            hu_qin("cube", 1.15),
+            hu_qin("cube", 1.15, false),
             Err(SceneError::BadParam(m)) if m.contains("sphere, teapot, bunny, morph")
         ));
-        assert!(hu_qin("sphere", 5.0).is_err());
+        assert!(hu_qin("sphere", 5.0, false).is_err());
     }
 
     /// The teapot is closed with outward normals: every edge (by position) is used once in
@@ -381,7 +396,7 @@ mod tests {
 
     #[test]
     fn the_morphing_refractor_deforms_along_the_path() {
-        let scene = hu_qin("morph", 1.15).unwrap();
+        let scene = hu_qin("morph", 1.15, false).unwrap();
         let glass = refractor(&scene);
         assert!(glass.is_deforming());
         let morph = glass.morph.as_ref().unwrap();

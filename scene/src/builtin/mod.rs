@@ -309,9 +309,22 @@ fn registry() -> Vec<Builtin> {
                         (*ior.start() as f64, *ior.end() as f64),
                         "index of refraction of the refractor",
                     ),
+                    integer(
+                        "gold_sphere",
+                        "0",
+                        (0.0, 1.0),
+                        "1: the small sphere beside the refractor is gold (recursive \
+                         reflections and refractions)",
+                    ),
                 ],
             },
-            build: |a| hu_qin::hu_qin(&a.get("refractor"), a.num("ior")?),
+            build: |a| {
+                hu_qin::hu_qin(
+                    &a.get("refractor"),
+                    a.num("ior")?,
+                    a.num("gold_sphere")? != 0.0,
+                )
+            },
         },
     ]
 }
