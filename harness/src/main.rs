@@ -141,6 +141,8 @@ enum Command {
     Sweep {
         #[arg(long, value_name = "SCENE")]
         scene: String,
+        /// The technique's id, with other parameters fixed for the whole sweep if wanted:
+        /// `id:name=value:name=value`.
         #[arg(long, value_name = "ID")]
         technique: String,
         /// A technique or scene parameter and its values.

@@ -51,6 +51,9 @@ pub struct ResultRow {
     pub rmse_worst: Option<f64>,
     pub flip_mean_worst: Option<f64>,
     pub flip_mean_masked_worst: Option<f64>,
+    /// Mean FLIP over the mask's silhouette band (`truth::metrics::silhouette_band`), mean
+    /// over the error frames.
+    pub flip_mean_silhouette: Option<f64>,
     /// Time of the worst error frame (largest masked FLIP, else largest FLIP).
     pub worst_time: Option<f32>,
     /// The times of the error frames.
@@ -136,6 +139,7 @@ impl ResultRow {
         });
         self.flip_mean = Some(mean(at.iter().map(|e| e.metrics.flip_mean)));
         self.flip_mean_masked = Some(mean(at.iter().map(|e| e.metrics.flip_mean_masked)));
+        self.flip_mean_silhouette = Some(mean(at.iter().map(|e| e.metrics.flip_mean_silhouette)));
         self.flip_over_0_1_pct = Some(mean(at.iter().map(|e| e.metrics.flip_over_0_1_pct)));
         self.nan_pixels = at.iter().map(|e| e.metrics.nan_pixels).max();
         self.masked_pixels = Some(first.metrics.masked_pixels);
@@ -186,6 +190,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "flip_mean_masked_worst",
     "worst_time",
     "error_times",
+    "flip_mean_silhouette",
     "adapter",
     "error",
 ];
@@ -247,6 +252,7 @@ pub fn to_csv(rows: &[ResultRow], with_param: bool) -> String {
             csv_num(r.flip_mean_masked_worst),
             r.worst_time.map(|t| t.to_string()).unwrap_or_default(),
             csv_field(&times_list(&r.error_times)),
+            csv_num(r.flip_mean_silhouette),
             csv_field(&r.adapter),
             csv_field(r.error.as_deref().unwrap_or("")),
         ]);
@@ -303,6 +309,7 @@ pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
         "FLIP",
         "FLIP masked",
         "FLIP masked worst (t)",
+        "FLIP silhouette",
         "FLIP>0.1 %",
         "NaN px",
         "error",
@@ -325,6 +332,7 @@ pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
             md_num(r.flip_mean, 4),
             md_num(r.flip_mean_masked, 4),
             md_worst(r),
+            md_num(r.flip_mean_silhouette, 4),
             md_num(r.flip_over_0_1_pct, 2),
             r.nan_pixels
                 .map(|n| n.to_string())
@@ -413,6 +421,7 @@ mod tests {
                 psnr_db: 0.0,
                 flip_mean: flip,
                 flip_mean_masked: masked,
+                flip_mean_silhouette: masked,
                 flip_over_0_1_pct: 10.0 * flip,
                 nan_pixels: (time * 2.0) as usize,
                 masked_pixels: 7,

@@ -1,4 +1,6 @@
-//! `harness sweep`: one technique on one scene over the values of one parameter.
+//! `harness sweep`: one technique on one scene over the values of one parameter. The
+//! technique may be given with other parameters fixed for the whole sweep, as `bench` takes
+//! it: `--technique id:name=value:name=value`.
 //!
 //! The parameter is looked up first among the technique's declared parameters
 //! (`Technique::params`, set with `set_param` on a fresh instance per value), then among the
@@ -77,12 +79,19 @@ pub fn parse_param_arg(arg: &str) -> Result<(String, Vec<String>)> {
     Ok((name.trim().to_string(), values))
 }
 
-/// A fresh instance of technique `id`.
-fn instance(env: &Env, id: &str) -> Result<Box<dyn Technique>> {
-    (env.techniques)()
+/// A fresh instance of technique `id` with the `fixed` parameters of the sweep's technique
+/// spec set.
+fn instance(env: &Env, id: &str, fixed: &[(String, f64)]) -> Result<Box<dyn Technique>> {
+    let mut technique = (env.techniques)()
         .into_iter()
         .find(|t| t.id() == id)
-        .ok_or_else(|| anyhow!("technique {id} vanished"))
+        .ok_or_else(|| anyhow!("technique {id} vanished"))?;
+    for (name, value) in fixed {
+        technique
+            .set_param(name, *value)
+            .with_context(|| format!("technique {id}: {name}={value}"))?;
+    }
+    Ok(technique)
 }
 
 /// The built-in scene spec with `name=value` set.
@@ -96,7 +105,9 @@ fn scene_spec_with(spec: &str, name: &str, value: &str) -> Result<String> {
 /// Runs the sweep (see the module documentation) and writes every file.
 pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
     let all_ids: Vec<String> = (env.techniques)().iter().map(|t| t.id()).collect();
-    let ids = crate::select_techniques(&all_ids, Some(std::slice::from_ref(&opts.technique)))?;
+    // `id:name=value:...` fixes other parameters of the technique for the whole sweep.
+    let (technique_id, fixed) = crate::bench::parse_technique_spec(&opts.technique)?;
+    let ids = crate::select_techniques(&all_ids, Some(std::slice::from_ref(&technique_id)))?;
     let [id] = ids.as_slice() else {
         bail!(
             "\"{}\" names several techniques ({}); give one id",
@@ -108,7 +119,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
     for note in &notes {
         eprintln!("warning: {}: {note}", opts.scene);
     }
-    let probe = instance(env, id)?;
+    let probe = instance(env, id, &fixed)?;
     let owner = if probe.params().iter().any(|p| p.name == opts.param) {
         ParamOwner::Technique
     } else {
@@ -152,7 +163,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
                 let v: f64 = value
                     .parse()
                     .map_err(|_| anyhow!("{}={value} is not a number", opts.param))?;
-                instance(env, id)?.set_param(&opts.param, v)?;
+                instance(env, id, &fixed)?.set_param(&opts.param, v)?;
             }
             ParamOwner::Scene => {
                 let spec = scene_spec_with(&opts.scene, &opts.param, value)?;
@@ -230,7 +241,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             bail!("no scene prepared")
         };
 
-        let mut technique = instance(env, id)?;
+        let mut technique = instance(env, id, &fixed)?;
         let outcome = if !technique.supports(&scene) {
             Outcome {
                 row: row.with_error("the technique does not support this scene"),

@@ -352,6 +352,15 @@ fn configured() -> Vec<Refraction> {
             nearby(false, false),
         )),
         (Refraction::new(
+            &id("baseline-nearby"),
+            "two-interface-baseline with the rectangle impostors and depth correction: the \
+             paper's figure 11 (Wyman's exit point against Hu and Qin's, nearby geometry)",
+            Settings {
+                variant: Variant::TwoInterfaceBaseline,
+                ..nearby(true, false)
+            },
+        )),
+        (Refraction::new(
             &id("nearby-corrected"),
             "hu-qin with rectangle impostors and the iterative depth correction from the \
              paper's seed (figures 16-17)",
@@ -580,11 +589,19 @@ impl Technique for Refraction {
         }
         Ok(())
     }
+    fn required_features(&self) -> wgpu::Features {
+        match self.settings.caustics {
+            // Caustic mapping adds the caustics onto the 32-bit float target by blending.
+            Some(_) => wgpu::Features::FLOAT32_BLENDABLE,
+            None => wgpu::Features::empty(),
+        }
+    }
     fn supports(&self, scene: &Scene) -> bool {
         scene.objects.iter().any(|o| o.material.is_specular())
     }
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
+        ctx.require(self.required_features())?;
         let specular: Vec<usize> = (0..scene.scene.objects.len())
             .filter(|&i| scene.scene.objects[i].material.is_specular())
             .collect();

@@ -17,6 +17,9 @@
 //!   over the pixels where the mask is true (the pixels that show the technique's special
 //!   objects in the reference). Without a mask, or with an empty mask, `flip_mean_masked` is
 //!   NaN (an empty cell in CSV, `null` in JSON) and `masked_pixels` is 0.
+//!   `flip_mean_silhouette` is the mean over the mask's [`silhouette_band`]: the masked pixels
+//!   within a few pixels of an unmasked one, where image-space refraction techniques fail
+//!   first (Hu and Qin's figure 11); NaN where that band is empty.
 
 use gpu::HdrImage;
 
@@ -31,6 +34,8 @@ pub struct Metrics {
     pub flip_mean: f64,
     /// Mean FLIP over the masked pixels; NaN when there is no mask or it is empty.
     pub flip_mean_masked: f64,
+    /// Mean FLIP over the mask's silhouette band ([`silhouette_band`]); NaN when it is empty.
+    pub flip_mean_silhouette: f64,
     /// Percentage (0..100) of pixels with FLIP > 0.1.
     pub flip_over_0_1_pct: f64,
     /// Test pixels with a NaN or infinite channel.
@@ -97,6 +102,27 @@ pub fn to_srgb8(image: &HdrImage) -> Vec<u8> {
         ]);
     }
     out
+}
+
+/// Width of the silhouette band in pixels: 3% of the image's smaller side, at least 2.
+pub fn silhouette_band_width(width: u32, height: u32) -> u32 {
+    ((0.03 * width.min(height) as f32).round() as u32).max(2)
+}
+
+/// The masked pixels within [`silhouette_band_width`] pixels (Chebyshev distance) of an
+/// unmasked pixel or of the image's border: the band along the silhouettes of the objects the
+/// mask shows.
+pub fn silhouette_band(mask: &[bool], width: u32, height: u32) -> Vec<bool> {
+    let (w, h) = (width as i64, height as i64);
+    let r = silhouette_band_width(width, height) as i64;
+    let masked = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && mask[(y * w + x) as usize];
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            masked(x, y)
+                && (-r..=r).any(|dy| (-r..=r).any(|dx| !masked(x + dx, y + dy)))
+        })
+        .collect()
 }
 
 /// Compares `test` with `reference` (see the module documentation for the definitions).
@@ -183,11 +209,25 @@ pub fn compare(test: &HdrImage, reference: &HdrImage, mask: Option<&[bool]>) -> 
         }
         None => (f64::NAN, 0),
     };
+    let flip_mean_silhouette = match mask {
+        Some(m) => {
+            let band = silhouette_band(m, test.width, test.height);
+            mean(
+                map.values
+                    .iter()
+                    .zip(&band)
+                    .filter(|(_, b)| **b)
+                    .map(|(v, _)| *v as f64),
+            )
+        }
+        None => f64::NAN,
+    };
     let metrics = Metrics {
         rmse,
         psnr_db,
         flip_mean,
         flip_mean_masked,
+        flip_mean_silhouette,
         flip_over_0_1_pct,
         nan_pixels,
         masked_pixels,
