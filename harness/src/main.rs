@@ -347,7 +347,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
         } => {
             let (param, values) = harness::sweep::parse_param_arg(&param)?;
             let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
-            harness::select_techniques(&all_ids, Some(std::slice::from_ref(&technique)))?;
+            let (id, _) = harness::bench::parse_technique_spec(&technique)?;
+            harness::select_techniques(&all_ids, Some(std::slice::from_ref(&id)))?;
             harness::load_scene(&scene)?;
             let ctx = context()?;
             let reference = reference.reference();

@@ -195,7 +195,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             ParamOwner::Technique => (opts.scene.clone(), base_scene.clone()),
         };
         let suffix = format!("{}={value}", opts.param);
-        let mut row = ResultRow::new(&spec, id, opts.size, &adapter_name);
+        let mut row = ResultRow::new(&spec, &opts.technique, opts.size, &adapter_name);
         row.param = Some(opts.param.clone());
         row.value = Some(value.clone());
 
@@ -297,13 +297,13 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
             frame_ms: r.frame_ms_median,
         })
         .collect();
-    let title = format!("{id} on {} over {}", opts.scene, opts.param);
+    let title = format!("{} on {} over {}", opts.technique, opts.scene, opts.param);
     let text = plot::sweep_plot(&opts.out.join("sweep.png"), &title, &opts.param, &points)?;
 
     let report = SweepReport {
         adapter: AdapterJson::of(env.ctx),
         scene: opts.scene.clone(),
-        technique: id.clone(),
+        technique: opts.technique.clone(),
         param: opts.param.clone(),
         owner,
         size: opts.size.to_string(),

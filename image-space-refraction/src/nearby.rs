@@ -161,7 +161,8 @@ pub fn select_seed(
     let mut closest = (f32::INFINITY, t_rect);
     let n = seeds.max(1);
     for j in 0..=n {
-        let t = t_rect * j as f32 / n as f32;
+        // j / n first: exactly 1 for the last seed, which is then the rectangle hit itself.
+        let t = t_rect * (j as f32 / n as f32);
         let (uv, depth) = rect.project(origin + dir * t);
         let Some(stored) = depths.depth(index, uv) else {
             continue;

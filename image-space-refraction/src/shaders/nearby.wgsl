@@ -37,7 +37,7 @@ fn select_seed(r: Rect, origin: vec3f, dir: vec3f, t_rect: f32, seeds: u32) -> f
     var closest_t = t_rect;
     let n = max(seeds, 1u);
     for (var j = 0u; j <= n; j++) {
-        let t = t_rect * f32(j) / f32(n);
+        let t = t_rect * (f32(j) / f32(n));
         let q = rect_project(r, origin + dir * t);
         let stored = impostor_depth_at(r, q.xy);
         if (stored < 0.0) { continue; }
