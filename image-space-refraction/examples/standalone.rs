@@ -42,7 +42,9 @@ fn run(args: impl IntoIterator<Item = String>) -> Result<gpu::HdrImage, Box<dyn 
     let mut technique = image_space_refraction::techniques()
         .into_iter()
         .find(|t| t.id() == TECHNIQUE)
-        .ok_or(format!("image-space-refraction has no technique {TECHNIQUE}"))?;
+        .ok_or(format!(
+            "image-space-refraction has no technique {TECHNIQUE}"
+        ))?;
     technique.set_param("photon_buffer", 64.0)?;
 
     // Your device: plain wgpu, with the features the technique cannot run without.
@@ -220,6 +222,9 @@ mod tests {
             .iter()
             .map(|p| (p[0] + p[1] + p[2]) / 3.0)
             .fold(0.0f32, f32::max);
-        assert!(brightest > 1.0, "no caustic brighter than the lit floor ({brightest})");
+        assert!(
+            brightest > 1.0,
+            "no caustic brighter than the lit floor ({brightest})"
+        );
     }
 }

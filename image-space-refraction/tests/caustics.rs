@@ -107,7 +107,10 @@ fn caustic_error_against_the_reference_caustic() {
             println!(
                 "| {resolution}^2 | {photons}^2 | {k} | {rmse:.4} | {rmse_inside:.4} | {power:.3} |"
             );
-            assert!(rmse.is_finite() && (0.5..2.0).contains(&power), "power ratio {power}");
+            assert!(
+                rmse.is_finite() && (0.5..2.0).contains(&power),
+                "power ratio {power}"
+            );
         }
     }
 }

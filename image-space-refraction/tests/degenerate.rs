@@ -23,7 +23,11 @@ fn every_variant_renders_finite_pixels_in_degenerate_cases() {
                 t.set_param(c.name, 32.0).unwrap();
             }
             for f in [0.0, 0.5, 1.0] {
-                let image = render(t.as_mut(), &scene, Shot::along_path(&scene, f * duration, 40));
+                let image = render(
+                    t.as_mut(),
+                    &scene,
+                    Shot::along_path(&scene, f * duration, 40),
+                );
                 assert_eq!(
                     image.non_finite_count(),
                     0,
