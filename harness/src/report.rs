@@ -400,7 +400,7 @@ mod tests {
         assert_eq!(lines[0], CSV_COLUMNS.join(","));
         assert_eq!(
             lines[1],
-            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,,,,,,llvmpipe,\"said \"\"no\"\"\""
+            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,,,,,,,llvmpipe,\"said \"\"no\"\"\""
         );
         let swept = to_csv(std::slice::from_ref(&row), true);
         assert!(swept.starts_with("scene,technique,param,value,width"));
@@ -445,7 +445,8 @@ mod tests {
         let md = to_markdown(std::slice::from_ref(&row), false);
         assert!(md.contains("| 0.0700 (t 1) |"), "{md}");
         let csv = to_csv(std::slice::from_ref(&row), false);
-        assert!(csv.contains(",0.4,0.03,0.07,1,0;1;2,a,"), "{csv}");
+        assert!(csv.contains(",0.4,0.03,0.07,1,0;1;2,"), "{csv}");
+        assert!((row.flip_mean_silhouette.unwrap() - 0.04).abs() < 1e-12);
         // Without a mask the worst time is the largest whole-image FLIP's.
         let row = ResultRow::new("s", "t", crate::Size::new(4, 4), "a").with_errors_along(vec![
             at(0.0, 0.1, 0.02, f64::NAN),

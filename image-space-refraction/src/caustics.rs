@@ -13,9 +13,10 @@ use gpu::wgpu;
 use gpu::{Context, Uniform, bind};
 use scene::{Frame, GpuScene};
 
-/// Fixed-point counts a photon buffer's whole power may reach (2^24): a texel receiving every
-/// photon of 255 such buffers still fits a `u32`.
-pub const FULL_SCALE: f32 = 16_777_216.0;
+/// Fixed-point counts the power of all photon buffers of a frame together maps to (2^31): a
+/// texel receiving every photon of the frame still fits a `u32`, and one photon of a 128^2
+/// buffer is about 2^17 counts.
+pub const FULL_SCALE: f32 = 2_147_483_648.0;
 
 /// The paper's filter weight `sqrt(1 + 2k^2 - (i^2 + j^2))` of texel offset `(i, j)`.
 pub fn filter_weight(i: i32, j: i32, k: i32) -> f32 {
@@ -550,8 +551,8 @@ impl Caustics {
         let ctx = frame.gpu;
         let time = scene.time();
         let n = self.settings.photon_size;
-        // Fixed point: the largest photon buffer's power maps to FULL_SCALE counts.
-        let mut largest = 0.0f32;
+        // Fixed point: the power of all photon buffers together maps to FULL_SCALE counts.
+        let mut total = 0.0f32;
         let mut cameras = Vec::new();
         for v in &self.views {
             let o = &scene.scene.objects[refractors[v.refractor]];
@@ -564,11 +565,11 @@ impl Caustics {
             );
             if let Some((_, pixel)) = camera {
                 let power = light.intensity.max_element() * (pixel * n as f32).powi(2);
-                largest = largest.max(power);
+                total += power;
             }
             cameras.push(camera);
         }
-        let unit = largest.max(1e-20) / FULL_SCALE;
+        let unit = total.max(1e-20) / FULL_SCALE;
         let areas: Vec<f32> = rectangles
             .refractors
             .iter()

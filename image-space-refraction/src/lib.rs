@@ -2,12 +2,19 @@
 //! Refractions, and Caustics", IEEE TVCG 2007, sections 2-5): the refractor's front- and
 //! back-facing surfaces drawn from the eye every frame (no preprocessing, so a deforming
 //! refractor works), the second interface found by a silhouette search, an angle test and an
-//! iterative `d_T` on those buffers, and the exit ray looking up the environment; beside the
-//! method it improves (Wyman 2005, with a precomputed thickness along the normal), plain
+//! iterative `d_T` on those buffers; nearby geometry as rectangle impostors looked up with an
+//! iterative depth correction, recursive reflections and refractions through their textures;
+//! caustics from photon buffers, caustic textures and caustic mapping. Beside them the method
+//! the paper improves (Wyman 2005, with a precomputed thickness along the normal), plain
 //! one-interface refraction and the engine's screen-space refraction with a thickness proxy.
 //!
-//! - [`search`]: the searches' Rust twins (silhouette, angle test, `d_T`, Wyman's estimate),
-//!   mirrored by `shaders/search.wgsl`.
+//! - [`search`]: the two-interface searches' Rust twins (silhouette, angle test, `d_T`,
+//!   Wyman's estimate), mirrored by `shaders/search.wgsl`.
+//! - [`nearby`]: rectangles, their hit and the corrected lookup (twin of `shaders/rect.wgsl`
+//!   and `shaders/nearby.wgsl`); [`rectangles`]: which objects become rectangles, their
+//!   placement and textures on the GPU.
+//! - [`caustics`]: the caustic filter and scatter (twins of `shaders/caustic_compute.wgsl`),
+//!   the photon pass and caustic mapping.
 //! - [`technique`]: the [`Refraction`] technique and its variants ([`techniques`]).
 //!
 //! See `README.md` for the mapping of variants to the paper, departures and failure cases.

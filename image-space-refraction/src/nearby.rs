@@ -44,6 +44,8 @@ impl Rect {
     /// The paper's square for an object of centre `centre` and largest vertex distance
     /// `radius`, seen from the refractor's centre `from` (figure 13's initial pass).
     pub fn square(from: Vec3, centre: Vec3, radius: f32) -> Self {
+        // A point-sized object still gets a rectangle with a proper projection.
+        let radius = radius.max(1e-4);
         let direction = (centre - from).normalize_or(Vec3::NEG_Z);
         let hint = if direction.y.abs() < 0.99 {
             Vec3::Y
@@ -129,7 +131,7 @@ pub fn rect_hit(rect: &Rect, origin: Vec3, dir: Vec3) -> Option<(f32, Vec2)> {
         return None;
     }
     let t = (rect.centre - origin).dot(rect.direction) / denom;
-    if !(t > 0.0 && t.is_finite()) {
+    if !(t > 0.0 && t < 3.0e38) {
         return None;
     }
     let (uv, _) = rect.project(origin + dir * t);

@@ -344,6 +344,9 @@ impl Rectangles {
         mut draw_specular: Option<&mut dyn FnMut(&mut Frame, usize, Mat4, Vec3, RasterTarget)>,
     ) {
         for table in &self.refractors {
+            // Every texture is seen from the refractor: the raster pass turns surfaces and the
+            // recursive shading reflects toward its centre.
+            let from = scene.scene.objects[table.refractor].center_at(scene.time());
             for (i, (member, rect)) in table.members.iter().zip(&table.placed).enumerate() {
                 let layer = (table.first_layer + i as u32) as usize;
                 let target = RasterTarget {
@@ -361,7 +364,7 @@ impl Rectangles {
                             frame,
                             &target,
                             view_proj,
-                            rect.origin,
+                            from,
                             &ObjectFilter::Only(vec![]),
                             false,
                         );
@@ -369,7 +372,7 @@ impl Rectangles {
                             frame,
                             member.object,
                             view_proj,
-                            rect.origin,
+                            from,
                             RasterTarget {
                                 clear: false,
                                 ..target
@@ -380,7 +383,7 @@ impl Rectangles {
                         frame,
                         &target,
                         view_proj,
-                        rect.origin,
+                        from,
                         &ObjectFilter::Only(vec![member.object]),
                         true,
                     ),

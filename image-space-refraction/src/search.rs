@@ -223,7 +223,13 @@ pub fn silhouette_search(
 /// silhouette point `pe` (world): front-facing when the angle between the view direction `v`
 /// and `T1` is larger than the angle between `v` and `pe - P1`.
 pub fn exit_side(v: Vec3, p1: Vec3, t1: Vec3, pe: Vec3) -> Side {
-    let to_silhouette = (pe - p1).normalize_or(t1);
+    let d = pe - p1;
+    let l2 = d.length_squared();
+    let to_silhouette = if l2 > 0.0 && l2 < 1e30 {
+        d / l2.sqrt()
+    } else {
+        t1
+    };
     // theta1 > theta2 <=> cos(theta1) < cos(theta2).
     if v.dot(t1) < v.dot(to_silhouette) {
         Side::Front
@@ -240,7 +246,7 @@ pub fn projected_direction(eye: &Eye, p1: Vec3, t1: Vec3) -> Vec2 {
     let b = eye.project(p1 + t1 * reach).xy();
     let d = b - a;
     let len = d.length();
-    if len > 1e-6 && len.is_finite() {
+    if len > 1e-6 && len < 1e30 {
         d / len
     } else {
         Vec2::ZERO
@@ -411,7 +417,7 @@ pub fn side_by_angle(buffers: &impl Buffers, eye: &Eye, p1: Vec3, v: Vec3, t1: V
 /// inward normal `-n1`), `d_V` the distance from `p1` to the back surface along the view ray
 /// `v`, `d_N` the thickness along the inward normal precomputed at the vertices and
 /// interpolated; `N2` is read from the back buffer where `P2` projects. Without a back
-/// texel there (`P2` off the silhouette) the normal is `-t1`: the ray leaves unbent.
+/// texel there (`P2` off the silhouette) the normal is `t1`: the ray leaves unbent.
 pub fn wyman_exit(
     buffers: &impl Buffers,
     eye: &Eye,

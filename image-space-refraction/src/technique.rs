@@ -94,9 +94,12 @@ pub struct Settings {
     /// Section 4's acceleration: back side first, front side when `P2` leaves the silhouette
     /// (`back_first` 1), instead of the silhouette search and angle test (0).
     pub back_first: bool,
-    /// Thickness proxy: the sphere's diameter as a fraction of the object's bounding
-    /// diameter (`thickness`).
+    /// Thickness proxy: the sphere's diameter (or the slab's thickness) as a fraction of the
+    /// object's bounding diameter (`thickness`).
     pub thickness: f32,
+    /// Thickness proxy: HDRP's box model (a slab: one bend, leaving along the view ray,
+    /// `proxy` 1) instead of its sphere model (into and out of a tangent sphere, `proxy` 0).
+    pub box_proxy: bool,
     /// Nearby geometry as rectangle impostors (section 2.2), or the environment map alone.
     pub nearby: Option<Nearby>,
     /// Caustics (section 3; needs `nearby`: photons land on the rectangles).
@@ -145,6 +148,7 @@ impl Default for Settings {
             initial_step: 0.1,
             back_first: false,
             thickness: 1.0,
+            box_proxy: false,
             nearby: None,
             caustics: None,
         }
@@ -188,11 +192,10 @@ impl From<&Eye> for EyeGpu {
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct ParamsGpu {
-    centre: [f32; 4],
     variant: u32,
     strategy: u32,
     max_iterations: u32,
-    nearby: u32,
+    proxy: u32,
     tolerance: f32,
     initial_step: f32,
     thickness: f32,
@@ -285,11 +288,10 @@ impl Refraction {
         let radius = o.bounding_radius_at(time);
         let s = &self.settings;
         ParamsGpu {
-            centre: o.center_at(time).extend(radius).to_array(),
             variant: s.variant.wgsl_id(),
             strategy: u32::from(s.back_first),
             max_iterations: s.max_iterations,
-            nearby: 0,
+            proxy: u32::from(s.box_proxy),
             tolerance: s.tolerance,
             initial_step: s.initial_step * radius,
             thickness: s.thickness * 2.0 * radius,
@@ -473,14 +475,26 @@ impl Technique for Refraction {
                      angle test",
                 ),
             ]),
-            Variant::ThicknessProxy => params.push(param(
-                "thickness",
-                d.thickness as f64,
-                0.0,
-                4.0,
-                false,
-                "the proxy sphere's diameter as a fraction of the object's bounding diameter",
-            )),
+            Variant::ThicknessProxy => params.extend([
+                param(
+                    "thickness",
+                    d.thickness as f64,
+                    0.0,
+                    4.0,
+                    false,
+                    "the proxy sphere's diameter (slab's thickness) as a fraction of the \
+                     object's bounding diameter",
+                ),
+                param(
+                    "proxy",
+                    0.0,
+                    0.0,
+                    1.0,
+                    true,
+                    "0: HDRP's sphere model (in and out of a tangent sphere); 1: its box model \
+                     (a slab, leaving along the view ray)",
+                ),
+            ]),
             _ => {}
         }
         if self.settings.caustics.is_some() {
@@ -572,6 +586,7 @@ impl Technique for Refraction {
             "initial_step" => s.initial_step = value as f32,
             "back_first" => s.back_first = value != 0.0,
             "thickness" => s.thickness = value as f32,
+            "proxy" => s.box_proxy = value != 0.0,
             "photon_buffer" | "caustic_resolution" | "filter_k" | "filter_s" => {
                 let c = s.caustics.as_mut().expect("declared only with caustics");
                 match name {
@@ -615,6 +630,13 @@ impl Technique for Refraction {
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         ctx.require(self.required_features())?;
+        if self.settings.caustics.is_some() && self.settings.nearby.is_none() {
+            return Err(TechniqueError::Unsupported(format!(
+                "{}: caustics need the rectangle impostors of nearby geometry (the photons land \
+                 on them); set Settings::nearby",
+                self.id
+            )));
+        }
         let specular: Vec<usize> = (0..scene.scene.objects.len())
             .filter(|&i| scene.scene.objects[i].material.is_specular())
             .collect();
@@ -677,15 +699,14 @@ impl Technique for Refraction {
                 impostor_params: Uniform::new(ctx, "impostor params", &one_interface),
             });
         }
-        let thickness = if self.settings.variant == Variant::TwoInterfaceBaseline {
-            normal_thickness(scene, &specular)
-        } else {
-            vec![0.0]
-        };
+        // Every variant's vertex stage reads it; only Wyman's baseline fills it.
+        let wyman = self.settings.variant == Variant::TwoInterfaceBaseline;
+        let thickness = normal_thickness(scene, if wyman { &specular } else { &[] });
         let normal_thickness = storage_buffer(ctx, "d_N per vertex", &thickness);
         let eye = Uniform::new(ctx, "eye", &EyeGpu::from(&placeholder_eye()));
         let caustics = match (self.settings.caustics, &rectangles, made.photon) {
             (Some(settings), Some(rects), Some(photon_pipeline)) => {
+                check_caustic_budget(ctx, &self.id, &settings, rects)?;
                 let bindings = RefractorBindings {
                     layout: &layout,
                     refractors: maps
@@ -966,6 +987,31 @@ impl State {
     }
 }
 
+/// The caustic textures against the map budget and the adapter's largest storage binding
+/// (each of the two caustic buffers is bound whole).
+fn check_caustic_budget(
+    ctx: &Context,
+    id: &str,
+    settings: &CausticSettings,
+    rects: &Rectangles,
+) -> TechniqueResult<()> {
+    let layers: usize = rects.refractors.iter().map(|r| r.members.len()).sum();
+    let texels = u64::from(settings.resolution).pow(2);
+    // Counts (3 x u32) and irradiance (vec4f) per texel.
+    check_map_budget(id, layers, texels * 28, "caustic_resolution")?;
+    let largest = texels * 16 * layers.max(1) as u64;
+    let limit = u64::from(ctx.device.limits().max_storage_buffer_binding_size);
+    if largest > limit {
+        return Err(TechniqueError::OverBudget(format!(
+            "{id}: {layers} caustic textures of {r} x {r} texels need a {largest}-byte storage \
+             buffer, past this adapter's largest binding ({limit} bytes): lower \
+             caustic_resolution",
+            r = settings.resolution
+        )));
+    }
+    Ok(())
+}
+
 /// `@group(2)` of refract.wgsl.
 fn group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
     bind::layout(
@@ -1101,7 +1147,9 @@ pub fn normal_thickness(scene: &GpuScene, objects: &[usize]) -> Vec<f32> {
         let normals = o.normal_matrix_at(0.0);
         let offset = 1e-4 * o.bounding_radius_at(0.0).max(1e-3);
         let base = scene.draws[object].base_vertex as usize;
-        for (i, (p, n)) in o.mesh.positions.iter().zip(&o.mesh.normals).enumerate() {
+        // As the BVH places the object at time 0 (a morph's weight there included).
+        let (positions, object_normals) = (o.positions_at(0.0), o.normals_at(0.0));
+        for (i, (p, n)) in positions.iter().zip(object_normals.iter()).enumerate() {
             let inward = -(normals * *n).normalize_or_zero();
             if inward == Vec3::ZERO {
                 continue;

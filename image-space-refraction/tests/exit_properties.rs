@@ -113,9 +113,12 @@ proptest! {
 
     /// Section 2.1.3 on an analytic sphere, for every entry point and every index of
     /// refraction in [0.5, 2.5]: the angle test names the side the exact exit lies on, and
-    /// the d_T iteration converges to the exact exit point within 3 texels, except where the
+    /// the d_T iteration converges to the exact exit point within 8 texels, except where the
     /// exact exit is within 0.1 of grazing the view (its surface is then both sides within a
-    /// texel or two, and the nearest-texel buffers cannot tell them apart).
+    /// texel or two, and the nearest-texel buffers cannot tell them apart). The error is the
+    /// nearest-texel depth's on a slanted surface, about a texel over the cosine of the exit's
+    /// angle to the view: measured at most 5.6 texels on a grid of 200 x 64 entries and 11
+    /// indices from 0.5 to 2.5.
     #[test]
     fn d_t_converges_on_the_side_the_angle_test_names(
         r in 0.0f32..0.99, angle in 0.0f32..std::f32::consts::TAU, ior in 0.5f32..2.5,
@@ -135,7 +138,7 @@ proptest! {
         let exit: Exit = hu_qin_exit(&s, &s.eye, p1, v, t1, Strategy::AngleTest, &FINE);
         prop_assert_eq!(exit.side, exact_side, "exact exit {:?}", exact);
         prop_assert!(exit.converged, "{:?}", exit);
-        prop_assert!(exit.point.distance(exact) < 3.0 * texel_size(),
+        prop_assert!(exit.point.distance(exact) < 8.0 * texel_size(),
             "found {:?}, exact {:?} ({} texels)", exit.point, exact,
             exit.point.distance(exact) / texel_size());
     }
@@ -161,7 +164,7 @@ proptest! {
         let exact = exact_exit(&s, p1, t1);
         let grazing = (exact - s.centre).normalize().dot((s.eye.position - exact).normalize());
         prop_assume!(grazing < -0.1);
-        prop_assert!(fast.point.distance(exact) < 3.0 * texel_size());
+        prop_assert!(fast.point.distance(exact) < 8.0 * texel_size());
     }
 
     /// Whatever the entry point and index, the whole chain gives finite directions.

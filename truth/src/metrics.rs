@@ -113,16 +113,40 @@ pub fn silhouette_band_width(width: u32, height: u32) -> u32 {
 /// unmasked pixel or of the image's border: the band along the silhouettes of the objects the
 /// mask shows.
 pub fn silhouette_band(mask: &[bool], width: u32, height: u32) -> Vec<bool> {
-    let (w, h) = (width as i64, height as i64);
-    let r = silhouette_band_width(width, height) as i64;
-    let masked = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && mask[(y * w + x) as usize];
-    (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            masked(x, y)
-                && (-r..=r).any(|dy| (-r..=r).any(|dx| !masked(x + dx, y + dy)))
-        })
-        .collect()
+    let (w, h) = (width as usize, height as usize);
+    let r = silhouette_band_width(width, height) as usize;
+    // The square neighbourhood is separable: first "an unmasked pixel within r along the row"
+    // (from running counts), then "such a pixel within r along the column". Outside the image
+    // counts as unmasked. O(width x height) whatever the band's width.
+    let mut near_row = vec![false; w * h];
+    for y in 0..h {
+        let unmasked: Vec<bool> = (0..w).map(|x| !mask[y * w + x]).collect();
+        let mut count: usize = unmasked[..r.min(w)].iter().filter(|&&u| u).count();
+        for x in 0..w {
+            // count = unmasked pixels in [x - r, x + r] clipped to the row.
+            if x + r < w && unmasked[x + r] {
+                count += 1;
+            }
+            if x > r && unmasked[x - r - 1] {
+                count -= 1;
+            }
+            near_row[y * w + x] = x < r || x + r >= w || count > 0;
+        }
+    }
+    let mut band = vec![false; w * h];
+    for x in 0..w {
+        let mut count: usize = (0..r.min(h)).filter(|&y| near_row[y * w + x]).count();
+        for y in 0..h {
+            if y + r < h && near_row[(y + r) * w + x] {
+                count += 1;
+            }
+            if y > r && near_row[(y - r - 1) * w + x] {
+                count -= 1;
+            }
+            band[y * w + x] = mask[y * w + x] && (y < r || y + r >= h || count > 0);
+        }
+    }
+    band
 }
 
 /// Compares `test` with `reference` (see the module documentation for the definitions).
@@ -238,6 +262,53 @@ pub fn compare(test: &HdrImage, reference: &HdrImage, mask: Option<&[bool]>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_silhouette_band_is_the_masks_rim() {
+        // A 6 x 6 block in a 10 x 10 image: the band (2 pixels wide at this size) is the
+        // block's outer two rings; its 2 x 2 centre is not in it.
+        let mask: Vec<bool> = (0..100)
+            .map(|i| (2..8).contains(&(i % 10)) && (2..8).contains(&(i / 10)))
+            .collect();
+        assert_eq!(silhouette_band_width(10, 10), 2);
+        let band = silhouette_band(&mask, 10, 10);
+        assert_eq!(band.iter().filter(|&&b| b).count(), 36 - 4);
+        assert!(!band[4 * 10 + 4] && !band[5 * 10 + 5] && band[2 * 10 + 2] && !band[0]);
+        assert_eq!(silhouette_band_width(256, 200), 6);
+    }
+
+    #[test]
+    fn the_silhouette_band_equals_its_definition() {
+        // Pseudo-random masks against the definition checked pixel by pixel.
+        let mut state = 12345u32;
+        let mut next = || {
+            state = state.wrapping_mul(1664525).wrapping_add(1013904223);
+            state >> 16
+        };
+        for (w, h) in [(13, 7), (64, 64), (100, 37)] {
+            let mask: Vec<bool> = (0..w * h).map(|_| next() % 5 != 0).collect();
+            let r = silhouette_band_width(w, h) as i64;
+            let masked = |x: i64, y: i64| {
+                x >= 0
+                    && y >= 0
+                    && x < w as i64
+                    && y < h as i64
+                    && mask[(y * w as i64 + x) as usize]
+            };
+            let band = silhouette_band(&mask, w, h);
+            for y in 0..h as i64 {
+                for x in 0..w as i64 {
+                    let expected = masked(x, y)
+                        && (-r..=r).any(|dy| (-r..=r).any(|dx| !masked(x + dx, y + dy)));
+                    assert_eq!(
+                        band[(y * w as i64 + x) as usize],
+                        expected,
+                        "{w}x{h} at {x},{y}"
+                    );
+                }
+            }
+        }
+    }
 
     fn constant(w: u32, h: u32, v: [f32; 4]) -> HdrImage {
         HdrImage {

@@ -72,5 +72,7 @@ fn filter_caustics(@builtin(global_invocation_id) g: vec3u) {
         }
     }
     let power = cp.scale * sum / weights * cp.unit;
-    caustic[(g.z * cp.resolution + g.y) * cp.resolution + g.x] = vec4f(power / texel_areas[g.z], 0.0);
+    let area = texel_areas[g.z];
+    caustic[(g.z * cp.resolution + g.y) * cp.resolution + g.x] =
+        vec4f(select(vec3f(0.0), power / area, area > 0.0), 0.0);
 }

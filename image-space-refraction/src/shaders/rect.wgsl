@@ -37,7 +37,7 @@ fn rect_hit(r: Rect, origin: vec3f, dir: vec3f) -> RectHit {
     let denom = dot(dir, r.direction.xyz);
     if (abs(denom) < 1e-8) { return none; }
     let t = dot(r.centre.xyz - origin, r.direction.xyz) / denom;
-    if (!(t > 0.0)) { return none; }
+    if (!(t > 0.0 && t < 3.0e38)) { return none; }
     let uv = rect_project(r, origin + dir * t).xy;
     if (any(uv < vec2f(0.0)) || any(uv > vec2f(1.0))) { return none; }
     return RectHit(t, uv, true);

@@ -11,23 +11,24 @@
 //                          (the method the paper improves), N2 from the back buffer;
 //   VARIANT_HU_QIN:        the side P2 lies on (silhouette search + angle test, or back side
 //                          first), d_T iterated on that side's depth buffer, N2 from its normals;
-//   VARIANT_THICKNESS:     the engine's screen-space refraction (HDRP's sphere model): T1 runs
-//                          through a sphere of diameter `thickness` tangent at P1, then to a
+//   VARIANT_THICKNESS:     the engine's screen-space refraction (HDRP's refraction models): the
+//                          sphere model refracts into and out of a sphere of diameter
+//                          `thickness` tangent at P1; the box model runs T1 through a slab of
+//                          that thickness and leaves along the view ray. The ray then goes to a
 //                          plane at the opaque depth behind the pixel, and the opaque scene's
 //                          colour is read where that point projects.
 // The exit ray T2 (or the reflected ray R) takes the radiance `outgoing_radiance(origin, dir)`
 // gives: the environment map, or with nearby geometry its rectangle impostors first.
 
 struct RefractParams {
-    // xyz: the refractor's centre (the environment map's reference point); w: bounding radius.
-    centre: vec4f,
     variant: u32,
     strategy: u32,
     max_iterations: u32,
-    nearby: u32,
+    // PROXY_SPHERE or PROXY_BOX.
+    proxy: u32,
     tolerance: f32,
     initial_step: f32,
-    // Diameter of the thickness proxy's sphere (m).
+    // The thickness proxy's sphere diameter or slab thickness (m).
     thickness: f32,
     _pad: f32,
 };
@@ -49,6 +50,8 @@ const VARIANT_ONE_INTERFACE: u32 = 0u;
 const VARIANT_WYMAN: u32 = 1u;
 const VARIANT_HU_QIN: u32 = 2u;
 const VARIANT_THICKNESS: u32 = 3u;
+const PROXY_SPHERE: u32 = 0u;
+const PROXY_BOX: u32 = 1u;
 // Exit rays start this far outside the surface they leave (metres).
 const SURFACE_OFFSET: f32 = 1e-4;
 
@@ -106,18 +109,34 @@ fn env_lookup(dir: vec3f) -> vec3f {
     return textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb;
 }
 
-// HDRP's sphere model with EstimateRaycast: see the header.
-fn thickness_proxy(pixel: vec2f, p1: vec3f, n1: vec3f, t1: vec3f, v: vec3f) -> vec3f {
+// HDRP's RefractionModelSphere / RefractionModelBox, then its EstimateRaycast: see the header.
+// n1 faces the eye; ior is the object's.
+fn thickness_proxy(pixel: vec2f, p1: vec3f, n1: vec3f, t1: vec3f, v: vec3f, ior: f32) -> vec3f {
     let eye = camera.eye.xyz;
-    let p_out = p1 + t1 * (-dot(n1, t1) * params.thickness);
+    var p_out = p1;
+    var dir = v;
+    if (params.proxy == PROXY_BOX) {
+        p_out = p1 + t1 * (params.thickness / max(dot(t1, -n1), 1e-5));
+    } else {
+        // The tangent sphere's centre, the chord through it, the refraction out of it.
+        let c = p1 - n1 * (0.5 * params.thickness);
+        p_out = p1 + t1 * (-dot(n1, t1) * params.thickness);
+        let to_centre = c - p_out;
+        let len = length(to_centre);
+        dir = t1;
+        if (len > 1e-6) {
+            let out = refract_dir(t1, to_centre / len, ior);
+            dir = select(t1, out.xyz, out.w > 0.5);
+        }
+    }
     let opaque = textureLoad(scene_color, vec2i(floor(pixel)), 0).a;
     let along = dot(v, p_out - eye);
-    let denom = dot(v, t1);
-    if (denom <= 1e-4) { return outgoing_radiance(p_out, t1); }
-    let hit = p_out + t1 * (max(opaque - along, 0.0) / denom);
+    let denom = dot(v, dir);
+    if (denom <= 1e-4) { return outgoing_radiance(p_out, dir); }
+    let hit = p_out + dir * (max(opaque - along, 0.0) / denom);
     let q = eye_project(eye_params, hit);
     if (q.z <= 0.0 || q.x < 0.0 || q.y < 0.0 || q.x >= eye_params.size.x || q.y >= eye_params.size.y) {
-        return outgoing_radiance(p_out, t1);
+        return outgoing_radiance(p_out, dir);
     }
     return textureLoad(scene_color, vec2i(floor(q.xy)), 0).rgb;
 }
@@ -131,7 +150,7 @@ fn through_refractor(in: RefractorOut, e: SpecularEvent, v: vec3f) -> vec3f {
         return outgoing_radiance(p1, t1);
     }
     if (params.variant == VARIANT_THICKNESS) {
-        return thickness_proxy(in.clip.xy, p1, e.normal, t1, v);
+        return thickness_proxy(in.clip.xy, p1, e.normal, t1, v, ior);
     }
     var exit: Exit;
     if (params.variant == VARIANT_WYMAN) {

@@ -75,7 +75,8 @@ fn silhouette_search(e: EyeParams, p1: vec2f, t1: vec2f, tolerance: f32) -> Silh
 fn exit_side(v: vec3f, p1: vec3f, t1: vec3f, pe: vec3f) -> u32 {
     var to_silhouette = t1;
     let d = pe - p1;
-    if (dot(d, d) > 0.0) { to_silhouette = normalize(d); }
+    let l2 = dot(d, d);
+    if (l2 > 0.0 && l2 < 1e30) { to_silhouette = d / sqrt(l2); }
     return select(SIDE_BACK, SIDE_FRONT, dot(v, t1) < dot(v, to_silhouette));
 }
 
@@ -85,7 +86,7 @@ fn projected_direction(e: EyeParams, p1: vec3f, t1: vec3f) -> vec2f {
     let b = eye_project(e, p1 + t1 * reach).xy;
     let d = b - a;
     let len = length(d);
-    if (len > 1e-6) { return d / len; }
+    if (len > 1e-6 && len < 1e30) { return d / len; }
     return vec2f(0.0);
 }
 
