@@ -51,6 +51,9 @@ fn main() {
         max_iterations: 8,
         initial_step: 0.1,
     };
+    c.final_summary();
+    // The twins run on the CPU: wall-clock criterion, not the GPU clock of the frames.
+    let mut c = criterion::Criterion::default().configure_from_args();
     let mut group = c.benchmark_group("twin");
     for (name, strategy) in [
         ("hu_qin_exit angle test", Strategy::AngleTest),
