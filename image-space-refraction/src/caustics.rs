@@ -251,12 +251,8 @@ impl Accumulator {
         hit: &wgpu::TextureView,
         power: &wgpu::TextureView,
     ) {
-        let group = self.group(ctx, hit, power);
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&self.scatter);
-        pass.set_bind_group(0, &group, &[]);
         let n = self.settings.photon_size.div_ceil(8);
-        pass.dispatch_workgroups(n, n, 1);
+        self.dispatch(ctx, encoder, &self.scatter, [hit, power], (n, n, 1));
     }
 
     /// Filters the counts into `caustic` (any photon views: the filter reads none).
@@ -267,12 +263,25 @@ impl Accumulator {
         hit: &wgpu::TextureView,
         power: &wgpu::TextureView,
     ) {
+        let n = self.settings.resolution.div_ceil(8);
+        let workgroups = (n, n, self.layers.max(1));
+        self.dispatch(ctx, encoder, &self.filter, [hit, power], workgroups);
+    }
+
+    /// One compute pass of `pipeline` over the accumulator's bindings.
+    fn dispatch(
+        &self,
+        ctx: &Context,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
+        [hit, power]: [&wgpu::TextureView; 2],
+        (x, y, z): (u32, u32, u32),
+    ) {
         let group = self.group(ctx, hit, power);
         let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&self.filter);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &group, &[]);
-        let n = self.settings.resolution.div_ceil(8);
-        pass.dispatch_workgroups(n, n, self.layers.max(1));
+        pass.dispatch_workgroups(x, y, z);
     }
 
     fn group(
@@ -496,26 +505,16 @@ impl Caustics {
             include_str!("shaders/caustic.wgsl")
         );
         let module = gpu::shader_with_prelude(ctx, "caustic mapping", &source);
-        let additive = wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            },
-            // Alpha holds the eye distance: keep it.
-            alpha: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::Zero,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            },
-        };
         let map_pipeline = scene::scene_pipeline_with(
             ctx,
             "caustic mapping",
             &scene.pipeline_layout_with(ctx, &[&map_layout]),
             &module,
             "caustic_fs",
-            &[gpu::pass::color_target(gpu::HDR_FORMAT, Some(additive))],
+            &[gpu::pass::color_target(
+                gpu::HDR_FORMAT,
+                Some(gpu::pass::ADD_RGB_KEEP_ALPHA),
+            )],
             (false, wgpu::CompareFunction::LessEqual),
         );
         Self {

@@ -401,24 +401,6 @@ fn configured() -> Vec<Refraction> {
     ]
 }
 
-fn param(
-    name: &'static str,
-    default: f64,
-    min: f64,
-    max: f64,
-    integer: bool,
-    help: &'static str,
-) -> Param {
-    Param {
-        name,
-        default,
-        min,
-        max,
-        integer,
-        help,
-    }
-}
-
 impl Technique for Refraction {
     fn id(&self) -> String {
         self.id.clone()
@@ -431,65 +413,58 @@ impl Technique for Refraction {
     }
     fn params(&self) -> Vec<Param> {
         let d = Settings::default();
-        let mut params = vec![param(
+        let mut params = vec![Param::new(
             "resolution",
             d.env_resolution as f64,
-            4.0,
-            4096.0,
+            (4.0, 4096.0),
             true,
             "environment cube map face size (texels)",
         )];
         match self.settings.variant {
             Variant::HuQin => params.extend([
-                param(
+                Param::new(
                     "tolerance",
                     d.tolerance as f64,
-                    1e-6,
-                    1.0,
+                    (1e-6, 1.0),
                     false,
                     "d_T iteration stops when a correction is at most this (m of view depth)",
                 ),
-                param(
+                Param::new(
                     "iterations",
                     d.max_iterations as f64,
-                    1.0,
-                    64.0,
+                    (1.0, 64.0),
                     true,
                     "d_T iteration: most corrections",
                 ),
-                param(
+                Param::new(
                     "initial_step",
                     d.initial_step as f64,
-                    1e-4,
-                    2.0,
+                    (1e-4, 2.0),
                     false,
                     "d_T iteration: first d_T as a fraction of the refractor's bounding radius",
                 ),
-                param(
+                Param::new(
                     "back_first",
                     f64::from(u8::from(self.settings.back_first)),
-                    0.0,
-                    1.0,
+                    (0.0, 1.0),
                     true,
                     "1: section 4's acceleration (back side first); 0: silhouette search and \
                      angle test",
                 ),
             ]),
             Variant::ThicknessProxy => params.extend([
-                param(
+                Param::new(
                     "thickness",
                     d.thickness as f64,
-                    0.0,
-                    4.0,
+                    (0.0, 4.0),
                     false,
                     "the proxy sphere's diameter (slab's thickness) as a fraction of the \
                      object's bounding diameter",
                 ),
-                param(
+                Param::new(
                     "proxy",
                     0.0,
-                    0.0,
-                    1.0,
+                    (0.0, 1.0),
                     true,
                     "0: HDRP's sphere model (in and out of a tangent sphere); 1: its box model \
                      (a slab, leaving along the view ray)",
@@ -500,35 +475,31 @@ impl Technique for Refraction {
         if self.settings.caustics.is_some() {
             let d = CausticSettings::default();
             params.extend([
-                param(
+                Param::new(
                     "photon_buffer",
                     d.photon_size as f64,
-                    8.0,
-                    2048.0,
+                    (8.0, 2048.0),
                     true,
                     "side of each light's photon buffer (photons per light: its square)",
                 ),
-                param(
+                Param::new(
                     "caustic_resolution",
                     d.resolution as f64,
-                    8.0,
-                    2048.0,
+                    (8.0, 2048.0),
                     true,
                     "side of each rectangle's caustic texture (texels)",
                 ),
-                param(
+                Param::new(
                     "filter_k",
                     d.k as f64,
-                    0.0,
-                    8.0,
+                    (0.0, 8.0),
                     true,
                     "the caustic filter's half size k (section 3.2; the paper's default 2)",
                 ),
-                param(
+                Param::new(
                     "filter_s",
                     d.scale as f64,
-                    0.0,
-                    100.0,
+                    (0.0, 100.0),
                     false,
                     "the caustic filter's scale s (1: the photons' power; the filter is \
                      normalized by its weights)",
@@ -537,37 +508,33 @@ impl Technique for Refraction {
         }
         if let Some(n) = self.settings.nearby {
             let d = Nearby::default();
-            params.push(param(
+            params.push(Param::new(
                 "impostor_resolution",
                 d.resolution as f64,
-                8.0,
-                4096.0,
+                (8.0, 4096.0),
                 true,
                 "side of each rectangle impostor's texture (texels)",
             ));
             if n.corrected {
                 params.extend([
-                    param(
+                    Param::new(
                         "seeds",
                         d.seeds as f64,
-                        1.0,
-                        64.0,
+                        (1.0, 64.0),
                         true,
                         "points on the ray tried as the correction's start (figure 17)",
                     ),
-                    param(
+                    Param::new(
                         "corrections",
                         d.iterations as f64,
-                        1.0,
-                        64.0,
+                        (1.0, 64.0),
                         true,
                         "most depth corrections of a rectangle lookup (figure 16)",
                     ),
-                    param(
+                    Param::new(
                         "depth_tolerance",
                         d.tolerance as f64,
-                        1e-6,
-                        1.0,
+                        (1e-6, 1.0),
                         false,
                         "a correction stops within this depth difference (m)",
                     ),
@@ -870,20 +837,13 @@ impl Technique for Refraction {
             frame.timer.end(frame.encoder, "buffers");
         }
 
+        scene::multi_object::raster_diffuse(frame, scene, view, target, &specular);
         let main = RasterTarget {
             color: &target.color_view,
             depth: &target.depth_view,
             format: gpu::HDR_FORMAT,
-            clear: true,
+            clear: false,
         };
-        scene.raster(
-            frame,
-            &main,
-            view_proj,
-            view.camera.eye,
-            &ObjectFilter::Except(specular.clone()),
-            false,
-        );
         if let (Some(caustics), Some(rects)) = (&state.caustics, &state.rectangles) {
             caustics.map(frame, scene, &camera, rects, &main);
         }
@@ -1057,56 +1017,30 @@ fn pipelines(
         )
     };
     let refract_layout = scene.pipeline_layout_with(ctx, layouts);
-    let refract = ctx
-        .device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("image-space refraction"),
-            layout: Some(&refract_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("refractor_vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(gpu::Vertex::layout())],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("refract_fs"),
-                compilation_options: Default::default(),
-                targets: &[gpu::pass::color_target(gpu::HDR_FORMAT, None)],
-            }),
-            primitive: Default::default(),
-            depth_stencil: Some(gpu::pass::depth_state(true, wgpu::CompareFunction::Less)),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
+    let refractor_pipeline = |fragment: &str, targets: &[Option<wgpu::ColorTargetState>]| {
+        scene::scene_pipeline_entries(
+            ctx,
+            fragment,
+            &refract_layout,
+            &module,
+            ("refractor_vs", fragment),
+            targets,
+            (true, wgpu::CompareFunction::Less),
+        )
+    };
+    let refract = refractor_pipeline(
+        "refract_fs",
+        &[gpu::pass::color_target(gpu::HDR_FORMAT, None)],
+    );
     // Only the nearby module (`layouts` with @group(3)) has photon_fs.
     let photon = (layouts.len() > 1).then(|| {
-        ctx.device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("photon buffer"),
-                layout: Some(&refract_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("refractor_vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(gpu::Vertex::layout())],
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("photon_fs"),
-                    compilation_options: Default::default(),
-                    targets: &[
-                        gpu::pass::color_target(BUFFER_FORMAT, None),
-                        gpu::pass::color_target(BUFFER_FORMAT, None),
-                    ],
-                }),
-                primitive: Default::default(),
-                depth_stencil: Some(gpu::pass::depth_state(true, wgpu::CompareFunction::Less)),
-                multisample: Default::default(),
-                multiview_mask: None,
-                cache: None,
-            })
+        refractor_pipeline(
+            "photon_fs",
+            &[
+                gpu::pass::color_target(BUFFER_FORMAT, None),
+                gpu::pass::color_target(BUFFER_FORMAT, None),
+            ],
+        )
     });
     Pipelines {
         front: buffer_pipeline("front_buffer_fs"),

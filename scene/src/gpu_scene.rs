@@ -729,13 +729,36 @@ pub fn scene_pipeline_with(
     targets: &[Option<wgpu::ColorTargetState>],
     depth: (bool, wgpu::CompareFunction),
 ) -> wgpu::RenderPipeline {
+    scene_pipeline_entries(
+        ctx,
+        label,
+        layout,
+        module,
+        ("scene_vs", fragment_entry),
+        targets,
+        depth,
+    )
+}
+
+/// [`scene_pipeline_with`] with a vertex entry point of the module's own in place of
+/// `scene_vs` (one that places the scene's vertices as `scene_vs` does and passes more along,
+/// per-vertex data read from a storage buffer by vertex index, say): `(vertex, fragment)`.
+pub fn scene_pipeline_entries(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    (vertex_entry, fragment_entry): (&str, &str),
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),
             layout: Some(layout),
             vertex: wgpu::VertexState {
                 module,
-                entry_point: Some("scene_vs"),
+                entry_point: Some(vertex_entry),
                 compilation_options: Default::default(),
                 buffers: &[Some(Vertex::layout())],
             },
