@@ -46,6 +46,7 @@ pub fn registry() -> Vec<Box<dyn Technique>> {
     techniques.extend(height_maps::techniques());
     techniques.extend(screen_photons::techniques());
     techniques.extend(image_space_refraction::techniques());
+    techniques.extend(raytracer::techniques());
     techniques.extend(volumes::techniques());
     techniques.extend(interior_mapping::techniques());
     // ---- end of registry ----
@@ -63,6 +64,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
     checks.extend(height_maps::image_checks());
     checks.extend(screen_photons::image_checks());
     checks.extend(image_space_refraction::image_checks());
+    checks.extend(raytracer::image_checks());
     checks.extend(volumes::image_checks());
     checks.extend(interior_mapping::image_checks());
     // ---- end of image checks ----

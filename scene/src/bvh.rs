@@ -62,31 +62,52 @@ pub struct Hit {
     pub uv: Vec2,
 }
 
-/// Per-triangle shading attributes, stored in BVH primitive order.
-#[derive(Clone, Copy, Debug)]
-struct TriangleInfo {
-    object: u32,
-    triangle: u32,
+/// Per-triangle shading attributes (stored in BVH primitive order by [`SceneBvh`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleInfo {
+    pub object: u32,
+    /// Triangle index within the object's mesh.
+    pub triangle: u32,
     /// World-space unit vertex normals.
-    normals: [Vec3; 3],
-    uvs: [Vec2; 3],
-    geometric_normal: Vec3,
+    pub normals: [Vec3; 3],
+    pub uvs: [Vec2; 3],
+    /// Unit geometric normal (winding in object space, see the module docs).
+    pub geometric_normal: Vec3,
 }
 
-/// All triangles of a scene at one time, in a CWBVH.
-pub struct SceneBvh {
-    /// `None` when the scene has no (non-degenerate) triangle: every query misses.
-    bvh: Option<CwBvh>,
-    /// Intersection-ready triangles in BVH primitive order.
-    triangles: Vec<RtTriangle>,
-    /// Attributes in the same order as `triangles`.
-    info: Vec<TriangleInfo>,
-    bounds: (Vec3, Vec3),
+impl TriangleInfo {
+    /// The hit at barycentrics `(u, v)` (weights `(1 - u - v, u, v)` of `(v0, v1, v2)`) of a
+    /// ray `origin + t dir`: the interpolation every tracer of the workspace shares.
+    pub fn hit(&self, origin: Vec3, dir: Vec3, t: f32, bary: Vec2) -> Hit {
+        let (u, v) = (bary.x, bary.y);
+        let w = 1.0 - u - v;
+        let interpolated = self.normals[0] * w + self.normals[1] * u + self.normals[2] * v;
+        Hit {
+            t,
+            object: self.object as usize,
+            triangle: self.triangle as usize,
+            position: origin + dir * t,
+            normal: interpolated.normalize_or(self.geometric_normal),
+            geometric_normal: self.geometric_normal,
+            uv: self.uvs[0] * w + self.uvs[1] * u + self.uvs[2] * v,
+        }
+    }
 }
 
-impl SceneBvh {
-    /// Builds the BVH over every object of `scene` placed at `time`.
-    pub fn build(scene: &Scene, time: f32) -> Self {
+/// Every non-degenerate world-space triangle of a scene at one time, with its attributes,
+/// in scene order (objects in order, triangles in mesh order): step 1 of the module docs,
+/// shared by [`SceneBvh::build`] and the GPU ray tracer's BVH.
+#[derive(Clone, Debug, Default)]
+pub struct WorldTriangles {
+    pub triangles: Vec<Triangle>,
+    pub info: Vec<TriangleInfo>,
+    /// World-space bounds (min, max); zero when there is no triangle.
+    pub bounds: (Vec3, Vec3),
+}
+
+impl WorldTriangles {
+    /// The triangles of every object of `scene` placed at `time`.
+    pub fn of(scene: &Scene, time: f32) -> Self {
         let mut tris: Vec<Triangle> = Vec::with_capacity(scene.triangle_count());
         let mut info: Vec<TriangleInfo> = Vec::with_capacity(scene.triangle_count());
         let mut lo = Vec3::splat(f32::INFINITY);
@@ -138,6 +159,38 @@ impl SceneBvh {
                 hi = hi.max(v0.max(v1).max(v2));
             }
         }
+        let bounds = if tris.is_empty() {
+            (Vec3::ZERO, Vec3::ZERO)
+        } else {
+            (lo, hi)
+        };
+        Self {
+            triangles: tris,
+            info,
+            bounds,
+        }
+    }
+}
+
+/// All triangles of a scene at one time, in a CWBVH.
+pub struct SceneBvh {
+    /// `None` when the scene has no (non-degenerate) triangle: every query misses.
+    bvh: Option<CwBvh>,
+    /// Intersection-ready triangles in BVH primitive order.
+    triangles: Vec<RtTriangle>,
+    /// Attributes in the same order as `triangles`.
+    info: Vec<TriangleInfo>,
+    bounds: (Vec3, Vec3),
+}
+
+impl SceneBvh {
+    /// Builds the BVH over every object of `scene` placed at `time`.
+    pub fn build(scene: &Scene, time: f32) -> Self {
+        let WorldTriangles {
+            triangles: tris,
+            info,
+            bounds,
+        } = WorldTriangles::of(scene, time);
         if tris.is_empty() {
             return Self {
                 bvh: None,
@@ -166,7 +219,7 @@ impl SceneBvh {
             bvh: Some(bvh),
             triangles,
             info,
-            bounds: (lo, hi),
+            bounds,
         }
     }
 
@@ -207,22 +260,9 @@ impl SceneBvh {
             return None;
         }
         let id = hit.primitive_id as usize;
-        let tri = &self.triangles[id];
-        let info = &self.info[id];
         // Barycentrics of the hit: weights (1 - u - v, u, v) of (v0, v1, v2).
-        let bary = tri.compute_barycentric(&ray);
-        let (u, v) = (bary.x, bary.y);
-        let w = 1.0 - u - v;
-        let interpolated = info.normals[0] * w + info.normals[1] * u + info.normals[2] * v;
-        Some(Hit {
-            t: hit.t,
-            object: info.object as usize,
-            triangle: info.triangle as usize,
-            position: origin + dir * hit.t,
-            normal: interpolated.normalize_or(info.geometric_normal),
-            geometric_normal: info.geometric_normal,
-            uv: info.uvs[0] * w + info.uvs[1] * u + info.uvs[2] * v,
-        })
+        let bary = self.triangles[id].compute_barycentric(&ray);
+        Some(self.info[id].hit(origin, dir, hit.t, bary))
     }
 
     /// Whether any surface lies on `origin + t dir`, `0 <= t <= t_max` (shadow rays).
@@ -283,7 +323,7 @@ fn ray(origin: Vec3, dir: Vec3, t_max: f32) -> Option<Ray> {
 /// a shared edge, so an axis-aligned ray through the diagonal of an axis-aligned quad (the
 /// centre of a Cornell floor, for one) passed between its two triangles.
 #[inline(always)]
-fn intersect(tri: &RtTriangle, ray: &Ray) -> f32 {
+pub fn intersect(tri: &RtTriangle, ray: &Ray) -> f32 {
     let c = tri.v0 - ray.origin;
     let r = ray.direction.cross(c);
     let det = tri.ng.dot(ray.direction);

@@ -9,6 +9,7 @@ pub mod builtin;
 pub mod bvh;
 pub mod density;
 pub mod depth_peel;
+pub mod emission;
 pub mod foundation;
 pub mod gltf_io;
 mod gpu_scene;

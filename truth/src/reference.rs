@@ -94,7 +94,7 @@
 //! to a point light through glass hits the glass. So it is traced from the light instead.
 //!
 //! **Emission.** Only the directions that can reach a caustic caster matter: the objects
-//! with [`Roles::CAUSTIC_CASTER`] or a specular material ([`caustic_casters`]). For each
+//! with [`scene::Roles::CAUSTIC_CASTER`] or a specular material ([`caustic_casters`]). For each
 //! light and caster, the caster's bounding sphere (`center_at`, `bounding_radius_at`) seen
 //! from the light subtends a cone of half-angle `theta_max`, `sin theta_max = R / D`, with
 //! solid angle `Omega = 2 pi (1 - cos theta_max)` (the whole sphere, `4 pi`, if the light is
@@ -198,8 +198,9 @@ use gpu::HdrImage;
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
 use rayon::prelude::*;
 use scene::bvh::{Hit, SceneBvh};
-use scene::{Camera, Material, Medium, Roles, Scene};
-use std::f32::consts::{FRAC_1_PI, PI};
+use scene::emission::{balance_density, emitters};
+use scene::{Camera, Material, Medium, Scene};
+use std::f32::consts::FRAC_1_PI;
 use std::time::Instant;
 
 /// Eye-tree branches whose accumulated throughput is below this in every channel are
@@ -420,15 +421,7 @@ pub fn render(
     }
 }
 
-/// The objects photons are aimed at: caustic casters by role, and every specular object.
-pub fn caustic_casters(scene: &Scene) -> Vec<usize> {
-    (0..scene.objects.len())
-        .filter(|&i| {
-            let o = &scene.objects[i];
-            o.roles.contains(Roles::CAUSTIC_CASTER) || o.material.is_specular()
-        })
-        .collect()
-}
+pub use scene::emission::caustic_casters;
 
 /// How the light pass emits and which landings it keeps.
 #[derive(Clone, Debug, PartialEq)]
@@ -918,75 +911,6 @@ impl<'a> Eye<'a> {
     }
 }
 
-/// One cone of photon directions: from a light toward a target's bounding sphere.
-struct Emitter {
-    light: usize,
-    axis: Vec3,
-    /// `1 - cos theta_max` (2 for the whole sphere), kept apart for precision.
-    one_minus_cos: f32,
-    solid_angle: f32,
-    photons: u64,
-}
-
-impl Emitter {
-    fn contains(&self, w: Vec3) -> bool {
-        self.one_minus_cos >= 2.0 || 1.0 - w.dot(self.axis) <= self.one_minus_cos
-    }
-    /// Uniform direction in the cone: `cos theta = 1 - u (1 - cos theta_max)`.
-    fn sample(&self, u: f32, v: f32) -> Vec3 {
-        let omc = u * self.one_minus_cos; // 1 - cos theta
-        let cos_t = 1.0 - omc;
-        let sin_t = (omc * (2.0 - omc)).max(0.0).sqrt();
-        let phi = 2.0 * PI * v;
-        let (t, b) = self.axis.any_orthonormal_pair();
-        (self.axis * cos_t + (t * phi.cos() + b * phi.sin()) * sin_t).normalize()
-    }
-}
-
-fn emitters(scene: &Scene, time: f32, setup: &PhotonSetup, photons: u64) -> Vec<Emitter> {
-    let mut out = Vec::new();
-    for (li, light) in scene.lights.iter().enumerate() {
-        if light.intensity.max_element() <= 0.0 {
-            continue;
-        }
-        for &ti in &setup.targets {
-            let Some(object) = scene.objects.get(ti) else {
-                continue;
-            };
-            if object.mesh.indices.is_empty() {
-                continue;
-            }
-            let center = object.center_at(time);
-            let radius = object.bounding_radius_at(time) * (1.0 + 1e-4) + 1e-6;
-            let to = center - light.position;
-            let dist = to.length();
-            let (axis, one_minus_cos) = if dist <= radius {
-                (Vec3::Y, 2.0)
-            } else {
-                let sin2 = (radius / dist) * (radius / dist);
-                (to / dist, sin2 / (1.0 + (1.0 - sin2).sqrt()))
-            };
-            out.push(Emitter {
-                light: li,
-                axis,
-                one_minus_cos,
-                solid_angle: 2.0 * PI * one_minus_cos,
-                photons: 0,
-            });
-        }
-    }
-    // Split the budget in proportion to the power into each cone.
-    let weight =
-        |e: &Emitter| scene.lights[e.light].intensity.element_sum() as f64 * e.solid_angle as f64;
-    let total: f64 = out.iter().map(weight).sum();
-    if total > 0.0 {
-        for e in &mut out {
-            e.photons = ((photons as f64 * weight(e) / total).round() as u64).max(1);
-        }
-    }
-    out
-}
-
 /// SplitMix64 (Steele, Lea, Flood 2014): tiny, fast, and good enough for sampling.
 struct SplitMix64(u64);
 
@@ -1039,7 +963,7 @@ fn light_trace_with(
 ) -> LightTrace {
     let n_lights = scene.lights.len();
     let pixels = (width * height) as usize;
-    let emitters = emitters(scene, time, setup, opts.photons);
+    let emitters = emitters(scene, time, &setup.targets, opts.photons);
     let mut emitted = vec![Vec3::ZERO; n_lights];
     for e in &emitters {
         emitted[e.light] += scene.lights[e.light].intensity * e.solid_angle;
@@ -1082,13 +1006,7 @@ fn light_trace_with(
             let (u, v) = (rng.next_f32(), rng.next_f32());
             let w = e.sample(u, v);
             // Balance heuristic over the cones of this light that contain w.
-            let mut density = e.photons as f32 / e.solid_angle;
-            for (oj, o) in emitters.iter().enumerate() {
-                if oj != ei && o.light == e.light && o.contains(w) {
-                    density += o.photons as f32 / o.solid_angle;
-                }
-            }
-            let power = light.intensity / density;
+            let power = light.intensity / balance_density(&emitters, ei, w);
             let (mut rays, mut eye_rays) = (0, 0);
             let beam_image = &mut out.beams;
             tracer.trace_photon(
@@ -1162,40 +1080,6 @@ mod tests {
                 let s = pixel_sample(i, n);
                 assert!(s.x > 0.0 && s.x < 1.0 && s.y >= 0.0 && s.y < 1.0, "{s:?}");
             }
-        }
-    }
-
-    /// Cone sampling: every direction inside the cone, and uniform in solid angle (the mean
-    /// of cos theta over a uniform cone is 1 - (1 - cos theta_max) / 2).
-    #[test]
-    fn cone_samples_are_uniform_inside_the_cone() {
-        for (axis, omc) in [
-            (Vec3::new(0.3, -1.0, 0.2).normalize(), 0.05f32),
-            (Vec3::Z, 1.2),
-            (Vec3::Y, 2.0),
-        ] {
-            let e = Emitter {
-                light: 0,
-                axis,
-                one_minus_cos: omc,
-                solid_angle: 2.0 * PI * omc,
-                photons: 1,
-            };
-            let mut rng = SplitMix64(7);
-            let n = 200_000;
-            let mut mean_cos = 0.0f64;
-            for _ in 0..n {
-                let w = e.sample(rng.next_f32(), rng.next_f32());
-                assert!((w.length() - 1.0).abs() < 1e-5);
-                assert!(e.contains(w) || 1.0 - w.dot(axis) <= omc * (1.0 + 1e-4) + 1e-6);
-                mean_cos += w.dot(axis) as f64;
-            }
-            mean_cos /= n as f64;
-            let want = 1.0 - omc as f64 / 2.0;
-            assert!(
-                (mean_cos - want).abs() < 3e-3 * omc as f64 + 1e-4,
-                "{mean_cos} vs {want}"
-            );
         }
     }
 

@@ -1,0 +1,308 @@
+//! The scene's BVH flattened for the GPU, and the Rust twin of its traversal.
+//!
+//! **Build.** The triangles are the reference's own ([`scene::bvh::WorldTriangles`]: every
+//! object at the frame's time, world space, degenerate triangles dropped), and obvhs builds the
+//! hierarchy with the reference's parameters (`BvhBuildParams::medium_build`: PLOC, then
+//! reinsertion, leaves of up to 8 triangles). The reference then converts the binary tree into
+//! an 8-wide compressed one (CWBVH) for SIMD traversal on the CPU; we keep the binary tree
+//! (`Bvh2`), whose nodes a compute shader reads with one 32-byte load each. The hits are the
+//! same: both trees bound the same triangles and both traversals return the nearest
+//! intersection with the same triangle test.
+//!
+//! **Layout.** Three storage buffers (`shaders/bvh.wgsl` declares the matching structs):
+//! `nodes` (bounds, triangle count, first child or first triangle: obvhs' `Bvh2Node` without
+//! its metadata), `triangles` in leaf order (obvhs' `RtTriangle`: `v0`, `e1 = v0 - v1`,
+//! `e2 = v2 - v0`, `ng = e1 x e2`, computed here once so that the GPU tests the same numbers
+//! as the CPU) and their shading `attributes` in the same order.
+//!
+//! **Traversal** ([`FlatBvh::closest_hit`], `trace_closest` in WGSL): a stack of at most
+//! [`STACK_SIZE`] node indices; at an inner node both children's boxes are tested (slabs with
+//! obvhs' `safe_inverse` of the direction, so axis-parallel rays need no special case), the
+//! nearer child is visited first and the farther pushed; at a leaf every triangle is tested
+//! with the reference's watertight-on-shared-edges test ([`scene::bvh::intersect`]) against
+//! the nearest hit so far. Boxes are tested with their far distance widened by
+//! [`BOX_SLACK`] (relative), so rounding in the slab test never rejects a triangle lying in a
+//! box's face (rays grazing an axis-aligned wall). The any-hit query stops at the first hit.
+
+use glam::{Vec2, Vec3};
+use obvhs::{
+    BvhBuildParams, bvh2::builder::build_bvh2_from_tris, ray::Ray, ray::safe_inverse,
+    rt_triangle::RtTriangle,
+};
+use scene::Scene;
+use scene::bvh::{Hit, TriangleInfo, WorldTriangles, intersect};
+use std::time::Duration;
+
+/// Node indices the traversal stack holds; a tree deeper than this is refused at build time
+/// ([`FlatBvh::build`]), never overflowed.
+pub const STACK_SIZE: usize = 48;
+
+/// Relative widening of a box's far distance in the slab test (a few ulps: Ize's robust
+/// traversal uses `1 + 2 gamma(3)`, about 4e-7).
+pub const BOX_SLACK: f32 = 1.0 + 1e-6;
+
+/// A node as the GPU reads it (32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct NodeGpu {
+    pub min: [f32; 3],
+    /// Triangles in this leaf; 0 for an inner node.
+    pub count: u32,
+    pub max: [f32; 3],
+    /// Inner node: index of the first child (the second follows it). Leaf: first triangle.
+    pub first: u32,
+}
+
+/// A triangle in obvhs' `RtTriangle` layout (64 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TriangleGpu {
+    pub v0: [f32; 3],
+    pub _a: u32,
+    pub e1: [f32; 3],
+    pub _b: u32,
+    pub e2: [f32; 3],
+    pub _c: u32,
+    pub ng: [f32; 3],
+    pub _d: u32,
+}
+
+/// A triangle's shading attributes (96 bytes): what [`TriangleInfo::hit`] interpolates.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct AttributesGpu {
+    pub n0: [f32; 3],
+    pub object: u32,
+    pub n1: [f32; 3],
+    pub triangle: u32,
+    pub n2: [f32; 3],
+    pub _a: u32,
+    pub geometric_normal: [f32; 3],
+    pub _b: u32,
+    /// uv of v0 and v1.
+    pub uv01: [f32; 4],
+    /// uv of v2.
+    pub uv2: [f32; 2],
+    pub _c: [f32; 2],
+}
+
+/// Why a scene's BVH cannot be traced on the GPU.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TooDeep {
+    pub depth: usize,
+}
+
+/// The scene at one time: a binary BVH in GPU layout, with the CPU twin of the traversal.
+#[derive(Clone, Default)]
+pub struct FlatBvh {
+    pub nodes: Vec<NodeGpu>,
+    /// Intersection-ready triangles in leaf order.
+    pub triangles: Vec<RtTriangle>,
+    /// Attributes in the same order.
+    pub info: Vec<TriangleInfo>,
+    /// Longest root-to-leaf path (nodes): the traversal stack never holds more than this.
+    pub depth: usize,
+}
+
+impl FlatBvh {
+    /// Flattens the BVH of `scene` at `time` (an empty scene gives no node: every query
+    /// misses). Fails if the tree is deeper than the GPU's [`STACK_SIZE`].
+    pub fn build(scene: &Scene, time: f32) -> Result<Self, TooDeep> {
+        Self::from_triangles(WorldTriangles::of(scene, time))
+    }
+
+    /// Flattens the BVH over `world` (the triangles of one time).
+    pub fn from_triangles(world: WorldTriangles) -> Result<Self, TooDeep> {
+        if world.triangles.is_empty() {
+            return Ok(Self::default());
+        }
+        let bvh = build_bvh2_from_tris(
+            &world.triangles,
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        let nodes: Vec<NodeGpu> = bvh
+            .nodes
+            .iter()
+            .map(|n| NodeGpu {
+                min: n.aabb.min.into(),
+                count: n.prim_count,
+                max: n.aabb.max.into(),
+                first: n.first_index,
+            })
+            .collect();
+        let triangles = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| RtTriangle::from(&world.triangles[i as usize]))
+            .collect();
+        let info = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| world.info[i as usize])
+            .collect();
+        let depth = tree_depth(&nodes);
+        if depth > STACK_SIZE {
+            return Err(TooDeep { depth });
+        }
+        Ok(Self {
+            nodes,
+            triangles,
+            info,
+            depth,
+        })
+    }
+
+    pub fn triangle_gpu(&self) -> Vec<TriangleGpu> {
+        self.triangles
+            .iter()
+            .map(|t| TriangleGpu {
+                v0: t.v0.into(),
+                e1: t.e1.into(),
+                e2: t.e2.into(),
+                ng: t.ng.into(),
+                ..Default::default()
+            })
+            .collect()
+    }
+
+    pub fn attributes_gpu(&self) -> Vec<AttributesGpu> {
+        self.info
+            .iter()
+            .map(|i| AttributesGpu {
+                n0: i.normals[0].into(),
+                object: i.object,
+                n1: i.normals[1].into(),
+                triangle: i.triangle,
+                n2: i.normals[2].into(),
+                geometric_normal: i.geometric_normal.into(),
+                uv01: [i.uvs[0].x, i.uvs[0].y, i.uvs[1].x, i.uvs[1].y],
+                uv2: i.uvs[2].into(),
+                ..Default::default()
+            })
+            .collect()
+    }
+
+    /// The nearest hit on `origin + t dir`, `0 <= t <= t_max`: the twin of `trace_closest`.
+    pub fn closest_hit(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
+        let (id, t) = self.traverse(origin, dir, t_max, false)?;
+        let ray = Ray::new(origin.into(), dir.into(), 0.0, t);
+        let bary: Vec2 = self.triangles[id].compute_barycentric(&ray);
+        Some(self.info[id].hit(origin, dir, t, bary))
+    }
+
+    /// Whether any surface lies on the segment: the twin of `trace_any`.
+    pub fn any_hit(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+        self.traverse(origin, dir, t_max, true).is_some()
+    }
+
+    /// The traversal both queries share: (triangle index, t) of the nearest hit, or of the
+    /// first found when `any`.
+    fn traverse(&self, origin: Vec3, dir: Vec3, t_max: f32, any: bool) -> Option<(usize, f32)> {
+        let usable = origin.is_finite() && dir.is_finite() && dir != Vec3::ZERO && t_max >= 0.0;
+        if self.nodes.is_empty() || !usable {
+            return None;
+        }
+        let mut ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+        let inv = Vec3::new(
+            safe_inverse(dir.x),
+            safe_inverse(dir.y),
+            safe_inverse(dir.z),
+        );
+        let mut stack = [0u32; STACK_SIZE];
+        let mut top = 0;
+        let mut node = 0u32;
+        let mut found = None;
+        loop {
+            let n = &self.nodes[node as usize];
+            if n.count > 0 {
+                for i in n.first..n.first + n.count {
+                    let t = intersect(&self.triangles[i as usize], &ray);
+                    // `intersect` returns t <= tmax for a hit, infinity for none.
+                    if t.is_finite() && (found.is_none() || t < ray.tmax) {
+                        ray.tmax = t;
+                        found = Some((i as usize, t));
+                        if any {
+                            return found;
+                        }
+                    }
+                }
+            } else {
+                let near_far = |c: u32| slab(&self.nodes[c as usize], origin, inv, ray.tmax);
+                let (a, b) = (n.first, n.first + 1);
+                let (ta, tb) = (near_far(a), near_far(b));
+                match (ta, tb) {
+                    (Some(ta), Some(tb)) => {
+                        let (near, far) = if tb < ta { (b, a) } else { (a, b) };
+                        stack[top] = far;
+                        top += 1;
+                        node = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        node = a;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        node = b;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            if top == 0 {
+                return found;
+            }
+            top -= 1;
+            node = stack[top];
+        }
+    }
+}
+
+/// Entry distance of the ray into a node's box if it enters before `t_max`: the slab test of
+/// `bvh.wgsl` (`slab`).
+fn slab(n: &NodeGpu, origin: Vec3, inv: Vec3, t_max: f32) -> Option<f32> {
+    let t0 = (Vec3::from(n.min) - origin) * inv;
+    let t1 = (Vec3::from(n.max) - origin) * inv;
+    let near = t0.min(t1).max_element().max(0.0);
+    let far = t0.max(t1).min_element() * BOX_SLACK;
+    (near <= far && near <= t_max).then_some(near)
+}
+
+/// Longest root-to-leaf path in nodes.
+fn tree_depth(nodes: &[NodeGpu]) -> usize {
+    let mut deepest = 0;
+    let mut todo = vec![(0u32, 1usize)];
+    while let Some((i, d)) = todo.pop() {
+        let n = &nodes[i as usize];
+        deepest = deepest.max(d);
+        if n.count == 0 {
+            todo.push((n.first, d + 1));
+            todo.push((n.first + 1, d + 1));
+        }
+    }
+    deepest
+}
+
+/// A ray for the WGSL conformance kernel and the property tests (32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct RayGpu {
+    pub origin: [f32; 3],
+    pub t_max: f32,
+    pub dir: [f32; 3],
+    pub _pad: f32,
+}
+
+/// What the conformance kernel returns per ray (32 bytes): `t` (negative for a miss), the
+/// triangle's object and index, any-hit, the barycentrics.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TraceResultGpu {
+    pub t: f32,
+    pub object: i32,
+    pub triangle: i32,
+    pub any: u32,
+    pub bary: [f32; 2],
+    pub _pad: [f32; 2],
+}

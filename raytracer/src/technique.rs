@@ -1,0 +1,134 @@
+//! The tracer as a [`Technique`]: `raytracer/whitted` (the eye pass alone) and
+//! `raytracer/caustics` (the eye pass and the light pass: the reference's whole image).
+
+use crate::tracer::{GpuTracer, MAX_PHOTONS, TracerSettings};
+use gpu::Target;
+use scene::technique::{Param, TechniqueResult, check_param, not_prepared};
+use scene::{Frame, GpuScene, Scene, Technique, View};
+
+/// The two variants.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// Whitted chains with shadow rays and the media, no caustic photons.
+    Whitted,
+    /// The same plus light-traced caustic photons: the exact counterpart of the reference.
+    Caustics,
+}
+
+/// A variant with its settings; the scene's tracer after `prepare`.
+pub struct RayTracer {
+    variant: Variant,
+    settings: TracerSettings,
+    tracer: Option<GpuTracer>,
+}
+
+impl RayTracer {
+    pub fn new(variant: Variant) -> Self {
+        let photons = match variant {
+            Variant::Whitted => None,
+            Variant::Caustics => Some(0),
+        };
+        Self {
+            variant,
+            settings: TracerSettings {
+                photons,
+                ..TracerSettings::default()
+            },
+            tracer: None,
+        }
+    }
+
+    /// The prepared tracer (BVH build time, triangle count, ray counts of the last frame).
+    pub fn tracer(&self) -> Option<&GpuTracer> {
+        self.tracer.as_ref()
+    }
+}
+
+impl Technique for RayTracer {
+    fn id(&self) -> String {
+        match self.variant {
+            Variant::Whitted => "raytracer/whitted".into(),
+            Variant::Caustics => "raytracer/caustics".into(),
+        }
+    }
+
+    fn description(&self) -> String {
+        match self.variant {
+            Variant::Whitted => "exact GPU ray tracing of the reference's eye pass (Whitted \
+                                 chains, shadow rays, media) over the scene's BVH, no caustics"
+                .into(),
+            Variant::Caustics => "exact GPU ray tracing of the whole reference: the eye pass \
+                                  plus light-traced caustic photons (the yardstick of \
+                                  speedup_vs_raytracer)"
+                .into(),
+        }
+    }
+
+    fn params(&self) -> Vec<Param> {
+        let mut params = vec![Param::new(
+            "max_depth",
+            8.0,
+            (0.0, 16.0),
+            true,
+            "specular interactions followed along a path (the reference's max_depth)",
+        )];
+        if self.variant == Variant::Caustics {
+            params.push(Param::new(
+                "photons",
+                0.0,
+                (0.0, MAX_PHOTONS as f64),
+                true,
+                "caustic photons per frame; 0: the reference's density, 61 per pixel (at \
+                 least 100 000)",
+            ));
+        }
+        params
+    }
+
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id(), &self.params(), name, value)?;
+        match name {
+            "max_depth" => self.settings.max_depth = value as u32,
+            _ => self.settings.photons = Some(value as u64),
+        }
+        if let Some(t) = &mut self.tracer {
+            t.set_settings(self.settings);
+        }
+        Ok(())
+    }
+
+    fn supports(&self, _scene: &Scene) -> bool {
+        true
+    }
+
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        self.tracer = Some(GpuTracer::new(
+            frame.gpu,
+            &scene.scene,
+            scene.time(),
+            self.settings,
+        )?);
+        Ok(())
+    }
+
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let Some(tracer) = self.tracer.as_mut() else {
+            return Err(not_prepared(self));
+        };
+        tracer.record(frame, &scene.scene, view, target)
+    }
+}
+
+/// Every variant, fresh.
+pub fn variants() -> Vec<Box<dyn Technique>> {
+    vec![
+        Box::new(RayTracer::new(Variant::Whitted)),
+        Box::new(RayTracer::new(Variant::Caustics)),
+    ]
+}

@@ -1,0 +1,681 @@
+//! The GPU side of the tracer: the BVH, the scene tables and the three passes of
+//! `shaders/tracer.wgsl` (eye, photons, resolve), recorded into a frame.
+//!
+//! Inputs: the uploaded scene's CPU model (objects, materials, textures, lights, volumes,
+//! medium) at the frame's time, and the view. Output: linear radiance in the target. Parameters:
+//! the specular depth bound and the photon count ([`TracerSettings`]).
+
+use crate::bvh::{FlatBvh, NodeGpu};
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use gpu::bind::{self, Uniform};
+use gpu::{Context, Frame, Target, wgpu};
+use scene::emission::{Emitter, caustic_casters, emitters};
+use scene::medium::MediumGpu;
+use scene::technique::{TechniqueError, TechniqueResult};
+use scene::{Camera, Medium, Scene, View};
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+/// Most volumes the tracer marches (`MAX_VOLUMES` in WGSL: each ray sorts the spheres it
+/// crosses in a fixed-size array).
+pub const MAX_VOLUMES: usize = 64;
+
+/// Photons per pixel when the photon count is left to the image: the reference's density
+/// (`truth::reference::PHOTONS_PER_PIXEL`, 4 million over 256 x 256), at least
+/// [`MIN_PHOTONS`].
+pub const PHOTONS_PER_PIXEL: u64 = 61;
+/// The fewest photons the image-scaled count gives (the reference's floor).
+pub const MIN_PHOTONS: u64 = 100_000;
+/// Most photons one frame traces (indices are 32-bit on the GPU).
+pub const MAX_PHOTONS: u64 = 1 << 30;
+
+/// Radiance units per fixed-point count of the photon accumulator (`FIXED_POINT_SCALE`).
+pub const FIXED_POINT_SCALE: f64 = 1_048_576.0;
+
+const EYE_WORKGROUP: u32 = 8;
+const PHOTON_WORKGROUP: u32 = 64;
+/// Photon threads per dispatch row (the rest go to further rows: a dimension holds at most
+/// 65535 workgroups).
+const PHOTON_ROW_WORKGROUPS: u32 = 32768;
+
+/// What a frame traces.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TracerSettings {
+    /// Specular interactions followed along a path (the reference's `max_depth`).
+    pub max_depth: u32,
+    /// Caustic photons per frame: `None` traces none, `Some(0)` the reference's density for
+    /// the image ([`photons_for_image`]).
+    pub photons: Option<u64>,
+    /// Seed of the photons' random numbers.
+    pub seed: u32,
+}
+
+impl Default for TracerSettings {
+    fn default() -> Self {
+        Self {
+            max_depth: 8,
+            photons: None,
+            seed: 0x5eed,
+        }
+    }
+}
+
+/// The reference's photon count for a `width` x `height` image.
+pub fn photons_for_image(width: u32, height: u32) -> u64 {
+    (PHOTONS_PER_PIXEL * width as u64 * height as u64).max(MIN_PHOTONS)
+}
+
+/// Rays one frame cast, counted on the GPU the way the reference counts its own.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    /// Closest-hit rays of the eye pass (primary, reflected, refracted).
+    pub camera: u64,
+    /// Shadow rays of the eye pass (direct light and in-scattering).
+    pub shadow: u64,
+    /// Photon path segments and visibility rays to the eye.
+    pub photon: u64,
+    /// Photons that landed visibly and were added to a pixel.
+    pub photons_stored: u64,
+}
+
+impl RayCounts {
+    pub fn total(&self) -> u64 {
+        self.camera + self.shadow + self.photon
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct ParamsGpu {
+    eye: [f32; 4],
+    forward: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+    view_proj: [[f32; 4]; 4],
+    size: [u32; 4],
+    counts: [u32; 4],
+    offsets: [u32; 4],
+    photons: [u32; 4],
+    background: [f32; 4],
+    medium: MediumGpu,
+}
+
+/// Lights, volumes, emitters, objects, the texture table and the sRGB table in one buffer of
+/// vec4s (the layout `tracer.wgsl`'s accessors read), and every texture's texels.
+struct Tables {
+    data: Vec<[f32; 4]>,
+    counts: [u32; 4],
+    offsets: [u32; 4],
+    texture_table: u32,
+    srgb_table: u32,
+}
+
+impl Tables {
+    fn new(scene: &Scene, time: f32, emitters: &[Emitter]) -> Self {
+        let mut data: Vec<[f32; 4]> = Vec::new();
+        let lights = data.len() as u32;
+        for l in &scene.lights {
+            data.push(l.position.extend(0.0).to_array());
+            data.push(l.intensity.extend(0.0).to_array());
+        }
+        let volumes = data.len() as u32;
+        let placed: Vec<_> = scene
+            .volumes
+            .iter()
+            .filter(|v| v.validate().is_ok() && v.density > 0.0)
+            .collect();
+        for v in &placed {
+            let c = v.center + v.motion.offset(time);
+            data.push(c.extend(v.radius).to_array());
+            data.push(v.color.extend(v.density).to_array());
+            let p = v.profile;
+            data.push([p.falloff, p.noise, p.noise_frequency, 0.0]);
+        }
+        let emitter_offset = data.len() as u32;
+        let mut first = 0u32;
+        for e in emitters {
+            data.push(e.axis.extend(e.one_minus_cos).to_array());
+            data.push([
+                f32::from_bits(e.light as u32),
+                e.solid_angle,
+                f32::from_bits(e.photons as u32),
+                f32::from_bits(first),
+            ]);
+            first += e.photons as u32;
+        }
+        let objects = data.len() as u32;
+        for o in &scene.objects {
+            let (albedo, texture, kind, ior, n, k) = match o.material {
+                scene::Material::Diffuse { albedo, texture } => (
+                    albedo,
+                    texture
+                        .filter(|t| *t < scene.textures.len())
+                        .map_or(-1, |t| t as i32),
+                    0.0,
+                    1.0,
+                    Vec3::ZERO,
+                    Vec3::ZERO,
+                ),
+                scene::Material::Metal { n, k } => (Vec3::ZERO, -1, 1.0, 1.0, n, k),
+                scene::Material::Glass { ior } => {
+                    (Vec3::ZERO, -1, 2.0, ior, Vec3::ZERO, Vec3::ZERO)
+                }
+            };
+            data.push(albedo.extend(f32::from_bits(texture as u32)).to_array());
+            data.push([kind, ior, 0.0, 0.0]);
+            data.push(n.extend(0.0).to_array());
+            data.push(k.extend(0.0).to_array());
+        }
+        let texture_table = data.len() as u32;
+        let mut texel_offset = 0u32;
+        for t in &scene.textures {
+            data.push([
+                f32::from_bits(texel_offset),
+                f32::from_bits(t.width),
+                f32::from_bits(t.height),
+                0.0,
+            ]);
+            texel_offset += t.width * t.height;
+        }
+        let srgb_table = data.len() as u32;
+        for chunk in (0..=255u8).collect::<Vec<_>>().chunks(4) {
+            let mut v = [0.0; 4];
+            for (slot, &c) in v.iter_mut().zip(chunk) {
+                *slot = scene::srgb_to_linear(c);
+            }
+            data.push(v);
+        }
+        Tables {
+            data,
+            counts: [
+                scene.lights.len() as u32,
+                placed.len() as u32,
+                emitters.len() as u32,
+                scene.objects.len() as u32,
+            ],
+            offsets: [lights, volumes, emitter_offset, objects],
+            texture_table,
+            srgb_table,
+        }
+    }
+}
+
+/// Every texture's RGBA8 texels as one u32 each, in scene order.
+fn texels(scene: &Scene) -> Vec<u32> {
+    let mut out: Vec<u32> = scene
+        .textures
+        .iter()
+        .flat_map(|t| {
+            t.rgba8
+                .chunks_exact(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        })
+        .collect();
+    out.push(0); // never empty
+    out
+}
+
+/// Whether geometry moves over time (the BVH is then rebuilt for every frame's time).
+fn geometry_moves(scene: &Scene) -> bool {
+    scene
+        .objects
+        .iter()
+        .any(|o| !o.motion.is_static() || o.morph.as_ref().is_some_and(|m| m.is_animated()))
+}
+
+/// A scene's tracer: buffers, pipelines and the BVH of the last time traced.
+pub struct GpuTracer {
+    settings: TracerSettings,
+    params: Uniform<ParamsGpu>,
+    nodes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    attributes: wgpu::Buffer,
+    tables: wgpu::Buffer,
+    texels: wgpu::Buffer,
+    radiance: wgpu::Buffer,
+    photon_sum: wgpu::Buffer,
+    stats: wgpu::Buffer,
+    stats_readback: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    group: wgpu::BindGroup,
+    resolve_layout: wgpu::BindGroupLayout,
+    /// Width, height, 1 when photons were traced.
+    resolve_params: Uniform<[u32; 4]>,
+    resolve_group: wgpu::BindGroup,
+    eye_pipeline: wgpu::ComputePipeline,
+    photon_pipeline: wgpu::ComputePipeline,
+    resolve_pipeline: wgpu::RenderPipeline,
+    /// Pixels the per-pixel buffers hold.
+    pixels: u64,
+    bvh_time: f32,
+    moves: bool,
+    /// Seconds the last BVH build took on the CPU.
+    pub bvh_build_seconds: f64,
+    pub triangle_count: usize,
+}
+
+/// The tracer's WGSL: the prelude is added by `gpu::shader_with_prelude`.
+pub fn tracer_wgsl() -> String {
+    format!(
+        "{}\n{}\n{}",
+        scene::medium::MEDIUM_WGSL,
+        include_str!("shaders/bvh.wgsl"),
+        include_str!("shaders/tracer.wgsl")
+    )
+}
+
+const RESOLVE_WGSL: &str = r#"
+struct ResolveParams { size: vec4u, };
+@group(0) @binding(0) var<uniform> resolve: ResolveParams;
+@group(0) @binding(1) var<storage, read> eye_radiance: array<vec4f>;
+@group(0) @binding(2) var<storage, read> photon_counts: array<u32>;
+
+// The fixed-point photon sum of channel c of pixel p (tracer.wgsl's add_fixed).
+fn photon_radiance(p: u32, c: u32) -> f32 {
+    let i = 2u * (3u * p + c);
+    return (f32(photon_counts[i + 1u]) * 4294967296.0 + f32(photon_counts[i])) / 1048576.0;
+}
+
+@fragment
+fn fs_main(in: FullscreenOut) -> @location(0) vec4f {
+    let x = min(u32(in.position.x), resolve.size.x - 1u);
+    let y = min(u32(in.position.y), resolve.size.y - 1u);
+    let p = y * resolve.size.x + x;
+    var l = eye_radiance[p].rgb;
+    if (resolve.size.z == 1u) {
+        l += vec3f(photon_radiance(p, 0u), photon_radiance(p, 1u), photon_radiance(p, 2u));
+    }
+    return vec4f(l, 1.0);
+}
+"#;
+
+impl GpuTracer {
+    /// Builds the tracer of `scene` (the BVH at `time`).
+    pub fn new(
+        ctx: &Context,
+        scene: &Scene,
+        time: f32,
+        settings: TracerSettings,
+    ) -> TechniqueResult<Self> {
+        let usable = scene
+            .volumes
+            .iter()
+            .filter(|v| v.validate().is_ok() && v.density > 0.0)
+            .count();
+        if usable > MAX_VOLUMES {
+            return Err(TechniqueError::Unsupported(format!(
+                "the ray tracer marches at most {MAX_VOLUMES} volumes; this scene has {usable}"
+            )));
+        }
+        let device = &ctx.device;
+        let storage = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE | usage,
+            })
+        };
+        let empty = wgpu::BufferUsages::empty();
+        let dst = wgpu::BufferUsages::COPY_DST;
+        let layout = bind::layout(
+            ctx,
+            "ray tracer",
+            wgpu::ShaderStages::COMPUTE,
+            &[
+                bind::uniform(),      // params
+                bind::storage(true),  // bvh_nodes
+                bind::storage(true),  // bvh_triangles
+                bind::storage(true),  // bvh_attributes
+                bind::storage(true),  // tables
+                bind::storage(true),  // texels
+                bind::storage(false), // radiance
+                bind::storage(false), // photon_sum
+                bind::storage(false), // stats
+            ],
+        );
+        let resolve_layout = bind::layout(
+            ctx,
+            "ray tracer resolve",
+            wgpu::ShaderStages::FRAGMENT,
+            &[bind::uniform(), bind::storage(true), bind::storage(true)],
+        );
+        let module = gpu::shader_with_prelude(ctx, "ray tracer", &tracer_wgsl());
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("ray tracer"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let resolve_pipeline = gpu::fullscreen::pipeline(
+            ctx,
+            "ray tracer resolve",
+            RESOLVE_WGSL,
+            &[Some(&resolve_layout)],
+            gpu::HDR_FORMAT,
+            None,
+        );
+        let emitters = Self::emitters_of(scene, time, 1);
+        let tables = Tables::new(scene, time, &emitters);
+        let stats = storage(
+            "ray tracer stats",
+            &[0u8; 16],
+            wgpu::BufferUsages::COPY_SRC | dst,
+        );
+        let stats_readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ray tracer stats read-back"),
+            size: 16,
+            usage: wgpu::BufferUsages::MAP_READ | dst,
+            mapped_at_creation: false,
+        });
+        let placeholder = |label: &str| storage(label, &[0u8; 16], dst);
+        let mut tracer = Self {
+            settings,
+            params: Uniform::new(ctx, "ray tracer params", &ParamsGpu::zeroed()),
+            nodes: placeholder("bvh nodes"),
+            triangles: placeholder("bvh triangles"),
+            attributes: placeholder("bvh attributes"),
+            tables: storage("ray tracer tables", bytemuck::cast_slice(&tables.data), dst),
+            texels: storage(
+                "ray tracer texels",
+                bytemuck::cast_slice(&texels(scene)),
+                empty,
+            ),
+            radiance: placeholder("eye radiance"),
+            photon_sum: placeholder("photon sum"),
+            stats,
+            stats_readback,
+            group: placeholder_group(ctx),
+            resolve_params: Uniform::new(ctx, "ray tracer resolve", &[0u32; 4]),
+            resolve_group: placeholder_group(ctx),
+            layout,
+            resolve_layout,
+            eye_pipeline: pipeline("eye_pass"),
+            photon_pipeline: pipeline("photon_pass"),
+            resolve_pipeline,
+            pixels: 0,
+            bvh_time: f32::NAN,
+            moves: geometry_moves(scene),
+            bvh_build_seconds: 0.0,
+            triangle_count: 0,
+        };
+        tracer.build_bvh(ctx, scene, time)?;
+        Ok(tracer)
+    }
+
+    pub fn settings(&self) -> TracerSettings {
+        self.settings
+    }
+
+    pub fn set_settings(&mut self, settings: TracerSettings) {
+        self.settings = settings;
+    }
+
+    /// The emission cones for `photons` photons (at least one cone gets a photon each).
+    fn emitters_of(scene: &Scene, time: f32, photons: u64) -> Vec<Emitter> {
+        emitters(scene, time, &caustic_casters(scene), photons.max(1))
+    }
+
+    /// Builds and uploads the BVH of `scene` at `time` (on the CPU, timed apart).
+    fn build_bvh(&mut self, ctx: &Context, scene: &Scene, time: f32) -> TechniqueResult<()> {
+        let start = Instant::now();
+        let bvh = FlatBvh::build(scene, time).map_err(|e| {
+            TechniqueError::Unsupported(format!(
+                "the scene's BVH is {} levels deep, more than the GPU traversal's stack of {}",
+                e.depth,
+                crate::bvh::STACK_SIZE
+            ))
+        })?;
+        self.bvh_build_seconds = start.elapsed().as_secs_f64();
+        self.triangle_count = bvh.triangles.len();
+        let device = &ctx.device;
+        let init = |label: &str, contents: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        if bvh.nodes.is_empty() {
+            // An inner root whose two children bound nothing: every ray misses.
+            let empty = NodeGpu {
+                min: [f32::MAX; 3],
+                max: [f32::MIN; 3],
+                ..Default::default()
+            };
+            let root = NodeGpu {
+                first: 1,
+                ..Default::default()
+            };
+            self.nodes = init("bvh nodes", bytemuck::cast_slice(&[root, empty, empty]));
+            self.triangles = init("bvh triangles", &[0u8; 64]);
+            self.attributes = init("bvh attributes", &[0u8; 96]);
+        } else {
+            self.nodes = init("bvh nodes", bytemuck::cast_slice(&bvh.nodes));
+            self.triangles = init("bvh triangles", bytemuck::cast_slice(&bvh.triangle_gpu()));
+            self.attributes = init(
+                "bvh attributes",
+                bytemuck::cast_slice(&bvh.attributes_gpu()),
+            );
+        }
+        self.bvh_time = time;
+        self.pixels = 0; // the bind group names the new buffers
+        Ok(())
+    }
+
+    /// (Re)allocates the per-pixel buffers for `pixels` and rebuilds the bind group.
+    fn ensure_pixels(&mut self, ctx: &Context, pixels: u64) {
+        if self.pixels == pixels {
+            return;
+        }
+        let device = &ctx.device;
+        let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | usage,
+                mapped_at_creation: false,
+            })
+        };
+        self.radiance = buffer("eye radiance", pixels * 16, wgpu::BufferUsages::empty());
+        self.photon_sum = buffer("photon sum", pixels * 24, wgpu::BufferUsages::COPY_DST);
+        self.group = bind::group(
+            ctx,
+            "ray tracer",
+            &self.layout,
+            &[
+                self.params.binding(),
+                self.nodes.as_entire_binding(),
+                self.triangles.as_entire_binding(),
+                self.attributes.as_entire_binding(),
+                self.tables.as_entire_binding(),
+                self.texels.as_entire_binding(),
+                self.radiance.as_entire_binding(),
+                self.photon_sum.as_entire_binding(),
+                self.stats.as_entire_binding(),
+            ],
+        );
+        self.resolve_group = bind::group(
+            ctx,
+            "ray tracer resolve",
+            &self.resolve_layout,
+            &[
+                self.resolve_params.binding(),
+                self.radiance.as_entire_binding(),
+                self.photon_sum.as_entire_binding(),
+            ],
+        );
+        self.pixels = pixels;
+    }
+
+    /// Photons this frame traces for a `width` x `height` image.
+    pub fn photons(&self, width: u32, height: u32) -> u64 {
+        match self.settings.photons {
+            None => 0,
+            Some(0) => photons_for_image(width, height),
+            Some(n) => n.min(MAX_PHOTONS),
+        }
+    }
+
+    /// Records one frame of `view` into `target`.
+    pub fn record(
+        &mut self,
+        frame: &mut Frame,
+        scene: &Scene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let ctx = frame.gpu;
+        if self.moves && self.bvh_time != view.time {
+            self.build_bvh(ctx, scene, view.time)?;
+        }
+        let (width, height) = (target.width, target.height);
+        self.ensure_pixels(ctx, width as u64 * height as u64);
+        let photons = self.photons(width, height);
+        let emitters = if photons > 0 {
+            Self::emitters_of(scene, view.time, photons)
+        } else {
+            Vec::new()
+        };
+        let traced: u64 = emitters.iter().map(|e| e.photons).sum();
+        let tables = Tables::new(scene, view.time, &emitters);
+        let size = (tables.data.len() * 16) as u64;
+        if size > self.tables.size() {
+            return Err(TechniqueError::Unsupported(
+                "the scene's tables grew after prepare()".into(),
+            ));
+        }
+        ctx.queue
+            .write_buffer(&self.tables, 0, bytemuck::cast_slice(&tables.data));
+        let row_threads = PHOTON_ROW_WORKGROUPS * PHOTON_WORKGROUP;
+        self.params.write(
+            ctx,
+            &params_of(
+                &view.camera,
+                width,
+                height,
+                self.settings,
+                &tables,
+                [traced as u32, self.settings.seed],
+                row_threads,
+                scene,
+            ),
+        );
+        self.resolve_params
+            .write(ctx, &[width, height, (traced > 0) as u32, 0]);
+        let encoder = &mut *frame.encoder;
+        encoder.clear_buffer(&self.stats, 0, None);
+        encoder.clear_buffer(&self.photon_sum, 0, None);
+
+        frame.timer.begin(encoder, "eye");
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.eye_pipeline);
+            pass.set_bind_group(0, &self.group, &[]);
+            pass.dispatch_workgroups(
+                width.div_ceil(EYE_WORKGROUP),
+                height.div_ceil(EYE_WORKGROUP),
+                1,
+            );
+        }
+        frame.timer.end(encoder, "eye");
+        if traced > 0 {
+            frame.timer.begin(encoder, "photons");
+            let groups = (traced as u32).div_ceil(PHOTON_WORKGROUP);
+            let (x, y) = (
+                groups.min(PHOTON_ROW_WORKGROUPS),
+                groups.div_ceil(PHOTON_ROW_WORKGROUPS),
+            );
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.photon_pipeline);
+            pass.set_bind_group(0, &self.group, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+            drop(pass);
+            frame.timer.end(encoder, "photons");
+        }
+        frame.timer.begin(encoder, "resolve");
+        {
+            let mut pass = gpu::pass::begin(
+                encoder,
+                "ray tracer resolve",
+                &[gpu::pass::color(&target.color_view, gpu::pass::CLEAR_BLACK)],
+                None,
+                None,
+            );
+            pass.set_pipeline(&self.resolve_pipeline);
+            pass.set_bind_group(0, &self.resolve_group, &[]);
+            gpu::fullscreen::draw(&mut pass);
+        }
+        frame.timer.end(encoder, "resolve");
+        encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
+        Ok(())
+    }
+
+    /// The rays the last recorded frame cast (after its submission finished).
+    pub fn ray_counts(&self, ctx: &Context) -> Result<RayCounts, gpu::GpuError> {
+        let slice = self.stats_readback.slice(..);
+        slice.map_async(wgpu::MapMode::Read, |_| {});
+        ctx.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| gpu::GpuError::ReadBack(e.to_string()))?;
+        let counts: [u32; 4] = {
+            let data = slice
+                .get_mapped_range()
+                .map_err(|e| gpu::GpuError::ReadBack(e.to_string()))?;
+            *bytemuck::from_bytes(&data[..16])
+        };
+        self.stats_readback.unmap();
+        Ok(RayCounts {
+            camera: counts[0] as u64,
+            shadow: counts[1] as u64,
+            photon: counts[2] as u64,
+            photons_stored: counts[3] as u64,
+        })
+    }
+}
+
+fn placeholder_group(ctx: &Context) -> wgpu::BindGroup {
+    let layout = bind::layout(ctx, "placeholder", wgpu::ShaderStages::COMPUTE, &[]);
+    bind::group(ctx, "placeholder", &layout, &[])
+}
+
+#[allow(clippy::too_many_arguments)]
+fn params_of(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    settings: TracerSettings,
+    tables: &Tables,
+    [photons, seed]: [u32; 2],
+    row_threads: u32,
+    scene: &Scene,
+) -> ParamsGpu {
+    let (forward, right, up) = camera.basis();
+    let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let aspect = width as f32 / height as f32;
+    let pixel_area = (2.0 * tan_half) * (2.0 * tan_half) * aspect / (width as f32 * height as f32);
+    // The light pass's forward (Eye::new) is the normalised eye-to-target vector, which
+    // `basis()` also returns for any camera whose target differs from its eye.
+    ParamsGpu {
+        eye: camera.eye.extend(1.0).to_array(),
+        forward: forward.extend(tan_half).to_array(),
+        right: right.extend(aspect).to_array(),
+        up: up.extend(pixel_area).to_array(),
+        view_proj: camera.view_proj(width, height).to_cols_array_2d(),
+        size: [width, height, settings.max_depth, 0],
+        counts: tables.counts,
+        offsets: tables.offsets,
+        photons: [photons, seed, tables.texture_table, tables.srgb_table],
+        background: scene.background.extend(row_threads as f32).to_array(),
+        medium: Medium::gpu(scene.medium.as_ref()),
+    }
+}
