@@ -18,6 +18,7 @@
 //! that scene have timings but no error figures, and the reason is in `results.json`.
 
 use crate::cache::{self, RefView};
+use crate::pareto::{self, ParetoScene};
 use crate::report::{self, AdapterJson, ErrorAt, ResultRow, Skipped};
 use crate::run::{self, ErrorFrame, TechniqueRun};
 use crate::{
@@ -77,6 +78,9 @@ pub struct CompareReport {
     /// The rows whose technique panicked ("scene / technique: message"). A panic is a defect
     /// even where it is caught: the binary exits non-zero when this is not empty.
     pub panics: Vec<String>,
+    /// Per scene: error against frame time, and which techniques are on the front
+    /// (`crate::pareto`; the plot under `pareto/`).
+    pub pareto: Vec<ParetoScene>,
     #[serde(skip)]
     pub markdown: String,
 }
@@ -404,6 +408,7 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
         scene_notes: Vec::new(),
         errors: Vec::new(),
         panics: Vec::new(),
+        pareto: Vec::new(),
         markdown: String::new(),
     };
     let bar = crate::progress_bar(env.progress, (scenes.len() * (selected.len() + 1)) as u64);
@@ -528,6 +533,24 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
             }
             report.rows.push(outcome.row);
             bar.inc(1);
+        }
+        let first = report.rows.iter().position(|r| &r.scene == spec);
+        if let Some(first) = first {
+            let rows = &mut report.rows[first..];
+            pareto::set_speedups(rows);
+            let mut points = pareto::scene_points(spec, rows);
+            if points.yardstick_ms.is_some() && points.points.len() > 1 {
+                let file = format!("pareto/{dir_name}.png");
+                let path = opts.out.join(&file);
+                std::fs::create_dir_all(opts.out.join("pareto"))
+                    .with_context(|| format!("cannot create {}", opts.out.display()))?;
+                let title = format!("{spec}: error against frame time, {}", adapter_name);
+                match pareto::draw(&path, &title, &points) {
+                    Ok(()) => points.plot = Some(file),
+                    Err(e) => say(&bar, format!("warning: {spec}: {e:#}")),
+                }
+            }
+            report.pareto.push(points);
         }
     }
     bar.finish_and_clear();

@@ -19,6 +19,7 @@ pub mod cache;
 pub mod compare;
 pub mod images;
 pub mod limits;
+pub mod pareto;
 pub mod plot;
 pub mod report;
 pub mod run;

@@ -54,6 +54,10 @@ pub struct ResultRow {
     /// Mean FLIP over the mask's silhouette band (`truth::metrics::silhouette_band`), mean
     /// over the error frames.
     pub flip_mean_silhouette: Option<f64>,
+    /// The exact GPU ray tracer's median frame time on this scene in this run over this row's
+    /// (`crate::pareto`): above 1, the technique is that many times faster than tracing the
+    /// rays exactly. None without the tracer's row, for CPU-timed rows and failed rows.
+    pub speedup_vs_raytracer: Option<f64>,
     /// Time of the worst error frame (largest masked FLIP, else largest FLIP).
     pub worst_time: Option<f32>,
     /// The times of the error frames.
@@ -191,6 +195,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "worst_time",
     "error_times",
     "flip_mean_silhouette",
+    "speedup_vs_raytracer",
     "adapter",
     "error",
 ];
@@ -253,6 +258,7 @@ pub fn to_csv(rows: &[ResultRow], with_param: bool) -> String {
             r.worst_time.map(|t| t.to_string()).unwrap_or_default(),
             csv_field(&times_list(&r.error_times)),
             csv_num(r.flip_mean_silhouette),
+            csv_num(r.speedup_vs_raytracer),
             csv_field(&r.adapter),
             csv_field(r.error.as_deref().unwrap_or("")),
         ]);
@@ -288,6 +294,16 @@ fn md_worst(r: &ResultRow) -> String {
     }
 }
 
+/// `12.3x` (three significant figures), `-` for none.
+fn md_speedup(v: Option<f64>) -> String {
+    match v {
+        Some(v) if v.is_finite() && v >= 100.0 => format!("{v:.0}x"),
+        Some(v) if v.is_finite() && v >= 10.0 => format!("{v:.1}x"),
+        Some(v) if v.is_finite() => format!("{v:.2}x"),
+        _ => "-".into(),
+    }
+}
+
 fn md_cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
 }
@@ -311,6 +327,7 @@ pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
         "FLIP masked worst (t)",
         "FLIP silhouette",
         "FLIP>0.1 %",
+        "speed-up vs ray tracer",
         "NaN px",
         "error",
     ]);
@@ -334,6 +351,7 @@ pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
             md_worst(r),
             md_num(r.flip_mean_silhouette, 4),
             md_num(r.flip_over_0_1_pct, 2),
+            md_speedup(r.speedup_vs_raytracer),
             r.nan_pixels
                 .map(|n| n.to_string())
                 .unwrap_or_else(|| "-".into()),

@@ -22,7 +22,9 @@
 //! with the reference's watertight-on-shared-edges test ([`scene::bvh::intersect`]) against
 //! the nearest hit so far. Boxes are tested with their far distance widened by
 //! [`BOX_SLACK`] (relative), so rounding in the slab test never rejects a triangle lying in a
-//! box's face (rays grazing an axis-aligned wall). The any-hit query stops at the first hit.
+//! box's face (rays grazing an axis-aligned wall), and an axis the ray runs parallel to bounds
+//! it only through the origin's position between the box's planes. The any-hit query stops at
+//! the first hit.
 
 use glam::{Vec2, Vec3};
 use obvhs::{
@@ -228,7 +230,7 @@ impl FlatBvh {
                     }
                 }
             } else {
-                let near_far = |c: u32| slab(&self.nodes[c as usize], origin, inv, ray.tmax);
+                let near_far = |c: u32| slab(&self.nodes[c as usize], origin, dir, inv, ray.tmax);
                 let (a, b) = (n.first, n.first + 1);
                 let (ta, tb) = (near_far(a), near_far(b));
                 match (ta, tb) {
@@ -260,12 +262,23 @@ impl FlatBvh {
 }
 
 /// Entry distance of the ray into a node's box if it enters before `t_max`: the slab test of
-/// `bvh.wgsl` (`slab`).
-fn slab(n: &NodeGpu, origin: Vec3, inv: Vec3, t_max: f32) -> Option<f32> {
-    let t0 = (Vec3::from(n.min) - origin) * inv;
-    let t1 = (Vec3::from(n.max) - origin) * inv;
-    let near = t0.min(t1).max_element().max(0.0);
-    let far = t0.max(t1).min_element() * BOX_SLACK;
+/// `bvh.wgsl` (`slab`). An axis the ray runs parallel to (`|d| <= f32::EPSILON`, where
+/// `safe_inverse` gives a large finite inverse) does not bound the ray when the origin lies
+/// between the box's planes (on them included) and excludes it otherwise: the product
+/// `(max - o) * inv` would be 0 for an origin exactly on a face and wrongly end the slab there.
+fn slab(n: &NodeGpu, origin: Vec3, dir: Vec3, inv: Vec3, t_max: f32) -> Option<f32> {
+    let (lo, hi) = (Vec3::from(n.min), Vec3::from(n.max));
+    let t0 = (lo - origin) * inv;
+    let t1 = (hi - origin) * inv;
+    let parallel = dir.abs().cmple(Vec3::splat(f32::EPSILON));
+    let between = origin.cmpge(lo) & origin.cmple(hi);
+    if (parallel & !between).any() {
+        return None;
+    }
+    let near = Vec3::select(parallel, Vec3::splat(f32::MIN), t0.min(t1));
+    let far = Vec3::select(parallel, Vec3::splat(f32::MAX), t0.max(t1));
+    let near = near.max_element().max(0.0);
+    let far = far.min_element() * BOX_SLACK;
     (near <= far && near <= t_max).then_some(near)
 }
 

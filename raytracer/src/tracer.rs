@@ -442,7 +442,7 @@ impl GpuTracer {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
                 contents,
-                usage: wgpu::BufferUsages::STORAGE,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             })
         };
         if bvh.nodes.is_empty() {
@@ -460,12 +460,29 @@ impl GpuTracer {
             self.triangles = init("bvh triangles", &[0u8; 64]);
             self.attributes = init("bvh attributes", &[0u8; 96]);
         } else {
-            self.nodes = init("bvh nodes", bytemuck::cast_slice(&bvh.nodes));
-            self.triangles = init("bvh triangles", bytemuck::cast_slice(&bvh.triangle_gpu()));
-            self.attributes = init(
-                "bvh attributes",
-                bytemuck::cast_slice(&bvh.attributes_gpu()),
-            );
+            let triangles = bvh.triangle_gpu();
+            let attributes = bvh.attributes_gpu();
+            let contents: [&[u8]; 3] = [
+                bytemuck::cast_slice(&bvh.nodes),
+                bytemuck::cast_slice(&triangles),
+                bytemuck::cast_slice(&attributes),
+            ];
+            let buffers = [&self.nodes, &self.triangles, &self.attributes];
+            if buffers
+                .iter()
+                .zip(&contents)
+                .all(|(b, c)| b.size() == c.len() as u64)
+            {
+                // A rigidly moving object keeps the tree's shape: rewrite in place.
+                for (b, c) in buffers.iter().zip(&contents) {
+                    ctx.queue.write_buffer(b, 0, c);
+                }
+                self.bvh_time = time;
+                return Ok(());
+            }
+            self.nodes = init("bvh nodes", contents[0]);
+            self.triangles = init("bvh triangles", contents[1]);
+            self.attributes = init("bvh attributes", contents[2]);
         }
         self.bvh_time = time;
         self.pixels = 0; // the bind group names the new buffers

@@ -14,7 +14,8 @@
 //!    (the GPU upload does the same, so both interpolate the same vectors), the three uvs, and
 //!    the unit geometric normal. Zero-area triangles are dropped: no ray can hit them.
 //! 2. **Build.** obvhs builds a compressed-wide BVH (8-wide "CWBVH", Ylitie et al. 2017)
-//!    from the triangles' bounds with PLOC and reinsertion (`BvhBuildParams::medium_build`).
+//!    from the triangles' bounds (padded by a few ulps, so that node tests never reject a ray
+//!    through an edge or vertex) with PLOC and reinsertion (`BvhBuildParams::medium_build`).
 //!    The BVH's leaves refer to primitives through `primitive_indices`; we reorder our
 //!    triangle arrays once by that table so a leaf's primitive id indexes them directly.
 //! 3. **Query.** Traversal calls back for each candidate triangle; we intersect it in
@@ -40,7 +41,8 @@ use crate::Scene;
 use glam::{Mat3, Vec2, Vec3, Vec3A};
 use obvhs::{
     BvhBuildParams,
-    cwbvh::{CwBvh, builder::build_cwbvh_from_tris},
+    aabb::Aabb,
+    cwbvh::{CwBvh, builder::build_cwbvh},
     ray::{Ray, RayHit},
     rt_triangle::RtTriangle,
     triangle::Triangle,
@@ -199,8 +201,13 @@ impl SceneBvh {
                 bounds: (Vec3::ZERO, Vec3::ZERO),
             };
         }
-        let bvh = build_cwbvh_from_tris(
-            &tris,
+        // The boxes are built around each triangle's bounds padded by a few ulps: a ray through
+        // a triangle's edge or vertex can enter the triangle's box exactly at its surface, where
+        // rounding in the node test (entry a hair beyond exit) would reject it; the triangle
+        // test itself keeps such hits (see `intersect`).
+        let padded: Vec<Aabb> = tris.iter().map(|t| padded_bounds(t.aabb())).collect();
+        let bvh = build_cwbvh(
+            &padded,
             BvhBuildParams::medium_build(),
             &mut Duration::default(),
         );
@@ -310,10 +317,31 @@ impl SceneBvh {
 /// direction *components* are fine: obvhs stores their inverse as a large finite number
 /// (`safe_inverse`), never an infinity. A NaN ray would fail obvhs' debug assertion on the
 /// inverse direction instead of missing, so no caller may pass one; this is the last guard.
+///
+/// A direction component of `-0.0` is made `+0.0`: obvhs' CWBVH node test orders each slab by
+/// `direction < 0.0` (false for `-0.0`) but inverts the direction with the sign of zero
+/// (`safe_inverse(-0.0)` is a large *negative* number), so with a `-0.0` component the two
+/// disagreed and the ray missed every node box it started inside (the tracer's property tests,
+/// `raytracer/tests/bvh_properties.rs`, found rays from inside a box that passed through it).
 fn ray(origin: Vec3, dir: Vec3, t_max: f32) -> Option<Ray> {
     let usable = origin.is_finite() && dir.is_finite() && dir != Vec3::ZERO && t_max >= 0.0;
+    let dir = dir + Vec3::ZERO; // -0.0 + 0.0 = +0.0 (IEEE 754, round to nearest)
     usable.then(|| Ray::new(origin.into(), dir.into(), 0.0, t_max))
 }
+
+/// `b` grown on every side by `BOX_PADDING` of its largest coordinate's magnitude (at least of
+/// 1): a few ulps of the node test's arithmetic at that scale.
+fn padded_bounds(b: Aabb) -> Aabb {
+    let scale = b.min.abs().max(b.max.abs()).max_element().max(1.0);
+    let pad = Vec3A::splat(BOX_PADDING * scale);
+    Aabb {
+        min: b.min - pad,
+        max: b.max + pad,
+    }
+}
+
+/// Relative padding of the triangles' boxes (`padded_bounds`).
+const BOX_PADDING: f32 = 4.0 * f32::EPSILON;
 
 /// Möller-Trumbore on obvhs' `RtTriangle` layout (`e1 = v0 - v1`, `e2 = v2 - v0`,
 /// `ng = e1 x e2`): the ray parameter of the hit, or infinity.
@@ -371,6 +399,30 @@ mod tests {
 
     fn white() -> Material {
         Material::diffuse(0.5, 0.5, 0.5)
+    }
+
+    /// A ray with `-0.0` direction components from inside a closed box hits its wall (obvhs
+    /// alone let it through: see `ray`).
+    #[test]
+    fn negative_zero_directions_from_inside_a_box_hit_it() {
+        let bvh = SceneBvh::build(
+            &scene_of(vec![Object::new(
+                "box",
+                cuboid(Vec3::splat(-1.0), Vec3::ONE),
+                white(),
+                Mat4::IDENTITY,
+            )]),
+            0.0,
+        );
+        for d in [
+            Vec3::new(-0.0, 1.0, 0.0),
+            Vec3::new(0.0, -0.0, 1.0),
+            Vec3::new(-0.0, -0.0, -1.0),
+            Vec3::new(-0.6, -0.0, -0.8),
+        ] {
+            let hit = bvh.closest_hit(Vec3::new(0.1, -0.2, 0.05), d, f32::INFINITY);
+            assert!(hit.is_some(), "{d:?} passed through the box");
+        }
     }
 
     #[test]

@@ -46,12 +46,16 @@ fn safe_inverse(x: f32) -> f32 {
     return 1.0 / x;
 }
 
-// Entry distance into a node's box, or -1 when the ray misses it before t_max.
-fn slab(n: BvhNode, o: vec3f, inv: vec3f, t_max: f32) -> f32 {
+// Entry distance into a node's box, or -1 when the ray misses it before t_max. An axis the ray
+// runs parallel to bounds it only through the origin's place between the box's planes.
+fn slab(n: BvhNode, o: vec3f, d: vec3f, inv: vec3f, t_max: f32) -> f32 {
     let t0 = (n.min - o) * inv;
     let t1 = (n.max - o) * inv;
-    let lo = min(t0, t1);
-    let hi = max(t0, t1);
+    let parallel = abs(d) <= vec3f(1.1920929e-7);
+    let between = o >= n.min & o <= n.max;
+    if (any(parallel & !between)) { return -1.0; }
+    let lo = select(min(t0, t1), vec3f(-3.4028235e38), parallel);
+    let hi = select(max(t0, t1), vec3f(3.4028235e38), parallel);
     let near = max(max(max(lo.x, lo.y), lo.z), 0.0);
     let far = min(min(hi.x, hi.y), hi.z) * BOX_SLACK;
     return select(-1.0, near, near <= far && near <= t_max);
@@ -102,8 +106,8 @@ fn trace(o: vec3f, d: vec3f, t_max_in: f32, any: bool) -> TraceHit {
         } else {
             let a = n.first;
             let b = n.first + 1u;
-            let ta = slab(bvh_nodes[a], o, inv, best.t);
-            let tb = slab(bvh_nodes[b], o, inv, best.t);
+            let ta = slab(bvh_nodes[a], o, d, inv, best.t);
+            let tb = slab(bvh_nodes[b], o, d, inv, best.t);
             if (ta >= 0.0 && tb >= 0.0) {
                 let near = select(a, b, tb < ta);
                 let far = select(b, a, tb < ta);

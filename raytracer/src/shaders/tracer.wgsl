@@ -48,7 +48,8 @@ struct Params {
 @group(0) @binding(4) var<storage, read> tables: array<vec4f>;
 // Every texture's RGBA8 texels, one u32 each (red in the low byte).
 @group(0) @binding(5) var<storage, read> texels: array<u32>;
-// Eye-pass radiance per pixel (row 0 at the top).
+// Eye-pass radiance per pixel (row 0 at the top); w: the view-space depth of the pixel's
+// first surface (infinity where its centre ray meets none), which hides photon beams.
 @group(0) @binding(6) var<storage, read_write> radiance: array<vec4f>;
 // Photon radiance per pixel: per channel a 64-bit fixed-point sum (low word, high word).
 @group(0) @binding(7) var<storage, read_write> photon_sum: array<atomic<u32>>;
@@ -433,6 +434,8 @@ fn eye_pass(@builtin(global_invocation_id) gid: vec3u) {
                        vec3f(1.0), vec3f(1.0));
     var top = 1u;
     var l = vec3f(0.0);
+    // View-space depth of the centre ray's first surface (photon beams hide behind it).
+    var view_depth = INFINITY;
     var camera_rays = 0u;
     var shadow_rays = 0u;
     let max_depth = params.size.z;
@@ -442,6 +445,9 @@ fn eye_pass(@builtin(global_invocation_id) gid: vec3u) {
         camera_rays += 1u;
         let h = trace_closest(r.origin, r.dir, INFINITY);
         let t_hit = select(INFINITY, h.t, h.triangle != NO_HIT);
+        if (r.depth == 0u) {
+            view_depth = t_hit * dot(r.dir, params.forward.xyz);
+        }
         // The media in front of the hit: `through_media` of the reference.
         let seg = march(r.origin, r.dir, t_hit);
         var medium_t = vec3f(1.0);
@@ -479,7 +485,7 @@ fn eye_pass(@builtin(global_invocation_id) gid: vec3u) {
             }
         }
     }
-    radiance[gid.y * params.size.x + gid.x] = vec4f(l, 1.0);
+    radiance[gid.y * params.size.x + gid.x] = vec4f(l, view_depth);
     atomicAdd(&stats[0], camera_rays);
     atomicAdd(&stats[1], shadow_rays);
 }
@@ -547,6 +553,79 @@ fn add_fixed(p: u32, c: u32, v: f32) {
     if (hi > 0.0 || carry > 0u) {
         atomicAdd(&photon_sum[i + 1u], u32(hi) + carry);
     }
+}
+
+// ---- Photon beams: single scattering after specular events (truth::scattering) ------------
+
+const NEAR: f32 = 0.01;
+const BEAM_STEPS_PER_PIXEL: f32 = 2.0;
+const MAX_BEAM_STEPS: u32 = 16384u;
+
+// Pixel coordinates (continuous) of x, as Camera::project computes them; z < 0 behind the eye.
+fn project(x: vec3f) -> vec3f {
+    let clip = params.view_proj * vec4f(x, 1.0);
+    if (clip.w <= 1e-6) { return vec3f(0.0, 0.0, -1.0); }
+    let ndc = clip.xyz / clip.w;
+    return vec3f((ndc.x + 1.0) * 0.5 * f32(params.size.x), (1.0 - ndc.y) * 0.5 * f32(params.size.y), 1.0);
+}
+
+// BeamSplatter::splat: the beam o + s d, s in [0, length], of flux `power` at o, added to the
+// pixels it is seen in (in front of their first surface). Returns the steps taken.
+fn splat_beam(o: vec3f, d: vec3f, length: f32, power: vec3f) -> u32 {
+    let m = params.medium;
+    let inside = medium_clip(m, o, d, length);
+    if (inside.x >= inside.y) { return 0u; }
+    // The part in front of the eye's near plane.
+    let forward = params.forward.xyz;
+    let eye = params.eye.xyz;
+    let z0 = dot(o - eye, forward);
+    let dz = dot(d, forward);
+    var a = inside.x;
+    var b = inside.y;
+    if (abs(dz) < 1e-12) {
+        if (z0 <= NEAR) { return 0u; }
+    } else {
+        let s_near = (NEAR - z0) / dz;
+        if (dz > 0.0) { a = max(a, s_near); } else { b = min(b, s_near); }
+    }
+    if (a >= b) { return 0u; }
+    let pa = project(o + d * a);
+    let pb = project(o + d * b);
+    var pixels = f32(max(params.size.x, params.size.y));
+    if (pa.z > 0.0 && pb.z > 0.0) { pixels = distance(pa.xy, pb.xy); }
+    let wanted = ceil(pixels * BEAM_STEPS_PER_PIXEL);
+    var steps = MAX_BEAM_STEPS;
+    if (wanted < f32(MAX_BEAM_STEPS)) { steps = max(u32(wanted), 1u); }
+    let ds = (b - a) / f32(steps);
+    let sigma_t = medium_extinction(m);
+    let g = m.max.w;
+    let w = f32(params.size.x);
+    let h = f32(params.size.y);
+    for (var i = 0u; i < steps; i++) {
+        let s = a + (f32(i) + 0.5) * ds;
+        let x = o + d * s;
+        let to_eye = eye - x;
+        let d2 = dot(to_eye, to_eye);
+        if (d2 <= 0.0) { continue; }
+        let dist = sqrt(d2);
+        if (dist < EYE_CLEARANCE) { continue; }
+        let w_c = to_eye / dist;
+        let cos_camera = dot(forward, -w_c);
+        if (cos_camera <= 0.0) { continue; }
+        let p = project(x);
+        if (p.z < 0.0 || !(p.x >= 0.0 && p.y >= 0.0 && p.x < w && p.y < h)) { continue; }
+        let pixel = min(u32(p.y), params.size.y - 1u) * params.size.x + min(u32(p.x), params.size.x - 1u);
+        if (!(cos_camera * dist < radiance[pixel].w)) { continue; }
+        let importance = 1.0 / (params.up.w * cos_camera * cos_camera * cos_camera);
+        let beam = transmittance_of(sigma_t, s - inside.x);
+        let seen = medium_transmittance(m, x, w_c, dist);
+        let phase = henyey_greenstein(dot(d, w_c), g);
+        let value = power * beam * m.scattering.rgb * seen * (phase * importance / d2 * ds);
+        add_fixed(pixel, 0u, value.x);
+        add_fixed(pixel, 1u, value.y);
+        add_fixed(pixel, 2u, value.z);
+    }
+    return steps;
 }
 
 // Eye::connect: the pixel a photon landed at `s` is seen in, and what it adds there.
@@ -617,6 +696,9 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u) {
     loop {
         rays += 1u;
         let h = trace_closest(origin, dir, INFINITY);
+        if (bounces >= 1u && medium_present(params.medium)) {
+            splat_beam(origin, dir, select(INFINITY, h.t, h.triangle != NO_HIT), power);
+        }
         if (h.triangle == NO_HIT) { break; }
         if (medium_present(params.medium)) {
             power *= medium_transmittance(params.medium, origin, dir, h.t);

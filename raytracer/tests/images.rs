@@ -1,0 +1,220 @@
+//! The tracer's images against the CPU reference.
+//!
+//! * `raytracer/whitted` equals the reference rendered without caustic photons on every
+//!   built-in scene at the start, middle and end of its camera path, within the bound the
+//!   README states ([`WHITTED_MAX_RMSE`], [`WHITTED_MAX_DIFFERENT`]): the same rays, the same
+//!   triangle test, the same shading, so what differs is float rounding (GPU fused
+//!   multiply-adds, `pow`/`exp`/`tan` of the shader library) and the rare pixel whose ray meets
+//!   a shared edge and is assigned the neighbouring triangle.
+//! * `raytracer/caustics` matches the whole reference within the noise of the two photon sets,
+//!   and its caustic converges to the reference's as the photon count grows.
+//! * No image has a NaN or infinite pixel.
+
+use gpu::HdrImage;
+use raytracer::{RayTracer, Variant};
+use scene::Technique;
+use testkit::Shot;
+
+const SIZE: u32 = 64;
+
+/// Largest RMSE of a whitted image against the photon-free reference (measured worst: see
+/// the README's evidence).
+const WHITTED_MAX_RMSE: f64 = 2e-3;
+/// Largest fraction of pixels differing from the reference by more than
+/// [`PIXEL_TOLERANCE`] in any channel (relative to max(1, value)).
+const WHITTED_MAX_DIFFERENT: f64 = 0.005;
+const PIXEL_TOLERANCE: f32 = 1e-3;
+
+fn rmse(a: &HdrImage, b: &HdrImage) -> f64 {
+    let sum: f64 = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .map(|(p, q)| (0..3).map(|c| ((p[c] - q[c]) as f64).powi(2)).sum::<f64>())
+        .sum();
+    (sum / (3 * a.pixels.len()) as f64).sqrt()
+}
+
+/// Fraction of pixels off by more than the tolerance, and the largest difference.
+fn differing(a: &HdrImage, b: &HdrImage) -> (f64, f32) {
+    let mut count = 0;
+    let mut largest = 0.0f32;
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        let d = (0..3)
+            .map(|c| (p[c] - q[c]).abs() / q[c].abs().max(1.0))
+            .fold(0.0f32, f32::max);
+        largest = largest.max(d);
+        if d > PIXEL_TOLERANCE {
+            count += 1;
+        }
+    }
+    (count as f64 / a.pixels.len() as f64, largest)
+}
+
+fn render(variant: Variant, params: &[(&str, f64)], spec: &str, time: f32, size: u32) -> HdrImage {
+    let scene = scene::load(spec).unwrap();
+    let mut tracer = RayTracer::new(variant);
+    for (name, value) in params {
+        tracer.set_param(name, *value).unwrap();
+    }
+    let _lock = testkit::gpu_lock();
+    testkit::render(&mut tracer, &scene, Shot::along_path(&scene, time, size))
+}
+
+#[test]
+fn whitted_equals_the_reference_without_photons_on_every_built_in_scene() {
+    let mut report = Vec::new();
+    for info in scene::builtin::builtin_scenes() {
+        let spec = info.name;
+        let scene = scene::load(spec).unwrap();
+        for time in scene::technique::check_times(scene.camera_path.duration()) {
+            let shot = Shot::along_path(&scene, time, SIZE);
+            let reference = testkit::reference(spec, &scene, shot, 0).image;
+            let image = render(Variant::Whitted, &[], spec, time, SIZE);
+            assert_eq!(
+                image.non_finite_count(),
+                0,
+                "{spec} at t {time}: NaN pixels"
+            );
+            let e = rmse(&image, &reference);
+            let (fraction, largest) = differing(&image, &reference);
+            report.push(format!(
+                "{spec} t {time}: RMSE {e:.2e}, {:.3}% of pixels off by > {PIXEL_TOLERANCE}, largest {largest:.2e}",
+                100.0 * fraction
+            ));
+            assert!(
+                e <= WHITTED_MAX_RMSE && fraction <= WHITTED_MAX_DIFFERENT,
+                "{spec} at t {time}: RMSE {e} (bound {WHITTED_MAX_RMSE}), {fraction} of pixels \
+                 differ (bound {WHITTED_MAX_DIFFERENT})"
+            );
+        }
+    }
+    println!("{}", report.join("\n"));
+}
+
+/// Mean radiance over the image (all channels).
+fn mean(image: &HdrImage) -> f64 {
+    let sum: f64 = image
+        .pixels
+        .iter()
+        .map(|p| (p[0] + p[1] + p[2]) as f64)
+        .sum();
+    sum / (3 * image.pixels.len()) as f64
+}
+
+/// The GPU's caustics differ from the reference's no more than the reference differs from
+/// itself with another seed (the noise of two photon sets of the same size), and carry the
+/// same light (the mean radiance of the image, where photon noise averages out).
+#[test]
+fn caustics_match_the_reference_within_photon_noise() {
+    for spec in ["cornell-sphere", "hu-qin", "pool", "murky-pool"] {
+        let scene = scene::load(spec).unwrap();
+        let duration = scene.camera_path.duration();
+        for time in [0.0, duration] {
+            let shot = Shot::along_path(&scene, time, SIZE);
+            let options = truth::reference::ReferenceOptions::for_image(SIZE, SIZE);
+            let reference = testkit::reference(spec, &scene, shot, options.photons);
+            let other_seed = truth::reference::render(
+                &scene,
+                &shot.camera,
+                time,
+                SIZE,
+                SIZE,
+                &truth::reference::ReferenceOptions {
+                    seed: options.seed ^ 0x9e37_79b9,
+                    ..options
+                },
+            );
+            let image = render(Variant::Caustics, &[], spec, time, SIZE);
+            assert_eq!(image.non_finite_count(), 0, "{spec}: NaN pixels");
+            let mask = Some(reference.mask.as_slice());
+            let (gpu, _) = truth::metrics::compare(&image, &reference.image, mask);
+            let (noise, _) = truth::metrics::compare(&other_seed.image, &reference.image, mask);
+            let (m_gpu, m_ref) = (mean(&image), mean(&reference.image));
+            println!(
+                "{spec} t {time}: GPU FLIP {:.4} RMSE {:.4}; reference with another seed FLIP \
+                 {:.4} RMSE {:.4}; mean radiance GPU {m_gpu:.5}, reference {m_ref:.5}",
+                gpu.flip_mean, gpu.rmse, noise.flip_mean, noise.rmse
+            );
+            assert!(
+                gpu.flip_mean <= 1.25 * noise.flip_mean + 0.003,
+                "{spec} at t {time}: FLIP {} against the reference, whose own noise is {}",
+                gpu.flip_mean,
+                noise.flip_mean
+            );
+            assert!(
+                (m_gpu - m_ref).abs() <= 0.02 * m_ref,
+                "{spec} at t {time}: mean radiance {m_gpu} vs the reference's {m_ref}"
+            );
+        }
+    }
+}
+
+/// The density the tracer defaults to is the reference's.
+#[test]
+fn the_default_photon_density_is_the_references() {
+    assert_eq!(
+        raytracer::tracer::PHOTONS_PER_PIXEL,
+        truth::reference::PHOTONS_PER_PIXEL
+    );
+    for (w, h) in [(16, 16), (64, 64), (256, 256), (1024, 512)] {
+        assert_eq!(
+            raytracer::tracer::photons_for_image(w, h),
+            truth::reference::ReferenceOptions::for_image(w, h).photons
+        );
+    }
+}
+
+/// The caustic converges: against a reference with many photons, the error falls as the GPU's
+/// photon count grows (about as 1 / sqrt(photons) while it is above the reference's own noise).
+#[test]
+fn caustics_converge_as_the_photon_count_grows() {
+    let spec = "cornell-sphere";
+    let scene = scene::load(spec).unwrap();
+    let shot = Shot::along_path(&scene, 0.0, SIZE);
+    let reference = testkit::reference(spec, &scene, shot, 4_000_000).image;
+    let errors: Vec<(f64, f64)> = [25_000.0, 100_000.0, 400_000.0, 1_600_000.0]
+        .iter()
+        .map(|&n| {
+            let image = render(Variant::Caustics, &[("photons", n)], spec, 0.0, SIZE);
+            (n, rmse(&image, &reference))
+        })
+        .collect();
+    println!("photons, RMSE against 4M reference photons: {errors:?}");
+    for pair in errors.windows(2) {
+        assert!(
+            pair[1].1 < pair[0].1,
+            "more photons, larger error: {errors:?}"
+        );
+    }
+    assert!(
+        errors[3].1 < 0.5 * errors[0].1,
+        "64 times the photons should at least halve the error: {errors:?}"
+    );
+}
+
+/// The tracer casts the reference's rays: the eye pass's closest-hit and shadow rays, counted
+/// on the GPU, equal the reference's own counts.
+#[test]
+fn the_eye_pass_casts_the_references_rays() {
+    for spec in ["cornell-sphere", "chess", "murky-pool"] {
+        let scene = scene::load(spec).unwrap();
+        let shot = Shot::along_path(&scene, 0.0, SIZE);
+        let reference = testkit::reference(spec, &scene, shot, 0);
+        let mut tracer = RayTracer::new(Variant::Whitted);
+        let _lock = testkit::gpu_lock();
+        testkit::render(&mut tracer, &scene, shot);
+        let counts = tracer
+            .tracer()
+            .unwrap()
+            .ray_counts(testkit::context())
+            .unwrap();
+        let s = reference.stats;
+        println!("{spec}: GPU {counts:?}, reference {s:?}");
+        let near = |a: u64, b: u64| (a as f64 - b as f64).abs() <= 1e-3 * b as f64;
+        assert!(
+            near(counts.camera, s.camera_rays) && near(counts.shadow, s.shadow_rays),
+            "{spec}: GPU rays {counts:?} vs reference {s:?}"
+        );
+    }
+}
