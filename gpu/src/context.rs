@@ -80,6 +80,22 @@ impl Context {
         let adapter = choose_adapter(adapters, wanted_name.as_deref())?;
 
         let features = adapter.features() & WANTED_FEATURES;
+        // Hardware ray queries (the exact ray tracer's `ray-query` variant) are one of wgpu's
+        // experimental features, which a device only gets after opting in; we opt in exactly
+        // when the adapter offers ray queries, so no other device changes.
+        let ray_queries = adapter
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+        let (features, experimental_features) = if ray_queries {
+            // SAFETY: the opt-in acknowledges that wgpu's experimental ray-query API may still
+            // have bugs; only the ray tracer's ray-query variant uses it, and its images are
+            // tested against the reference (raytracer/tests/images.rs).
+            (features | wgpu::Features::EXPERIMENTAL_RAY_QUERY, unsafe {
+                wgpu::ExperimentalFeatures::enabled()
+            })
+        } else {
+            (features, wgpu::ExperimentalFeatures::disabled())
+        };
         // The adapter's own limits: big cube maps and storage buffers on real GPUs, and
         // `check_size` reports the true bound to the user.
         let limits = adapter.limits();
@@ -88,7 +104,7 @@ impl Context {
                 label: Some("shared device"),
                 required_features: features,
                 required_limits: limits,
-                experimental_features: wgpu::ExperimentalFeatures::disabled(),
+                experimental_features,
                 memory_hints: wgpu::MemoryHints::Performance,
                 trace: wgpu::Trace::Off,
             })

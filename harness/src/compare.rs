@@ -534,21 +534,12 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
             report.rows.push(outcome.row);
             bar.inc(1);
         }
-        let first = report.rows.iter().position(|r| &r.scene == spec);
-        if let Some(first) = first {
+        if let Some(first) = report.rows.iter().position(|r| &r.scene == spec) {
             let rows = &mut report.rows[first..];
-            pareto::set_speedups(rows);
-            let mut points = pareto::scene_points(spec, rows);
-            if points.yardstick_ms.is_some() && points.points.len() > 1 {
-                let file = format!("pareto/{dir_name}.png");
-                let path = opts.out.join(&file);
-                std::fs::create_dir_all(opts.out.join("pareto"))
-                    .with_context(|| format!("cannot create {}", opts.out.display()))?;
-                let title = format!("{spec}: error against frame time, {}", adapter_name);
-                match pareto::draw(&path, &title, &points) {
-                    Ok(()) => points.plot = Some(file),
-                    Err(e) => say(&bar, format!("warning: {spec}: {e:#}")),
-                }
+            let (points, warning) =
+                pareto::write_scene(&opts.out, spec, dir_name, rows, &adapter_name)?;
+            if let Some(w) = warning {
+                say(&bar, format!("warning: {w}"));
             }
             report.pareto.push(points);
         }

@@ -203,6 +203,16 @@ enum Command {
         #[command(flatten)]
         reference: RefArgs,
     },
+    /// Redraws the Pareto view (error against frame time, `pareto/<scene>.png`, and
+    /// `pareto.json`) from the results.json of earlier compare runs, one or more (scenes of
+    /// several runs side by side; a scene in two files: the later file's rows)
+    Pareto {
+        /// results.json files written by compare.
+        #[arg(required = true, value_name = "RESULTS.json")]
+        results: Vec<PathBuf>,
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+    },
     /// Writes a scene (built-in spec or glTF) as binary glTF.
     ExportScene {
         /// Scene spec, e.g. cornell-sphere:material=mirror.
@@ -432,6 +442,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             size,
             reference,
         } => render(&scene, &technique, &out, size, &reference.reference()),
+        Command::Pareto { results, out } => pareto(&results, &out),
         Command::ExportScene { scene, out } => {
             if !out
                 .extension()
@@ -445,6 +456,53 @@ fn run(cli: Cli) -> Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// `harness pareto`: the plots and points of every scene in `results`.
+fn pareto(results: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
+    let mut scenes: Vec<(String, String, Vec<harness::report::ResultRow>)> = Vec::new();
+    for path in results {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        let (adapter, rows) = harness::pareto::rows_from_json(&text)
+            .with_context(|| format!("{}", path.display()))?;
+        let mut names: Vec<String> = rows.iter().map(|r| r.scene.clone()).collect();
+        names.dedup();
+        for name in names {
+            let of_scene = rows.iter().filter(|r| r.scene == name).cloned().collect();
+            scenes.retain(|(n, _, _)| *n != name);
+            scenes.push((name, adapter.clone(), of_scene));
+        }
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let specs: Vec<String> = scenes.iter().map(|(n, _, _)| n.clone()).collect();
+    let dirs = harness::scene_dir_names(&specs);
+    let mut all = Vec::new();
+    for ((name, adapter, mut rows), dir) in scenes.into_iter().zip(dirs) {
+        let (points, warning) =
+            harness::pareto::write_scene(out, &name, &dir, &mut rows, &adapter)?;
+        if let Some(w) = warning {
+            eprintln!("warning: {w}");
+        }
+        for p in points.points.iter().filter(|p| p.on_front) {
+            outln!(
+                "{name}: on the front: {} ({:.3} ms, {:.4})",
+                p.technique,
+                p.frame_ms,
+                p.measured_error
+            );
+        }
+        all.push(points);
+    }
+    let json = serde_json::to_string_pretty(&all).context("cannot encode the points")?;
+    std::fs::write(out.join("pareto.json"), json)
+        .with_context(|| format!("cannot write {}", out.join("pareto.json").display()))?;
+    outln!(
+        "wrote {} and {}",
+        out.join("pareto").display(),
+        out.join("pareto.json").display()
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 fn list(params: bool) -> Result<ExitCode> {

@@ -130,17 +130,86 @@ pub fn mark_front(points: &mut [ParetoPoint]) {
     }
 }
 
+/// One scene's speed-ups, points and plot (`out/pareto/<dir_name>.png`, written when the
+/// tracer and at least one other technique were measured): what `compare` does after each
+/// scene, and `harness pareto` for the rows of earlier runs. A plot that cannot be drawn is a
+/// warning (returned), not an error.
+pub fn write_scene(
+    out: &Path,
+    scene: &str,
+    dir_name: &str,
+    rows: &mut [ResultRow],
+    adapter: &str,
+) -> Result<(ParetoScene, Option<String>)> {
+    set_speedups(rows);
+    let mut points = scene_points(scene, rows);
+    let mut warning = None;
+    if points.yardstick_ms.is_some() && points.points.len() > 1 {
+        let file = format!("pareto/{dir_name}.png");
+        std::fs::create_dir_all(out.join("pareto"))
+            .map_err(|e| anyhow!("cannot create {}: {e}", out.join("pareto").display()))?;
+        let title = format!("{scene}: error against frame time, {adapter}");
+        match draw(&out.join(&file), &title, &points) {
+            Ok(()) => points.plot = Some(file),
+            Err(e) => warning = Some(format!("{scene}: {e:#}")),
+        }
+    }
+    Ok((points, warning))
+}
+
+/// The rows of a `results.json` written by `compare` (the fields the Pareto view reads), and
+/// the adapter's name.
+pub fn rows_from_json(text: &str) -> Result<(String, Vec<ResultRow>)> {
+    let v: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| anyhow!("not a results.json: {e}"))?;
+    let rows = v
+        .get("rows")
+        .and_then(|r| r.as_array())
+        .ok_or_else(|| anyhow!("not a results.json of compare: it has no rows"))?;
+    let text_of =
+        |r: &serde_json::Value, k: &str| r.get(k).and_then(|x| x.as_str()).map(String::from);
+    let num = |r: &serde_json::Value, k: &str| r.get(k).and_then(|x| x.as_f64());
+    let rows = rows
+        .iter()
+        .map(|r| ResultRow {
+            scene: text_of(r, "scene").unwrap_or_default(),
+            technique: text_of(r, "technique").unwrap_or_default(),
+            frame_ms_median: num(r, "frame_ms_median"),
+            flip_mean: num(r, "flip_mean"),
+            flip_mean_masked: num(r, "flip_mean_masked"),
+            timer: text_of(r, "timer").unwrap_or_default(),
+            error: text_of(r, "error"),
+            ..Default::default()
+        })
+        .collect();
+    let adapter = v
+        .get("adapter")
+        .and_then(|a| a.get("name"))
+        .and_then(|n| n.as_str())
+        .unwrap_or("unknown adapter")
+        .to_string();
+    Ok((adapter, rows))
+}
+
 fn err(e: impl std::fmt::Display) -> anyhow::Error {
     anyhow!("pareto plot: {e}")
 }
 
 /// Draws the scene's points: frame time (log scale) across, error up, the front as a staircase
-/// and every point named (when a font is available: see `plot`).
+/// in red, the tracer in blue. Each point carries a number; the panel on the right lists the
+/// numbers with the techniques, their times and errors, fastest first (names next to the points
+/// would overlap where techniques cost the same). Text needs a font (see `plot`).
 pub fn draw(path: &Path, title: &str, scene: &ParetoScene) -> Result<()> {
     let text = crate::plot::fonts_available();
     if scene.points.is_empty() {
         return Err(anyhow!("no technique with a frame time and an error"));
     }
+    let mut order: Vec<usize> = (0..scene.points.len()).collect();
+    order.sort_by(|&a, &b| {
+        scene.points[a]
+            .frame_ms
+            .total_cmp(&scene.points[b].frame_ms)
+    });
     let (lo, hi) = scene
         .points
         .iter()
@@ -149,16 +218,19 @@ pub fn draw(path: &Path, title: &str, scene: &ParetoScene) -> Result<()> {
         });
     let (x0, x1) = (lo / 2.0, hi * 2.0);
     let top = scene.points.iter().map(|p| p.error).fold(0.0f64, f64::max);
-    let y1 = if top > 0.0 { top * 1.15 } else { 1.0 };
-    let root = BitMapBackend::new(path, (1100, 760)).into_drawing_area();
+    let y1 = if top > 0.0 { top * 1.1 } else { 1.0 };
+    let rows = scene.points.len() as u32;
+    let height = (760).max(90 + 17 * rows);
+    let root = BitMapBackend::new(path, (1400, height)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let root = if text {
         root.titled(title, ("sans-serif", 22)).map_err(err)?
     } else {
         root
     };
+    let (plot_area, legend) = root.split_horizontally(960);
     let label_area = |n: u32| if text { n } else { 4 };
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(&plot_area)
         .margin(16)
         .x_label_area_size(label_area(44))
         .y_label_area_size(label_area(70))
@@ -179,8 +251,17 @@ pub fn draw(path: &Path, title: &str, scene: &ParetoScene) -> Result<()> {
         mesh.draw().map_err(err)?;
     }
     let front_colour = RGBColor(200, 40, 40);
-    let other = RGBColor(110, 110, 110);
+    let other = RGBColor(120, 120, 120);
     let tracer = RGBColor(40, 80, 200);
+    let colour = |p: &ParetoPoint| {
+        if p.technique == YARDSTICK {
+            tracer
+        } else if p.on_front {
+            front_colour
+        } else {
+            other
+        }
+    };
     let mut front: Vec<&ParetoPoint> = scene.points.iter().filter(|p| p.on_front).collect();
     front.sort_by(|a, b| a.frame_ms.total_cmp(&b.frame_ms));
     let mut stairs = Vec::new();
@@ -193,29 +274,44 @@ pub fn draw(path: &Path, title: &str, scene: &ParetoScene) -> Result<()> {
     chart
         .draw_series(LineSeries::new(stairs, front_colour.stroke_width(2)))
         .map_err(err)?;
-    for p in &scene.points {
-        let colour = if p.technique == YARDSTICK {
-            tracer
-        } else if p.on_front {
-            front_colour
-        } else {
-            other
-        };
+    for (number, &i) in order.iter().enumerate() {
+        let p = &scene.points[i];
+        let c = colour(p);
         chart
             .draw_series(std::iter::once(Circle::new(
                 (p.frame_ms, p.error),
                 5,
-                colour.filled(),
+                c.filled(),
             )))
             .map_err(err)?;
         if text {
-            let name = p.technique.clone();
             chart
                 .draw_series(std::iter::once(Text::new(
-                    name,
+                    format!("{}", number + 1),
                     (p.frame_ms, p.error),
-                    ("sans-serif", 13).into_font().color(&colour),
+                    ("sans-serif", 13).into_font().color(&c),
                 )))
+                .map_err(err)?;
+        }
+    }
+    if text {
+        let header = ("sans-serif", 14).into_font().color(&BLACK);
+        legend
+            .draw_text("#  technique: ms, FLIP", &header, (8, 20))
+            .map_err(err)?;
+        for (number, &i) in order.iter().enumerate() {
+            let p = &scene.points[i];
+            let style = ("sans-serif", 13).into_font().color(&colour(p));
+            let line = format!(
+                "{}  {}: {:.3} ms, {:.4}{}",
+                number + 1,
+                p.technique,
+                p.frame_ms,
+                p.measured_error,
+                if p.on_front { "  (front)" } else { "" }
+            );
+            legend
+                .draw_text(&line, &style, (8, 44 + 17 * number as i32))
                 .map_err(err)?;
         }
     }

@@ -155,6 +155,18 @@ impl FlatBvh {
         })
     }
 
+    /// The triangles of `world` in scene order, without a tree (`nodes` empty): what the
+    /// hardware's acceleration structure is built over, where a hit's primitive index names
+    /// the triangle.
+    pub fn in_scene_order(world: WorldTriangles) -> Self {
+        Self {
+            nodes: Vec::new(),
+            triangles: world.triangles.iter().map(RtTriangle::from).collect(),
+            info: world.info,
+            depth: 0,
+        }
+    }
+
     pub fn triangle_gpu(&self) -> Vec<TriangleGpu> {
         self.triangles
             .iter()

@@ -13,16 +13,18 @@
 //!   specular chains (n/k Fresnel for metals, glass with total internal reflection), the
 //!   emission-absorption volumes and the scattering medium's transmittance and direct
 //!   in-scattering; the light pass of caustic photons into a fixed-point accumulator.
-//! * [`technique`]: `raytracer/whitted` and `raytracer/caustics`.
+//! * [`technique`]: `raytracer/whitted`, `raytracer/caustics` and `raytracer/ray-query` (the
+//!   caustics variant with the hardware's ray queries in place of the BVH traversal, where the
+//!   adapter offers wgpu's experimental ray queries).
 
 pub mod bvh;
 pub mod technique;
 pub mod tracer;
 
 pub use technique::{RayTracer, Variant};
-pub use tracer::{GpuTracer, RayCounts, TracerSettings};
+pub use tracer::{GpuTracer, RayCounts, TracerSettings, Traversal};
 
-/// All variants: `raytracer/whitted` and `raytracer/caustics`.
+/// All variants: `raytracer/whitted`, `raytracer/caustics` and `raytracer/ray-query`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     technique::variants()
 }

@@ -1,7 +1,7 @@
 //! The tracer as a [`Technique`]: `raytracer/whitted` (the eye pass alone) and
 //! `raytracer/caustics` (the eye pass and the light pass: the reference's whole image).
 
-use crate::tracer::{GpuTracer, MAX_PHOTONS, TracerSettings};
+use crate::tracer::{GpuTracer, MAX_PHOTONS, TracerSettings, Traversal};
 use gpu::Target;
 use scene::technique::{Param, TechniqueResult, check_param, not_prepared};
 use scene::{Frame, GpuScene, Scene, Technique, View};
@@ -13,6 +13,8 @@ pub enum Variant {
     Whitted,
     /// The same plus light-traced caustic photons: the exact counterpart of the reference.
     Caustics,
+    /// `Caustics` with the hardware's ray queries in place of the BVH traversal.
+    RayQuery,
 }
 
 /// A variant with its settings; the scene's tracer after `prepare`.
@@ -26,7 +28,7 @@ impl RayTracer {
     pub fn new(variant: Variant) -> Self {
         let photons = match variant {
             Variant::Whitted => None,
-            Variant::Caustics => Some(0),
+            Variant::Caustics | Variant::RayQuery => Some(0),
         };
         Self {
             variant,
@@ -49,6 +51,7 @@ impl Technique for RayTracer {
         match self.variant {
             Variant::Whitted => "raytracer/whitted".into(),
             Variant::Caustics => "raytracer/caustics".into(),
+            Variant::RayQuery => "raytracer/ray-query".into(),
         }
     }
 
@@ -61,6 +64,9 @@ impl Technique for RayTracer {
                                   plus light-traced caustic photons (the yardstick of \
                                   speedup_vs_raytracer)"
                 .into(),
+            Variant::RayQuery => "raytracer/caustics with the hardware's ray queries (wgpu's \
+                                  experimental ray_query) in place of the BVH traversal"
+                .into(),
         }
     }
 
@@ -72,7 +78,7 @@ impl Technique for RayTracer {
             true,
             "specular interactions followed along a path (the reference's max_depth)",
         )];
-        if self.variant == Variant::Caustics {
+        if self.variant != Variant::Whitted {
             params.push(Param::new(
                 "photons",
                 0.0,
@@ -97,16 +103,28 @@ impl Technique for RayTracer {
         Ok(())
     }
 
+    fn required_features(&self) -> gpu::wgpu::Features {
+        match self.variant {
+            Variant::RayQuery => gpu::wgpu::Features::EXPERIMENTAL_RAY_QUERY,
+            _ => gpu::wgpu::Features::empty(),
+        }
+    }
+
     fn supports(&self, _scene: &Scene) -> bool {
         true
     }
 
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        frame.gpu.require(self.required_features())?;
         self.tracer = Some(GpuTracer::new(
             frame.gpu,
             &scene.scene,
             scene.time(),
             self.settings,
+            match self.variant {
+                Variant::RayQuery => Traversal::RayQuery,
+                _ => Traversal::Bvh,
+            },
         )?);
         Ok(())
     }
@@ -130,5 +148,6 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
     vec![
         Box::new(RayTracer::new(Variant::Whitted)),
         Box::new(RayTracer::new(Variant::Caustics)),
+        Box::new(RayTracer::new(Variant::RayQuery)),
     ]
 }

@@ -10,6 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use gpu::bind::{self, Uniform};
 use gpu::{Context, Frame, Target, wgpu};
+use scene::bvh::WorldTriangles;
 use scene::emission::{Emitter, caustic_casters, emitters};
 use scene::medium::MediumGpu;
 use scene::technique::{TechniqueError, TechniqueResult};
@@ -228,7 +229,8 @@ fn geometry_moves(scene: &Scene) -> bool {
 pub struct GpuTracer {
     settings: TracerSettings,
     params: Uniform<ParamsGpu>,
-    nodes: wgpu::Buffer,
+    /// What the rays traverse: the flattened BVH, or the hardware's acceleration structures.
+    structure: Structure,
     triangles: wgpu::Buffer,
     attributes: wgpu::Buffer,
     tables: wgpu::Buffer,
@@ -250,17 +252,80 @@ pub struct GpuTracer {
     pixels: u64,
     bvh_time: f32,
     moves: bool,
+    traversal: Traversal,
     /// Seconds the last BVH build took on the CPU.
     pub bvh_build_seconds: f64,
     pub triangle_count: usize,
 }
 
-/// The tracer's WGSL: the prelude is added by `gpu::shader_with_prelude`.
-pub fn tracer_wgsl() -> String {
+/// How rays find their nearest triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Traversal {
+    /// The scene's BVH flattened into storage buffers, traversed by `shaders/bvh.wgsl` (the
+    /// twin of [`crate::bvh::FlatBvh`]): runs on every adapter.
+    Bvh,
+    /// The hardware's acceleration structures (one BLAS of every world triangle, one TLAS
+    /// instance) and wgpu's ray queries (`shaders/ray_query.wgsl`): needs
+    /// `wgpu::Features::EXPERIMENTAL_RAY_QUERY`.
+    RayQuery,
+}
+
+impl Traversal {
+    /// The declaration of binding 1 (the structure rays traverse).
+    fn binding_wgsl(self) -> &'static str {
+        match self {
+            Traversal::Bvh => {
+                "@group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;\n"
+            }
+            Traversal::RayQuery => {
+                "@group(0) @binding(1) var scene_tlas: acceleration_structure;\n"
+            }
+        }
+    }
+
+    fn binding_type(self) -> wgpu::BindingType {
+        match self {
+            Traversal::Bvh => bind::storage(true),
+            Traversal::RayQuery => wgpu::BindingType::AccelerationStructure {
+                vertex_return: false,
+            },
+        }
+    }
+}
+
+/// The traversal's GPU structure.
+enum Structure {
+    Bvh {
+        nodes: wgpu::Buffer,
+    },
+    RayQuery {
+        /// Three world-space vertices per triangle, in the order of the triangle buffers.
+        vertices: wgpu::Buffer,
+        size: wgpu::BlasTriangleGeometrySizeDescriptor,
+        blas: wgpu::Blas,
+        tlas: wgpu::Tlas,
+        /// The vertices changed since the last build (the next frame rebuilds, timed).
+        stale: bool,
+    },
+}
+
+/// The tracer's WGSL for `traversal`, complete (prelude included): the `enable` directive ray
+/// queries need must precede every declaration.
+pub fn tracer_wgsl(traversal: Traversal) -> String {
+    let (enable, traverse) = match traversal {
+        Traversal::Bvh => ("", include_str!("shaders/bvh.wgsl")),
+        Traversal::RayQuery => (
+            "enable wgpu_ray_query;\n",
+            include_str!("shaders/ray_query.wgsl"),
+        ),
+    };
     format!(
-        "{}\n{}\n{}",
+        "{enable}{}\n{}\n{}\n{}{}\n{}",
+        gpu::prelude::PRELUDE_WGSL,
         scene::medium::MEDIUM_WGSL,
-        include_str!("shaders/bvh.wgsl"),
+        include_str!("shaders/triangles.wgsl"),
+        traversal.binding_wgsl(),
+        traverse,
         include_str!("shaders/tracer.wgsl")
     )
 }
@@ -297,6 +362,7 @@ impl GpuTracer {
         scene: &Scene,
         time: f32,
         settings: TracerSettings,
+        traversal: Traversal,
     ) -> TechniqueResult<Self> {
         let usable = scene
             .volumes
@@ -323,15 +389,15 @@ impl GpuTracer {
             "ray tracer",
             wgpu::ShaderStages::COMPUTE,
             &[
-                bind::uniform(),      // params
-                bind::storage(true),  // bvh_nodes
-                bind::storage(true),  // bvh_triangles
-                bind::storage(true),  // bvh_attributes
-                bind::storage(true),  // tables
-                bind::storage(true),  // texels
-                bind::storage(false), // radiance
-                bind::storage(false), // photon_sum
-                bind::storage(false), // stats
+                bind::uniform(),          // params
+                traversal.binding_type(), // bvh_nodes or scene_tlas
+                bind::storage(true),      // bvh_triangles
+                bind::storage(true),      // bvh_attributes
+                bind::storage(true),      // tables
+                bind::storage(true),      // texels
+                bind::storage(false),     // radiance
+                bind::storage(false),     // photon_sum
+                bind::storage(false),     // stats
             ],
         );
         let resolve_layout = bind::layout(
@@ -340,7 +406,12 @@ impl GpuTracer {
             wgpu::ShaderStages::FRAGMENT,
             &[bind::uniform(), bind::storage(true), bind::storage(true)],
         );
-        let module = gpu::shader_with_prelude(ctx, "ray tracer", &tracer_wgsl());
+        let module = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("ray tracer"),
+                source: wgpu::ShaderSource::Wgsl(tracer_wgsl(traversal).into()),
+            });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("ray tracer"),
             bind_group_layouts: &[Some(&layout)],
@@ -381,7 +452,9 @@ impl GpuTracer {
         let mut tracer = Self {
             settings,
             params: Uniform::new(ctx, "ray tracer params", &ParamsGpu::zeroed()),
-            nodes: placeholder("bvh nodes"),
+            structure: Structure::Bvh {
+                nodes: placeholder("bvh nodes"),
+            },
             triangles: placeholder("bvh triangles"),
             attributes: placeholder("bvh attributes"),
             tables: storage("ray tracer tables", bytemuck::cast_slice(&tables.data), dst),
@@ -405,10 +478,11 @@ impl GpuTracer {
             pixels: 0,
             bvh_time: f32::NAN,
             moves: geometry_moves(scene),
+            traversal,
             bvh_build_seconds: 0.0,
             triangle_count: 0,
         };
-        tracer.build_bvh(ctx, scene, time)?;
+        tracer.build_geometry(ctx, scene, time)?;
         Ok(tracer)
     }
 
@@ -423,6 +497,157 @@ impl GpuTracer {
     /// The emission cones for `photons` photons (at least one cone gets a photon each).
     fn emitters_of(scene: &Scene, time: f32, photons: u64) -> Vec<Emitter> {
         emitters(scene, time, &caustic_casters(scene), photons.max(1))
+    }
+
+    /// The scene's triangles at `time` for the traversal: the BVH built on the CPU (timed
+    /// apart, `bvh_build_seconds`), or the vertices of the hardware's BLAS (built on the GPU in
+    /// the next frame).
+    fn build_geometry(&mut self, ctx: &Context, scene: &Scene, time: f32) -> TechniqueResult<()> {
+        match self.traversal {
+            Traversal::Bvh => self.build_bvh(ctx, scene, time),
+            Traversal::RayQuery => self.build_ray_query_geometry(ctx, scene, time),
+        }
+    }
+
+    /// Uploads every world triangle in scene order and (re)creates the BLAS and TLAS over them.
+    fn build_ray_query_geometry(
+        &mut self,
+        ctx: &Context,
+        scene: &Scene,
+        time: f32,
+    ) -> TechniqueResult<()> {
+        let world = WorldTriangles::of(scene, time);
+        if world.triangles.is_empty() {
+            return Err(TechniqueError::Unsupported(
+                "hardware ray queries need at least one triangle in the scene".into(),
+            ));
+        }
+        let flat = FlatBvh::in_scene_order(world);
+        self.triangle_count = flat.triangles.len();
+        let vertices: Vec<[f32; 3]> = flat
+            .triangles
+            .iter()
+            .flat_map(|t| {
+                let v0 = t.v0;
+                [v0.into(), (v0 - t.e1).into(), (v0 + t.e2).into()]
+            })
+            .collect();
+        let device = &ctx.device;
+        let vertex_bytes: &[u8] = bytemuck::cast_slice(&vertices);
+        if let Structure::RayQuery {
+            vertices: buffer,
+            stale,
+            ..
+        } = &mut self.structure
+            && buffer.size() == vertex_bytes.len() as u64
+        {
+            // Same triangle count: new positions, the same structures rebuilt next frame.
+            ctx.queue.write_buffer(buffer, 0, vertex_bytes);
+            ctx.queue.write_buffer(
+                &self.triangles,
+                0,
+                bytemuck::cast_slice(&flat.triangle_gpu()),
+            );
+            ctx.queue.write_buffer(
+                &self.attributes,
+                0,
+                bytemuck::cast_slice(&flat.attributes_gpu()),
+            );
+            *stale = true;
+            self.bvh_time = time;
+            return Ok(());
+        }
+        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: usage | wgpu::BufferUsages::COPY_DST,
+            })
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        self.triangles = init(
+            "ray query triangles",
+            bytemuck::cast_slice(&flat.triangle_gpu()),
+            storage,
+        );
+        self.attributes = init(
+            "ray query attributes",
+            bytemuck::cast_slice(&flat.attributes_gpu()),
+            storage,
+        );
+        let vertices = init(
+            "ray query vertices",
+            vertex_bytes,
+            wgpu::BufferUsages::BLAS_INPUT,
+        );
+        let size = wgpu::BlasTriangleGeometrySizeDescriptor {
+            vertex_format: wgpu::VertexFormat::Float32x3,
+            vertex_count: (3 * flat.triangles.len()) as u32,
+            index_format: None,
+            index_count: None,
+            flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+        };
+        let blas = device.create_blas(
+            &wgpu::CreateBlasDescriptor {
+                label: Some("scene blas"),
+                flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+                update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+            },
+            wgpu::BlasGeometrySizeDescriptors::Triangles {
+                descriptors: vec![size.clone()],
+            },
+        );
+        let mut tlas = device.create_tlas(&wgpu::CreateTlasDescriptor {
+            label: Some("scene tlas"),
+            flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+            update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+            max_instances: 1,
+        });
+        const IDENTITY: [f32; 12] = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        tlas[0] = Some(wgpu::TlasInstance::new(&blas, IDENTITY, 0, 0xff));
+        self.structure = Structure::RayQuery {
+            vertices,
+            size,
+            blas,
+            tlas,
+            stale: true,
+        };
+        self.bvh_time = time;
+        self.pixels = 0; // the bind group names the new structures
+        Ok(())
+    }
+
+    /// Records the build of the hardware's structures when their vertices changed.
+    fn build_acceleration_structures(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if let Structure::RayQuery {
+            vertices,
+            size,
+            blas,
+            tlas,
+            stale,
+        } = &mut self.structure
+            && *stale
+        {
+            encoder.build_acceleration_structures(
+                std::iter::once(&wgpu::BlasBuildEntry {
+                    blas,
+                    geometry: wgpu::BlasGeometries::TriangleGeometries(vec![
+                        wgpu::BlasTriangleGeometry {
+                            size,
+                            vertex_buffer: vertices,
+                            first_vertex: 0,
+                            vertex_stride: 12,
+                            index_buffer: None,
+                            first_index: None,
+                            transform_buffer: None,
+                            transform_buffer_offset: None,
+                        },
+                    ]),
+                }),
+                std::iter::once(&*tlas),
+            );
+            *stale = false;
+        }
     }
 
     /// Builds and uploads the BVH of `scene` at `time` (on the CPU, timed apart).
@@ -456,7 +681,9 @@ impl GpuTracer {
                 first: 1,
                 ..Default::default()
             };
-            self.nodes = init("bvh nodes", bytemuck::cast_slice(&[root, empty, empty]));
+            self.structure = Structure::Bvh {
+                nodes: init("bvh nodes", bytemuck::cast_slice(&[root, empty, empty])),
+            };
             self.triangles = init("bvh triangles", &[0u8; 64]);
             self.attributes = init("bvh attributes", &[0u8; 96]);
         } else {
@@ -467,20 +694,24 @@ impl GpuTracer {
                 bytemuck::cast_slice(&triangles),
                 bytemuck::cast_slice(&attributes),
             ];
-            let buffers = [&self.nodes, &self.triangles, &self.attributes];
-            if buffers
-                .iter()
-                .zip(&contents)
-                .all(|(b, c)| b.size() == c.len() as u64)
-            {
-                // A rigidly moving object keeps the tree's shape: rewrite in place.
-                for (b, c) in buffers.iter().zip(&contents) {
-                    ctx.queue.write_buffer(b, 0, c);
+            if let Structure::Bvh { nodes } = &self.structure {
+                let buffers = [nodes, &self.triangles, &self.attributes];
+                if buffers
+                    .iter()
+                    .zip(&contents)
+                    .all(|(b, c)| b.size() == c.len() as u64)
+                {
+                    // A rigidly moving object keeps the tree's shape: rewrite in place.
+                    for (b, c) in buffers.iter().zip(&contents) {
+                        ctx.queue.write_buffer(b, 0, c);
+                    }
+                    self.bvh_time = time;
+                    return Ok(());
                 }
-                self.bvh_time = time;
-                return Ok(());
             }
-            self.nodes = init("bvh nodes", contents[0]);
+            self.structure = Structure::Bvh {
+                nodes: init("bvh nodes", contents[0]),
+            };
             self.triangles = init("bvh triangles", contents[1]);
             self.attributes = init("bvh attributes", contents[2]);
         }
@@ -511,7 +742,12 @@ impl GpuTracer {
             &self.layout,
             &[
                 self.params.binding(),
-                self.nodes.as_entire_binding(),
+                match &self.structure {
+                    Structure::Bvh { nodes } => nodes.as_entire_binding(),
+                    Structure::RayQuery { tlas, .. } => {
+                        wgpu::BindingResource::AccelerationStructure(tlas)
+                    }
+                },
                 self.triangles.as_entire_binding(),
                 self.attributes.as_entire_binding(),
                 self.tables.as_entire_binding(),
@@ -553,7 +789,7 @@ impl GpuTracer {
     ) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         if self.moves && self.bvh_time != view.time {
-            self.build_bvh(ctx, scene, view.time)?;
+            self.build_geometry(ctx, scene, view.time)?;
         }
         let (width, height) = (target.width, target.height);
         self.ensure_pixels(ctx, width as u64 * height as u64);
@@ -589,6 +825,11 @@ impl GpuTracer {
         );
         self.resolve_params
             .write(ctx, &[width, height, (traced > 0) as u32, 0]);
+        if matches!(self.structure, Structure::RayQuery { stale: true, .. }) {
+            frame.timer.begin(frame.encoder, "build");
+            self.build_acceleration_structures(frame.encoder);
+            frame.timer.end(frame.encoder, "build");
+        }
         let encoder = &mut *frame.encoder;
         encoder.clear_buffer(&self.stats, 0, None);
         encoder.clear_buffer(&self.photon_sum, 0, None);

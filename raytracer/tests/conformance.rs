@@ -45,7 +45,10 @@ fn gpu_trace(bvh: &FlatBvh, rays: &[RayGpu]) -> Vec<TraceResultGpu> {
     let source = format!(
         "{TYPES}\n{}\n{BINDINGS}\n{}\n{}",
         kernel_header("Ray", "TraceResult"),
-        include_str!("../src/shaders/bvh.wgsl"),
+        concat!(
+            include_str!("../src/shaders/triangles.wgsl"),
+            include_str!("../src/shaders/bvh.wgsl")
+        ),
         kernel_entry("trace_rays", BODY)
     );
     let (nodes, triangles, attributes) =

@@ -218,3 +218,71 @@ fn the_eye_pass_casts_the_references_rays() {
         );
     }
 }
+
+/// `raytracer/ray-query`: where the adapter offers wgpu's experimental ray queries (lavapipe
+/// from Mesa 25, `cargo xtask test` runs this test on it too), its image equals the BVH
+/// tracer's up to the rays that meet a shared edge (the hardware's watertight test may pick the
+/// neighbouring triangle) and float rounding, and it casts the same rays; elsewhere `prepare`
+/// refuses with the one-sentence reason the harness prints when it skips the variant.
+#[test]
+fn ray_queries_trace_what_the_bvh_traces_or_are_refused_with_the_reason() {
+    let ctx = testkit::context();
+    let supported = ctx
+        .features()
+        .contains(gpu::wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+    // `cargo xtask test` runs this test again on a driver with ray queries and says so.
+    if std::env::var_os("RAYTRACER_EXPECT_RAY_QUERY").is_some() {
+        assert!(
+            supported,
+            "RAYTRACER_EXPECT_RAY_QUERY is set but {} offers no ray queries",
+            ctx.summary
+        );
+    }
+    for spec in ["cornell-sphere", "hu-qin:refractor=morph", "smoke", "chess"] {
+        let scene = scene::load(spec).unwrap();
+        let time = scene.camera_path.duration();
+        let mut ray_query = RayTracer::new(Variant::RayQuery);
+        if !supported {
+            let _lock = testkit::gpu_lock();
+            let gpu_scene = scene::GpuScene::new(ctx, &scene).unwrap();
+            let mut timer = gpu::GpuTimer::new(ctx, 8);
+            let err = scene::runner::prepare(ctx, &mut timer, &mut ray_query, &gpu_scene)
+                .err()
+                .expect("ray queries without the feature must be refused");
+            let message = err.to_string();
+            assert!(
+                message.contains("EXPERIMENTAL_RAY_QUERY"),
+                "the reason names the feature: {message}"
+            );
+            println!("{spec}: ray queries refused on {}: {message}", ctx.summary);
+            continue;
+        }
+        let shot = Shot::along_path(&scene, time, SIZE);
+        let mut bvh = RayTracer::new(Variant::Caustics);
+        let (a, b, counts_a, counts_b) = {
+            let _lock = testkit::gpu_lock();
+            let a = testkit::render(&mut ray_query, &scene, shot);
+            let counts_a = ray_query.tracer().unwrap().ray_counts(ctx).unwrap();
+            let b = testkit::render(&mut bvh, &scene, shot);
+            let counts_b = bvh.tracer().unwrap().ray_counts(ctx).unwrap();
+            (a, b, counts_a, counts_b)
+        };
+        assert_eq!(a.non_finite_count(), 0, "{spec}: NaN pixels");
+        let e = rmse(&a, &b);
+        let (fraction, largest) = differing(&a, &b);
+        println!(
+            "{spec} t {time}: ray queries vs BVH: RMSE {e:.2e}, {:.3}% of pixels off, largest \
+             {largest:.2e}; rays {counts_a:?} vs {counts_b:?}",
+            100.0 * fraction
+        );
+        assert!(
+            e <= 5e-3 && fraction <= 0.01,
+            "{spec}: ray-query image differs from the BVH tracer's: RMSE {e}, {fraction} of pixels"
+        );
+        let near = |x: u64, y: u64| (x as f64 - y as f64).abs() <= 2e-3 * y.max(1) as f64;
+        assert!(
+            near(counts_a.camera, counts_b.camera) && near(counts_a.shadow, counts_b.shadow),
+            "{spec}: rays {counts_a:?} vs {counts_b:?}"
+        );
+    }
+}

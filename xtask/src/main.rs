@@ -21,7 +21,11 @@
 //!   `cargo test --workspace [ARGS...]` (every member: unit, integration and doc tests; `-p
 //!   NAME` in ARGS replaces `--workspace`); after a full run it checks that the build `compare`
 //!   uses is exactly this one (`cargo test --workspace --no-run` reports every artifact fresh)
-//!   and fails naming what would be compiled otherwise;
+//!   and fails naming what would be compiled otherwise; then the one test that needs hardware
+//!   ray queries runs again on Mesa 25's lavapipe from bookworm-backports, fetched into
+//!   `target/mesa-backports` without installing it (skipped, saying why, where it cannot be
+//!   fetched): see `ray_queries_on_backported_lavapipe`;
+//! - `ray-query`: that last step alone;
 //! - `compare`: the same test build (`cargo test --workspace --no-run`: nothing to compile
 //!   after `cargo xtask test`), then the `harness` binary it contains: `harness compare --out
 //!   out [ARGS...]` (`--out DIR` in ARGS replaces `--out out`). `cargo run -p harness` would
@@ -44,9 +48,10 @@ const ICD_DIRS: &[&str] = &[
 
 fn usage() -> ExitCode {
     eprintln!(
-        "usage: cargo xtask <test|compare> [ARGS...]\n\
-         \x20 test      cargo test --workspace [ARGS...]\n\
-         \x20 compare   harness compare --out out [ARGS...] on the test build   (--release for a release build)"
+        "usage: cargo xtask <test|compare|ray-query> [ARGS...]\n\
+         \x20 test      cargo test --workspace [ARGS...], then the ray-query test on Mesa 25's lavapipe\n\
+         \x20 compare   harness compare --out out [ARGS...] on the test build   (--release for a release build)\n\
+         \x20 ray-query the raytracer's ray-query test alone, on Mesa 25's lavapipe from bookworm-backports"
     );
     ExitCode::from(2)
 }
@@ -61,7 +66,7 @@ fn main() -> ExitCode {
     let command = match job.as_str() {
         "test" => test_command(&rest),
         "compare" if release => compare_command(&rest),
-        "compare" => Vec::new(),
+        "compare" | "ray-query" => Vec::new(),
         "-h" | "--help" | "help" => {
             usage();
             return ExitCode::SUCCESS;
@@ -84,9 +89,21 @@ fn main() -> ExitCode {
             if status != ExitCode::SUCCESS || selects_packages(&rest) {
                 return status;
             }
-            check_compare_build_is_fresh()
+            let artifacts = match test_build() {
+                Ok(a) => a,
+                Err(code) => return code,
+            };
+            let status = check_compare_build_is_fresh(&artifacts);
+            if status != ExitCode::SUCCESS {
+                return status;
+            }
+            ray_queries_on_backported_lavapipe(&artifacts)
         }
         "compare" if !release => compare_with_test_build(&rest),
+        "ray-query" => match test_build() {
+            Ok(artifacts) => ray_queries_on_backported_lavapipe(&artifacts),
+            Err(code) => code,
+        },
         _ => run(&command),
     }
 }
@@ -107,8 +124,10 @@ fn test_build_command() -> Vec<String> {
     .to_vec()
 }
 
-/// The artifacts of a `--message-format=json` build: (target name, kinds, fresh, executable).
+/// The artifacts of a `--message-format=json` build: (package, target name, kinds, fresh,
+/// executable).
 struct Artifact {
+    package: String,
     name: String,
     bin: bool,
     test_profile: bool,
@@ -137,6 +156,7 @@ fn parse_artifacts(stdout: &str) -> Vec<Artifact> {
             let target = &l[l.find("\"target\":").unwrap_or(0)..];
             let profile = &l[l.find("\"profile\":").unwrap_or(0)..];
             Artifact {
+                package: json_field(l, "package_id").unwrap_or("?").to_string(),
                 name: json_field(target, "name").unwrap_or("?").to_string(),
                 bin: json_field(target, "kind").is_some_and(|k| k.starts_with("[\"bin\"")),
                 test_profile: json_field(profile, "test") == Some("true"),
@@ -208,11 +228,7 @@ fn compare_with_test_build(rest: &[String]) -> ExitCode {
 /// After the tests: the build `compare` uses must be exactly the one the tests made (every
 /// artifact fresh), so that `cargo xtask compare` right after `cargo xtask test` compiles
 /// nothing. Fails naming what would be compiled.
-fn check_compare_build_is_fresh() -> ExitCode {
-    let artifacts = match test_build() {
-        Ok(a) => a,
-        Err(code) => return code,
-    };
+fn check_compare_build_is_fresh(artifacts: &[Artifact]) -> ExitCode {
     let stale: Vec<&str> = artifacts
         .iter()
         .filter(|a| !a.fresh)
@@ -231,6 +247,134 @@ fn check_compare_build_is_fresh() -> ExitCode {
         );
         ExitCode::FAILURE
     }
+}
+
+/// Where `ray_queries_on_backported_lavapipe` keeps Mesa's backported lavapipe.
+const BACKPORTS_DIR: &str = "target/mesa-backports";
+
+/// The one test that needs hardware ray queries, which Debian 12's Mesa (22.3) lacks and
+/// bookworm-backports' Mesa (25.0) has: Mesa 25's lavapipe is fetched into
+/// `target/mesa-backports` (`apt-get download`, unpacked with `dpkg -x`: nothing is installed,
+/// the system's driver stays the one every other test ran on), and the raytracer's ray-query
+/// test runs on it through `VK_ICD_FILENAMES`, with `RAYTRACER_EXPECT_RAY_QUERY=1` so that an
+/// adapter without ray queries fails it instead of passing through the refusal branch. Where
+/// the driver cannot be fetched (no apt, no network), this says so and is skipped.
+fn ray_queries_on_backported_lavapipe(artifacts: &[Artifact]) -> ExitCode {
+    let Some(test) = artifacts
+        .iter()
+        .find(|a| a.package.contains("raytracer") && a.name == "images" && a.test_profile)
+        .and_then(|a| a.executable.clone())
+    else {
+        eprintln!("error: the test build made no raytracer images test");
+        return ExitCode::FAILURE;
+    };
+    let icd = match backported_lavapipe() {
+        Ok(icd) => icd,
+        Err(why) => {
+            eprintln!("xtask: skipped the ray-query test on Mesa 25's lavapipe: {why}");
+            return ExitCode::SUCCESS;
+        }
+    };
+    let cmd = [
+        test.as_str(),
+        "ray_queries_trace_what_the_bvh_traces_or_are_refused_with_the_reason",
+        "--exact",
+    ];
+    eprintln!(
+        "+ VK_ICD_FILENAMES={} RAYTRACER_EXPECT_RAY_QUERY=1 {}",
+        icd.display(),
+        cmd.join(" ")
+    );
+    let status = Command::new(cmd[0])
+        .args(&cmd[1..])
+        .current_dir(workspace_root().join("raytracer"))
+        .env("NODEVICE_SELECT", "1")
+        .env("VK_ICD_FILENAMES", &icd)
+        .env("RAYTRACER_EXPECT_RAY_QUERY", "1")
+        .status();
+    match status {
+        Ok(s) if s.success() => ExitCode::SUCCESS,
+        Ok(_) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: cannot run {test}: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The ICD manifest of Mesa 25's lavapipe from bookworm-backports, fetched once into
+/// [`BACKPORTS_DIR`]; Err says why it could not be.
+fn backported_lavapipe() -> Result<PathBuf, String> {
+    let dir = workspace_root().join(BACKPORTS_DIR);
+    let icd = dir.join("lvp.json");
+    let library = dir.join("root/usr/lib/x86_64-linux-gnu/libvulkan_lvp.so");
+    if icd.exists() && library.exists() {
+        return Ok(icd);
+    }
+    if !succeeds("apt-get", &["--version"]) || !succeeds("dpkg", &["--version"]) {
+        return Err("no apt-get and dpkg here".into());
+    }
+    let lists = dir.join("lists");
+    std::fs::create_dir_all(lists.join("partial")).map_err(|e| e.to_string())?;
+    let sources = dir.join("backports.list");
+    std::fs::write(
+        &sources,
+        "deb http://deb.debian.org/debian bookworm-backports main\n",
+    )
+    .map_err(|e| e.to_string())?;
+    let options = [
+        format!("-oDir::Etc::SourceList={}", sources.display()),
+        "-oDir::Etc::SourceParts=/dev/null".to_string(),
+        format!("-oDir::State::Lists={}", lists.display()),
+        "-oAPT::Sandbox::User=root".to_string(),
+    ];
+    let apt = |args: &[&str]| -> Result<(), String> {
+        let mut cmd = Command::new("apt-get");
+        cmd.args(&options).args(args).current_dir(&dir);
+        let out = cmd.output().map_err(|e| e.to_string())?;
+        if out.status.success() {
+            Ok(())
+        } else {
+            Err(format!(
+                "apt-get {} failed: {}",
+                args.join(" "),
+                String::from_utf8_lossy(&out.stderr).trim()
+            ))
+        }
+    };
+    apt(&["update"])?;
+    apt(&["download", "mesa-vulkan-drivers"])?;
+    let deb = std::fs::read_dir(&dir)
+        .map_err(|e| e.to_string())?
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("mesa-vulkan-drivers_25"))
+        })
+        .ok_or("bookworm-backports offered no Mesa 25 mesa-vulkan-drivers")?;
+    let root = dir.join("root");
+    if !succeeds(
+        "dpkg",
+        &["-x", &deb.to_string_lossy(), &root.to_string_lossy()],
+    ) || !library.exists()
+    {
+        return Err(format!("could not unpack {}", deb.display()));
+    }
+    std::fs::write(
+        &icd,
+        format!(
+            "{{\"ICD\": {{\"api_version\": \"1.4.305\", \"library_path\": \"{}\"}}, \
+             \"file_format_version\": \"1.0.0\"}}\n",
+            library.display()
+        ),
+    )
+    .map_err(|e| e.to_string())?;
+    eprintln!(
+        "xtask: Mesa 25's lavapipe from bookworm-backports is in {}",
+        dir.display()
+    );
+    Ok(icd)
 }
 
 /// Whether ARGS pick packages (then the test run is partial and there is no full build to

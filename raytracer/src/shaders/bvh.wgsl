@@ -1,9 +1,8 @@
 // ---------------------------------------------------------------------------------------------
 // Ray queries on the scene's BVH (raytracer::bvh, its Rust twin): a binary tree in `bvh_nodes`,
-// triangles in leaf order in `bvh_triangles` (obvhs' RtTriangle layout) and their shading
-// attributes in `bvh_attributes`. The including shader declares those three storage buffers
-// (its own group and bindings) before this file. Same traversal order, slab test and triangle
-// test as the twin, so the GPU finds the same nearest triangle as the CPU reference.
+// triangles in leaf order (triangles.wgsl, which must come first). The including shader declares
+// `bvh_nodes` and the triangles' buffers (its own group and bindings). Same traversal order,
+// slab test and triangle test as the twin, so the GPU finds the same nearest triangle as the CPU reference.
 // ---------------------------------------------------------------------------------------------
 
 struct BvhNode {
@@ -15,28 +14,8 @@ struct BvhNode {
     first: u32,
 };
 
-struct BvhTriangle {
-    v0: vec3f,
-    // e1 = v0 - v1, e2 = v2 - v0, ng = e1 x e2 (computed on the CPU).
-    e1: vec3f,
-    e2: vec3f,
-    ng: vec3f,
-};
-
-struct BvhAttributes {
-    n0: vec3f,
-    object: u32,
-    n1: vec3f,
-    triangle: u32,
-    n2: vec3f,
-    geometric_normal: vec3f,
-    uv01: vec4f,
-    uv2: vec2f,
-};
-
 const BVH_STACK_SIZE: u32 = 48u;
 const BOX_SLACK: f32 = 1.000001;
-const NO_HIT: u32 = 0xffffffffu;
 
 // obvhs' safe_inverse: a zero component becomes a large finite number, never an infinity.
 fn safe_inverse(x: f32) -> f32 {
@@ -77,12 +56,6 @@ fn intersect_triangle(tri: BvhTriangle, o: vec3f, d: vec3f, t_max: f32) -> f32 {
     }
     return -1.0;
 }
-
-struct TraceHit {
-    // Triangle index in leaf order, NO_HIT for none.
-    triangle: u32,
-    t: f32,
-};
 
 // The nearest hit on o + t d, t in [0, t_max] (any = true: the first found).
 fn trace(o: vec3f, d: vec3f, t_max_in: f32, any: bool) -> TraceHit {
@@ -132,46 +105,4 @@ fn trace(o: vec3f, d: vec3f, t_max_in: f32, any: bool) -> TraceHit {
         }
     }
     return best;
-}
-
-fn trace_closest(o: vec3f, d: vec3f, t_max: f32) -> TraceHit {
-    return trace(o, d, t_max, false);
-}
-
-fn trace_any(o: vec3f, d: vec3f, t_max: f32) -> bool {
-    return trace(o, d, t_max, true).triangle != NO_HIT;
-}
-
-// Barycentrics (u, v), weights (1 - u - v, u, v) of (v0, v1, v2): obvhs'
-// RtTriangle::compute_barycentric.
-fn hit_barycentrics(tri: BvhTriangle, o: vec3f, d: vec3f) -> vec2f {
-    let r = cross(d, tri.v0 - o);
-    return vec2f(dot(r, tri.e2), dot(r, tri.e1)) / dot(tri.ng, d);
-}
-
-// A hit with what shading needs (scene::bvh::Hit).
-struct SurfaceHit {
-    t: f32,
-    object: u32,
-    position: vec3f,
-    // Interpolated shading normal, as authored.
-    normal: vec3f,
-    geometric_normal: vec3f,
-    uv: vec2f,
-};
-
-// TriangleInfo::hit: the interpolation the reference does.
-fn surface_hit(h: TraceHit, o: vec3f, d: vec3f) -> SurfaceHit {
-    let a = bvh_attributes[h.triangle];
-    let b = hit_barycentrics(bvh_triangles[h.triangle], o, d);
-    let w = 1.0 - b.x - b.y;
-    let n = a.n0 * w + a.n1 * b.x + a.n2 * b.y;
-    var s: SurfaceHit;
-    s.t = h.t;
-    s.object = a.object;
-    s.position = o + d * h.t;
-    s.normal = select(a.geometric_normal, normalize(n), dot(n, n) > 0.0);
-    s.geometric_normal = a.geometric_normal;
-    s.uv = a.uv01.xy * w + a.uv01.zw * b.x + a.uv2 * b.y;
-    return s;
 }

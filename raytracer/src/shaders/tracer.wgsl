@@ -13,7 +13,8 @@
 //   (integer atomics: the sum does not depend on the order threads finish in).
 // * `resolve_fs`: eye radiance plus the photons' into the target.
 //
-// Needs the gpu prelude and scene's medium.wgsl before it, and bvh.wgsl.
+// Needs the gpu prelude, scene's medium.wgsl, triangles.wgsl and one traversal (bvh.wgsl or
+// ray_query.wgsl, with its binding 1).
 // ---------------------------------------------------------------------------------------------
 
 struct Params {
@@ -40,7 +41,8 @@ struct Params {
 };
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;
+// Binding 1: the traversal's structure (`bvh_nodes`, or `scene_tlas` for ray queries), declared
+// with it (tracer.rs: TRAVERSAL_BINDINGS).
 @group(0) @binding(2) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(0) @binding(3) var<storage, read> bvh_attributes: array<BvhAttributes>;
 // Lights, volumes, emitters, objects, the texture table and the sRGB decoding table, at

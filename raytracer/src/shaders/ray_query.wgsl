@@ -1,0 +1,25 @@
+// ---------------------------------------------------------------------------------------------
+// The same queries through the hardware's ray queries (wgpu's experimental `ray_query`): one
+// BLAS of every world triangle, in the order of `bvh_triangles` (so the committed
+// intersection's primitive index names the triangle), under one TLAS instance with the
+// identity transform. The including shader starts with `enable wgpu_ray_query;` and declares
+// `scene_tlas` (an `acceleration_structure`) and the triangles' buffers. The hardware decides
+// the hit (its own watertight test); the distance is the hardware's, the attributes ours.
+// ---------------------------------------------------------------------------------------------
+
+const RAY_FLAG_OPAQUE: u32 = 0x01u;
+const RAY_FLAG_TERMINATE_ON_FIRST_HIT: u32 = 0x04u;
+const RAY_QUERY_TRIANGLE: u32 = 1u;
+
+fn trace(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TraceHit {
+    var flags = RAY_FLAG_OPAQUE;
+    if (any) { flags |= RAY_FLAG_TERMINATE_ON_FIRST_HIT; }
+    var rq: ray_query;
+    rayQueryInitialize(&rq, scene_tlas, RayDesc(flags, 0xffu, 0.0, t_max, o, d));
+    rayQueryProceed(&rq);
+    let hit = rayQueryGetCommittedIntersection(&rq);
+    if (hit.kind != RAY_QUERY_TRIANGLE) {
+        return TraceHit(NO_HIT, t_max);
+    }
+    return TraceHit(hit.primitive_index, hit.t);
+}
