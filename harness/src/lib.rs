@@ -199,7 +199,7 @@ impl FromStr for Size {
 }
 
 /// Frame counts of a timed run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frames {
     /// Timed frames along the scene's camera path (time = i * duration / N).
     pub timed: u32,
@@ -208,6 +208,11 @@ pub struct Frames {
     /// Error frames: read back and measured against the reference at this many times spread
     /// evenly over the camera path, start and end included (see [`Frames::error_times`]).
     pub errors: u32,
+    /// Seconds of timed frames a row may take (0: no limit): a technique whose first warm-up
+    /// frame shows that `timed` frames would take longer is timed on fewer, evenly spread along
+    /// the path (at least [`Frames::MIN_TIMED`]), after that one warm-up frame
+    /// ([`Frames::timed_within_budget`]). The row's `frames` says how many were timed.
+    pub timed_budget_s: f64,
 }
 
 impl Default for Frames {
@@ -216,6 +221,7 @@ impl Default for Frames {
             timed: 16,
             warmup: 3,
             errors: 3,
+            timed_budget_s: Frames::DEFAULT_TIMED_BUDGET_S,
         }
     }
 }
@@ -227,6 +233,27 @@ impl Frames {
     pub const MAX_TIMED: u32 = 10_000;
     /// Most warm-up frames a run may ask for.
     pub const MAX_WARMUP: u32 = 1_000;
+    /// The default [`Frames::timed_budget_s`]: the exact ray tracer's caustics take ~20 s a
+    /// frame at 256 x 256 on the 2-core software rasterizer, and 16 of them per scene would
+    /// make the default compare an hour longer; every other row fits.
+    pub const DEFAULT_TIMED_BUDGET_S: f64 = 30.0;
+    /// Fewest timed frames a budget leaves (a median and a spread need a few).
+    pub const MIN_TIMED: u32 = 3;
+
+    /// Timed frames for a technique whose warm-up frame took `frame_ms` (wall clock): `timed`
+    /// when they fit [`Frames::timed_budget_s`] (or there is no budget), else as many as fit,
+    /// at least [`Frames::MIN_TIMED`] (never more than `timed`).
+    pub fn timed_within_budget(&self, frame_ms: f64) -> u32 {
+        if !(self.timed_budget_s > 0.0) || !(frame_ms > 0.0) {
+            return self.timed;
+        }
+        let fit = (self.timed_budget_s * 1e3 / frame_ms).floor();
+        if fit >= self.timed as f64 {
+            self.timed
+        } else {
+            (fit as u32).max(Self::MIN_TIMED).min(self.timed)
+        }
+    }
 
     /// The times of the error frames on a camera path of `duration` seconds: `errors` times
     /// from 0 to `duration` evenly spaced (3: start, middle, end), duplicates removed, so a
@@ -473,6 +500,22 @@ mod tests {
         assert_eq!(frames(5).error_times(2.0), vec![0.0, 0.5, 1.0, 1.5, 2.0]);
         assert_eq!(frames(1).error_times(2.0), vec![0.0]);
         assert_eq!(frames(0).error_times(2.0), vec![0.0]);
+    }
+
+    #[test]
+    fn slow_techniques_are_timed_on_fewer_frames_within_the_budget() {
+        let f = Frames::default(); // 16 frames, 30 s
+        assert_eq!(f.timed_within_budget(100.0), 16);
+        assert_eq!(f.timed_within_budget(1875.0), 16); // exactly 30 s
+        assert_eq!(f.timed_within_budget(3000.0), 10);
+        assert_eq!(f.timed_within_budget(20_000.0), Frames::MIN_TIMED);
+        let unlimited = Frames {
+            timed_budget_s: 0.0,
+            ..f
+        };
+        assert_eq!(unlimited.timed_within_budget(20_000.0), 16);
+        let two = Frames { timed: 2, ..f };
+        assert_eq!(two.timed_within_budget(20_000.0), 2);
         assert_eq!(frames(3).error_times(0.0), vec![0.0]);
         assert_eq!(frames(3).error_times(f32::NAN), vec![0.0]);
         assert_eq!(

@@ -57,15 +57,27 @@ struct FrameArgs {
     #[arg(long, default_value_t = 3, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=Frames::MAX_ERRORS as i64))]
     error_frames: u32,
+    /// Seconds of timed frames per row: a technique whose first warm-up frame shows that the
+    /// timed frames would take longer is timed on fewer (at least 3), after that one warm-up;
+    /// 0: no limit. The row's `frames` says how many were timed.
+    #[arg(long, default_value_t = Frames::DEFAULT_TIMED_BUDGET_S, value_name = "SECONDS")]
+    timed_budget: f64,
 }
 
 impl FrameArgs {
-    fn frames(self) -> Frames {
-        Frames {
+    fn frames(self) -> Result<Frames> {
+        if !(self.timed_budget >= 0.0 && self.timed_budget.is_finite()) {
+            bail!(
+                "--timed-budget must be a number of seconds, 0 or more (0: no limit), not {}",
+                self.timed_budget
+            );
+        }
+        Ok(Frames {
             timed: self.frames,
             warmup: self.warmup,
             errors: self.error_frames,
-        }
+            timed_budget_s: self.timed_budget,
+        })
     }
 }
 
@@ -316,7 +328,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 techniques,
                 all_variants,
                 size,
-                frames: frames.frames(),
+                frames: frames.frames()?,
             };
             let report = harness::compare::run(&env, &opts)?;
             print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
@@ -370,7 +382,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 param,
                 values,
                 size,
-                frames: frames.frames(),
+                frames: frames.frames()?,
             };
             let report = harness::sweep::run(&env, &opts)?;
             print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
@@ -599,6 +611,7 @@ fn render(
         timed: 0,
         warmup: 0,
         errors: 1,
+        timed_budget_s: 0.0,
     };
     harness::limits::check_memory(&ctx, size, one_image)?;
     let image = if use_ground_truth {
@@ -631,6 +644,7 @@ fn render(
                 timed: 0,
                 warmup: 0,
                 errors: 1,
+                timed_budget_s: 0.0,
             },
             &mut |_| {},
         )?;

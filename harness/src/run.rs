@@ -14,8 +14,10 @@
 //! submission of its own (objects' transforms and shadow maps: the same work for every
 //! technique), so it is not part of any technique's time.
 //!
-//! Order: prepare (scene at time 0); `warmup` untimed frames on the camera path at time 0;
-//! then the camera path in time order: the `timed` frames at `time = i * duration / timed` and,
+//! Order: prepare (scene at time 0); `warmup` untimed frames on the camera path at time 0 (only
+//! the first when it shows the timed frames would overrun [`Frames::timed_budget_s`]: the row is
+//! then timed on fewer frames, [`Frames::timed_within_budget`]); then the camera path in time
+//! order: the `timed` frames at `time = i * duration / timed` and,
 //! among them, the error frames at [`Frames::error_times_for`] (start, middle and end of the
 //! path by default), each read back and not timed. Every frame uses the path's camera at its
 //! time with the scene moved to that time. Because the error frames sit in the same sequence
@@ -34,8 +36,6 @@ use std::collections::BTreeMap;
 /// What a frame of a run is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Step {
-    /// Untimed, at time 0, before the path.
-    WarmUp,
     /// Read back and measured against the reference at its time; not timed.
     Error,
     /// Timed.
@@ -126,31 +126,14 @@ pub fn run_technique(
     let timing = technique.timing();
     let duration = scene.scene.camera_path.duration().max(0.0);
     let error_times = frames.error_times_for(&scene.scene);
-    let path_camera = |t: f32| scene.scene.camera_at(t);
+    let (camera_path, still) = (scene.scene.camera_path.clone(), scene.scene.camera);
+    let path_camera = |t: f32| camera_path.sample(t).unwrap_or(still);
     let view = |camera, time| View {
         camera,
         time,
         width: size.width,
         height: size.height,
     };
-    let mut steps: Vec<(View, Step)> = Vec::new();
-    for _ in 0..frames.warmup {
-        steps.push((view(path_camera(0.0), 0.0), Step::WarmUp));
-    }
-    // The error frames take their place among the timed frames in time order (an error frame
-    // before a timed frame of the same time), so a technique reaches each error time through
-    // the frames an application would have rendered before it.
-    let mut path: Vec<(View, Step)> = error_times
-        .iter()
-        .map(|&t| (view(path_camera(t), t), Step::Error))
-        .collect();
-    for i in 0..frames.timed {
-        let t = i as f32 * duration / frames.timed as f32;
-        path.push((view(path_camera(t), t), Step::Timed));
-    }
-    path.sort_by(|a, b| a.0.time.total_cmp(&b.0.time));
-    steps.extend(path);
-
     on_frame("prepare");
     update_scene(ctx, &mut timer, scene, 0.0)?;
     let prep = prepare(ctx, &mut timer, technique, scene)?;
@@ -159,19 +142,46 @@ pub fn run_technique(
         *spans_ms.entry(format!("prepare.{label}_ms")).or_insert(0.0) += ms;
     }
 
+    // Warm-up; the first frame also tells how many timed frames fit the budget (a slow
+    // technique then needs no further warm-up: its shaders are compiled and its maps made).
+    let mut timed = frames.timed;
+    for w in 0..frames.warmup {
+        on_frame("warm-up");
+        let warm = view(path_camera(0.0), 0.0);
+        let sample = render_frame(ctx, &mut timer, technique, scene, &warm, &target)?;
+        if w == 0 {
+            timed = frames.timed_within_budget(sample.0.total_ms);
+            if timed < frames.timed {
+                break;
+            }
+        }
+    }
+
+    // The error frames take their place among the timed frames in time order (an error frame
+    // before a timed frame of the same time), so a technique reaches each error time through
+    // the frames an application would have rendered before it.
+    let mut path: Vec<(View, Step)> = error_times
+        .iter()
+        .map(|&t| (view(path_camera(t), t), Step::Error))
+        .collect();
+    for i in 0..timed {
+        let t = i as f32 * duration / timed as f32;
+        path.push((view(path_camera(t), t), Step::Timed));
+    }
+    path.sort_by(|a, b| a.0.time.total_cmp(&b.0.time));
+    let steps = path;
+
     let mut error_frames = Vec::new();
     let mut times = Vec::new();
     let mut extra: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     let mut timed_done = 0;
     for (v, step) in &steps {
         on_frame(&match step {
-            Step::WarmUp => "warm-up".to_string(),
             Step::Error => format!("error frame at time {}", v.time),
-            Step::Timed => format!("frame {}/{}", timed_done + 1, frames.timed),
+            Step::Timed => format!("frame {}/{timed}", timed_done + 1),
         });
         let sample = render_frame(ctx, &mut timer, technique, scene, v, &target)?;
         match step {
-            Step::WarmUp => {}
             Step::Error => error_frames.push(ErrorFrame {
                 time: v.time,
                 image: target.read(ctx)?,

@@ -527,6 +527,7 @@ fn a_panicking_technique_is_a_listed_failure() {
             timed: 1,
             warmup: 0,
             errors: 1,
+            timed_budget_s: 0.0,
         },
     };
     let _lock = gpu_lock();
