@@ -15,6 +15,45 @@ pub const WORKGROUP_SIZE: u32 = 64;
 
 /// Compiles `source` (prefix the prelude yourself if the kernel needs it), runs `entry` over
 /// `inputs` and returns `outputs_per_input * inputs.len()` outputs. Shader and validation
+/// A compute pipeline of `module`'s entry point `entry` over the bind groups `layouts` (group
+/// `i` = `layouts[i]`), labelled `label`: the one place the workspace's compute passes are made.
+pub fn pipeline(
+    ctx: &Context,
+    label: &str,
+    layouts: &[&wgpu::BindGroupLayout],
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+    let layout = ctx
+        .device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &groups,
+            immediate_size: 0,
+        });
+    pipeline_with_layout(ctx, label, &layout, module, entry)
+}
+
+/// [`pipeline`] with a pipeline layout the caller made (shared by several entry points).
+pub fn pipeline_with_layout(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    ctx.device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+}
+
 /// errors come back as `GpuError::Validation`.
 pub fn run_kernel<I: bytemuck::Pod, O: bytemuck::Pod>(
     ctx: &Context,
@@ -51,23 +90,7 @@ pub fn run_kernel_with<I: bytemuck::Pod, O: bytemuck::Pod>(
         let mut types = vec![crate::bind::storage(true), crate::bind::storage(false)];
         types.extend(extra.iter().map(|(ty, _)| *ty));
         let group_layout = crate::bind::layout(ctx, entry, wgpu::ShaderStages::COMPUTE, &types);
-        let layout = ctx
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(entry),
-                bind_group_layouts: &[Some(&group_layout)],
-                immediate_size: 0,
-            });
-        let pipeline = ctx
-            .device
-            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+        let pipeline = pipeline(ctx, entry, &[&group_layout], &module, entry);
         let input = ctx
             .device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -500,6 +500,15 @@ mod tests {
         assert_eq!(frames(5).error_times(2.0), vec![0.0, 0.5, 1.0, 1.5, 2.0]);
         assert_eq!(frames(1).error_times(2.0), vec![0.0]);
         assert_eq!(frames(0).error_times(2.0), vec![0.0]);
+        assert_eq!(frames(3).error_times(0.0), vec![0.0]);
+        assert_eq!(frames(3).error_times(f32::NAN), vec![0.0]);
+        assert_eq!(
+            frames(1000).error_times(1.0).len(),
+            Frames::MAX_ERRORS as usize
+        );
+        assert_eq!(time_suffix(1.0), ".t1");
+        assert_eq!(time_suffix(2.0 / 3.0), ".t0.6666667");
+        assert_ne!(time_suffix(0.001), time_suffix(0.002));
     }
 
     #[test]
@@ -516,15 +525,6 @@ mod tests {
         assert_eq!(unlimited.timed_within_budget(20_000.0), 16);
         let two = Frames { timed: 2, ..f };
         assert_eq!(two.timed_within_budget(20_000.0), 2);
-        assert_eq!(frames(3).error_times(0.0), vec![0.0]);
-        assert_eq!(frames(3).error_times(f32::NAN), vec![0.0]);
-        assert_eq!(
-            frames(1000).error_times(1.0).len(),
-            Frames::MAX_ERRORS as usize
-        );
-        assert_eq!(time_suffix(1.0), ".t1");
-        assert_eq!(time_suffix(2.0 / 3.0), ".t0.6666667");
-        assert_ne!(time_suffix(0.001), time_suffix(0.002));
     }
 
     #[test]

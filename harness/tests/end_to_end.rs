@@ -25,6 +25,7 @@ const FRAMES: Frames = Frames {
     timed: 3,
     warmup: 1,
     errors: 3,
+    timed_budget_s: 0.0,
 };
 
 /// Clears the target to `level` in every colour channel.

@@ -189,24 +189,7 @@ impl Accumulator {
             "caustic textures",
             include_str!("shaders/caustic_compute.wgsl"),
         );
-        let pipeline_layout = ctx
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("caustic textures"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-        let pipeline = |entry: &str| {
-            ctx.device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-        };
+        let pipeline = |entry: &str| gpu::compute::pipeline(ctx, entry, &[&layout], &module, entry);
         Self {
             params: Uniform::new(
                 ctx,

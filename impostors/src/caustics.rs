@@ -715,22 +715,6 @@ fn splat_compute(ctx: &Context) -> Splatter {
         &[photons, photons, bind::storage(false), bind::uniform()],
     );
     let module = gpu::shader_with_prelude(ctx, "caustic splat", SPLAT_WGSL);
-    let pipeline = ctx
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("caustic splat"),
-            layout: Some(
-                &ctx.device
-                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("caustic splat"),
-                        bind_group_layouts: &[Some(&layout)],
-                        immediate_size: 0,
-                    }),
-            ),
-            module: &module,
-            entry_point: Some("splat_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+    let pipeline = gpu::compute::pipeline(ctx, "caustic splat", &[&layout], &module, "splat_main");
     Splatter::Compute { pipeline, layout }
 }

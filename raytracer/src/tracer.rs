@@ -412,21 +412,8 @@ impl GpuTracer {
                 label: Some("ray tracer"),
                 source: wgpu::ShaderSource::Wgsl(tracer_wgsl(traversal).into()),
             });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("ray tracer"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| gpu::compute::pipeline(ctx, entry, &[&layout], &module, entry);
+        let (eye_pipeline, photon_pipeline) = (pipeline("eye_pass"), pipeline("photon_pass"));
         let resolve_pipeline = gpu::fullscreen::pipeline(
             ctx,
             "ray tracer resolve",
@@ -472,8 +459,8 @@ impl GpuTracer {
             resolve_group: placeholder_group(ctx),
             layout,
             resolve_layout,
-            eye_pipeline: pipeline("eye_pass"),
-            photon_pipeline: pipeline("photon_pass"),
+            eye_pipeline,
+            photon_pipeline,
             resolve_pipeline,
             pixels: 0,
             bvh_time: f32::NAN,

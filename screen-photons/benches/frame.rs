@@ -4,10 +4,11 @@
 //! and the CPU twin of the march (`march::march_lines` and `march::march_dda` over an exact
 //! LDI of spheres). `cargo bench -p screen-photons --bench frame`.
 
-use criterion::{BenchmarkId, black_box};
+use criterion::BenchmarkId;
 use glam::Vec3;
 use scene::Camera;
 use screen_photons::march::{self, Eye, Ldi, RayState, Side, Sphere};
+use std::hint::black_box;
 use testkit::gpu_time::{FrameClock, bench_frame};
 
 fn main() {

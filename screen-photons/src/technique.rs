@@ -909,15 +909,7 @@ fn compute_pipeline(
     entry: &str,
 ) -> wgpu::ComputePipeline {
     let module = gpu::shader_with_prelude(ctx, label, &pass_source(own));
-    ctx.device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: Some(layout),
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        })
+    gpu::compute::pipeline_with_layout(ctx, label, layout, &module, entry)
 }
 
 /// A pipeline whose vertex stage makes its own geometry (no vertex buffers, no depth).

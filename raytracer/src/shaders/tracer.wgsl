@@ -622,12 +622,16 @@ fn splat_beam(o: vec3f, d: vec3f, length: f32, power: vec3f) -> u32 {
         let beam = transmittance_of(sigma_t, s - inside.x);
         let seen = medium_transmittance(m, x, w_c, dist);
         let phase = henyey_greenstein(dot(d, w_c), g);
-        let value = power * beam * m.scattering.rgb * seen * (phase * importance / d2 * ds);
-        add_fixed(pixel, 0u, value.x);
-        add_fixed(pixel, 1u, value.y);
-        add_fixed(pixel, 2u, value.z);
+        add_fixed_rgb(pixel, power * beam * m.scattering.rgb * seen * (phase * importance / d2 * ds));
     }
     return steps;
+}
+
+// The three channels of `v` added to pixel p.
+fn add_fixed_rgb(p: u32, v: vec3f) {
+    add_fixed(p, 0u, v.x);
+    add_fixed(p, 1u, v.y);
+    add_fixed(p, 2u, v.z);
 }
 
 // Eye::connect: the pixel a photon landed at `s` is seen in, and what it adds there.
@@ -664,10 +668,7 @@ fn connect(s: Surface, rho: vec3f, photon_dir: vec3f, power: vec3f, rays: ptr<fu
         seen *= medium_transmittance(params.medium, eye, -w_c, dist);
     }
     let value = power * rho * (1.0 / PI) * (correction * cos_surface / d2 * importance) * seen;
-    let p = y * params.size.x + x;
-    add_fixed(p, 0u, value.x);
-    add_fixed(p, 1u, value.y);
-    add_fixed(p, 2u, value.z);
+    add_fixed_rgb(y * params.size.x + x, value);
     return true;
 }
 
