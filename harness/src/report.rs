@@ -418,7 +418,7 @@ mod tests {
         assert_eq!(lines[0], CSV_COLUMNS.join(","));
         assert_eq!(
             lines[1],
-            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,,,,,,,llvmpipe,\"said \"\"no\"\"\""
+            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,,,,,,,,llvmpipe,\"said \"\"no\"\"\""
         );
         let swept = to_csv(std::slice::from_ref(&row), true);
         assert!(swept.starts_with("scene,technique,param,value,width"));

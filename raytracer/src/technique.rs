@@ -1,7 +1,7 @@
 //! The tracer as a [`Technique`]: `raytracer/whitted` (the eye pass alone) and
 //! `raytracer/caustics` (the eye pass and the light pass: the reference's whole image).
 
-use crate::tracer::{GpuTracer, MAX_PHOTONS, TracerSettings, Traversal};
+use crate::tracer::{GpuTracer, MAX_PHOTONS, MAX_VOLUMES, TracerSettings, Traversal};
 use gpu::Target;
 use scene::technique::{Param, TechniqueResult, check_param, not_prepared};
 use scene::{Frame, GpuScene, Scene, Technique, View};
@@ -110,8 +110,9 @@ impl Technique for RayTracer {
         }
     }
 
-    fn supports(&self, _scene: &Scene) -> bool {
-        true
+    /// Every scene the marcher can hold: at most [`MAX_VOLUMES`] volumes.
+    fn supports(&self, scene: &Scene) -> bool {
+        crate::tracer::marched_volumes(scene) <= MAX_VOLUMES
     }
 
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {

@@ -125,7 +125,7 @@ impl Tables {
             .volumes
             .iter()
             .filter(|v| v.validate().is_ok() && v.density > 0.0)
-            .collect();
+            .collect(); // as `marched_volumes` counts them
         for v in &placed {
             let c = v.center + v.motion.offset(time);
             data.push(c.extend(v.radius).to_array());
@@ -200,6 +200,15 @@ impl Tables {
             srgb_table,
         }
     }
+}
+
+/// The volumes the eye pass marches (valid, with some extinction), as `truth::media` keeps them.
+pub fn marched_volumes(scene: &Scene) -> usize {
+    scene
+        .volumes
+        .iter()
+        .filter(|v| v.validate().is_ok() && v.density > 0.0)
+        .count()
 }
 
 /// Every texture's RGBA8 texels as one u32 each, in scene order.
@@ -364,11 +373,7 @@ impl GpuTracer {
         settings: TracerSettings,
         traversal: Traversal,
     ) -> TechniqueResult<Self> {
-        let usable = scene
-            .volumes
-            .iter()
-            .filter(|v| v.validate().is_ok() && v.density > 0.0)
-            .count();
+        let usable = marched_volumes(scene);
         if usable > MAX_VOLUMES {
             return Err(TechniqueError::Unsupported(format!(
                 "the ray tracer marches at most {MAX_VOLUMES} volumes; this scene has {usable}"
