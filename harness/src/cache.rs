@@ -56,7 +56,7 @@ pub struct RefView<'a> {
 /// The full cache key of one reference image.
 pub fn reference_key(truth: &dyn GroundTruth, view: &RefView) -> String {
     format!(
-        "v2 | {} | scene {} #{:016x} | camera {:?} | time {} | size {}",
+        "v3 | {} | scene {} #{:016x} | camera {:?} | time {} | size {}",
         truth.key(),
         view.spec,
         scene_hash(view.scene),

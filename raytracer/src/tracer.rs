@@ -31,8 +31,9 @@ pub const MIN_PHOTONS: u64 = 100_000;
 /// Most photons one frame traces (indices are 32-bit on the GPU).
 pub const MAX_PHOTONS: u64 = 1 << 30;
 
-/// Radiance units per fixed-point count of the photon accumulator (`FIXED_POINT_SCALE`).
-pub const FIXED_POINT_SCALE: f64 = 1_048_576.0;
+/// Fixed-point counts per unit of radiance in the photon accumulator (`FIXED_POINT_SCALE` in
+/// `tracer.wgsl`: 2^32).
+pub const FIXED_POINT_SCALE: f64 = 4_294_967_296.0;
 
 const EYE_WORKGROUP: u32 = 8;
 const PHOTON_WORKGROUP: u32 = 64;
@@ -345,10 +346,11 @@ struct ResolveParams { size: vec4u, };
 @group(0) @binding(1) var<storage, read> eye_radiance: array<vec4f>;
 @group(0) @binding(2) var<storage, read> photon_counts: array<u32>;
 
-// The fixed-point photon sum of channel c of pixel p (tracer.wgsl's add_fixed).
+// The fixed-point photon sum of channel c of pixel p (tracer.wgsl's add_fixed: 2^32 units per
+// unit of radiance, so the high word counts whole units).
 fn photon_radiance(p: u32, c: u32) -> f32 {
     let i = 2u * (3u * p + c);
-    return (f32(photon_counts[i + 1u]) * 4294967296.0 + f32(photon_counts[i])) / 1048576.0;
+    return f32(photon_counts[i + 1u]) + f32(photon_counts[i]) / 4294967296.0;
 }
 
 @fragment

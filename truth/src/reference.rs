@@ -169,7 +169,7 @@
 //! splats, and the lists are added to the image in chunk order. (Per-thread images summed
 //! at the end would be faster to reduce, but the floating-point sum would depend on how
 //! rayon assigned chunks to threads; the ordered reduction is what makes 1 and 16 threads
-//! give the same bits.)
+//! give the same bits.) The per-pixel sums are kept in f64 and rounded to f32 once.
 //!
 //! # What the reference leaves out
 //!
@@ -193,7 +193,7 @@
 
 use crate::media::Media;
 use crate::scattering::{BeamSplatter, direct_inscatter, view_depths};
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 use gpu::HdrImage;
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
 use rayon::prelude::*;
@@ -1033,19 +1033,22 @@ fn light_trace_with(
         out
     };
 
-    // Ordered reduction (see "Determinism"), a batch of chunks at a time.
-    let mut radiance = vec![Vec3::ZERO; pixels];
-    let mut beam_radiance = vec![Vec3::ZERO; if beams.is_some() { pixels } else { 0 }];
+    // Ordered reduction (see "Determinism"), a batch of chunks at a time, in f64: a pixel of a
+    // bright caustic sums tens of thousands of photons at high counts, and an f32 sum drifts
+    // by ~n * 2^-24 of its value (1e-3 at 20 000 photons), which the GPU tracer's convergence
+    // study (raytracer/README.md) showed as an error floor.
+    let mut radiance = vec![DVec3::ZERO; pixels];
+    let mut beam_radiance = vec![DVec3::ZERO; if beams.is_some() { pixels } else { 0 }];
     let mut deposited = vec![Vec3::ZERO; n_lights];
     let (mut rays, mut stored) = (0, 0);
     for batch in work.chunks(CHUNKS_PER_BATCH) {
         let results: Vec<ChunkResult> = batch.par_iter().map(trace_chunk).collect();
         for r in results {
             for (i, v) in &r.splats {
-                radiance[*i] += *v;
+                radiance[*i] += v.as_dvec3();
             }
             for (sum, v) in beam_radiance.iter_mut().zip(&r.beams) {
-                *sum += *v;
+                *sum += v.as_dvec3();
             }
             stored += r.splats.len() as u64;
             for (d, x) in deposited.iter_mut().zip(&r.deposited) {
@@ -1058,8 +1061,8 @@ fn light_trace_with(
         *sum += *v;
     }
     LightTrace {
-        radiance,
-        beam_radiance,
+        radiance: radiance.iter().map(|v| v.as_vec3()).collect(),
+        beam_radiance: beam_radiance.iter().map(|v| v.as_vec3()).collect(),
         deposited,
         emitted,
         photons_traced: emitters.iter().map(|e| e.photons).sum(),

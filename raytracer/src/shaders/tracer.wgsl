@@ -61,7 +61,10 @@ struct Params {
 const INFINITY: f32 = 3.4028235e38;
 const MIN_THROUGHPUT: f32 = 1e-4;
 const MAX_SHADING_CORRECTION: f32 = 10.0;
-const FIXED_POINT_SCALE: f32 = 1048576.0; // 2^20 per unit of radiance
+// 2^32 per unit of radiance: a quantum far below any photon's contribution at the counts the
+// tracer takes (2^20 rounded a photon's share of a dim pixel by percents at 100 million photons),
+// and still 2^32 units of radiance before the 64-bit sum overflows.
+const FIXED_POINT_SCALE: f32 = 4294967296.0;
 const TWO_32: f32 = 4294967296.0;
 const PENDING_RAYS: u32 = 24u;
 // Media (truth::media): steps per radius, minimum and maximum steps, transmittance cut-off.
