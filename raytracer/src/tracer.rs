@@ -24,10 +24,8 @@ pub const MAX_VOLUMES: usize = 64;
 
 /// Photons per pixel when the photon count is left to the image: the reference's density
 /// (`truth::reference::PHOTONS_PER_PIXEL`, 4 million over 256 x 256), at least
-/// [`MIN_PHOTONS`].
-pub const PHOTONS_PER_PIXEL: u64 = 61;
-/// The fewest photons the image-scaled count gives (the reference's floor).
-pub const MIN_PHOTONS: u64 = 100_000;
+/// [`MIN_PHOTONS`]: the same constants, from `scene::emission`.
+pub use scene::emission::{MIN_PHOTONS, PHOTONS_PER_PIXEL, photons_for_image};
 /// Most photons one frame traces (indices are 32-bit on the GPU).
 pub const MAX_PHOTONS: u64 = 1 << 30;
 
@@ -61,11 +59,6 @@ impl Default for TracerSettings {
             seed: 0x5eed,
         }
     }
-}
-
-/// The reference's photon count for a `width` x `height` image.
-pub fn photons_for_image(width: u32, height: u32) -> u64 {
-    (PHOTONS_PER_PIXEL * width as u64 * height as u64).max(MIN_PHOTONS)
 }
 
 /// Rays one frame cast, counted on the GPU the way the reference counts its own.

@@ -18,6 +18,19 @@ use crate::{Roles, Scene};
 use glam::Vec3;
 use std::f32::consts::PI;
 
+/// Photons per pixel of a light pass scaled to its image: 4 million over 256 x 256, the density
+/// at which the caustic under `cornell-sphere`'s glass sphere is smooth (the reference's
+/// default, `truth::reference::ReferenceOptions::for_image`, and the GPU tracer's).
+pub const PHOTONS_PER_PIXEL: u64 = 61;
+/// The fewest photons an image-scaled light pass traces (small test images).
+pub const MIN_PHOTONS: u64 = 100_000;
+
+/// The image-scaled photon count of a `width` x `height` image: [`PHOTONS_PER_PIXEL`] per
+/// pixel, at least [`MIN_PHOTONS`].
+pub fn photons_for_image(width: u32, height: u32) -> u64 {
+    (PHOTONS_PER_PIXEL * width as u64 * height as u64).max(MIN_PHOTONS)
+}
+
 /// The objects photons are aimed at: caustic casters by role, and every specular object.
 pub fn caustic_casters(scene: &Scene) -> Vec<usize> {
     (0..scene.objects.len())

@@ -231,7 +231,7 @@ pub struct ReferenceOptions {
 }
 
 /// Photon density of the default options: 4 million photons over 256 x 256 pixels.
-pub const PHOTONS_PER_PIXEL: u64 = 61;
+pub use scene::emission::PHOTONS_PER_PIXEL;
 
 impl Default for ReferenceOptions {
     fn default() -> Self {
@@ -249,7 +249,7 @@ impl ReferenceOptions {
     /// pixel (at least 100 000), so caustic noise per pixel is about the same at every size
     /// and small test images do not pay for 4 million photons.
     pub fn for_image(width: u32, height: u32) -> Self {
-        let photons = (PHOTONS_PER_PIXEL * width as u64 * height as u64).max(100_000);
+        let photons = scene::emission::photons_for_image(width, height);
         Self {
             photons,
             ..Self::default()
