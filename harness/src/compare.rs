@@ -148,7 +148,7 @@ pub(crate) fn measure(
     references: &[TimedReference],
     frames: Frames,
     row: ResultRow,
-    on_frame: &mut dyn FnMut(&str),
+    on_frame: &mut dyn FnMut(&str, usize, usize),
 ) -> Outcome {
     let size = Size::new(row.width, row.height);
     // The `reference` technique is the ground truth itself: instead of rendering it again for
@@ -256,7 +256,7 @@ fn score(
 }
 
 /// The file stem of an error frame's images: `stem` at the first time, `stem.t<time>` after.
-fn frame_stem(stem: &str, index: usize, time: f32) -> String {
+pub(crate) fn frame_stem(stem: &str, index: usize, time: f32) -> String {
     match index {
         0 => stem.to_string(),
         _ => format!("{stem}{}", time_suffix(time)),
@@ -273,6 +273,7 @@ pub(crate) fn write_outcome_images(dir: &Path, stem: &str, outcome: &Outcome) ->
     for (i, frame) in frames.iter().enumerate() {
         let name = frame_stem(stem, i, frame.time);
         images::write_png(&dir.join(format!("{name}.png")), &frame.image)?;
+        images::write_hdr_script(&dir.join(format!("{name}.hdr.js")), &frame.image)?;
         if i == 0 {
             images::write_exr(&dir.join(format!("{name}.exr")), &frame.image)?;
         }
@@ -298,6 +299,7 @@ pub(crate) fn write_reference_images(
     for (i, r) in references.iter().enumerate() {
         let name = frame_stem(stem, i, r.time);
         images::write_png(&dir.join(format!("{name}.png")), &r.reference.image)?;
+        images::write_hdr_script(&dir.join(format!("{name}.hdr.js")), &r.reference.image)?;
         if i == 0 {
             images::write_exr(&dir.join(format!("{name}.exr")), &r.reference.image)?;
         }
@@ -411,17 +413,19 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
         pareto: Vec::new(),
         markdown: String::new(),
     };
-    let bar = crate::progress_bar(env.progress, (scenes.len() * (selected.len() + 1)) as u64);
-    let say = |bar: &indicatif::ProgressBar, line: String| bar.suspend(|| eprintln!("{line}"));
+    let progress = crate::Progress::new(env.progress);
+    let say = |line: String| progress.say(&line);
 
     for (loaded, dir_name) in scenes.iter().zip(&dir_names) {
         let (spec, scene) = (&loaded.spec, &loaded.scene);
+        let bar = progress.scene(spec, selected.len() as u64 + 1);
+        let errors_before = report.errors.len();
         for note in &loaded.notes {
-            say(&bar, format!("warning: {spec}: {note}"));
+            say(format!("warning: {spec}: {note}"));
             report.scene_notes.push(format!("{spec}: {note}"));
         }
         let dir = opts.out.join("images").join(dir_name);
-        bar.set_message(format!("{spec}: reference"));
+        bar.set_message("reference");
         let references = match path_references(env, &opts.out, spec, scene, opts.size, opts.frames)
         {
             Ok(timed) => {
@@ -441,7 +445,7 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
             }
             Err(e) => {
                 let msg = format!("{spec} / reference: {e:#}");
-                say(&bar, format!("error: {msg}"));
+                say(format!("error: {msg}"));
                 report.errors.push(msg);
                 report.references.push(ReferenceInfo {
                     scene: spec.clone(),
@@ -479,7 +483,7 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                 continue;
             }
             if let Err(e) = env.ctx.require(technique.required_features()) {
-                say(&bar, format!("skipped: {spec} / {id}: {e}"));
+                say(format!("skipped: {spec} / {id}: {e}"));
                 report.skipped.push(Skipped {
                     scene: spec.clone(),
                     technique: id,
@@ -489,12 +493,12 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                 continue;
             }
             if gpu_scene.is_none() && upload_error.is_none() {
-                bar.set_message(format!("{spec}: uploading"));
+                bar.set_message("uploading");
                 match backend::upload_scene(env.ctx, scene) {
                     Ok(s) => gpu_scene = Some(s),
                     Err(e) => {
                         let msg = format!("{spec} / upload: {e:#}");
-                        say(&bar, format!("error: {msg}"));
+                        say(format!("error: {msg}"));
                         report.errors.push(msg);
                         upload_error = Some(format!("scene upload failed: {e:#}"));
                     }
@@ -507,7 +511,13 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                 bar.inc(1);
                 continue;
             };
-            let mut on_frame = |step: &str| bar.set_message(format!("{spec} / {id}: {step}"));
+            bar.set_message(id.clone());
+            let row_bar = progress.technique(&id);
+            let mut on_frame = |step: &str, done: usize, total: usize| {
+                row_bar.set_length(total as u64);
+                row_bar.set_position(done as u64);
+                row_bar.set_message(step.to_string());
+            };
             let outcome = measure(
                 env,
                 technique.as_mut(),
@@ -517,19 +527,19 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                 row,
                 &mut on_frame,
             );
+            row_bar.finish_and_clear();
             write_outcome_images(&dir, &file_name(&id), &outcome)?;
             if let Some(err) = &outcome.row.error {
                 let msg = format!("{spec} / {id}: {err}");
-                say(&bar, format!("error: {msg}"));
+                say(format!("error: {msg}"));
                 if err.starts_with(PANICKED) {
                     report.panics.push(msg.clone());
                 }
                 report.errors.push(msg);
             } else if let Some(n) = outcome.row.nan_pixels.filter(|&n| n > 0) {
-                say(
-                    &bar,
-                    format!("warning: {spec} / {id}: {n} NaN or infinite pixels"),
-                );
+                say(format!(
+                    "warning: {spec} / {id}: {n} NaN or infinite pixels"
+                ));
             }
             report.rows.push(outcome.row);
             bar.inc(1);
@@ -539,12 +549,16 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
             let (points, warning) =
                 pareto::write_scene(&opts.out, spec, dir_name, rows, &adapter_name)?;
             if let Some(w) = warning {
-                say(&bar, format!("warning: {w}"));
+                say(format!("warning: {w}"));
             }
             report.pareto.push(points);
         }
+        let failed = report.errors.len() - errors_before;
+        bar.finish_with_message(match failed {
+            0 => "done".to_string(),
+            n => format!("done, {n} failed"),
+        });
     }
-    bar.finish_and_clear();
 
     report.markdown = report::to_markdown(&report.rows, false);
     write_text(
@@ -557,6 +571,8 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
         &serde_json::to_string_pretty(&report)
             .map_err(|e| anyhow!("cannot encode results: {e}"))?,
     )?;
+    let provenance = crate::html::Provenance::capture(env.ground_truth.key());
+    crate::html::write_compare_page(&opts.out, &report, &provenance)?;
     Ok(report)
 }
 

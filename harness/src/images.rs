@@ -71,6 +71,84 @@ pub fn write_by_extension(path: &Path, image: &HdrImage) -> Result<()> {
     }
 }
 
+/// The bytes of a pixel that is NaN or infinite in an HDR copy ([`rgbe`]): magenta with a zero
+/// exponent, which no finite pixel encodes to (a zero exponent is black).
+pub const RGBE_NON_FINITE: [u8; 4] = [255, 0, 255, 0];
+
+/// Ward's shared-exponent encoding of one linear RGB pixel (the Radiance `.hdr` format): three
+/// 8-bit mantissas and one exponent byte, about 1 % relative precision over 2^-128..2^127.
+/// Negative channels count as 0; a pixel with a NaN or infinite channel is
+/// [`RGBE_NON_FINITE`]. Decode with `(m + 0.5) * 2^(e - 136)` per channel (`e` 0: black).
+pub fn rgbe(p: [f32; 3]) -> [u8; 4] {
+    if p.iter().any(|c| !c.is_finite()) {
+        return RGBE_NON_FINITE;
+    }
+    let [r, g, b] = p.map(|c| c.max(0.0));
+    let max = r.max(g).max(b);
+    if max < 1e-38 {
+        return [0; 4];
+    }
+    // max = f * 2^e with f in [0.5, 1): the mantissas are channel / 2^e * 256.
+    let mut e = max.log2().floor() as i32 + 1;
+    while max / 2f32.powi(e) >= 1.0 {
+        e += 1;
+    }
+    while max / 2f32.powi(e) < 0.5 {
+        e -= 1;
+    }
+    let e = e.clamp(-127, 127);
+    let scale = 256.0 / 2f32.powi(e);
+    let m = |c: f32| (c * scale).floor().clamp(0.0, 255.0) as u8;
+    [m(r), m(g), m(b), (e + 128) as u8]
+}
+
+/// Standard base64 (RFC 4648, with padding).
+pub fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (i, &b)| n | (b as u32) << (16 - 8 * i));
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * i) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// Writes the HDR copy of an image that the HTML report reads for its exposure control: a
+/// script `harnessHdr(width, height, "base64")` whose payload is the zlib-compressed RGBE
+/// planes ([`rgbe`]: every pixel's first byte, then every second, third, fourth; rows top
+/// first). A script, because a page opened from the file system may run scripts from beside
+/// it but may not read the pixels of its images (they taint the canvas); planes, because
+/// they compress about twice as well as interleaved bytes.
+pub fn write_hdr_script(path: &Path, image: &HdrImage) -> Result<()> {
+    use std::io::Write as _;
+    ensure_parent(path)?;
+    let n = image.pixels.len();
+    let mut planes = vec![0u8; 4 * n];
+    for (i, p) in image.pixels.iter().enumerate() {
+        for (c, byte) in rgbe([p[0], p[1], p[2]]).into_iter().enumerate() {
+            planes[c * n + i] = byte;
+        }
+    }
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+    z.write_all(&planes)?;
+    let script = format!(
+        "harnessHdr({}, {}, \"{}\");\n",
+        image.width,
+        image.height,
+        base64(&z.finish()?)
+    );
+    std::fs::write(path, script).with_context(|| format!("cannot write {}", path.display()))
+}
+
 const IDS_MAGIC: &[u8; 8] = b"HRNSIDS1";
 
 /// Writes per-pixel object ids and mask: magic, width, height (u32 LE), ids (i32 LE), mask
@@ -143,6 +221,92 @@ mod tests {
         assert_eq!(read_ids(&dir.join("a.ids")).unwrap(), (3, 2, ids, mask));
         std::fs::write(dir.join("b.ids"), b"garbage").unwrap();
         assert!(read_ids(&dir.join("b.ids")).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Ward's decoding, as the report's script does it.
+    fn unrgbe(b: [u8; 4]) -> [f32; 3] {
+        if b[3] == 0 {
+            return [0.0; 3];
+        }
+        let s = 2f32.powi(b[3] as i32 - 136);
+        [0, 1, 2].map(|c| (b[c] as f32 + 0.5) * s)
+    }
+
+    #[test]
+    fn rgbe_keeps_a_percent_over_the_whole_range_and_marks_non_finite_pixels() {
+        for &v in &[
+            1e-30f32, 1e-6, 0.003, 0.5, 0.999_999, 1.0, 1.5, 4.0, 1e4, 3e37,
+        ] {
+            for p in [[v, v, v], [v, 0.5 * v, 0.01 * v], [0.0, v, 0.0]] {
+                let back = unrgbe(rgbe(p));
+                let max = p.iter().cloned().fold(0.0, f32::max);
+                for c in 0..3 {
+                    // Each channel within half a mantissa step of the largest.
+                    assert!((back[c] - p[c]).abs() <= max / 256.0, "{p:?} -> {back:?}");
+                }
+            }
+        }
+        assert_eq!(rgbe([0.0; 3]), [0; 4]);
+        assert_eq!(rgbe([-1.0, 0.0, 0.0]), [0; 4]);
+        assert_eq!(rgbe([f32::NAN, 0.0, 0.0]), RGBE_NON_FINITE);
+        assert_eq!(rgbe([0.0, f32::INFINITY, 0.0]), RGBE_NON_FINITE);
+        assert_eq!(rgbe([1.0, 1.0, 1.0])[3], 129, "1 = 0.5 * 2^1");
+    }
+
+    #[test]
+    fn base64_matches_the_rfc_examples() {
+        let cases = [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ];
+        for (plain, coded) in cases {
+            assert_eq!(base64(plain.as_bytes()), coded);
+        }
+        assert_eq!(base64(&[0xff, 0xfe, 0x00]), "//4A");
+    }
+
+    #[test]
+    fn hdr_scripts_carry_the_compressed_planes() {
+        use std::io::Read as _;
+        let dir = std::env::temp_dir().join(format!("harness-hdr-{}", std::process::id()));
+        let mut img = HdrImage::new(3, 2);
+        img.pixels[1] = [2.0, 0.5, 0.0, 1.0];
+        img.pixels[4] = [f32::NAN, 0.0, 0.0, 1.0];
+        let path = dir.join("a.hdr.js");
+        write_hdr_script(&path, &img).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let payload = text
+            .strip_prefix("harnessHdr(3, 2, \"")
+            .and_then(|t| t.strip_suffix("\");\n"))
+            .unwrap();
+        let alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let bits: Vec<u8> = payload
+            .trim_end_matches('=')
+            .chars()
+            .map(|c| alphabet.find(c).unwrap() as u8)
+            .collect();
+        let bytes: Vec<u8> = bits
+            .chunks(4)
+            .flat_map(|q| {
+                let n = q.iter().fold(0u32, |n, &b| n << 6 | b as u32) << (6 * (4 - q.len()));
+                n.to_be_bytes()[1..q.len()].to_vec()
+            })
+            .collect();
+        let mut planes = Vec::new();
+        flate2::read::ZlibDecoder::new(&bytes[..])
+            .read_to_end(&mut planes)
+            .unwrap();
+        assert_eq!(planes.len(), 4 * 6);
+        let pixel = |i: usize| [planes[i], planes[6 + i], planes[12 + i], planes[18 + i]];
+        assert_eq!(pixel(1), rgbe([2.0, 0.5, 0.0]));
+        assert_eq!(pixel(4), RGBE_NON_FINITE);
+        assert_eq!(pixel(0), [0; 4]);
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -17,6 +17,7 @@ pub mod backend;
 pub mod bench;
 pub mod cache;
 pub mod compare;
+pub mod html;
 pub mod images;
 pub mod limits;
 pub mod pareto;
@@ -458,20 +459,60 @@ pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Resul
     Ok(out)
 }
 
-/// A new progress bar of `len` steps (hidden when `show` is false or stderr is no terminal).
-pub fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {
-    if !show {
-        return indicatif::ProgressBar::hidden();
+/// The terminal's progress display of a long run: a bar per scene (its references and
+/// techniques) that stays when the scene is done, and under it a bar of the running technique's
+/// steps (prepare, warm-up, error and timed frames). Hidden when `show` is false or stderr is
+/// no terminal; lines printed through [`Progress::say`] appear above the bars.
+pub struct Progress {
+    multi: indicatif::MultiProgress,
+    show: bool,
+}
+
+impl Progress {
+    pub fn new(show: bool) -> Self {
+        let multi = match show {
+            true => indicatif::MultiProgress::new(),
+            false => {
+                indicatif::MultiProgress::with_draw_target(indicatif::ProgressDrawTarget::hidden())
+            }
+        };
+        Progress { multi, show }
     }
-    let bar = indicatif::ProgressBar::new(len);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:30}] {pos}/{len} {wide_msg}",
-    ) {
-        bar.set_style(style.progress_chars("=> "));
+
+    fn bar(&self, len: u64, template: &str) -> indicatif::ProgressBar {
+        if !self.show {
+            return indicatif::ProgressBar::hidden();
+        }
+        let bar = self.multi.add(indicatif::ProgressBar::new(len));
+        if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        // Keeps the clock moving during long steps (a CPU reference takes seconds).
+        bar.enable_steady_tick(std::time::Duration::from_millis(250));
+        bar
     }
-    // Keeps the clock moving during long steps (a CPU reference takes seconds).
-    bar.enable_steady_tick(std::time::Duration::from_millis(250));
-    bar
+
+    /// A scene's bar: `len` steps (its reference and each technique), named by `prefix`.
+    pub fn scene(&self, prefix: &str, len: u64) -> indicatif::ProgressBar {
+        let bar = self.bar(
+            len,
+            "{elapsed_precise} {prefix:24!} [{bar:24}] {pos}/{len} {wide_msg}",
+        );
+        bar.set_prefix(prefix.to_string());
+        bar
+    }
+
+    /// The running technique's bar (cleared when it finishes).
+    pub fn technique(&self, name: &str) -> indicatif::ProgressBar {
+        let bar = self.bar(1, "         {prefix:24!} [{bar:24}] {pos}/{len} {wide_msg}");
+        bar.set_prefix(format!("  {name}"));
+        bar
+    }
+
+    /// Prints a line above the bars.
+    pub fn say(&self, line: &str) {
+        self.multi.suspend(|| eprintln!("{line}"));
+    }
 }
 
 #[cfg(test)]

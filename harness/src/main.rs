@@ -337,6 +337,10 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 "wrote {0}/results.csv, {0}/results.json, {0}/results.md and {0}/images/",
                 out.display()
             );
+            outln!(
+                "report: {}/index.html (open it in a browser)",
+                out.display()
+            );
             if !report.errors.is_empty() {
                 eprintln!(
                     "{} error(s), printed above and listed in results.json",
@@ -389,6 +393,10 @@ fn run(cli: Cli) -> Result<ExitCode> {
             outln!();
             outln!(
                 "wrote {0}/sweep.csv, {0}/sweep.json, {0}/sweep.png and {0}/images/",
+                out.display()
+            );
+            outln!(
+                "report: {}/index.html (open it in a browser)",
                 out.display()
             );
             if !report.errors.is_empty() {
@@ -646,7 +654,7 @@ fn render(
                 errors: 1,
                 timed_budget_s: 0.0,
             },
-            &mut |_| {},
+            &mut |_, _, _| {},
         )?;
         run.image().clone()
     };

@@ -209,7 +209,7 @@ fn csv_field(s: &str) -> String {
 }
 
 /// A number for CSV: full precision, `inf`/`-inf`, empty for NaN or missing.
-fn csv_num(v: Option<f64>) -> String {
+pub(crate) fn csv_num(v: Option<f64>) -> String {
     match v {
         Some(v) if v.is_nan() => String::new(),
         Some(v) if v.is_infinite() => if v > 0.0 { "inf" } else { "-inf" }.to_string(),
@@ -218,7 +218,7 @@ fn csv_num(v: Option<f64>) -> String {
     }
 }
 
-fn csv_int(v: Option<usize>) -> String {
+pub(crate) fn csv_int(v: Option<usize>) -> String {
     v.map(|v| v.to_string()).unwrap_or_default()
 }
 
@@ -269,7 +269,7 @@ pub fn to_csv(rows: &[ResultRow], with_param: bool) -> String {
 }
 
 /// Error-frame times as one field: `0;1;2`.
-fn times_list(times: &[f32]) -> String {
+pub(crate) fn times_list(times: &[f32]) -> String {
     times
         .iter()
         .map(|t| t.to_string())

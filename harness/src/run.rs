@@ -111,14 +111,16 @@ pub(crate) fn update_scene(
         .map_err(|e| anyhow!(e).context("moving the scene to the frame's time"))
 }
 
-/// Runs `technique` on `scene` (see the module documentation). `on_frame` is told each step.
+/// Runs `technique` on `scene` (see the module documentation). `on_frame` is told each step:
+/// what it is, how many steps are done and how many there are (prepare, warm-up frames, error
+/// and timed frames; the total shrinks when the timed budget cuts frames).
 pub fn run_technique(
     ctx: &Context,
     technique: &mut dyn Technique,
     scene: &mut GpuScene,
     size: Size,
     frames: Frames,
-    on_frame: &mut dyn FnMut(&str),
+    on_frame: &mut dyn FnMut(&str, usize, usize),
 ) -> Result<TechniqueRun> {
     let target = Target::new(ctx, size.width, size.height)?;
     let mut timer = GpuTimer::new(ctx, 64);
@@ -134,7 +136,8 @@ pub fn run_technique(
         width: size.width,
         height: size.height,
     };
-    on_frame("prepare");
+    let mut total = 1 + frames.warmup as usize + error_times.len() + frames.timed as usize;
+    on_frame("prepare", 0, total);
     update_scene(ctx, &mut timer, scene, 0.0)?;
     let prep = prepare(ctx, &mut timer, technique, scene)?;
     let mut spans_ms = BTreeMap::new();
@@ -146,12 +149,13 @@ pub fn run_technique(
     // technique then needs no further warm-up: its shaders are compiled and its maps made).
     let mut timed = frames.timed;
     for w in 0..frames.warmup {
-        on_frame("warm-up");
+        on_frame("warm-up", 1 + w as usize, total);
         let warm = view(path_camera(0.0), 0.0);
         let sample = render_frame(ctx, &mut timer, technique, scene, &warm, &target)?;
         if w == 0 {
             timed = frames.timed_within_budget(sample.0.total_ms);
             if timed < frames.timed {
+                total = 2 + error_times.len() + timed as usize;
                 break;
             }
         }
@@ -175,11 +179,12 @@ pub fn run_technique(
     let mut times = Vec::new();
     let mut extra: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     let mut timed_done = 0;
-    for (v, step) in &steps {
-        on_frame(&match step {
+    for (done, (v, step)) in (total - steps.len()..).zip(&steps) {
+        let label = match step {
             Step::Error => format!("error frame at time {}", v.time),
             Step::Timed => format!("frame {}/{timed}", timed_done + 1),
-        });
+        };
+        on_frame(&label, done, total);
         let sample = render_frame(ctx, &mut timer, technique, scene, v, &target)?;
         match step {
             Step::Error => error_frames.push(ErrorFrame {

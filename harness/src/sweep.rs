@@ -183,8 +183,9 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
     let mut rows = Vec::new();
     let mut errors = Vec::new();
     let mut panics = Vec::new();
-    let bar = crate::progress_bar(env.progress, opts.values.len() as u64);
-    let say = |line: String| bar.suspend(|| eprintln!("{line}"));
+    let progress = crate::Progress::new(env.progress);
+    let bar = progress.scene(&opts.scene, opts.values.len() as u64);
+    let say = |line: String| progress.say(&line);
     let mut shared: Option<(Vec<compare::TimedReference>, Option<scene::GpuScene>)> = None;
     for value in &opts.values {
         let (spec, scene) = match owner {
@@ -253,8 +254,14 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
                 let v: f64 = value.parse().unwrap_or(f64::NAN);
                 technique.set_param(&opts.param, v)?;
             }
-            let mut on_frame = |step: &str| bar.set_message(format!("{suffix}: {step}"));
-            compare::measure(
+            bar.set_message(suffix.clone());
+            let row_bar = progress.technique(&suffix);
+            let mut on_frame = |step: &str, done: usize, total: usize| {
+                row_bar.set_length(total as u64);
+                row_bar.set_position(done as u64);
+                row_bar.set_message(step.to_string());
+            };
+            let outcome = compare::measure(
                 env,
                 technique.as_mut(),
                 gs,
@@ -262,7 +269,9 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
                 opts.frames,
                 row,
                 &mut on_frame,
-            )
+            );
+            row_bar.finish_and_clear();
+            outcome
         } else {
             Outcome {
                 row: row.with_error("scene upload failed"),
@@ -286,7 +295,10 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         rows.push(outcome.row);
         bar.inc(1);
     }
-    bar.finish_and_clear();
+    bar.finish_with_message(match errors.len() {
+        0 => "done".to_string(),
+        n => format!("done, {n} failed"),
+    });
 
     let points: Vec<PlotPoint> = rows
         .iter()
@@ -324,6 +336,8 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         &opts.out.join("sweep.json"),
         &serde_json::to_string_pretty(&report)?,
     )?;
+    let provenance = crate::html::Provenance::capture(env.ground_truth.key());
+    crate::html::write_sweep_page(&opts.out, &report, &provenance)?;
     Ok(report)
 }
 

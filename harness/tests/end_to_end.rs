@@ -375,6 +375,28 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         3,
         "one reference per time"
     );
+    // The page: written although techniques failed, which it lists; NaN rows marked; the
+    // images and HDR copies of every time referenced (the browser test opens such a page).
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(page.contains(r#"<section id="failures""#) && page.contains("test technique fails"));
+    assert!(page.contains("panic: cornell-sphere / test/panics"));
+    assert!(page.contains(r#"class="has-nan""#));
+    assert!(
+        page.contains("test/needs-ray-query: "),
+        "skipped with the reason"
+    );
+    for f in [
+        "images/cornell-sphere/test__drifts.t2.flip.png",
+        "images/cornell-sphere/test__constant.hdr.js",
+        "images/cornell-sphere/reference.t1.hdr.js",
+    ] {
+        assert!(page.contains(&format!("\"{f}\"")), "the page lacks {f}");
+        assert!(exists(&out, f), "missing {f}");
+    }
+    assert!(
+        !page.contains("test__fails.png"),
+        "no image of a failed technique"
+    );
 
     // Second run: the reference comes from the cache.
     let opts = CompareOptions {
@@ -431,6 +453,15 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
             && exists(&out, "images/reference.png")
     );
     assert!(exists(&out, "images/test__constant__level=0.5.flip.png"));
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert_eq!(
+        page.matches(r#"<svg xmlns="http://www.w3.org/2000/svg" class="plot""#)
+            .count(),
+        4,
+        "FLIP, masked FLIP, RMSE and frame time against the value"
+    );
+    assert!(page.contains(r#""images/test__constant__level=0.5.hdr.js""#));
+    assert!(page.contains(r#""images/reference.png""#));
 
     // A scene parameter: the spec is rebuilt per value, one reference each.
     let opts = SweepOptions {
@@ -452,6 +483,12 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
     assert_eq!(truth.renders.load(Ordering::SeqCst), 9);
     assert!(exists(&out, "images/reference__material=gold.png"));
     assert!(exists(&out, "images/reference__material=gold.t1.png"));
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(page.contains(r#""images/reference__material=gold.t1.png""#));
+    assert!(
+        page.contains("reference, material=gold"),
+        "a reference per value"
+    );
 
     // Bad parameters fail before any GPU work, with one sentence.
     let bad = |param: &str, values: &[&str]| {

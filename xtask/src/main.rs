@@ -9,7 +9,10 @@
 //!   fontconfig's development files through pkg-config (the plots' font lookup); packages
 //!   `g++ pkg-config libfontconfig1-dev`;
 //! - optionally a font for the text in `sweep.png` (`fonts-dejavu-core`; without one the plot
-//!   is drawn without text).
+//!   is drawn without text);
+//! - for `test` only: headless Chromium (Debian package `chromium`), which opens the HTML
+//!   report in `harness/tests/report_browser.rs`; the tests run with
+//!   `HARNESS_BROWSER_TEST=require`, so that test fails rather than skips without it.
 //!
 //! When something required is missing and we run as root on a system with `apt-get`, it runs
 //! `apt-get update` and `apt-get install -y ...` (DEBIAN_FRONTEND=noninteractive). Otherwise it
@@ -76,7 +79,7 @@ fn main() -> ExitCode {
             return usage();
         }
     };
-    if let Err(code) = ensure_prerequisites() {
+    if let Err(code) = ensure_prerequisites(&job) {
         return code;
     }
     match job.as_str() {
@@ -490,6 +493,9 @@ fn run(cmd: &[String]) -> ExitCode {
         .args(&cmd[1..])
         .current_dir(workspace_root())
         .env("NODEVICE_SELECT", "1")
+        // The HTML report's browser test fails, rather than skips, without Chromium: the
+        // `test` job has installed it.
+        .env("HARNESS_BROWSER_TEST", "require")
         .status();
     match status {
         Ok(s) => match s.code() {
@@ -558,8 +564,25 @@ struct Missing {
     required: bool,
 }
 
-fn missing_prerequisites() -> Vec<Missing> {
+/// Whether a Chromium the report's browser test can start is here (or named by
+/// `HARNESS_CHROMIUM`).
+fn has_chromium() -> bool {
+    std::env::var_os("HARNESS_CHROMIUM").is_some()
+        || ["chromium", "chromium-browser", "google-chrome"]
+            .iter()
+            .any(|b| succeeds(b, &["--version"]))
+}
+
+/// What the job needs that is not here: `test` also needs headless Chromium.
+fn missing_prerequisites(job: &str) -> Vec<Missing> {
     let mut missing = Vec::new();
+    if job == "test" && !has_chromium() {
+        missing.push(Missing {
+            what: "headless Chromium (the HTML report's browser test)",
+            packages: &["chromium"],
+            required: true,
+        });
+    }
     if !has_vulkan_icd() || !has_vulkan_loader() {
         missing.push(Missing {
             what: "a Vulkan driver (ICD manifest and libvulkan.so.1)",
@@ -593,8 +616,8 @@ fn missing_prerequisites() -> Vec<Missing> {
 }
 
 /// Installs what is missing when it can, or says how. Err carries the exit code.
-fn ensure_prerequisites() -> Result<(), ExitCode> {
-    let missing = missing_prerequisites();
+fn ensure_prerequisites(job: &str) -> Result<(), ExitCode> {
+    let missing = missing_prerequisites(job);
     if missing.is_empty() {
         return Ok(());
     }
@@ -634,7 +657,7 @@ fn ensure_prerequisites() -> Result<(), ExitCode> {
                 };
             }
         }
-        let still: Vec<Missing> = missing_prerequisites()
+        let still: Vec<Missing> = missing_prerequisites(job)
             .into_iter()
             .filter(|m| m.required)
             .collect();

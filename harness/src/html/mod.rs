@@ -1,0 +1,900 @@
+//! `index.html`: the report a person reads, written by `compare` and `sweep` beside their tables.
+//!
+//! One self-contained page, opened from the file system (no server, nothing fetched): the
+//! style and the script are inlined from `report.css` and `report.js` beside this file, the
+//! run's figures are a JSON block the script reads, and the images are the PNG files the run
+//! wrote, referenced by relative paths. What it shows:
+//!
+//! - per scene (per swept value for `sweep`), the reference and every technique in a grid
+//!   grouped by family, each with its FLIP map on demand and its key figures (masked FLIP,
+//!   PSNR, frame time, speed-up against the exact tracer), at each error frame along the path;
+//! - a comparison of any two images of a scene: a draggable split, flicker and toggle, a
+//!   nearest-neighbour zoom into the same crop of both, and an exposure control that reads the
+//!   HDR copies (`*.hdr.js`, see [`crate::images::write_hdr_script`]);
+//! - the results table (sortable, filterable by scene and family, failures and NaN pixels
+//!   highlighted), whose cells carry the CSV's own text in `data-v`;
+//! - the plots as SVG ([`svg`]): the Pareto view per scene, or the sweep's figures;
+//! - the failures, skipped techniques and importer notes, and what produced the page
+//!   ([`Provenance`]).
+
+pub mod svg;
+
+use crate::compare::{CompareReport, frame_stem};
+use crate::file_name;
+use crate::report::{ResultRow, csv_int, csv_num, times_list};
+use crate::sweep::{ParamOwner, SweepReport};
+use anyhow::{Context as _, Result};
+use std::fmt::Write as _;
+use std::path::Path;
+use svg::{escape, short};
+
+const STYLE: &str = include_str!("report.css");
+const SCRIPT: &str = include_str!("report.js");
+
+/// What produced a page, so it can be reproduced.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Provenance {
+    /// The program's arguments, shell-quoted where needed.
+    pub command_line: String,
+    /// `git rev-parse HEAD` of the working directory (`-dirty` when tracked files changed), or
+    /// why there is none.
+    pub git_commit: String,
+    /// When the page was written, UTC, ISO 8601.
+    pub date_utc: String,
+    /// The ground truth and its options (the reference cache's key).
+    pub reference: String,
+    pub harness_version: String,
+}
+
+impl Provenance {
+    /// This process's command line, the working directory's commit and the time now.
+    pub fn capture(reference: String) -> Self {
+        Provenance {
+            command_line: std::env::args()
+                .map(|a| quote(&a))
+                .collect::<Vec<_>>()
+                .join(" "),
+            git_commit: git_commit(),
+            date_utc: utc_now(),
+            reference,
+            harness_version: env!("CARGO_PKG_VERSION").to_string(),
+        }
+    }
+}
+
+/// A word as a POSIX shell would need it.
+fn quote(word: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c);
+    if !word.is_empty() && word.chars().all(plain) {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', r"'\''"))
+    }
+}
+
+fn git_commit() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match git(&["rev-parse", "HEAD"]) {
+        Some(commit) => match git(&["status", "--porcelain", "--untracked-files=no"]) {
+            Some(changes) if !changes.is_empty() => format!("{commit}-dirty"),
+            _ => commit,
+        },
+        None => "unknown (not run inside a git checkout)".into(),
+    }
+}
+
+/// The time now, UTC, as `YYYY-MM-DDTHH:MM:SSZ`.
+fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    utc(secs)
+}
+
+/// Seconds since 1970 as a UTC date and time (Howard Hinnant's days-to-civil).
+fn utc(secs: u64) -> String {
+    let (days, rest) = ((secs / 86_400) as i64, secs % 86_400);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        rest / 3600,
+        rest / 60 % 60,
+        rest % 60
+    )
+}
+
+/// One image of an entry at one error-frame time: paths relative to the page.
+#[derive(Clone, Debug, serde::Serialize)]
+struct FrameFiles {
+    time: f32,
+    png: String,
+    flip: Option<String>,
+    hdr: Option<String>,
+}
+
+/// The figures under an image.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+struct Figures {
+    flip_masked: Option<f64>,
+    flip: Option<f64>,
+    psnr_db: Option<f64>,
+    rmse: Option<f64>,
+    frame_ms: Option<f64>,
+    timer: String,
+    speedup: Option<f64>,
+    nan_pixels: Option<usize>,
+}
+
+/// A reference or a technique's result in a group.
+#[derive(Clone, Debug, serde::Serialize)]
+struct Entry {
+    id: String,
+    label: String,
+    family: String,
+    /// One per error frame whose image exists.
+    frames: Vec<FrameFiles>,
+    figures: Option<Figures>,
+    error: Option<String>,
+    /// The entry this one is compared against by default (its reference).
+    reference: Option<usize>,
+}
+
+/// A scene of a compare run, or the swept values of a sweep.
+#[derive(Clone, Debug, serde::Serialize)]
+struct Group {
+    title: String,
+    anchor: String,
+    times: Vec<f32>,
+    entries: Vec<Entry>,
+    #[serde(skip)]
+    plots: Vec<String>,
+    #[serde(skip)]
+    legend: Vec<(String, String)>,
+}
+
+/// A figure that is a JSON number, or null (serde writes NaN and infinity as null too).
+fn finite(v: Option<f64>) -> Option<f64> {
+    v.filter(|v| v.is_finite())
+}
+
+fn figures(row: &ResultRow) -> Figures {
+    Figures {
+        flip_masked: finite(row.flip_mean_masked),
+        flip: finite(row.flip_mean),
+        psnr_db: row.psnr_db.filter(|v| !v.is_nan()).map(|v| v.min(999.0)),
+        rmse: finite(row.rmse),
+        frame_ms: finite(row.frame_ms_median),
+        timer: row.timer.clone(),
+        speedup: finite(row.speedup_vs_raytracer),
+        nan_pixels: row.nan_pixels,
+    }
+}
+
+/// The family of a technique id: what comes before the `/` (`envmap/classic` -> `envmap`).
+pub fn family(id: &str) -> &str {
+    id.split('/').next().unwrap_or(id)
+}
+
+/// The frames of an image written as `<dir>/<stem>[.t<time>].png` that exist under `out`.
+fn frames_on_disk(out: &Path, dir: &str, stem: &str, times: &[f32]) -> Vec<FrameFiles> {
+    let exists = |rel: &str| out.join(rel).is_file().then(|| rel.to_string());
+    times
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &time)| {
+            let name = format!("{dir}/{}", frame_stem(stem, i, time));
+            Some(FrameFiles {
+                time,
+                png: exists(&format!("{name}.png"))?,
+                flip: exists(&format!("{name}.flip.png")),
+                hdr: exists(&format!("{name}.hdr.js")),
+            })
+        })
+        .collect()
+}
+
+/// The groups of a compare run: one per scene, the reference first, then the techniques in
+/// the order they ran (families stay together: the registry lists them so).
+fn compare_groups(out: &Path, report: &CompareReport) -> Vec<Group> {
+    // Scenes in the order they ran (every scene has at least one reference record).
+    let mut specs: Vec<&String> = report.references.iter().map(|r| &r.scene).collect();
+    specs.dedup();
+    let mut groups = Vec::new();
+    for spec in specs {
+        let Some(dir_name) = report.image_dirs.get(spec) else {
+            continue;
+        };
+        let dir = format!("images/{dir_name}");
+        let times: Vec<f32> = report
+            .references
+            .iter()
+            .filter(|r| &r.scene == spec && r.error.is_none())
+            .map(|r| r.time)
+            .collect();
+        let rows: Vec<&ResultRow> = report.rows.iter().filter(|r| &r.scene == spec).collect();
+        let times = match rows.iter().find(|r| !r.error_times.is_empty()) {
+            Some(r) if times.is_empty() => r.error_times.clone(),
+            _ => times,
+        };
+        let reference_error = report
+            .references
+            .iter()
+            .find(|r| &r.scene == spec && r.error.is_some())
+            .and_then(|r| r.error.clone());
+        let mut entries = vec![Entry {
+            id: "reference".into(),
+            label: "reference (CPU ground truth)".into(),
+            family: "reference".into(),
+            frames: frames_on_disk(out, &dir, "reference", &times),
+            figures: None,
+            error: reference_error,
+            reference: None,
+        }];
+        for row in &rows {
+            let times = if row.error_times.is_empty() {
+                &times
+            } else {
+                &row.error_times
+            };
+            entries.push(Entry {
+                id: row.technique.clone(),
+                label: row.technique.clone(),
+                family: family(&row.technique).to_string(),
+                frames: frames_on_disk(out, &dir, &file_name(&row.technique), times),
+                figures: Some(figures(row)),
+                error: row.error.clone(),
+                reference: Some(0),
+            });
+        }
+        let pareto = report.pareto.iter().find(|p| &p.scene == spec);
+        let plots: Vec<String> = pareto.and_then(svg::pareto).into_iter().collect();
+        let legend = pareto
+            .map(|p| {
+                p.points
+                    .iter()
+                    .map(|q| {
+                        let front = if q.on_front { ", on the front" } else { "" };
+                        (
+                            q.technique.clone(),
+                            format!(
+                                "{} ms, error {}{front}",
+                                short(q.frame_ms),
+                                short(q.measured_error)
+                            ),
+                        )
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        groups.push(Group {
+            title: spec.clone(),
+            anchor: format!("scene-{}", file_name(dir_name)),
+            times,
+            entries,
+            plots,
+            legend,
+        });
+    }
+    groups
+}
+
+/// The one group of a sweep: its references and one entry per value.
+fn sweep_group(out: &Path, report: &SweepReport) -> Group {
+    let times = report
+        .rows
+        .iter()
+        .find(|r| !r.error_times.is_empty())
+        .map(|r| r.error_times.clone())
+        .unwrap_or_else(|| vec![0.0]);
+    let technique_id = report.technique.split(':').next().unwrap_or("");
+    let mut entries: Vec<Entry> = Vec::new();
+    let reference_entry = |entries: &mut Vec<Entry>, stem: &str, label: String| {
+        entries.push(Entry {
+            id: stem.to_string(),
+            label,
+            family: "reference".into(),
+            frames: frames_on_disk(out, "images", stem, &times),
+            figures: None,
+            error: None,
+            reference: None,
+        });
+        entries.len() - 1
+    };
+    let shared = (report.owner == ParamOwner::Technique)
+        .then(|| reference_entry(&mut entries, "reference", "reference".into()));
+    for row in &report.rows {
+        let value = row.value.clone().unwrap_or_default();
+        let suffix = format!("{}={value}", report.param);
+        let reference = shared.unwrap_or_else(|| {
+            reference_entry(
+                &mut entries,
+                &format!("reference__{}", file_name(&suffix)),
+                format!("reference, {suffix}"),
+            )
+        });
+        let stem = format!("{}__{}", file_name(technique_id), file_name(&suffix));
+        entries.push(Entry {
+            id: suffix.clone(),
+            label: suffix,
+            family: family(technique_id).to_string(),
+            frames: frames_on_disk(out, "images", &stem, &times),
+            figures: Some(figures(row)),
+            error: row.error.clone(),
+            reference: Some(reference),
+        });
+    }
+    let series = |f: fn(&ResultRow) -> Option<f64>| -> Vec<(String, Option<f64>)> {
+        report
+            .rows
+            .iter()
+            .map(|r| (r.value.clone().unwrap_or_default(), f(r)))
+            .collect()
+    };
+    let what = format!("{} on {}", report.technique, report.scene);
+    let plots = [
+        ("FLIP (mean)", series(|r| r.flip_mean)),
+        ("FLIP over the mask (mean)", series(|r| r.flip_mean_masked)),
+        ("RMSE (mean)", series(|r| r.rmse)),
+        ("frame time, ms (median)", series(|r| r.frame_ms_median)),
+    ]
+    .into_iter()
+    .filter_map(|(figure, points)| {
+        svg::sweep(&format!("{what}: {figure}"), &report.param, figure, &points)
+    })
+    .collect();
+    Group {
+        title: format!("{what}, over {}", report.param),
+        anchor: "sweep".into(),
+        times,
+        entries,
+        plots,
+        legend: Vec::new(),
+    }
+}
+
+/// A column of the results table: its CSV name (the `data-col` the test matches against
+/// results.csv), its heading and how to read a row.
+struct Column {
+    csv: &'static str,
+    heading: &'static str,
+    numeric: bool,
+    /// The CSV's text of the cell (its `data-v`) and what the page shows.
+    cell: fn(&ResultRow) -> (String, String),
+}
+
+fn num_cell(v: Option<f64>) -> (String, String) {
+    let text = csv_num(v);
+    let shown = match v {
+        Some(v) if v.is_nan() => "NaN".into(),
+        Some(v) if v.is_infinite() => "inf".into(),
+        Some(v) => short(v),
+        None => "–".into(),
+    };
+    (text, shown)
+}
+
+fn text_cell(s: &str) -> (String, String) {
+    (s.to_string(), s.to_string())
+}
+
+const COLUMNS: &[Column] = &[
+    Column {
+        csv: "scene",
+        heading: "scene",
+        numeric: false,
+        cell: |r| text_cell(&r.scene),
+    },
+    Column {
+        csv: "technique",
+        heading: "technique",
+        numeric: false,
+        cell: |r| text_cell(&r.technique),
+    },
+    Column {
+        csv: "param",
+        heading: "parameter",
+        numeric: false,
+        cell: |r| text_cell(r.param.as_deref().unwrap_or("")),
+    },
+    Column {
+        csv: "value",
+        heading: "value",
+        numeric: false,
+        cell: |r| text_cell(r.value.as_deref().unwrap_or("")),
+    },
+    Column {
+        csv: "frames",
+        heading: "frames",
+        numeric: true,
+        cell: |r| text_cell(&r.frames.to_string()),
+    },
+    Column {
+        csv: "frame_ms_median",
+        heading: "frame ms (median)",
+        numeric: true,
+        cell: |r| num_cell(r.frame_ms_median),
+    },
+    Column {
+        csv: "frame_ms_p95",
+        heading: "p95 ms",
+        numeric: true,
+        cell: |r| num_cell(r.frame_ms_p95),
+    },
+    Column {
+        csv: "prepare_ms",
+        heading: "prepare ms",
+        numeric: true,
+        cell: |r| num_cell(r.prepare_ms),
+    },
+    Column {
+        csv: "timer",
+        heading: "timer",
+        numeric: false,
+        cell: |r| text_cell(&r.timer),
+    },
+    Column {
+        csv: "speedup_vs_raytracer",
+        heading: "speed-up vs ray tracer",
+        numeric: true,
+        cell: |r| num_cell(r.speedup_vs_raytracer),
+    },
+    Column {
+        csv: "flip_mean_masked",
+        heading: "FLIP masked",
+        numeric: true,
+        cell: |r| num_cell(r.flip_mean_masked),
+    },
+    Column {
+        csv: "flip_mean_masked_worst",
+        heading: "FLIP masked worst",
+        numeric: true,
+        cell: |r| num_cell(r.flip_mean_masked_worst),
+    },
+    Column {
+        csv: "worst_time",
+        heading: "worst t",
+        numeric: true,
+        cell: |r| num_cell(r.worst_time.map(f64::from)),
+    },
+    Column {
+        csv: "flip_mean",
+        heading: "FLIP",
+        numeric: true,
+        cell: |r| num_cell(r.flip_mean),
+    },
+    Column {
+        csv: "flip_mean_silhouette",
+        heading: "FLIP silhouette",
+        numeric: true,
+        cell: |r| num_cell(r.flip_mean_silhouette),
+    },
+    Column {
+        csv: "flip_over_0_1_pct",
+        heading: "FLIP>0.1 %",
+        numeric: true,
+        cell: |r| num_cell(r.flip_over_0_1_pct),
+    },
+    Column {
+        csv: "rmse",
+        heading: "RMSE",
+        numeric: true,
+        cell: |r| num_cell(r.rmse),
+    },
+    Column {
+        csv: "psnr_db",
+        heading: "PSNR dB",
+        numeric: true,
+        cell: |r| num_cell(r.psnr_db),
+    },
+    Column {
+        csv: "nan_pixels",
+        heading: "NaN px",
+        numeric: true,
+        cell: |r| {
+            let t = csv_int(r.nan_pixels);
+            (t.clone(), if t.is_empty() { "–".into() } else { t })
+        },
+    },
+    Column {
+        csv: "error_times",
+        heading: "error times",
+        numeric: false,
+        cell: |r| text_cell(&times_list(&r.error_times)),
+    },
+    Column {
+        csv: "error",
+        heading: "error",
+        numeric: false,
+        cell: |r| text_cell(r.error.as_deref().unwrap_or("")),
+    },
+];
+
+/// The results table: one row per result, `data-v` the CSV's text of each cell.
+fn results_table(rows: &[ResultRow], swept: bool) -> String {
+    let columns: Vec<&Column> = COLUMNS
+        .iter()
+        .filter(|c| swept || !matches!(c.csv, "param" | "value"))
+        .collect();
+    let mut html = String::from(r#"<table id="results-table"><thead><tr>"#);
+    for c in &columns {
+        let _ = write!(
+            html,
+            r#"<th data-col="{}" data-kind="{}" title="sort by {}">{}</th>"#,
+            c.csv,
+            if c.numeric { "num" } else { "text" },
+            escape(c.heading),
+            escape(c.heading)
+        );
+    }
+    html.push_str("</tr></thead><tbody>");
+    for r in rows {
+        let mut class = Vec::new();
+        if r.error.is_some() {
+            class.push("failed");
+        }
+        if r.nan_pixels.is_some_and(|n| n > 0) {
+            class.push("has-nan");
+        }
+        let _ = write!(
+            html,
+            r#"<tr data-scene="{}" data-family="{}" class="{}">"#,
+            escape(&r.scene),
+            escape(family(&r.technique)),
+            class.join(" ")
+        );
+        for c in &columns {
+            let (value, shown) = (c.cell)(r);
+            let bad = match c.csv {
+                "nan_pixels" => r.nan_pixels.is_some_and(|n| n > 0),
+                "error" => r.error.is_some(),
+                _ => shown == "NaN",
+            };
+            let _ = write!(
+                html,
+                r#"<td data-v="{}"{}>{}</td>"#,
+                escape(&value),
+                if bad { r#" class="bad""# } else { "" },
+                escape(&shown)
+            );
+        }
+        html.push_str("</tr>");
+    }
+    html.push_str("</tbody></table>");
+    html
+}
+
+/// The filters above the table: scenes and families, from the rows.
+fn table_filters(rows: &[ResultRow]) -> String {
+    let mut scenes: Vec<&str> = rows.iter().map(|r| r.scene.as_str()).collect();
+    scenes.dedup();
+    let mut families: Vec<&str> = rows.iter().map(|r| family(&r.technique)).collect();
+    families.sort();
+    families.dedup();
+    let options = |all: &str, values: &[&str]| {
+        let mut s = format!(r#"<option value="">{all}</option>"#);
+        for v in values {
+            let _ = write!(s, r#"<option value="{0}">{0}</option>"#, escape(v));
+        }
+        s
+    };
+    format!(
+        r#"<div class="filters"><label>scene <select id="filter-scene">{}</select></label> <label>family <select id="filter-family">{}</select></label> <label><input type="checkbox" id="filter-failed"> failures and NaN only</label> <span id="row-count"></span></div>"#,
+        options("every scene", &scenes),
+        options("every family", &families)
+    )
+}
+
+/// A list section (failures, skipped, notes); empty when there is nothing to list.
+fn list_section(id: &str, title: &str, class: &str, items: &[String]) -> String {
+    if items.is_empty() {
+        return String::new();
+    }
+    let mut s = format!(r#"<section id="{id}" class="{class}"><h2>{title}</h2><ul>"#);
+    for item in items {
+        let _ = write!(s, "<li>{}</li>", escape(item));
+    }
+    s.push_str("</ul></section>");
+    s
+}
+
+/// A definition list of (term, value) pairs.
+fn definitions(pairs: &[(&str, String)]) -> String {
+    let mut s = String::from("<dl>");
+    for (term, value) in pairs {
+        let _ = write!(
+            s,
+            "<dt>{}</dt><dd><code>{}</code></dd>",
+            escape(term),
+            escape(value)
+        );
+    }
+    s.push_str("</dl>");
+    s
+}
+
+/// The static part of a group's section; the script fills the grid and the comparison.
+fn group_section(index: usize, group: &Group) -> String {
+    let mut s = format!(
+        r#"<section class="group" id="{}" data-group="{index}"><h2>{}</h2><div class="group-controls"></div><div class="grid"></div><div class="compare"></div>"#,
+        escape(&group.anchor),
+        escape(&group.title)
+    );
+    if !group.plots.is_empty() {
+        s.push_str(r#"<div class="plots">"#);
+        for plot in &group.plots {
+            let _ = write!(s, "<figure>{plot}</figure>");
+        }
+        if !group.legend.is_empty() {
+            s.push_str(r#"<ol class="legend">"#);
+            for (technique, text) in &group.legend {
+                let _ = write!(s, "<li><b>{}</b> {}</li>", escape(technique), escape(text));
+            }
+            s.push_str("</ol>");
+        }
+        s.push_str("</div>");
+    }
+    s.push_str("</section>");
+    s
+}
+
+/// The JSON block the script reads (`</` escaped so it cannot end the script element).
+fn data_block(groups: &[Group]) -> Result<String> {
+    let json = serde_json::to_string(&serde_json::json!({ "groups": groups }))
+        .context("cannot encode the report's data")?;
+    Ok(format!(
+        r#"<script type="application/json" id="report-data">{}</script>"#,
+        json.replace("</", "<\\/")
+    ))
+}
+
+/// Everything a page is made of.
+struct Page<'a> {
+    title: String,
+    summary: String,
+    groups: Vec<Group>,
+    rows: &'a [ResultRow],
+    swept: bool,
+    problems: Vec<String>,
+    skipped: Vec<String>,
+    notes: Vec<String>,
+    provenance: Vec<(&'static str, String)>,
+}
+
+impl Page<'_> {
+    fn html(&self) -> Result<String> {
+        let mut nav = String::new();
+        for g in &self.groups {
+            let _ = write!(
+                nav,
+                r##"<a href="#{}">{}</a> "##,
+                escape(&g.anchor),
+                escape(&g.title)
+            );
+        }
+        let mut body = format!(
+            r##"<header><h1>{}</h1><p class="summary">{}</p><nav>{nav}<a href="#results">results table</a> <a href="#provenance">how this page was made</a></nav></header>"##,
+            escape(&self.title),
+            escape(&self.summary)
+        );
+        body.push_str(&list_section(
+            "failures",
+            &format!("Failures ({})", self.problems.len()),
+            "failures",
+            &self.problems,
+        ));
+        body.push_str(&list_section(
+            "skipped",
+            "Skipped",
+            "skipped",
+            &self.skipped,
+        ));
+        body.push_str(&list_section("notes", "Scene notes", "notes", &self.notes));
+        for (i, g) in self.groups.iter().enumerate() {
+            body.push_str(&group_section(i, g));
+        }
+        let _ = write!(
+            body,
+            r#"<section id="results"><h2>Results</h2>{}{}<p class="hint">Click a heading to sort; the cells hold the CSV's numbers (hover for the full value).</p></section>"#,
+            table_filters(self.rows),
+            results_table(self.rows, self.swept)
+        );
+        let _ = write!(
+            body,
+            r#"<section id="provenance"><h2>How this page was made</h2>{}</section>"#,
+            definitions(&self.provenance)
+        );
+        Ok(format!(
+            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width\"><title>{}</title><style>{STYLE}</style></head><body>{body}{}<script>{SCRIPT}</script></body></html>\n",
+            escape(&self.title),
+            data_block(&self.groups)?
+        ))
+    }
+}
+
+fn adapter_line(a: &crate::report::AdapterJson) -> String {
+    format!(
+        "{} ({}, {}, driver {}{})",
+        a.name,
+        a.backend,
+        a.device_type,
+        a.driver,
+        if a.is_software { ", software" } else { "" }
+    )
+}
+
+/// Writes `out/index.html` for a compare run.
+pub fn write_compare_page(
+    out: &Path,
+    report: &CompareReport,
+    provenance: &Provenance,
+) -> Result<()> {
+    let groups = compare_groups(out, report);
+    let mut problems = report.errors.clone();
+    problems.extend(report.panics.iter().map(|p| format!("panic: {p}")));
+    problems.extend(
+        report
+            .rows
+            .iter()
+            .filter(|r| r.nan_pixels.is_some_and(|n| n > 0))
+            .map(|r| {
+                format!(
+                    "{} / {}: {} NaN or infinite pixels (magenta in the comparison)",
+                    r.scene,
+                    r.technique,
+                    r.nan_pixels.unwrap_or(0)
+                )
+            }),
+    );
+    let page = Page {
+        title: "harness compare".into(),
+        summary: format!(
+            "{} scenes, {} results, {} failures, at {} on {}",
+            groups.len(),
+            report.rows.len(),
+            report.errors.len(),
+            report.size,
+            report.adapter.name
+        ),
+        groups,
+        rows: &report.rows,
+        swept: false,
+        problems,
+        skipped: report
+            .skipped
+            .iter()
+            .map(|s| format!("{} / {}: {}", s.scene, s.technique, s.reason))
+            .collect(),
+        notes: report.scene_notes.clone(),
+        provenance: vec![
+            ("command line", provenance.command_line.clone()),
+            ("git commit", provenance.git_commit.clone()),
+            ("date (UTC)", provenance.date_utc.clone()),
+            ("adapter", adapter_line(&report.adapter)),
+            ("timer", report.adapter.timer_kind.clone()),
+            ("image size", report.size.clone()),
+            (
+                "frames",
+                format!(
+                    "{} timed (fewer where the timed budget ran out: see each row), {} warm-up, {} error frames along the path",
+                    report.frames, report.warmup, report.error_frames
+                ),
+            ),
+            ("reference", provenance.reference.clone()),
+            ("harness", provenance.harness_version.clone()),
+        ],
+    };
+    write(out, &page)
+}
+
+/// Writes `out/index.html` for a sweep.
+pub fn write_sweep_page(out: &Path, report: &SweepReport, provenance: &Provenance) -> Result<()> {
+    let group = sweep_group(out, report);
+    let page = Page {
+        title: format!("harness sweep: {}", group.title),
+        summary: format!(
+            "{} values of {} ({} parameter), {} failures, at {} on {}",
+            report.rows.len(),
+            report.param,
+            match report.owner {
+                ParamOwner::Technique => "technique",
+                ParamOwner::Scene => "scene",
+            },
+            report.errors.len(),
+            report.size,
+            report.adapter.name
+        ),
+        groups: vec![group],
+        rows: &report.rows,
+        swept: true,
+        problems: report.errors.clone(),
+        skipped: Vec::new(),
+        notes: Vec::new(),
+        provenance: vec![
+            ("command line", provenance.command_line.clone()),
+            ("git commit", provenance.git_commit.clone()),
+            ("date (UTC)", provenance.date_utc.clone()),
+            ("adapter", adapter_line(&report.adapter)),
+            ("timer", report.adapter.timer_kind.clone()),
+            ("image size", report.size.clone()),
+            (
+                "frames",
+                format!("{} timed, {} warm-up", report.frames, report.warmup),
+            ),
+            ("reference", provenance.reference.clone()),
+            ("harness", provenance.harness_version.clone()),
+        ],
+    };
+    write(out, &page)
+}
+
+fn write(out: &Path, page: &Page) -> Result<()> {
+    let path = out.join("index.html");
+    std::fs::write(&path, page.html()?).with_context(|| format!("cannot write {}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates_are_utc_civil_dates() {
+        assert_eq!(utc(0), "1970-01-01T00:00:00Z");
+        assert_eq!(utc(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(utc(1_795_723_445), "2026-11-26T20:04:05Z");
+    }
+
+    #[test]
+    fn command_lines_are_quoted_for_a_shell() {
+        assert_eq!(quote("--scenes"), "--scenes");
+        assert_eq!(
+            quote("cornell-box:material=gold"),
+            "cornell-box:material=gold"
+        );
+        assert_eq!(quote("a b"), "'a b'");
+        assert_eq!(quote("it's"), r"'it'\''s'");
+        assert_eq!(quote(""), "''");
+    }
+
+    #[test]
+    fn table_cells_hold_the_csv_text_and_mark_failures() {
+        let mut ok = ResultRow::new("s", "fam/a", crate::Size::new(4, 4), "x");
+        ok.flip_mean_masked = Some(0.012_345_678_9);
+        ok.psnr_db = Some(f64::INFINITY);
+        ok.nan_pixels = Some(3);
+        let failed =
+            ResultRow::new("s", "fam/b", crate::Size::new(4, 4), "x").with_error("it <broke>");
+        let html = results_table(&[ok, failed], false);
+        assert!(
+            html.contains(r#"<td data-v="0.0123456789">0.01235</td>"#),
+            "{html}"
+        );
+        assert!(html.contains(r#"<td data-v="inf">inf</td>"#));
+        assert!(html.contains(r#"<td data-v="3" class="bad">3</td>"#));
+        assert!(html.contains(r#"class="has-nan""#) && html.contains(r#"class="failed""#));
+        assert!(html.contains("it &lt;broke&gt;") && !html.contains("<broke>"));
+        assert!(!html.contains(r#"data-col="param""#));
+        assert_eq!(html.matches("<tr data-scene").count(), 2);
+    }
+
+    #[test]
+    fn families_are_the_id_before_the_slash() {
+        assert_eq!(family("envmap/classic"), "envmap");
+        assert_eq!(family("reference"), "reference");
+    }
+}
