@@ -514,9 +514,7 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
             bar.set_message(id.clone());
             let row_bar = progress.technique(&id);
             let mut on_frame = |step: &str, done: usize, total: usize| {
-                row_bar.set_length(total as u64);
-                row_bar.set_position(done as u64);
-                row_bar.set_message(step.to_string());
+                crate::Progress::step(&row_bar, step, done, total)
             };
             let outcome = measure(
                 env,

@@ -509,6 +509,13 @@ impl Progress {
         bar
     }
 
+    /// Shows a technique's step on its bar: what `run::run_technique` tells its `on_frame`.
+    pub fn step(bar: &indicatif::ProgressBar, step: &str, done: usize, total: usize) {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(step.to_string());
+    }
+
     /// Prints a line above the bars.
     pub fn say(&self, line: &str) {
         self.multi.suspend(|| eprintln!("{line}"));
