@@ -7,7 +7,9 @@
 //!   view at time 0), `images/<scene>/<technique>.flip.png` (FLIP error map, magma colour
 //!   map), `images/<scene>/reference.png` and `.exr`; the later error frames along the camera
 //!   path as `<technique>.t<time>.png`, `<technique>.t<time>.flip.png` and
-//!   `reference.t<time>.png` (`.t1`, see [`crate::time_suffix`]);
+//!   `reference.t<time>.png` (`.t1`, see [`crate::time_suffix`]); beside every PNG its HDR copy
+//!   `.hdr.js` (see [`images::write_hdr_script`]), all listed in the report's `images`;
+//! - `index.html`, the report a person reads (see [`crate::html`]);
 //! - `.cache/` with the references (see [`crate::cache`]).
 //!
 //! `<scene>` and `<technique>` are made file names by [`crate::file_name`] (`/` becomes `__`).
@@ -81,6 +83,8 @@ pub struct CompareReport {
     /// Per scene: error against frame time, and which techniques are on the front
     /// (`crate::pareto`; the plot under `pareto/`).
     pub pareto: Vec<ParetoScene>,
+    /// Every image file the run wrote, per ground truth and technique (the report shows these).
+    pub images: Vec<WrittenImages>,
     #[serde(skip)]
     pub markdown: String,
 }
@@ -263,48 +267,97 @@ pub(crate) fn frame_stem(stem: &str, index: usize, time: f32) -> String {
     }
 }
 
-/// Writes a technique's images: `<stem>.png`, `<stem>.exr` and `<stem>.flip.png` of the first
-/// error frame, `<stem>.t<time>.png` and `<stem>.t<time>.flip.png` of the later ones.
-pub(crate) fn write_outcome_images(dir: &Path, stem: &str, outcome: &Outcome) -> Result<()> {
+/// The files of one error frame of an image, relative to the output folder (what the report
+/// shows: only what this run wrote).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ImageFrame {
+    pub time: f32,
+    pub png: String,
+    /// The FLIP map (techniques with a reference only).
+    pub flip: Option<String>,
+    /// The HDR copy the report's exposure control reads ([`images::write_hdr_script`]).
+    pub hdr: String,
+}
+
+/// The images a run wrote for one ground truth (`technique` None) or one technique's result.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct WrittenImages {
+    pub scene: String,
+    pub technique: Option<String>,
+    /// The swept value (sweep only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value: Option<String>,
+    pub frames: Vec<ImageFrame>,
+}
+
+/// Writes one error frame's PNG and HDR copy (and the EXR at the first time) as
+/// `<out>/<rel_dir>/<stem>[.t<time>]`.
+fn write_frame(
+    out: &Path,
+    rel_dir: &str,
+    stem: &str,
+    index: usize,
+    time: f32,
+    image: &gpu::HdrImage,
+) -> Result<ImageFrame> {
+    let name = format!("{rel_dir}/{}", frame_stem(stem, index, time));
+    images::write_png(&out.join(format!("{name}.png")), image)?;
+    images::write_hdr_script(&out.join(format!("{name}.hdr.js")), image)?;
+    if index == 0 {
+        images::write_exr(&out.join(format!("{name}.exr")), image)?;
+    }
+    Ok(ImageFrame {
+        time,
+        png: format!("{name}.png"),
+        flip: None,
+        hdr: format!("{name}.hdr.js"),
+    })
+}
+
+/// Writes a technique's images under `<out>/<rel_dir>`: `<stem>.png`, `.hdr.js`, `.exr` and
+/// `.flip.png` of the first error frame, `<stem>.t<time>.png`, `.hdr.js` and `.flip.png` of the
+/// later ones; returns them.
+pub(crate) fn write_outcome_images(
+    out: &Path,
+    rel_dir: &str,
+    stem: &str,
+    outcome: &Outcome,
+) -> Result<Vec<ImageFrame>> {
     let frames = outcome
         .run
         .as_ref()
         .map_or(&[][..], |r| &r.error_frames[..]);
+    let mut written = Vec::new();
     for (i, frame) in frames.iter().enumerate() {
-        let name = frame_stem(stem, i, frame.time);
-        images::write_png(&dir.join(format!("{name}.png")), &frame.image)?;
-        images::write_hdr_script(&dir.join(format!("{name}.hdr.js")), &frame.image)?;
-        if i == 0 {
-            images::write_exr(&dir.join(format!("{name}.exr")), &frame.image)?;
-        }
+        let mut files = write_frame(out, rel_dir, stem, i, frame.time, &frame.image)?;
         if let Some(map) = outcome.flips.get(i) {
+            let flip = format!("{rel_dir}/{}.flip.png", frame_stem(stem, i, frame.time));
             images::write_png_rgb8(
-                &dir.join(format!("{name}.flip.png")),
+                &out.join(&flip),
                 map.width,
                 map.height,
                 &map.to_magma_rgb8(),
             )?;
+            files.flip = Some(flip);
         }
+        written.push(files);
     }
-    Ok(())
+    Ok(written)
 }
 
-/// Writes the references' images: `<stem>.png` and `.exr` at the first time,
-/// `<stem>.t<time>.png` after.
+/// Writes the references' images under `<out>/<rel_dir>`: `<stem>.png`, `.hdr.js` and `.exr` at
+/// the first time, `<stem>.t<time>.png` and `.hdr.js` after; returns them.
 pub(crate) fn write_reference_images(
-    dir: &Path,
+    out: &Path,
+    rel_dir: &str,
     stem: &str,
     references: &[TimedReference],
-) -> Result<()> {
-    for (i, r) in references.iter().enumerate() {
-        let name = frame_stem(stem, i, r.time);
-        images::write_png(&dir.join(format!("{name}.png")), &r.reference.image)?;
-        images::write_hdr_script(&dir.join(format!("{name}.hdr.js")), &r.reference.image)?;
-        if i == 0 {
-            images::write_exr(&dir.join(format!("{name}.exr")), &r.reference.image)?;
-        }
-    }
-    Ok(())
+) -> Result<Vec<ImageFrame>> {
+    references
+        .iter()
+        .enumerate()
+        .map(|(i, r)| write_frame(out, rel_dir, stem, i, r.time, &r.reference.image))
+        .collect()
 }
 
 /// A loaded scene of a run: its spec, the model, the importer's notes.
@@ -411,6 +464,7 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
         errors: Vec::new(),
         panics: Vec::new(),
         pareto: Vec::new(),
+        images: Vec::new(),
         markdown: String::new(),
     };
     let progress = crate::Progress::new(env.progress);
@@ -424,7 +478,7 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
             say(format!("warning: {spec}: {note}"));
             report.scene_notes.push(format!("{spec}: {note}"));
         }
-        let dir = opts.out.join("images").join(dir_name);
+        let rel_dir = format!("images/{dir_name}");
         bar.set_message("reference");
         let references = match path_references(env, &opts.out, spec, scene, opts.size, opts.frames)
         {
@@ -440,7 +494,13 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                     });
                 }
                 let timed: Vec<TimedReference> = timed.into_iter().map(|(r, _)| r).collect();
-                write_reference_images(&dir, "reference", &timed)?;
+                let frames = write_reference_images(&opts.out, &rel_dir, "reference", &timed)?;
+                report.images.push(WrittenImages {
+                    scene: spec.clone(),
+                    technique: None,
+                    value: None,
+                    frames,
+                });
                 timed
             }
             Err(e) => {
@@ -526,7 +586,15 @@ pub fn run(env: &Env, opts: &CompareOptions) -> Result<CompareReport> {
                 &mut on_frame,
             );
             row_bar.finish_and_clear();
-            write_outcome_images(&dir, &file_name(&id), &outcome)?;
+            // The `reference` technique's images are the ground truth's, already written.
+            if id != "reference" {
+                report.images.push(WrittenImages {
+                    scene: spec.clone(),
+                    technique: Some(id.clone()),
+                    value: None,
+                    frames: write_outcome_images(&opts.out, &rel_dir, &file_name(&id), &outcome)?,
+                });
+            }
             if let Some(err) = &outcome.row.error {
                 let msg = format!("{spec} / {id}: {err}");
                 say(format!("error: {msg}"));

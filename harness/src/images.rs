@@ -97,8 +97,9 @@ pub fn rgbe(p: [f32; 3]) -> [u8; 4] {
         e -= 1;
     }
     let e = e.clamp(-127, 127);
-    let scale = 256.0 / 2f32.powi(e);
-    let m = |c: f32| (c * scale).floor().clamp(0.0, 255.0) as u8;
+    // In f64: 256 / 2^e overflows f32 for the darkest exponents.
+    let scale = 256.0 / 2f64.powi(e);
+    let m = |c: f32| (c as f64 * scale).floor().clamp(0.0, 255.0) as u8;
     [m(r), m(g), m(b), (e + 128) as u8]
 }
 
@@ -229,14 +230,15 @@ mod tests {
         if b[3] == 0 {
             return [0.0; 3];
         }
-        let s = 2f32.powi(b[3] as i32 - 136);
-        [0, 1, 2].map(|c| (b[c] as f32 + 0.5) * s)
+        // In f64, as JavaScript decodes: 2^(e - 136) is below f32's range for the darkest.
+        let s = 2f64.powi(b[3] as i32 - 136);
+        [0, 1, 2].map(|c| ((b[c] as f64 + 0.5) * s) as f32)
     }
 
     #[test]
     fn rgbe_keeps_a_percent_over_the_whole_range_and_marks_non_finite_pixels() {
         for &v in &[
-            1e-30f32, 1e-6, 0.003, 0.5, 0.999_999, 1.0, 1.5, 4.0, 1e4, 3e37,
+            2e-37f32, 1e-30, 1e-6, 0.003, 0.5, 0.999_999, 1.0, 1.5, 4.0, 1e4, 3e37,
         ] {
             for p in [[v, v, v], [v, 0.5 * v, 0.01 * v], [0.0, v, 0.0]] {
                 let back = unrgbe(rgbe(p));

@@ -12,7 +12,9 @@
 //! (with `images/reference__<param>=<value>.{png,exr}` for a scene parameter, or
 //! `images/reference.{png,exr}` for a technique parameter), each at the first error frame; the
 //! later error frames along the camera path add `.t<time>.png` and `.t<time>.flip.png` (see
-//! [`crate::time_suffix`]). Error figures are measured along the path as in `compare`.
+//! [`crate::time_suffix`]); beside every PNG its HDR copy `.hdr.js` for the report,
+//! `index.html` (see [`crate::html`]). Error figures are measured along the path as in
+//! `compare`.
 
 use crate::compare::{self, Outcome, write_text};
 use crate::plot::{self, PlotPoint, PlotText};
@@ -58,6 +60,9 @@ pub struct SweepReport {
     pub panics: Vec<String>,
     /// Whether `sweep.png` has text (false when no font could be loaded).
     pub plot_has_text: bool,
+    /// Every image file the sweep wrote: the reference(s) (`technique` None; `value` set for a
+    /// scene parameter) and each value's.
+    pub images: Vec<compare::WrittenImages>,
     #[serde(skip)]
     pub markdown: String,
 }
@@ -177,12 +182,12 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         .with_context(|| format!("technique {id}"))?;
     crate::limits::check_memory(env.ctx, opts.size, opts.frames)?;
     let _lock = crate::OutputLock::acquire(&opts.out)?;
-    let image_dir = opts.out.join("images");
 
     let adapter_name = env.ctx.summary.name.clone();
     let mut rows = Vec::new();
     let mut errors = Vec::new();
     let mut panics = Vec::new();
+    let mut written = Vec::new();
     let progress = crate::Progress::new(env.progress);
     let bar = progress.scene(&opts.scene, opts.values.len() as u64);
     let say = |line: String| progress.say(&line);
@@ -217,7 +222,14 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
                         ParamOwner::Technique => "reference".into(),
                     };
                     let timed: Vec<_> = timed.into_iter().map(|(r, _)| r).collect();
-                    compare::write_reference_images(&image_dir, &stem, &timed)?;
+                    written.push(compare::WrittenImages {
+                        scene: spec.clone(),
+                        technique: None,
+                        value: (owner == ParamOwner::Scene).then(|| value.clone()),
+                        frames: compare::write_reference_images(
+                            &opts.out, "images", &stem, &timed,
+                        )?,
+                    });
                     timed
                 }
                 Err(e) => {
@@ -277,11 +289,17 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
                 flips: Vec::new(),
             }
         };
-        compare::write_outcome_images(
-            &image_dir,
-            &format!("{}__{}", file_name(id), file_name(&suffix)),
-            &outcome,
-        )?;
+        written.push(compare::WrittenImages {
+            scene: spec.clone(),
+            technique: Some(id.clone()),
+            value: Some(value.clone()),
+            frames: compare::write_outcome_images(
+                &opts.out,
+                "images",
+                &format!("{}__{}", file_name(id), file_name(&suffix)),
+                &outcome,
+            )?,
+        });
         if let Some(err) = &outcome.row.error {
             let msg = format!("{suffix}: {err}");
             say(format!("error: {msg}"));
@@ -324,6 +342,7 @@ pub fn run(env: &Env, opts: &SweepOptions) -> Result<SweepReport> {
         errors,
         panics,
         plot_has_text: text == PlotText::Drawn,
+        images: written,
     };
     write_text(
         &opts.out.join("sweep.csv"),

@@ -350,6 +350,20 @@ fn the_report_works_in_headless_chromium() {
             "no {kind} file"
         );
     }
+    // Complete: every entry that ran has an image at every error time of its scene, every
+    // technique a FLIP map and an HDR copy there (the page lists what the run wrote, so a wrong
+    // path or a lost time would show here as a missing frame).
+    let incomplete = browser.eval(
+        "(() => { const d = JSON.parse(document.getElementById('report-data').textContent); \
+         const bad = []; for (const g of d.groups) { \
+           if (g.times.length !== 2) bad.push(g.title + ': times ' + g.times); \
+           for (const e of g.entries) { if (e.error) continue; \
+             if (e.frames.length !== g.times.length) bad.push(g.title + ' / ' + e.id + ': ' + e.frames.length + ' frames'); \
+             for (const f of e.frames) if (!f.hdr || (e.reference !== null && e.id !== 'reference' && !f.flip)) \
+               bad.push(g.title + ' / ' + e.id + ' at ' + f.time + ': no FLIP map or HDR copy'); } } \
+         return bad; })()",
+    );
+    assert_eq!(incomplete, json!([]), "entries missing frames");
     let broken = browser.eval(
         "Array.from(document.images).filter(i => i.getAttribute('src') && !i.naturalWidth).map(i => i.getAttribute('src'))",
     );
@@ -420,11 +434,15 @@ fn the_report_works_in_headless_chromium() {
         worst <= 3,
         "the HDR copy at 0 EV is {worst} levels off the PNG"
     );
+    let renders = browser.eval("Number(document.querySelector('section.group').dataset.renders)");
     browser.eval(
         "(() => { const e = document.querySelector('section.group .exposure'); e.value = 3; \
          e.dispatchEvent(new Event('input')); })()",
     );
-    std::thread::sleep(Duration::from_millis(500));
+    browser.wait_for(
+        &format!("Number(document.querySelector('section.group').dataset.renders) > {renders}"),
+        "the redraw at +3 EV",
+    );
     let brighter: Vec<u8> = serde_json::from_value(browser.eval(canvas_a)).unwrap();
     let sum = |v: &[u8]| v.iter().map(|&b| b as u64).sum::<u64>();
     assert!(

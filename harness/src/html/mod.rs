@@ -19,7 +19,7 @@
 
 pub mod svg;
 
-use crate::compare::{CompareReport, frame_stem};
+use crate::compare::{CompareReport, ImageFrame, WrittenImages};
 use crate::file_name;
 use crate::report::{ResultRow, csv_int, csv_num, times_list};
 use crate::sweep::{ParamOwner, SweepReport};
@@ -50,8 +50,8 @@ impl Provenance {
     /// This process's command line, the working directory's commit and the time now.
     pub fn capture(reference: String) -> Self {
         Provenance {
-            command_line: std::env::args()
-                .map(|a| quote(&a))
+            command_line: std::env::args_os()
+                .map(|a| quote(&a.to_string_lossy()))
                 .collect::<Vec<_>>()
                 .join(" "),
             git_commit: git_commit(),
@@ -119,15 +119,6 @@ fn utc(secs: u64) -> String {
     )
 }
 
-/// One image of an entry at one error-frame time: paths relative to the page.
-#[derive(Clone, Debug, serde::Serialize)]
-struct FrameFiles {
-    time: f32,
-    png: String,
-    flip: Option<String>,
-    hdr: Option<String>,
-}
-
 /// The figures under an image.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 struct Figures {
@@ -147,8 +138,8 @@ struct Entry {
     id: String,
     label: String,
     family: String,
-    /// One per error frame whose image exists.
-    frames: Vec<FrameFiles>,
+    /// One per error frame the run wrote.
+    frames: Vec<ImageFrame>,
     figures: Option<Figures>,
     error: Option<String>,
     /// The entry this one is compared against by default (its reference).
@@ -191,47 +182,39 @@ pub fn family(id: &str) -> &str {
     id.split('/').next().unwrap_or(id)
 }
 
-/// The frames of an image written as `<dir>/<stem>[.t<time>].png` that exist under `out`.
-fn frames_on_disk(out: &Path, dir: &str, stem: &str, times: &[f32]) -> Vec<FrameFiles> {
-    let exists = |rel: &str| out.join(rel).is_file().then(|| rel.to_string());
-    times
+/// The frames written for the first image matching `wanted` (empty when none was written).
+fn frames_of(images: &[WrittenImages], wanted: impl Fn(&WrittenImages) -> bool) -> Vec<ImageFrame> {
+    images
         .iter()
-        .enumerate()
-        .filter_map(|(i, &time)| {
-            let name = format!("{dir}/{}", frame_stem(stem, i, time));
-            Some(FrameFiles {
-                time,
-                png: exists(&format!("{name}.png"))?,
-                flip: exists(&format!("{name}.flip.png")),
-                hdr: exists(&format!("{name}.hdr.js")),
-            })
-        })
-        .collect()
+        .find(|w| wanted(w))
+        .map(|w| w.frames.clone())
+        .unwrap_or_default()
 }
 
-/// The groups of a compare run: one per scene, the reference first, then the techniques in
-/// the order they ran (families stay together: the registry lists them so).
-fn compare_groups(out: &Path, report: &CompareReport) -> Vec<Group> {
-    // Scenes in the order they ran (every scene has at least one reference record).
+/// Every time any entry has a frame at, in order.
+fn times_of(entries: &[Entry]) -> Vec<f32> {
+    let mut times: Vec<f32> = entries
+        .iter()
+        .flat_map(|e| e.frames.iter().map(|f| f.time))
+        .collect();
+    times.sort_by(f32::total_cmp);
+    times.dedup();
+    times
+}
+
+/// The groups of a compare run: one per scene, in the order they ran, the reference first,
+/// then the techniques in the order they ran (families stay together: the registry lists them
+/// so). The `reference` technique shows the ground truth's images (they are the same).
+fn compare_groups(report: &CompareReport) -> Vec<Group> {
+    // Every scene has at least one reference record, even when its reference failed.
     let mut specs: Vec<&String> = report.references.iter().map(|r| &r.scene).collect();
     specs.dedup();
     let mut groups = Vec::new();
     for spec in specs {
-        let Some(dir_name) = report.image_dirs.get(spec) else {
-            continue;
-        };
-        let dir = format!("images/{dir_name}");
-        let times: Vec<f32> = report
-            .references
-            .iter()
-            .filter(|r| &r.scene == spec && r.error.is_none())
-            .map(|r| r.time)
-            .collect();
-        let rows: Vec<&ResultRow> = report.rows.iter().filter(|r| &r.scene == spec).collect();
-        let times = match rows.iter().find(|r| !r.error_times.is_empty()) {
-            Some(r) if times.is_empty() => r.error_times.clone(),
-            _ => times,
-        };
+        let dir_name = report.image_dirs.get(spec).cloned().unwrap_or_default();
+        let truth = frames_of(&report.images, |w| {
+            &w.scene == spec && w.technique.is_none()
+        });
         let reference_error = report
             .references
             .iter()
@@ -241,22 +224,23 @@ fn compare_groups(out: &Path, report: &CompareReport) -> Vec<Group> {
             id: "reference".into(),
             label: "reference (CPU ground truth)".into(),
             family: "reference".into(),
-            frames: frames_on_disk(out, &dir, "reference", &times),
+            frames: truth.clone(),
             figures: None,
             error: reference_error,
             reference: None,
         }];
-        for row in &rows {
-            let times = if row.error_times.is_empty() {
-                &times
-            } else {
-                &row.error_times
+        for row in report.rows.iter().filter(|r| &r.scene == spec) {
+            let frames = match row.technique.as_str() {
+                "reference" => truth.clone(),
+                id => frames_of(&report.images, |w| {
+                    &w.scene == spec && w.technique.as_deref() == Some(id)
+                }),
             };
             entries.push(Entry {
                 id: row.technique.clone(),
                 label: row.technique.clone(),
                 family: family(&row.technique).to_string(),
-                frames: frames_on_disk(out, &dir, &file_name(&row.technique), times),
+                frames,
                 figures: Some(figures(row)),
                 error: row.error.clone(),
                 reference: Some(0),
@@ -284,8 +268,8 @@ fn compare_groups(out: &Path, report: &CompareReport) -> Vec<Group> {
             .unwrap_or_default();
         groups.push(Group {
             title: spec.clone(),
-            anchor: format!("scene-{}", file_name(dir_name)),
-            times,
+            anchor: format!("scene-{}", file_name(&dir_name)),
+            times: times_of(&entries),
             entries,
             plots,
             legend,
@@ -294,46 +278,41 @@ fn compare_groups(out: &Path, report: &CompareReport) -> Vec<Group> {
     groups
 }
 
-/// The one group of a sweep: its references and one entry per value.
-fn sweep_group(out: &Path, report: &SweepReport) -> Group {
-    let times = report
-        .rows
-        .iter()
-        .find(|r| !r.error_times.is_empty())
-        .map(|r| r.error_times.clone())
-        .unwrap_or_else(|| vec![0.0]);
-    let technique_id = report.technique.split(':').next().unwrap_or("");
+/// The one group of a sweep: its reference(s) and one entry per value.
+fn sweep_group(report: &SweepReport) -> Group {
+    let family = family(report.technique.split(':').next().unwrap_or(""));
     let mut entries: Vec<Entry> = Vec::new();
-    let reference_entry = |entries: &mut Vec<Entry>, stem: &str, label: String| {
+    let reference_entry = |entries: &mut Vec<Entry>, value: Option<&String>| {
+        let label = match value {
+            Some(v) => format!("reference, {}={v}", report.param),
+            None => "reference".into(),
+        };
         entries.push(Entry {
-            id: stem.to_string(),
+            id: label.clone(),
             label,
             family: "reference".into(),
-            frames: frames_on_disk(out, "images", stem, &times),
+            frames: frames_of(&report.images, |w| {
+                w.technique.is_none() && w.value.as_ref() == value
+            }),
             figures: None,
             error: None,
             reference: None,
         });
         entries.len() - 1
     };
-    let shared = (report.owner == ParamOwner::Technique)
-        .then(|| reference_entry(&mut entries, "reference", "reference".into()));
+    let shared =
+        (report.owner == ParamOwner::Technique).then(|| reference_entry(&mut entries, None));
     for row in &report.rows {
         let value = row.value.clone().unwrap_or_default();
+        let reference = shared.unwrap_or_else(|| reference_entry(&mut entries, Some(&value)));
         let suffix = format!("{}={value}", report.param);
-        let reference = shared.unwrap_or_else(|| {
-            reference_entry(
-                &mut entries,
-                &format!("reference__{}", file_name(&suffix)),
-                format!("reference, {suffix}"),
-            )
-        });
-        let stem = format!("{}__{}", file_name(technique_id), file_name(&suffix));
         entries.push(Entry {
             id: suffix.clone(),
             label: suffix,
-            family: family(technique_id).to_string(),
-            frames: frames_on_disk(out, "images", &stem, &times),
+            family: family.to_string(),
+            frames: frames_of(&report.images, |w| {
+                w.technique.is_some() && w.value.as_ref() == Some(&value)
+            }),
             figures: Some(figures(row)),
             error: row.error.clone(),
             reference: Some(reference),
@@ -361,7 +340,7 @@ fn sweep_group(out: &Path, report: &SweepReport) -> Group {
     Group {
         title: format!("{what}, over {}", report.param),
         anchor: "sweep".into(),
-        times,
+        times: times_of(&entries),
         entries,
         plots,
         legend: Vec::new(),
@@ -470,7 +449,11 @@ const COLUMNS: &[Column] = &[
         csv: "worst_time",
         heading: "worst t",
         numeric: true,
-        cell: |r| num_cell(r.worst_time.map(f64::from)),
+        // The CSV writes the f32 as it reads back (`0.6666667`), not widened to f64.
+        cell: |r| match r.worst_time {
+            Some(t) => (t.to_string(), short(f64::from(t))),
+            None => (String::new(), "–".into()),
+        },
     },
     Column {
         csv: "flip_mean",
@@ -653,13 +636,15 @@ fn group_section(index: usize, group: &Group) -> String {
     s
 }
 
-/// The JSON block the script reads (`</` escaped so it cannot end the script element).
+/// The JSON block the script reads.
 fn data_block(groups: &[Group]) -> Result<String> {
     let json = serde_json::to_string(&serde_json::json!({ "groups": groups }))
         .context("cannot encode the report's data")?;
+    // `<` only occurs inside JSON strings, where `\u003c` means the same: no `</script>` or
+    // `<!--` can end or confuse the script element.
     Ok(format!(
         r#"<script type="application/json" id="report-data">{}</script>"#,
-        json.replace("</", "<\\/")
+        json.replace('<', "\\u003c")
     ))
 }
 
@@ -744,7 +729,7 @@ pub fn write_compare_page(
     report: &CompareReport,
     provenance: &Provenance,
 ) -> Result<()> {
-    let groups = compare_groups(out, report);
+    let groups = compare_groups(report);
     let mut problems = report.errors.clone();
     problems.extend(report.panics.iter().map(|p| format!("panic: {p}")));
     problems.extend(
@@ -804,7 +789,7 @@ pub fn write_compare_page(
 
 /// Writes `out/index.html` for a sweep.
 pub fn write_sweep_page(out: &Path, report: &SweepReport, provenance: &Provenance) -> Result<()> {
-    let group = sweep_group(out, report);
+    let group = sweep_group(report);
     let page = Page {
         title: format!("harness sweep: {}", group.title),
         summary: format!(
@@ -890,6 +875,21 @@ mod tests {
         assert!(html.contains("it &lt;broke&gt;") && !html.contains("<broke>"));
         assert!(!html.contains(r#"data-col="param""#));
         assert_eq!(html.matches("<tr data-scene").count(), 2);
+    }
+
+    #[test]
+    fn the_data_block_cannot_end_its_script_element() {
+        let group = Group {
+            title: "x</script><!--<script>".into(),
+            anchor: "a".into(),
+            times: vec![0.0],
+            entries: Vec::new(),
+            plots: Vec::new(),
+            legend: Vec::new(),
+        };
+        let block = data_block(&[group]).unwrap();
+        assert_eq!(block.matches('<').count(), 2, "{block}");
+        assert!(block.ends_with("</script>") && block.contains(r"x\u003c/script>"));
     }
 
     #[test]

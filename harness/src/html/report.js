@@ -28,6 +28,10 @@
         hdrWaiting.set(src, { resolve, reject });
         const script = document.createElement("script");
         script.src = src;
+        // harnessHdr runs while the script executes, before its load event.
+        script.onload = () => {
+          if (hdrWaiting.delete(src)) reject(new Error(src + " is not an HDR copy"));
+        };
         script.onerror = () => {
           hdrWaiting.delete(src);
           reject(new Error("cannot load " + src));
@@ -170,8 +174,11 @@
       showingB: false,
       crop: null,
     };
-    // Default comparison: the first technique that ran, against its reference.
-    const first = group.entries.findIndex((e) => e.reference !== null && e.frames.length);
+    // Default comparison: the first technique that ran (not the `reference` technique, which
+    // is the ground truth itself), against its reference.
+    const first = group.entries.findIndex(
+      (e) => e.reference !== null && e.id !== "reference" && e.frames.length
+    );
     if (first >= 0) {
       state.a = first;
       state.b = group.entries[first].reference;
@@ -376,6 +383,7 @@
     let dragging = null;
     const fraction = (event) => {
       const rect = stage.getBoundingClientRect();
+      if (!rect.width || !rect.height) return { x: state.split, y: 0.5 };
       return {
         x: Math.min(1, Math.max(0, (event.clientX - rect.left) / rect.width)),
         y: Math.min(1, Math.max(0, (event.clientY - rect.top) / rect.height)),
@@ -387,7 +395,7 @@
         state.split = f.x;
         applyMode();
       } else if (dragging === "crop") {
-        state.crop = { x: f.x * canvasA.width, y: f.y * canvasA.height };
+        state.crop = { x: f.x * imageWidth(), y: f.y * imageHeight() };
         drawZoom();
       }
     };
@@ -402,9 +410,13 @@
     stage.addEventListener("pointerup", stop);
     stage.addEventListener("pointercancel", stop);
 
+    // The stage's image size: the larger of the two (one side may have no image).
+    const imageWidth = () => Math.max(canvasA.width, canvasB.width);
+    const imageHeight = () => Math.max(canvasA.height, canvasB.height);
+
     function drawZoom() {
-      const width = canvasA.width;
-      const height = canvasA.height;
+      const width = imageWidth();
+      const height = imageHeight();
       if (!width || !height || !state.crop) return;
       const size = Math.max(1, Math.round(256 / state.zoom));
       const cw = Math.min(size, width);
@@ -428,8 +440,15 @@
       zoomCaptionB.textContent = "B, the same crop";
     }
 
-    // Draws one side: the HDR copy at the exposure (else the PNG), or the FLIP map.
-    async function drawSide(canvas, entry) {
+    // Draws one side into a new canvas: the HDR copy at the exposure (else the PNG), or the
+    // FLIP map. Returns the canvas and a note (or null).
+    async function drawSide(entry) {
+      const canvas = document.createElement("canvas");
+      const note = await drawInto(canvas, entry);
+      return { canvas, note };
+    }
+
+    async function drawInto(canvas, entry) {
       const frame = frameOf(entry);
       if (!frame) {
         canvas.width = canvas.height = 0;
@@ -456,25 +475,42 @@
       return state.exposure !== 0 ? entry.label + " has no HDR copy (exposure not applied)" : null;
     }
 
+    // Renders both sides off screen and shows them only if no later render started meanwhile
+    // (an HDR copy may load slowly). Failures go to the status line, never to the console.
     let renderCount = 0;
     async function render() {
       const ticket = ++renderCount;
       const a = group.entries[state.a];
       const b = group.entries[state.b];
+      let sides;
+      try {
+        sides = await Promise.all([drawSide(a), drawSide(b)]);
+      } catch (error) {
+        if (ticket === renderCount) status.textContent = error.message;
+        return;
+      }
+      if (ticket !== renderCount) return;
       tagA.textContent = "A: " + a.label;
       tagB.textContent = "B: " + b.label;
-      const notes = await Promise.all([drawSide(canvasA, a), drawSide(canvasB, b)]);
-      if (ticket !== renderCount) return;
-      const width = Math.max(canvasA.width, canvasB.width, 1);
+      [[canvasA, sides[0].canvas], [canvasB, sides[1].canvas]].forEach(([shown, drawn]) => {
+        shown.width = drawn.width;
+        shown.height = drawn.height;
+        if (drawn.width) shown.getContext("2d").drawImage(drawn, 0, 0);
+      });
+      const width = Math.max(imageWidth(), 1);
       const scale = Math.max(1, Math.floor(512 / width));
       for (const canvas of [canvasA, canvasB]) {
         canvas.style.width = canvas.width * scale + "px";
         canvas.style.height = canvas.height * scale + "px";
       }
-      status.textContent = notes.filter((n) => n).join("; ");
+      // The stage takes the larger image's size (one side may have none).
+      stage.style.width = width * scale + "px";
+      stage.style.height = imageHeight() * scale + "px";
+      status.textContent = sides.map((s) => s.note).filter((n) => n).join("; ");
       // The crop starts at the image's centre, once its size is known.
-      if (!state.crop) state.crop = { x: canvasA.width / 2, y: canvasA.height / 2 };
+      if (!state.crop) state.crop = { x: imageWidth() / 2, y: imageHeight() / 2 };
       applyMode();
+      section.dataset.renders = String(Number(section.dataset.renders || 0) + 1);
     }
 
     updateGrid();
@@ -541,7 +577,7 @@
 
   setupTable();
   const sections = Array.from(document.querySelectorAll("section.group"));
-  Promise.all(sections.map((section) => setupGroup(section, data.groups[Number(section.dataset.group)])))
-    .catch((error) => console.error(error))
-    .finally(() => { document.body.dataset.ready = "1"; });
+  Promise.allSettled(
+    sections.map((section) => setupGroup(section, data.groups[Number(section.dataset.group)]))
+  ).then(() => { document.body.dataset.ready = "1"; });
 })();

@@ -296,7 +296,8 @@ pub fn sweep(
     for (i, vx, vy) in drawn {
         let _ = write!(
             out,
-            r#"<g class="point"><title>{param} = {}: {}</title><circle cx="{:.1}" cy="{:.1}" r="4"/></g>"#,
+            r#"<g class="point"><title>{} = {}: {}</title><circle cx="{:.1}" cy="{:.1}" r="4"/></g>"#,
+            escape(param),
             escape(&points[i].0),
             short(vy),
             x.at(vx),
