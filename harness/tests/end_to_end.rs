@@ -385,6 +385,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         page.contains("test/needs-ray-query: "),
         "skipped with the reason"
     );
+    assert!(page.contains("<details><summary>Skipped: 2 (scene, technique) pairs"));
     for f in [
         "images/cornell-sphere/test__drifts.t2.flip.png",
         "images/cornell-sphere/test__constant.hdr.js",

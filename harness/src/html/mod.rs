@@ -683,12 +683,6 @@ impl Page<'_> {
             "failures",
             &self.problems,
         ));
-        body.push_str(&list_section(
-            "skipped",
-            "Skipped",
-            "skipped",
-            &self.skipped,
-        ));
         body.push_str(&list_section("notes", "Scene notes", "notes", &self.notes));
         for (i, g) in self.groups.iter().enumerate() {
             body.push_str(&group_section(i, g));
@@ -699,6 +693,19 @@ impl Page<'_> {
             table_filters(self.rows),
             results_table(self.rows, self.swept)
         );
+        // Most skips are techniques that do not apply to a scene: listed, folded, after the
+        // table.
+        if !self.skipped.is_empty() {
+            let _ = write!(
+                body,
+                r#"<section id="skipped" class="skipped"><details><summary>Skipped: {} (scene, technique) pairs, with the reason</summary><ul>"#,
+                self.skipped.len()
+            );
+            for item in &self.skipped {
+                let _ = write!(body, "<li>{}</li>", escape(item));
+            }
+            body.push_str("</ul></details></section>");
+        }
         let _ = write!(
             body,
             r#"<section id="provenance"><h2>How this page was made</h2>{}</section>"#,
@@ -749,10 +756,11 @@ pub fn write_compare_page(
     let page = Page {
         title: "harness compare".into(),
         summary: format!(
-            "{} scenes, {} results, {} failures, at {} on {}",
+            "{} scenes, {} results, {} failures, {} skipped (listed under the table), at {} on {}",
             groups.len(),
             report.rows.len(),
             report.errors.len(),
+            report.skipped.len(),
             report.size,
             report.adapter.name
         ),
