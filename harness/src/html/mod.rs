@@ -372,79 +372,56 @@ fn text_cell(s: &str) -> (String, String) {
     (s.to_string(), s.to_string())
 }
 
+/// A text column: `cell` of the row as the CSV writes it and as shown.
+macro_rules! text_column {
+    ($csv:literal, $heading:literal, |$r:ident| $text:expr) => {
+        Column {
+            csv: $csv,
+            heading: $heading,
+            numeric: false,
+            cell: |$r| text_cell($text),
+        }
+    };
+}
+
+/// A numeric column of an `Option<f64>` field of the row.
+macro_rules! number_column {
+    ($csv:literal, $heading:literal, $field:ident) => {
+        Column {
+            csv: $csv,
+            heading: $heading,
+            numeric: true,
+            cell: |r| num_cell(r.$field),
+        }
+    };
+}
+
 const COLUMNS: &[Column] = &[
-    Column {
-        csv: "scene",
-        heading: "scene",
-        numeric: false,
-        cell: |r| text_cell(&r.scene),
-    },
-    Column {
-        csv: "technique",
-        heading: "technique",
-        numeric: false,
-        cell: |r| text_cell(&r.technique),
-    },
-    Column {
-        csv: "param",
-        heading: "parameter",
-        numeric: false,
-        cell: |r| text_cell(r.param.as_deref().unwrap_or("")),
-    },
-    Column {
-        csv: "value",
-        heading: "value",
-        numeric: false,
-        cell: |r| text_cell(r.value.as_deref().unwrap_or("")),
-    },
+    text_column!("scene", "scene", |r| &r.scene),
+    text_column!("technique", "technique", |r| &r.technique),
+    text_column!("param", "parameter", |r| r.param.as_deref().unwrap_or("")),
+    text_column!("value", "value", |r| r.value.as_deref().unwrap_or("")),
     Column {
         csv: "frames",
         heading: "frames",
         numeric: true,
         cell: |r| text_cell(&r.frames.to_string()),
     },
-    Column {
-        csv: "frame_ms_median",
-        heading: "frame ms (median)",
-        numeric: true,
-        cell: |r| num_cell(r.frame_ms_median),
-    },
-    Column {
-        csv: "frame_ms_p95",
-        heading: "p95 ms",
-        numeric: true,
-        cell: |r| num_cell(r.frame_ms_p95),
-    },
-    Column {
-        csv: "prepare_ms",
-        heading: "prepare ms",
-        numeric: true,
-        cell: |r| num_cell(r.prepare_ms),
-    },
-    Column {
-        csv: "timer",
-        heading: "timer",
-        numeric: false,
-        cell: |r| text_cell(&r.timer),
-    },
-    Column {
-        csv: "speedup_vs_raytracer",
-        heading: "speed-up vs ray tracer",
-        numeric: true,
-        cell: |r| num_cell(r.speedup_vs_raytracer),
-    },
-    Column {
-        csv: "flip_mean_masked",
-        heading: "FLIP masked",
-        numeric: true,
-        cell: |r| num_cell(r.flip_mean_masked),
-    },
-    Column {
-        csv: "flip_mean_masked_worst",
-        heading: "FLIP masked worst",
-        numeric: true,
-        cell: |r| num_cell(r.flip_mean_masked_worst),
-    },
+    number_column!("frame_ms_median", "frame ms (median)", frame_ms_median),
+    number_column!("frame_ms_p95", "p95 ms", frame_ms_p95),
+    number_column!("prepare_ms", "prepare ms", prepare_ms),
+    text_column!("timer", "timer", |r| &r.timer),
+    number_column!(
+        "speedup_vs_raytracer",
+        "speed-up vs ray tracer",
+        speedup_vs_raytracer
+    ),
+    number_column!("flip_mean_masked", "FLIP masked", flip_mean_masked),
+    number_column!(
+        "flip_mean_masked_worst",
+        "FLIP masked worst",
+        flip_mean_masked_worst
+    ),
     Column {
         csv: "worst_time",
         heading: "worst t",
@@ -455,36 +432,15 @@ const COLUMNS: &[Column] = &[
             None => (String::new(), "–".into()),
         },
     },
-    Column {
-        csv: "flip_mean",
-        heading: "FLIP",
-        numeric: true,
-        cell: |r| num_cell(r.flip_mean),
-    },
-    Column {
-        csv: "flip_mean_silhouette",
-        heading: "FLIP silhouette",
-        numeric: true,
-        cell: |r| num_cell(r.flip_mean_silhouette),
-    },
-    Column {
-        csv: "flip_over_0_1_pct",
-        heading: "FLIP>0.1 %",
-        numeric: true,
-        cell: |r| num_cell(r.flip_over_0_1_pct),
-    },
-    Column {
-        csv: "rmse",
-        heading: "RMSE",
-        numeric: true,
-        cell: |r| num_cell(r.rmse),
-    },
-    Column {
-        csv: "psnr_db",
-        heading: "PSNR dB",
-        numeric: true,
-        cell: |r| num_cell(r.psnr_db),
-    },
+    number_column!("flip_mean", "FLIP", flip_mean),
+    number_column!(
+        "flip_mean_silhouette",
+        "FLIP silhouette",
+        flip_mean_silhouette
+    ),
+    number_column!("flip_over_0_1_pct", "FLIP>0.1 %", flip_over_0_1_pct),
+    number_column!("rmse", "RMSE", rmse),
+    number_column!("psnr_db", "PSNR dB", psnr_db),
     Column {
         csv: "nan_pixels",
         heading: "NaN px",
@@ -494,18 +450,10 @@ const COLUMNS: &[Column] = &[
             (t.clone(), if t.is_empty() { "–".into() } else { t })
         },
     },
-    Column {
-        csv: "error_times",
-        heading: "error times",
-        numeric: false,
-        cell: |r| text_cell(&times_list(&r.error_times)),
-    },
-    Column {
-        csv: "error",
-        heading: "error",
-        numeric: false,
-        cell: |r| text_cell(r.error.as_deref().unwrap_or("")),
-    },
+    text_column!("error_times", "error times", |r| &times_list(
+        &r.error_times
+    )),
+    text_column!("error", "error", |r| r.error.as_deref().unwrap_or("")),
 ];
 
 /// The results table: one row per result, `data-v` the CSV's text of each cell.
