@@ -428,6 +428,11 @@ pub fn load_scene_noted(spec: &str) -> Result<(Scene, Vec<String>)> {
     Ok(loaded)
 }
 
+/// The family of a technique id: what comes before the `/` (`envmap/classic` -> `envmap`).
+pub fn technique_family(id: &str) -> &str {
+    id.split('/').next().unwrap_or(id)
+}
+
 /// Resolves `--techniques` names against the ids a factory offers: an exact id, or a family
 /// (`impostors` or `impostors/`) for all its variants. Unknown names are an error that lists
 /// the known ids. `None` selects every technique.
@@ -440,7 +445,7 @@ pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Resul
         let family = name.trim_end_matches('/');
         let matches: Vec<&String> = all_ids
             .iter()
-            .filter(|id| *id == name || id.split('/').next() == Some(family) && !family.is_empty())
+            .filter(|id| *id == name || technique_family(id) == family && !family.is_empty())
             .collect();
         if matches.is_empty() {
             let known = if all_ids.is_empty() {

@@ -20,9 +20,9 @@
 pub mod svg;
 
 use crate::compare::{CompareReport, ImageFrame, WrittenImages};
-use crate::file_name;
-use crate::report::{ResultRow, csv_int, csv_num, times_list};
+use crate::report::{AdapterJson, ResultRow, csv_int, csv_num, times_list};
 use crate::sweep::{ParamOwner, SweepReport};
+use crate::{file_name, technique_family as family};
 use anyhow::{Context as _, Result};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -47,6 +47,27 @@ pub struct Provenance {
 }
 
 impl Provenance {
+    /// The page's "how this page was made" list: these fields with the run's adapter, image
+    /// size and frames.
+    fn rows(
+        &self,
+        adapter: &AdapterJson,
+        size: &str,
+        frames: String,
+    ) -> Vec<(&'static str, String)> {
+        vec![
+            ("command line", self.command_line.clone()),
+            ("git commit", self.git_commit.clone()),
+            ("date (UTC)", self.date_utc.clone()),
+            ("adapter", adapter_line(adapter)),
+            ("timer", adapter.timer_kind.clone()),
+            ("image size", size.to_string()),
+            ("frames", frames),
+            ("reference", self.reference.clone()),
+            ("harness", self.harness_version.clone()),
+        ]
+    }
+
     /// This process's command line, the working directory's commit and the time now.
     pub fn capture(reference: String) -> Self {
         Provenance {
@@ -175,11 +196,6 @@ fn figures(row: &ResultRow) -> Figures {
         speedup: finite(row.speedup_vs_raytracer),
         nan_pixels: row.nan_pixels,
     }
-}
-
-/// The family of a technique id: what comes before the `/` (`envmap/classic` -> `envmap`).
-pub fn family(id: &str) -> &str {
-    id.split('/').next().unwrap_or(id)
 }
 
 /// The frames written for the first image matching `wanted` (empty when none was written).
@@ -667,7 +683,7 @@ impl Page<'_> {
     }
 }
 
-fn adapter_line(a: &crate::report::AdapterJson) -> String {
+fn adapter_line(a: &AdapterJson) -> String {
     format!(
         "{} ({}, {}, driver {}{})",
         a.name,
@@ -722,23 +738,14 @@ pub fn write_compare_page(
             .map(|s| format!("{} / {}: {}", s.scene, s.technique, s.reason))
             .collect(),
         notes: report.scene_notes.clone(),
-        provenance: vec![
-            ("command line", provenance.command_line.clone()),
-            ("git commit", provenance.git_commit.clone()),
-            ("date (UTC)", provenance.date_utc.clone()),
-            ("adapter", adapter_line(&report.adapter)),
-            ("timer", report.adapter.timer_kind.clone()),
-            ("image size", report.size.clone()),
-            (
-                "frames",
-                format!(
-                    "{} timed (fewer where the timed budget ran out: see each row), {} warm-up, {} error frames along the path",
-                    report.frames, report.warmup, report.error_frames
-                ),
+        provenance: provenance.rows(
+            &report.adapter,
+            &report.size,
+            format!(
+                "{} timed (fewer where the timed budget ran out: see each row), {} warm-up, {} error frames along the path",
+                report.frames, report.warmup, report.error_frames
             ),
-            ("reference", provenance.reference.clone()),
-            ("harness", provenance.harness_version.clone()),
-        ],
+        ),
     };
     write(out, &page)
 }
@@ -766,20 +773,11 @@ pub fn write_sweep_page(out: &Path, report: &SweepReport, provenance: &Provenanc
         problems: report.errors.clone(),
         skipped: Vec::new(),
         notes: Vec::new(),
-        provenance: vec![
-            ("command line", provenance.command_line.clone()),
-            ("git commit", provenance.git_commit.clone()),
-            ("date (UTC)", provenance.date_utc.clone()),
-            ("adapter", adapter_line(&report.adapter)),
-            ("timer", report.adapter.timer_kind.clone()),
-            ("image size", report.size.clone()),
-            (
-                "frames",
-                format!("{} timed, {} warm-up", report.frames, report.warmup),
-            ),
-            ("reference", provenance.reference.clone()),
-            ("harness", provenance.harness_version.clone()),
-        ],
+        provenance: provenance.rows(
+            &report.adapter,
+            &report.size,
+            format!("{} timed, {} warm-up", report.frames, report.warmup),
+        ),
     };
     write(out, &page)
 }
