@@ -202,6 +202,71 @@ impl<T: bytemuck::Pod> Uniform<T> {
     }
 }
 
+/// Uniform buffers with their bind groups in numbered slots, each made the first time its slot
+/// is asked for and reused in every frame after, its value rewritten: what a technique that
+/// binds per-object or per-light parameters every frame keeps for as long as it lives, instead
+/// of a new buffer and bind group per frame (which cost a GPU object each, and on Mesa 22's
+/// lavapipe megabytes that are never given back: see the harness README, "Memory").
+///
+/// A slot holds one value per submission: the value written last before the frame is
+/// submitted is what every pass of that frame reads (queue writes are applied at submission),
+/// so give each (object, light, ...) its own slot.
+pub struct UniformGroups<T> {
+    /// Per slot: the uniform, its group and the value it holds (written only when it changes).
+    slots: std::cell::RefCell<Vec<Option<(Uniform<T>, wgpu::BindGroup, T)>>>,
+    label: &'static str,
+}
+
+impl<T: bytemuck::Pod> UniformGroups<T> {
+    /// No slot made yet; `label` names the buffers.
+    pub fn new(label: &'static str) -> Self {
+        Self {
+            slots: Default::default(),
+            label,
+        }
+    }
+
+    /// The bind group of `slot` with its uniform set to `value`; the first time, the uniform
+    /// is made and `make` builds the group around it (its other resources must stay the same
+    /// for the slot's life).
+    pub fn get(
+        &self,
+        ctx: &Context,
+        slot: usize,
+        value: &T,
+        make: impl FnOnce(&Uniform<T>) -> wgpu::BindGroup,
+    ) -> wgpu::BindGroup {
+        let mut slots = self.slots.borrow_mut();
+        if slots.len() <= slot {
+            slots.resize_with(slot + 1, || None);
+        }
+        match &mut slots[slot] {
+            Some((uniform, group, held)) => {
+                if bytemuck::bytes_of(held) != bytemuck::bytes_of(value) {
+                    uniform.write(ctx, value);
+                    *held = *value;
+                }
+                group.clone()
+            }
+            None => {
+                let uniform = Uniform::new(ctx, self.label, value);
+                let group = make(&uniform);
+                slots[slot] = Some((uniform, group.clone(), *value));
+                group
+            }
+        }
+    }
+
+    /// Slots made so far.
+    pub fn len(&self) -> usize {
+        self.slots.borrow().iter().flatten().count()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
 /// The samplers the workspace's shaders use, made once per [`Context`].
 pub struct Samplers {
     /// Bilinear, clamped to the edge: environment and distance cube maps, light maps,

@@ -50,7 +50,7 @@ pub fn pipeline_with_layout(
             module,
             entry_point: Some(entry),
             compilation_options: Default::default(),
-            cache: None,
+            cache: ctx.pipeline_cache(),
         })
 }
 

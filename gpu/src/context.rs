@@ -22,7 +22,8 @@ const WANTED_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
     .union(wgpu::Features::SHADER_FLOAT32_ATOMIC)
     .union(wgpu::Features::TEXTURE_ATOMIC)
-    .union(wgpu::Features::IMMEDIATES);
+    .union(wgpu::Features::IMMEDIATES)
+    .union(wgpu::Features::PIPELINE_CACHE);
 
 /// What a user sees about the adapter in every results table.
 #[derive(Clone, Debug)]
@@ -59,7 +60,14 @@ pub struct Context {
     pub summary: AdapterSummary,
     /// The shared samplers, made once with the device.
     pub samplers: crate::bind::Samplers,
+    /// The cache every pipeline of the workspace is made with ([`Context::pipeline_cache`]).
+    pipeline_cache: Option<wgpu::PipelineCache>,
 }
+
+/// What the last dropped device's pipeline cache held, by adapter: a fresh device of the same
+/// adapter ([`Context::fresh_device`]) starts from it, so a pipeline made on one device is not
+/// compiled again on the next.
+static PIPELINE_DATA: std::sync::Mutex<Option<(String, Vec<u8>)>> = std::sync::Mutex::new(None);
 
 impl Context {
     /// Creates the context on the best adapter (see the module documentation).
@@ -79,38 +87,19 @@ impl Context {
             .map(|s| s.to_lowercase());
         let adapter = choose_adapter(adapters, wanted_name.as_deref())?;
 
-        let features = adapter.features() & WANTED_FEATURES;
-        // Hardware ray queries (the exact ray tracer's `ray-query` variant) are one of wgpu's
-        // experimental features, which a device only gets after opting in; we opt in exactly
-        // when the adapter offers ray queries, so no other device changes.
-        let ray_queries = adapter
-            .features()
-            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
-        let (features, experimental_features) = if ray_queries {
-            // SAFETY: the opt-in acknowledges that wgpu's experimental ray-query API may still
-            // have bugs; only the ray tracer's ray-query variant uses it, and its images are
-            // tested against the reference (raytracer/tests/images.rs).
-            (features | wgpu::Features::EXPERIMENTAL_RAY_QUERY, unsafe {
-                wgpu::ExperimentalFeatures::enabled()
-            })
-        } else {
-            (features, wgpu::ExperimentalFeatures::disabled())
-        };
-        // The adapter's own limits: big cube maps and storage buffers on real GPUs, and
-        // `check_size` reports the true bound to the user.
-        let limits = adapter.limits();
-        let (device, queue) = adapter
-            .request_device(&wgpu::DeviceDescriptor {
-                label: Some("shared device"),
-                required_features: features,
-                required_limits: limits,
-                experimental_features,
-                memory_hints: wgpu::MemoryHints::Performance,
-                trace: wgpu::Trace::Off,
-            })
-            .await
-            .map_err(|e| GpuError::Device(e.to_string()))?;
+        let (device, queue) = request_device(&adapter).await?;
         Self::from_parts(instance, adapter, device, queue)
+    }
+
+    /// A new device (and queue) on this context's adapter, with the same features and limits,
+    /// and nothing else shared: what a long run uses to give each measurement a driver in its
+    /// first state. On lavapipe a device accumulates the shader variants and caches of every
+    /// pipeline it ever ran, and a process that ran many techniques on one device renders later
+    /// ones up to 20 times slower and keeps growing (see the harness's README, "Cost"); a
+    /// device costs 25-55 ms to create there.
+    pub fn fresh_device(&self) -> Result<Self, GpuError> {
+        let (device, queue) = pollster::block_on(request_device(&self.adapter))?;
+        Self::from_parts(self.instance.clone(), self.adapter.clone(), device, queue)
     }
 
     /// Wraps a device the application created itself: what an engine that already owns its
@@ -158,6 +147,7 @@ impl Context {
             is_software: info.device_type == wgpu::DeviceType::Cpu,
         };
         let samplers = crate::bind::Samplers::new(&device);
+        let pipeline_cache = pipeline_cache(&device, &info);
         Ok(Self {
             instance,
             adapter,
@@ -165,7 +155,15 @@ impl Context {
             queue,
             summary,
             samplers,
+            pipeline_cache,
         })
+    }
+
+    /// The pipeline cache of this device, where the adapter has one (wgpu's `PIPELINE_CACHE`,
+    /// Vulkan): every pipeline the workspace makes passes it, and the data it gathers carries
+    /// over to the next device made on the same adapter in this process.
+    pub fn pipeline_cache(&self) -> Option<&wgpu::PipelineCache> {
+        self.pipeline_cache.as_ref()
     }
 
     /// The features the device was created with.
@@ -232,6 +230,42 @@ impl Context {
     }
 }
 
+impl Drop for Context {
+    fn drop(&mut self) {
+        let key = wgpu::util::pipeline_cache_key(&self.adapter.get_info());
+        if let (Some(cache), Some(key)) = (&self.pipeline_cache, key)
+            && let Some(data) = cache.get_data()
+            && let Ok(mut shared) = PIPELINE_DATA.lock()
+        {
+            *shared = Some((key, data));
+        }
+    }
+}
+
+/// A pipeline cache for `device` (None without the feature), from the data the last device of
+/// the same adapter left.
+fn pipeline_cache(device: &wgpu::Device, info: &wgpu::AdapterInfo) -> Option<wgpu::PipelineCache> {
+    if !device.features().contains(wgpu::Features::PIPELINE_CACHE) {
+        return None;
+    }
+    let key = wgpu::util::pipeline_cache_key(info)?;
+    let shared = PIPELINE_DATA.lock().ok()?;
+    let data = shared
+        .as_ref()
+        .filter(|(k, _)| *k == key)
+        .map(|(_, data)| data.as_slice());
+    // SAFETY: `data` came from `PipelineCache::get_data` of a device of an adapter with the same
+    // `pipeline_cache_key` in this process (the driver validates it too, and `fallback` makes
+    // an empty cache of data it does not take).
+    Some(unsafe {
+        device.create_pipeline_cache(&wgpu::PipelineCacheDescriptor {
+            label: Some("workspace pipelines"),
+            data,
+            fallback: true,
+        })
+    })
+}
+
 fn adapter_rank(device_type: wgpu::DeviceType) -> u8 {
     match device_type {
         wgpu::DeviceType::DiscreteGpu => 0,
@@ -265,6 +299,42 @@ fn choose_adapter(
     }
     candidates.sort_by_key(|a| adapter_rank(a.get_info().device_type));
     Ok(candidates.remove(0))
+}
+
+/// The device [`Context::new`] asks `adapter` for: every feature of [`WANTED_FEATURES`] the
+/// adapter has, ray queries where offered, and the adapter's own limits.
+async fn request_device(adapter: &wgpu::Adapter) -> Result<(wgpu::Device, wgpu::Queue), GpuError> {
+    let features = adapter.features() & WANTED_FEATURES;
+    // Hardware ray queries (the exact ray tracer's `ray-query` variant) are one of wgpu's
+    // experimental features, which a device only gets after opting in; we opt in exactly
+    // when the adapter offers ray queries, so no other device changes.
+    let ray_queries = adapter
+        .features()
+        .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+    let (features, experimental_features) = if ray_queries {
+        // SAFETY: the opt-in acknowledges that wgpu's experimental ray-query API may still
+        // have bugs; only the ray tracer's ray-query variant uses it, and its images are
+        // tested against the reference (raytracer/tests/images.rs).
+        (features | wgpu::Features::EXPERIMENTAL_RAY_QUERY, unsafe {
+            wgpu::ExperimentalFeatures::enabled()
+        })
+    } else {
+        (features, wgpu::ExperimentalFeatures::disabled())
+    };
+    // The adapter's own limits: big cube maps and storage buffers on real GPUs, and
+    // `check_size` reports the true bound to the user.
+    let limits = adapter.limits();
+    adapter
+        .request_device(&wgpu::DeviceDescriptor {
+            label: Some("shared device"),
+            required_features: features,
+            required_limits: limits,
+            experimental_features,
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        })
+        .await
+        .map_err(|e| GpuError::Device(e.to_string()))
 }
 
 #[cfg(test)]

@@ -61,7 +61,7 @@ pub fn pipeline(
             depth_stencil: None,
             multisample: wgpu::MultisampleState::default(),
             multiview_mask: None,
-            cache: None,
+            cache: ctx.pipeline_cache(),
         })
 }
 

@@ -63,6 +63,9 @@ pub struct GpuTimer {
 struct Queries {
     set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
+    /// Where the resolved timestamps are copied to be read: one buffer for the timer's life,
+    /// not one per submission (a row renders hundreds of frames).
+    staging: wgpu::Buffer,
     capacity: u32,
     period_ns: f64,
     encoder_timestamps: bool,
@@ -83,6 +86,12 @@ impl GpuTimer {
                     label: Some("timestamp resolve"),
                     size: capacity as u64 * 8,
                     usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                }),
+                staging: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("timestamp read-back"),
+                    size: capacity as u64 * 8,
+                    usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
                     mapped_at_creation: false,
                 }),
                 capacity,
@@ -175,14 +184,8 @@ impl GpuTimer {
     ) -> Result<Vec<(String, f64)>, crate::GpuError> {
         let staging = self.queries.as_ref().filter(|_| self.used > 0).map(|q| {
             encoder.resolve_query_set(&q.set, 0..self.used, &q.resolve, 0);
-            let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamp read-back"),
-                size: self.used as u64 * 8,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            });
-            encoder.copy_buffer_to_buffer(&q.resolve, 0, &staging, 0, self.used as u64 * 8);
-            staging
+            encoder.copy_buffer_to_buffer(&q.resolve, 0, &q.staging, 0, self.used as u64 * 8);
+            &q.staging
         });
         let wall_start = self.wall_start.take().unwrap_or_else(Instant::now);
         ctx.queue.submit([encoder.finish()]);
@@ -195,7 +198,7 @@ impl GpuTimer {
             None => out.push((label.to_string(), ms)),
         };
         if let (Some(staging), Some(q)) = (staging, &self.queries) {
-            let bytes = crate::target::map_buffer(ctx, &staging)?;
+            let bytes = crate::target::map_buffer(ctx, staging)?;
             let ticks: &[u64] = bytemuck::cast_slice(&bytes);
             for span in &self.spans {
                 let (a, b) = (
