@@ -457,6 +457,6 @@ fn billboard_pipeline(
             depth_stencil: Some(pass::depth_state(true, wgpu::CompareFunction::Less)),
             multisample: Default::default(),
             multiview_mask: None,
-            cache: None,
+            cache: ctx.pipeline_cache(),
         })
 }

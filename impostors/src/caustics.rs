@@ -16,6 +16,7 @@
 //! splat (`splat_quads.wgsl`) come from `scene::lightmap`.
 
 use glam::Vec3;
+use gpu::bind::UniformGroups;
 use gpu::cube::CubeTarget;
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load, color_target};
 use gpu::wgpu::{self, util::DeviceExt};
@@ -145,6 +146,14 @@ pub struct Caustics {
     chart_of: wgpu::Buffer,
     light_map: wgpu::Texture,
     light_map_view: wgpu::TextureView,
+    /// The bind groups of each frame's passes, made once (see `gpu::bind::UniformGroups`):
+    /// per generator, its receiver pass; per (generator, light), its caustic map's
+    /// `@group(3)`; per generator, the `@group(3)` of a generator no light reaches, and its
+    /// compute splat.
+    receiver_groups: UniformGroups<CausticGpu>,
+    caustic_groups: UniformGroups<CausticGpu>,
+    unlit_groups: UniformGroups<CausticGpu>,
+    splat_groups: UniformGroups<SplatGpu>,
 }
 
 enum Splatter {
@@ -159,11 +168,20 @@ enum Splatter {
 pub struct GeneratorMaps {
     address: wgpu::Texture,
     power: wgpu::Texture,
-    depth: wgpu::Texture,
+    /// Views of the caustic map's targets and of the receiver cubes as arrays, made once.
+    views: GeneratorViews,
     /// Grid path accumulation (4 bytes on the light-map path).
     grid: wgpu::Buffer,
     receiver_info: CubeTarget,
     receiver_albedo: CubeTarget,
+}
+
+struct GeneratorViews {
+    address: wgpu::TextureView,
+    power: wgpu::TextureView,
+    depth: wgpu::TextureView,
+    receiver_info: wgpu::TextureView,
+    receiver_albedo: wgpu::TextureView,
 }
 
 impl GeneratorMaps {
@@ -314,6 +332,10 @@ impl Caustics {
             chart_of,
             light_map,
             light_map_view,
+            receiver_groups: UniformGroups::new("receiver params"),
+            caustic_groups: UniformGroups::new("caustic params"),
+            unlit_groups: UniformGroups::new("caustic params"),
+            splat_groups: UniformGroups::new("splat params"),
         })
     }
 
@@ -359,28 +381,38 @@ impl Caustics {
             CausticPath::Grid => 6 * 3 * 4 * (self.settings.grid as u64).pow(2),
             CausticPath::LightMap => 4,
         };
+        let address = photon_target("caustic map: photon address");
+        let power = photon_target("caustic map: photon power");
+        let depth = gpu::depth_texture(ctx, size, size, 1, "caustic map depth");
+        let receiver_info =
+            CubeTarget::new(ctx, env_size, RECEIVER_INFO_FORMAT, "caustic receivers")?;
+        let receiver_albedo =
+            CubeTarget::new(ctx, env_size, RECEIVER_ALBEDO_FORMAT, "receiver albedo")?;
+        let array_view = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
+        };
+        let views = GeneratorViews {
+            address: address.create_view(&Default::default()),
+            power: power.create_view(&Default::default()),
+            depth: depth.create_view(&Default::default()),
+            receiver_info: array_view(&receiver_info.color),
+            receiver_albedo: array_view(&receiver_albedo.color),
+        };
         Ok(GeneratorMaps {
-            address: photon_target("caustic map: photon address"),
-            power: photon_target("caustic map: photon power"),
-            depth: gpu::depth_texture(ctx, size, size, 1, "caustic map depth"),
+            address,
+            power,
+            views,
             grid: ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("caustic grid"),
                 size: grid_bytes,
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            receiver_info: CubeTarget::new(
-                ctx,
-                env_size,
-                RECEIVER_INFO_FORMAT,
-                "caustic receivers",
-            )?,
-            receiver_albedo: CubeTarget::new(
-                ctx,
-                env_size,
-                RECEIVER_ALBEDO_FORMAT,
-                "receiver albedo",
-            )?,
+            receiver_info,
+            receiver_albedo,
         })
     }
 
@@ -407,27 +439,31 @@ impl Caustics {
 
     /// Renders what the reference point sees of the receivers (chart, object, texel area,
     /// cosine, albedo): the paper's *uvmap*. Made with the environment impostor.
+    /// `slot` is the generator's (its index among the generators).
     pub fn render_receivers(
         &self,
         frame: &mut Frame,
         scene: &GpuScene,
+        slot: usize,
         maps: &GeneratorMaps,
         object: usize,
         reference: Vec3,
     ) {
         let ctx = frame.gpu;
-        let uniform = Uniform::new(ctx, "receiver params", &self.params(None, 1.0));
-        let group = bind::group(
-            ctx,
-            "caustic receivers",
-            &self.receiver_layout,
-            &[
-                uniform.binding(),
-                maps.grid.as_entire_binding(),
-                self.charts.as_entire_binding(),
-                self.chart_of.as_entire_binding(),
-            ],
-        );
+        let params = self.params(None, 1.0);
+        let group = self.receiver_groups.get(ctx, slot, &params, |uniform| {
+            bind::group(
+                ctx,
+                "caustic receivers",
+                &self.receiver_layout,
+                &[
+                    uniform.binding(),
+                    maps.grid.as_entire_binding(),
+                    self.charts.as_entire_binding(),
+                    self.chart_of.as_entire_binding(),
+                ],
+            )
+        });
         scene.render_cube(
             frame,
             &maps.receiver_info,
@@ -466,14 +502,7 @@ impl Caustics {
         maps: &GeneratorMaps,
         uniform: &Uniform<CausticGpu>,
     ) -> wgpu::BindGroup {
-        let array_view = |t: &wgpu::Texture| {
-            t.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                ..Default::default()
-            })
-        };
-        let info = array_view(&maps.receiver_info.color);
-        let albedo = array_view(&maps.receiver_albedo.color);
+        let (info, albedo) = (&maps.views.receiver_info, &maps.views.receiver_albedo);
         bind::group(
             ctx,
             "caustics",
@@ -483,8 +512,8 @@ impl Caustics {
                 maps.grid.as_entire_binding(),
                 self.charts.as_entire_binding(),
                 self.chart_of.as_entire_binding(),
-                bind::view(&info),
-                bind::view(&albedo),
+                bind::view(info),
+                bind::view(albedo),
                 bind::view(&self.light_map_view),
                 bind::sampler_resource(&ctx.samplers.linear_clamp),
             ],
@@ -507,7 +536,8 @@ impl Caustics {
             clear_texture_pass(frame.encoder, &self.light_map_view);
         }
         let mut groups = Vec::new();
-        for &(object, reference, maps, impostor_group) in generators {
+        let lights = scene.scene.lights.len();
+        for (g, &(object, reference, maps, impostor_group)) in generators.iter().enumerate() {
             let o = &scene.scene.objects[object];
             let center = o.center_at(time);
             let radius = o.bounding_radius_at(time) * 1.05;
@@ -517,15 +547,16 @@ impl Caustics {
                 .scene
                 .lights
                 .iter()
-                .filter_map(|light| {
+                .enumerate()
+                .filter_map(|(l, light)| {
                     let to = center - light.position;
                     let dist = to.length();
-                    (dist > radius).then(|| (light, to / dist, dist, (radius / dist).asin()))
+                    (dist > radius).then(|| (l, light, to / dist, dist, (radius / dist).asin()))
                 })
                 .collect();
             let total: f32 = cones
                 .iter()
-                .map(|(l, _, _, half)| {
+                .map(|(_, l, _, _, half)| {
                     l.intensity.max_element() * 2.0 * std::f32::consts::PI * (1.0 - half.cos())
                 })
                 .sum();
@@ -534,7 +565,7 @@ impl Caustics {
                 frame.encoder.clear_buffer(&maps.grid, 0, None);
             }
             let mut lookup_group = None;
-            for (light, axis, dist, half) in cones.iter().copied() {
+            for (l, light, axis, dist, half) in cones.iter().copied() {
                 let up = if axis.y.abs() > 0.9 { Vec3::X } else { Vec3::Y };
                 let view = glam::camera::rh::view::look_at_mat4(light.position, center, up);
                 let proj = glam::camera::rh::proj::directx::perspective(
@@ -545,20 +576,19 @@ impl Caustics {
                 );
                 let camera = scene.camera_bind_group(ctx, proj * view, light.position);
                 let pixel_area = (2.0 * half.tan() / size as f32).powi(2);
-                let uniform = Uniform::new(
-                    ctx,
-                    "caustic params",
-                    &self.params(Some((light, axis, pixel_area)), scale),
-                );
-                let group3 = self.group3(ctx, maps, &uniform);
+                let params = self.params(Some((light, axis, pixel_area)), scale);
+                let group3 = self
+                    .caustic_groups
+                    .get(ctx, g * lights + l, &params, |u| self.group3(ctx, maps, u));
                 self.caustic_map_pass(frame, scene, maps, object, &camera, impostor_group, &group3);
-                self.splat(frame, maps, reference, scale);
+                self.splat(frame, g, maps, reference, scale);
                 lookup_group.get_or_insert(group3);
             }
             // No light outside the object: nothing splatted, the group still binds the maps.
             groups.push(lookup_group.unwrap_or_else(|| {
-                let uniform = Uniform::new(ctx, "caustic params", &self.params(None, 1.0));
-                self.group3(ctx, maps, &uniform)
+                let params = self.params(None, 1.0);
+                self.unlit_groups
+                    .get(ctx, g, &params, |u| self.group3(ctx, maps, u))
             }));
         }
         groups
@@ -575,17 +605,15 @@ impl Caustics {
         impostor_group: &wgpu::BindGroup,
         group3: &wgpu::BindGroup,
     ) {
-        let address = maps.address.create_view(&Default::default());
-        let power = maps.power.create_view(&Default::default());
-        let depth = maps.depth.create_view(&Default::default());
+        let views = &maps.views;
         let mut pass = gpu::pass::begin(
             frame.encoder,
             "caustic map",
             &[
-                pass::color(&address, CLEAR_BLACK),
-                pass::color(&power, CLEAR_BLACK),
+                pass::color(&views.address, CLEAR_BLACK),
+                pass::color(&views.power, CLEAR_BLACK),
             ],
-            Some(pass::depth(&depth, CLEAR_FAR)),
+            Some(pass::depth(&views.depth, CLEAR_FAR)),
             None,
         );
         pass.set_pipeline(&self.map_pipeline);
@@ -597,36 +625,40 @@ impl Caustics {
     }
 
     /// Adds one caustic map's photons: Gaussian quads into the light map, or atomics into
-    /// the grid.
-    fn splat(&self, frame: &mut Frame, maps: &GeneratorMaps, reference: Vec3, scale: f32) {
+    /// the grid. `slot` is the generator's.
+    fn splat(
+        &self,
+        frame: &mut Frame,
+        slot: usize,
+        maps: &GeneratorMaps,
+        reference: Vec3,
+        scale: f32,
+    ) {
         let ctx = frame.gpu;
         let size = self.settings.resolution;
-        let address = maps.address.create_view(&Default::default());
-        let power = maps.power.create_view(&Default::default());
+        let (address, power) = (&maps.views.address, &maps.views.power);
         match &self.splat {
             Splatter::Compute { pipeline, layout } => {
-                let uniform = Uniform::new(
-                    ctx,
-                    "splat params",
-                    &SplatGpu {
-                        reference: reference.extend(0.0).to_array(),
-                        grid: self.settings.grid,
-                        scale,
-                        size,
-                        _pad: 0,
-                    },
-                );
-                let group = bind::group(
-                    ctx,
-                    "caustic splat",
-                    layout,
-                    &[
-                        bind::view(&address),
-                        bind::view(&power),
-                        maps.grid.as_entire_binding(),
-                        uniform.binding(),
-                    ],
-                );
+                let params = SplatGpu {
+                    reference: reference.extend(0.0).to_array(),
+                    grid: self.settings.grid,
+                    scale,
+                    size,
+                    _pad: 0,
+                };
+                let group = self.splat_groups.get(ctx, slot, &params, |uniform| {
+                    bind::group(
+                        ctx,
+                        "caustic splat",
+                        layout,
+                        &[
+                            bind::view(address),
+                            bind::view(power),
+                            maps.grid.as_entire_binding(),
+                            uniform.binding(),
+                        ],
+                    )
+                });
                 let mut pass = frame
                     .encoder
                     .begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -639,10 +671,11 @@ impl Caustics {
             }
             Splatter::Quads(splatter) => splatter.splat(
                 frame,
+                slot,
                 &self.light_map_view,
                 self.light_map.width(),
-                &address,
-                &power,
+                address,
+                power,
                 &self.charts,
                 size,
                 self.settings.splat_radius,

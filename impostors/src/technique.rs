@@ -14,11 +14,12 @@
 
 use crate::caustics::{self, CausticPath, CausticSettings, Caustics, GeneratorMaps};
 use glam::Vec3;
+use gpu::bind::UniformGroups;
 use gpu::cube::CubeTarget;
 use gpu::distance_map::{HIT_WGSL, Method};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
-use gpu::{Context, Target, Uniform, bind};
+use gpu::{Context, Target, bind};
 use scene::technique::check_param;
 use scene::{
     Frame, GpuScene, Material, ObjectFilter, Param, RasterTarget, Scene, Technique,
@@ -140,6 +141,8 @@ struct State {
     /// The proxy box of the box-projected lookup: bounds of the scene's diffuse objects (none
     /// in a scene without any: the lookup is then the direction).
     proxy: Option<(Vec3, Vec3)>,
+    /// Each object's `@group(2)` with its parameters, made once and rewritten every frame.
+    groups: UniformGroups<ParamsGpu>,
 }
 
 /// The distance cube of the split layout.
@@ -618,6 +621,7 @@ impl Technique for Impostor {
             split_layout,
             maps,
             proxy,
+            groups: UniformGroups::new("impostor params"),
         });
         Ok(())
     }
@@ -669,7 +673,7 @@ impl Technique for Impostor {
                     copy_distances(frame, &state.split_pipeline, split);
                 }
                 if let (Some(c), Some(maps)) = (&state.caustic, &m.caustics) {
-                    c.render_receivers(frame, scene, maps, m.object, reference);
+                    c.render_receivers(frame, scene, i, maps, m.object, reference);
                 }
                 m.reference = Some(reference);
                 m.regenerations += 1;
@@ -889,7 +893,8 @@ fn impostor_groups(
     state
         .maps
         .iter()
-        .map(|m| {
+        .enumerate()
+        .map(|(slot, m)| {
             let reference = m.reference.expect("regenerated before use");
             let distance_view = m
                 .split
@@ -917,19 +922,20 @@ fn impostor_groups(
                 proxy_min: proxy.0.extend(0.0).to_array(),
                 proxy_max: proxy.1.extend(0.0).to_array(),
             };
-            let params = Uniform::new(ctx, "impostor params", &uniform);
-            bind::group(
-                ctx,
-                "impostor",
-                &state.layout,
-                &[
-                    bind::view(&m.env.cube_view),
-                    bind::view(distance_view),
-                    bind::sampler_resource(&ctx.samplers.linear_clamp),
-                    params.binding(),
-                    bind::view(refractor_view),
-                ],
-            )
+            state.groups.get(ctx, slot, &uniform, |params| {
+                bind::group(
+                    ctx,
+                    "impostor",
+                    &state.layout,
+                    &[
+                        bind::view(&m.env.cube_view),
+                        bind::view(distance_view),
+                        bind::sampler_resource(&ctx.samplers.linear_clamp),
+                        params.binding(),
+                        bind::view(refractor_view),
+                    ],
+                )
+            })
         })
         .collect()
 }

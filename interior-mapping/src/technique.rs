@@ -718,7 +718,7 @@ fn hull_pipeline(
             )),
             multisample: Default::default(),
             multiview_mask: None,
-            cache: None,
+            cache: ctx.pipeline_cache(),
         })
 }
 

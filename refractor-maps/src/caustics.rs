@@ -198,6 +198,10 @@ struct ReceiverParamsGpu {
     _pad: [u32; 2],
 }
 
+/// The splatter's slot of the static pieces' photon map, and of the moving pieces'.
+const STATIC_SLOT: usize = 0;
+const MOVING_SLOT: usize = 1;
+
 /// One photon map: a tile per (light, piece), the pieces' photons written side by side.
 struct PhotonMap {
     /// Tiles per row (and rows): the map is `tiles_per_row * photons` pixels square.
@@ -436,7 +440,7 @@ impl Caustics {
         clear(frame.encoder, &self.moving_map.view);
         if let Some(map) = &self.static_photons {
             self.photons(frame, scene, kinds, tracer_group, &self.statics, map);
-            self.splat(frame, map, &self.static_map);
+            self.splat(frame, STATIC_SLOT, map, &self.static_map);
         }
     }
 
@@ -451,7 +455,7 @@ impl Caustics {
         if let Some(map) = &self.moving_photons {
             clear(frame.encoder, &self.moving_map.view);
             self.photons(frame, scene, kinds, tracer_group, &self.movers, map);
-            self.splat(frame, map, &self.moving_map);
+            self.splat(frame, MOVING_SLOT, map, &self.moving_map);
         }
     }
 
@@ -554,9 +558,12 @@ impl Caustics {
         }
     }
 
-    fn splat(&self, frame: &mut Frame, map: &PhotonMap, into: &LightMap) {
+    /// Splats `map` into `into`; `slot` is the photon map's (the splatter keeps a bind group
+    /// per photon map).
+    fn splat(&self, frame: &mut Frame, slot: usize, map: &PhotonMap, into: &LightMap) {
         self.splatter.splat(
             frame,
+            slot,
             &into.view,
             self.settings.lightmap_resolution,
             &map.address,

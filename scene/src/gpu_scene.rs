@@ -175,6 +175,53 @@ pub struct GpuScene {
     raster_pipelines: Vec<(wgpu::TextureFormat, wgpu::RenderPipeline)>,
     shadow_pipeline: wgpu::RenderPipeline,
     time: Option<f32>,
+    cameras: std::sync::Mutex<CameraCache>,
+}
+
+/// The camera bind groups of the views a scene was drawn from, by their contents: a view seen
+/// again (the same cube face of an object that did not move, the same light's shadow face, the
+/// same eye) reuses its uniform and bind group instead of creating both again, so a technique
+/// that draws hundreds of cube faces a frame creates none once its objects stand still. A
+/// group's contents never change after it is made, so a technique may keep one across frames.
+/// Views not drawn for [`CameraCache::KEEP_FRAMES`] frames are let go once the cache holds
+/// more than [`CameraCache::MAX_ENTRIES`].
+#[derive(Default)]
+struct CameraCache {
+    /// Key: the bits of the uniform's contents (`CameraGpu`).
+    entries: std::collections::HashMap<[u32; 20], (wgpu::BindGroup, u64)>,
+    /// Frames begun ([`GpuScene::set_time`] calls).
+    frame: u64,
+}
+
+impl CameraCache {
+    const MAX_ENTRIES: usize = 2048;
+    const KEEP_FRAMES: u64 = 2;
+
+    fn key(data: &CameraGpu) -> [u32; 20] {
+        let mut key = [0u32; 20];
+        for (k, v) in key
+            .iter_mut()
+            .zip(data.view_proj.iter().flatten().chain(&data.eye))
+        {
+            *k = v.to_bits();
+        }
+        key
+    }
+
+    /// A new frame: views unused for a while are dropped when the cache is full.
+    fn next_frame(&mut self) {
+        self.frame += 1;
+        if self.entries.len() > Self::MAX_ENTRIES {
+            let frame = self.frame;
+            self.entries
+                .retain(|_, (_, used)| frame - *used <= Self::KEEP_FRAMES);
+        }
+    }
+
+    /// Views the cache holds (for tests).
+    fn len(&self) -> usize {
+        self.entries.len()
+    }
 }
 
 impl GpuScene {
@@ -386,6 +433,7 @@ impl GpuScene {
             raster_pipelines,
             shadow_pipeline,
             time: None,
+            cameras: Default::default(),
         })
     }
 
@@ -395,14 +443,29 @@ impl GpuScene {
     }
 
     /// A camera bind group (`@group(0)`) for one view: world-to-clip matrix and eye position.
-    /// Each view of a frame needs its own (uniform writes are applied at submission).
+    /// Made once per distinct view and kept while the view is drawn (see `CameraCache`), so
+    /// drawing the same view again creates no GPU object.
     pub fn camera_bind_group(&self, ctx: &Context, view_proj: Mat4, eye: Vec3) -> wgpu::BindGroup {
         let data = CameraGpu {
             view_proj: view_proj.to_cols_array_2d(),
             eye: eye.extend(1.0).to_array(),
         };
+        let key = CameraCache::key(&data);
+        let mut cache = self.cameras.lock().unwrap_or_else(|e| e.into_inner());
+        let frame = cache.frame;
+        if let Some((group, used)) = cache.entries.get_mut(&key) {
+            *used = frame;
+            return group.clone();
+        }
         let camera = Uniform::new(ctx, "camera", &data);
-        bind::group(ctx, "camera", &self.camera_layout, &[camera.binding()])
+        let group = bind::group(ctx, "camera", &self.camera_layout, &[camera.binding()]);
+        cache.entries.insert(key, (group.clone(), frame));
+        group
+    }
+
+    /// Distinct views whose camera bind groups the scene holds.
+    pub fn cached_cameras(&self) -> usize {
+        self.cameras.lock().map(|c| c.len()).unwrap_or(0)
     }
 
     /// A pipeline layout with the camera at group 0, the scene at group 1 and `extra` after.
@@ -420,6 +483,10 @@ impl GpuScene {
     /// moved or deformed, recording into `frame`: call once per frame before drawing. The
     /// writes are queue writes, applied when the frame is submitted, before its passes.
     pub fn set_time(&mut self, frame: &mut Frame, time: f32) {
+        self.cameras
+            .get_mut()
+            .unwrap_or_else(|e| e.into_inner())
+            .next_frame();
         let moving = self
             .scene
             .objects
@@ -775,7 +842,7 @@ pub fn scene_pipeline_entries(
             depth_stencil: Some(pass::depth_state(depth.0, depth.1)),
             multisample: Default::default(),
             multiview_mask: None,
-            cache: None,
+            cache: ctx.pipeline_cache(),
         })
 }
 

@@ -21,7 +21,7 @@ use crate::{Frame, Material, Scene};
 use glam::{Mat4, Vec2, Vec3};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
-use gpu::{Context, Uniform, bind};
+use gpu::{Context, bind};
 
 /// `struct Chart` and `chart_uv` in WGSL (needs the prelude; no bindings).
 pub const CHART_WGSL: &str = include_str!("shaders/chart.wgsl");
@@ -251,6 +251,8 @@ pub fn splat_gaussian(radius: f32) -> (f32, f32) {
 pub struct QuadSplatter {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
+    /// One bind group per photon map the caller splats (its `slot`), made once.
+    groups: gpu::bind::UniformGroups<SplatQuadGpu>,
 }
 
 impl QuadSplatter {
@@ -308,18 +310,25 @@ impl QuadSplatter {
                 depth_stencil: None,
                 multisample: Default::default(),
                 multiview_mask: None,
-                cache: None,
+                cache: ctx.pipeline_cache(),
             });
-        Self { pipeline, layout }
+        Self {
+            pipeline,
+            layout,
+            groups: gpu::bind::UniformGroups::new("splat quad params"),
+        }
     }
 
     /// Adds every photon of the `size` x `size` photon map (`address`, `power`) into `atlas`
     /// (side `atlas_side` texels) as a Gaussian quad of radius `radius` texels, clipped to
-    /// the photon's own chart (`charts` holds the [`ChartGpu`]s).
+    /// the photon's own chart (`charts` holds the [`ChartGpu`]s). `slot` names the photon
+    /// map: its bind group is made the first time and kept (the same slot must always come
+    /// with the same `address`, `power` and `charts`).
     #[allow(clippy::too_many_arguments)]
     pub fn splat(
         &self,
         frame: &mut Frame,
+        slot: usize,
         atlas: &wgpu::TextureView,
         atlas_side: u32,
         address: &wgpu::TextureView,
@@ -335,18 +344,19 @@ impl QuadSplatter {
             size,
             _pad: [0; 3],
         };
-        let uniform = Uniform::new(ctx, "splat quad params", &params);
-        let group = bind::group(
-            ctx,
-            "light-map splat quads",
-            &self.layout,
-            &[
-                bind::view(address),
-                bind::view(power),
-                charts.as_entire_binding(),
-                uniform.binding(),
-            ],
-        );
+        let group = self.groups.get(ctx, slot, &params, |uniform| {
+            bind::group(
+                ctx,
+                "light-map splat quads",
+                &self.layout,
+                &[
+                    bind::view(address),
+                    bind::view(power),
+                    charts.as_entire_binding(),
+                    uniform.binding(),
+                ],
+            )
+        });
         let mut pass = gpu::pass::begin(
             frame.encoder,
             "light-map splat quads",

@@ -141,6 +141,15 @@ pub trait Technique {
     fn timing(&self) -> Timing {
         Timing::Gpu
     }
+    /// Frames of one unchanged view (camera and time) the technique renders before its image
+    /// is complete: 1 for a technique that draws its image in one frame (all but one). A
+    /// progressive technique, which adds to its image frame after frame while the view stays
+    /// (the exact tracer's caustics: new photons every frame, the image their running mean),
+    /// says how many; the harness renders that many frames at an error frame's view, each one
+    /// timed as a frame, and measures the last.
+    fn frames_to_converge(&self) -> u32 {
+        1
+    }
     /// The exact image this technique approximates, when that is not the scene's reference
     /// alone; computed on the CPU from `reference` (the scene's reference image of `view`).
     /// `None` (every technique in the workspace today) means the reference. A technique must

@@ -967,7 +967,7 @@ fn render_pipeline(
             depth_stencil: None,
             multisample: wgpu::MultisampleState::default(),
             multiview_mask: None,
-            cache: None,
+            cache: ctx.pipeline_cache(),
         })
 }
 

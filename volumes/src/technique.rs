@@ -1054,7 +1054,7 @@ impl VolumeTechnique {
             depth_stencil,
             multisample: Default::default(),
             multiview_mask: None,
-            cache: None,
+            cache: ctx.pipeline_cache(),
         });
 
         // Full-screen copies.
