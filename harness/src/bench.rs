@@ -22,12 +22,13 @@
 //!
 //! Writes `bench.json` and `bench.md` under `--out` when given.
 
-use crate::compare::write_text;
-use crate::run::{Sample, render_frame, update_scene};
+use crate::measure::{Sample, render_frame, update_scene};
+use crate::output::write_text;
+use crate::plan::TechniqueSpec;
 use crate::{Env, Frames, Size, backend};
 use anyhow::{Context as _, Result, anyhow, bail};
 use gpu::{GpuTimer, Target};
-use scene::{Technique, View};
+use scene::{GpuScene, Technique, View};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -91,35 +92,8 @@ pub struct BenchReport {
 
 /// `id:name=value:name=value` as the id and its parameters.
 pub fn parse_technique_spec(spec: &str) -> Result<(String, Vec<(String, f64)>)> {
-    let mut parts = spec.split(':');
-    let id = parts.next().unwrap_or_default().trim().to_string();
-    let params = parts
-        .map(|p| {
-            let (name, value) = p.split_once('=').ok_or_else(|| {
-                anyhow!("technique parameter \"{p}\" in \"{spec}\" is not name=value")
-            })?;
-            let value: f64 = value.trim().parse().map_err(|_| {
-                anyhow!("technique parameter {name} in \"{spec}\": \"{value}\" is not a number")
-            })?;
-            Ok((name.trim().to_string(), value))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok((id, params))
-}
-
-/// A fresh instance of the technique of `spec` with its parameters set.
-fn instance(env: &Env, spec: &str) -> Result<Box<dyn Technique>> {
-    let (id, params) = parse_technique_spec(spec)?;
-    let mut technique = (env.techniques)()
-        .into_iter()
-        .find(|t| t.id() == id)
-        .ok_or_else(|| anyhow!("unknown technique \"{id}\" (see `harness list`)"))?;
-    for (name, value) in params {
-        technique
-            .set_param(&name, value)
-            .with_context(|| format!("technique {spec}"))?;
-    }
-    Ok(technique)
+    let spec = TechniqueSpec::parse(spec)?;
+    Ok((spec.id, spec.params))
 }
 
 fn median(values: &[f64]) -> f64 {
@@ -173,30 +147,26 @@ fn verdict(faster: u32, slower: u32) -> &'static str {
     }
 }
 
-/// Runs the benchmark (see the module documentation).
-pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
+/// The bench's plan: the techniques as fresh instances with their parameters, each checked
+/// against the scene and the adapter.
+fn instances(
+    env: &Env,
+    opts: &BenchOptions,
+    scene: &scene::Scene,
+) -> Result<Vec<Box<dyn Technique>>> {
     if opts.techniques.len() < 2 {
         bail!("bench needs at least two techniques (the first is the baseline)");
     }
     if opts.rounds < 2 || opts.frames == 0 {
         bail!("bench needs at least 2 rounds of at least 1 frame to state a spread");
     }
-    let (scene, notes) = crate::load_scene_noted(&opts.scene)?;
-    for note in &notes {
-        eprintln!("warning: {}: {note}", opts.scene);
-    }
-    let one_image = Frames {
-        errors: 1,
-        ..Frames::default()
-    };
-    crate::limits::check_memory(env.ctx, opts.size, one_image)?;
-    let mut techniques = opts
+    let techniques = opts
         .techniques
         .iter()
-        .map(|spec| instance(env, spec))
+        .map(|spec| TechniqueSpec::parse(spec)?.instance(env.techniques))
         .collect::<Result<Vec<_>>>()?;
     for (t, spec) in techniques.iter().zip(&opts.techniques) {
-        if !t.supports(&scene) {
+        if !t.supports(scene) {
             bail!("technique {spec} does not support scene {}", opts.scene);
         }
         env.ctx
@@ -209,35 +179,61 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
     {
         bail!("bench cannot compare a CPU technique's clock with GPU timestamps: time them apart");
     }
-    let mut gpu_scene = backend::upload_scene(env.ctx, &scene)?;
-    let target = Target::new(env.ctx, opts.size.width, opts.size.height)?;
-    let mut timer = GpuTimer::new(env.ctx, 64);
-    let view = View {
-        camera: scene.camera_at(opts.time),
-        time: opts.time,
-        width: opts.size.width,
-        height: opts.size.height,
-    };
+    Ok(techniques)
+}
 
+/// The shared scene, target, timer and view every technique of a bench renders with.
+struct Stage {
+    scene: GpuScene,
+    target: Target,
+    timer: GpuTimer,
+    view: View,
+}
+
+impl Stage {
+    fn frame(&mut self, env: &Env, technique: &mut dyn Technique) -> Result<Sample> {
+        render_frame(
+            env.ctx,
+            &mut self.timer,
+            technique,
+            &mut self.scene,
+            &self.view,
+            &self.target,
+        )
+    }
+}
+
+/// Prepares and warms up every technique on the stage.
+fn prepare_all(
+    env: &Env,
+    opts: &BenchOptions,
+    stage: &mut Stage,
+    techniques: &mut [Box<dyn Technique>],
+) -> Result<()> {
     for (t, spec) in techniques.iter_mut().zip(&opts.techniques) {
-        update_scene(env.ctx, &mut timer, &mut gpu_scene, opts.time)?;
-        crate::run::prepare(env.ctx, &mut timer, t.as_mut(), &gpu_scene)
+        update_scene(env.ctx, &mut stage.timer, &mut stage.scene, opts.time)?;
+        crate::measure::prepare(env.ctx, &mut stage.timer, t.as_mut(), &stage.scene)
             .with_context(|| format!("{spec}: prepare"))?;
         for _ in 0..opts.warmup {
-            render_frame(
-                env.ctx,
-                &mut timer,
-                t.as_mut(),
-                &mut gpu_scene,
-                &view,
-                &target,
-            )
-            .with_context(|| format!("{spec}: warm-up"))?;
+            stage
+                .frame(env, t.as_mut())
+                .with_context(|| format!("{spec}: warm-up"))?;
         }
     }
+    Ok(())
+}
 
+/// Per technique, per round, the span's time of each frame; per technique every other span.
+type Samples = (Vec<Vec<Vec<f64>>>, Vec<BTreeMap<String, Vec<f64>>>);
+
+/// The rounds: in each, every technique renders `frames` frames, the order rotating.
+fn measure_rounds(
+    env: &Env,
+    opts: &BenchOptions,
+    stage: &mut Stage,
+    techniques: &mut [Box<dyn Technique>],
+) -> Result<Samples> {
     let n = techniques.len();
-    // samples[technique][round]: the span's time of each frame.
     let mut samples: Vec<Vec<Vec<f64>>> = vec![vec![Vec::new(); opts.rounds as usize]; n];
     let mut extra: Vec<BTreeMap<String, Vec<f64>>> = vec![BTreeMap::new(); n];
     for round in 0..opts.rounds as usize {
@@ -245,9 +241,10 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
             let i = (k + round) % n; // rotate the order
             let t = techniques[i].as_mut();
             for _ in 0..opts.frames {
-                let sample = render_frame(env.ctx, &mut timer, t, &mut gpu_scene, &view, &target)
+                let sample = stage
+                    .frame(env, t)
                     .with_context(|| format!("{}: frame", opts.techniques[i]))?;
-                samples[i][round].push(span_ms(&sample, &opts.span, t, &timer));
+                samples[i][round].push(span_ms(&sample, &opts.span, t, &stage.timer));
                 for (label, ms) in sample.extra() {
                     extra[i].entry(label.clone()).or_default().push(*ms);
                 }
@@ -259,12 +256,16 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
             bail!("technique {spec} recorded no span \"{}\"", opts.span);
         }
     }
+    Ok((samples, extra))
+}
 
+/// The rows: each technique's per-round ratios to the baseline and the sign test's verdict.
+fn bench_rows(opts: &BenchOptions, (samples, extra): &Samples) -> Vec<BenchRow> {
     let round_medians: Vec<Vec<f64>> = samples
         .iter()
         .map(|rounds| rounds.iter().map(|s| median(s)).collect())
         .collect();
-    let rows = (0..n)
+    (0..samples.len())
         .map(|i| {
             let ratios: Vec<f64> = round_medians[i]
                 .iter()
@@ -289,10 +290,9 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
                 rounds_faster: faster,
                 rounds_slower: slower,
                 sign_test_p: sign_test_p(faster, slower),
-                verdict: if i == 0 {
-                    "baseline"
-                } else {
-                    verdict(faster, slower)
+                verdict: match i {
+                    0 => "baseline",
+                    _ => verdict(faster, slower),
                 }
                 .to_string(),
                 spans_ms: extra[i]
@@ -301,7 +301,34 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
                     .collect(),
             }
         })
-        .collect::<Vec<_>>();
+        .collect()
+}
+
+/// Runs the benchmark (see the module documentation).
+pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
+    let (scene, notes) = crate::load_scene_noted(&opts.scene)?;
+    for note in &notes {
+        eprintln!("warning: {}: {note}", opts.scene);
+    }
+    let mut techniques = instances(env, opts, &scene)?;
+    let one_image = Frames {
+        errors: 1,
+        ..Frames::default()
+    };
+    crate::limits::check_memory(env.ctx, opts.size, one_image)?;
+    let mut stage = Stage {
+        scene: backend::upload_scene(env.ctx, &scene)?,
+        target: Target::new(env.ctx, opts.size.width, opts.size.height)?,
+        timer: GpuTimer::new(env.ctx, 64),
+        view: View {
+            camera: scene.camera_at(opts.time),
+            time: opts.time,
+            width: opts.size.width,
+            height: opts.size.height,
+        },
+    };
+    prepare_all(env, opts, &mut stage, &mut techniques)?;
+    let samples = measure_rounds(env, opts, &mut stage, &mut techniques)?;
     let mut report = BenchReport {
         adapter: crate::report::AdapterJson::of(env.ctx),
         scene: opts.scene.clone(),
@@ -310,7 +337,7 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
         time: opts.time,
         rounds: opts.rounds,
         frames: opts.frames,
-        rows,
+        rows: bench_rows(opts, &samples),
         markdown: String::new(),
     };
     report.markdown = to_markdown(&report);
@@ -358,22 +385,6 @@ pub fn to_markdown(report: &BenchReport) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn technique_specs_parse() {
-        let (id, params) = parse_technique_spec("volumes/billboard:depth_prepass=1:x=0.5").unwrap();
-        assert_eq!(id, "volumes/billboard");
-        assert_eq!(
-            params,
-            vec![("depth_prepass".into(), 1.0), ("x".into(), 0.5)]
-        );
-        assert_eq!(
-            parse_technique_spec("raster").unwrap(),
-            ("raster".into(), vec![])
-        );
-        assert!(parse_technique_spec("a:b").is_err());
-        assert!(parse_technique_spec("a:b=x").is_err());
-    }
 
     #[test]
     fn verdicts_follow_the_sign_test() {

@@ -1,30 +1,74 @@
 //! The harness: runs every technique on the same scenes, against the same ground truth, with
 //! the same metrics and timers, and writes tables, images and plots.
 //!
-//! The binary (`harness list | compare | sweep | render | export-scene`) is a thin layer over
-//! this library, which workspace tests reuse:
+//! The binary (`harness list | compare | sweep | bench | merge | render | pareto |
+//! export-scene`) is a thin layer over this library, which workspace tests reuse. A run is a
+//! [`plan::Plan`] (rows: scene, technique spec, swept value; size, frames, ground truth) that
+//! [`engine::execute`] carries out row by row, filling one report model
+//! ([`model::RunReport`]) that every writer reads:
 //!
-//! - [`registry`]: fresh instances of every technique variant.
-//! - [`Env`]: what a run needs (GPU context, technique factory, ground truth, progress bars).
-//! - [`compare::run`] / [`sweep::run`]: the two runners; [`run::run_technique`] runs one
-//!   technique on one uploaded scene (prepare, error frame, warm-up, timed frames).
-//! - [`cache`]: the on-disk reference cache; [`images`]: PNG/EXR writing and reading;
-//!   [`report`]: the result rows and their CSV/JSON/markdown forms; [`plot`]: `sweep.png`.
-//! - [`backend`]: the adapters onto scene- and truth-crate APIs (reference renderer, glTF
-//!   export, GPU upload).
+//! - [`compare`], [`sweep`]: build a plan and execute it; [`bench`]: the interleaved timing
+//!   of a few techniques on the engine's pieces; [`merge`]: shards of one plan joined.
+//! - [`measure`]: one technique on one uploaded scene (prepare, warm-up, the camera path's
+//!   frames, every one timed, the error frames read back); [`score`]: its error figures.
+//! - [`output`]: the folder written as the run goes (tables after every row, everything after
+//!   every scene); [`report`] (CSV, markdown), [`html`] (`index.html`), [`pareto`], [`plot`].
+//! - [`registry`]: fresh instances of every technique variant; [`Env`]: what a run needs (GPU
+//!   context, technique factory, ground truth, progress bars); [`cache`]: the on-disk
+//!   reference cache; [`images`]: PNG/EXR writing and reading; [`backend`]: the adapters onto
+//!   scene- and truth-crate APIs (reference renderer, glTF export, GPU upload).
+//!
+//! ```no_run
+//! # fn main() -> anyhow::Result<()> {
+//! use harness::compare::CompareOptions;
+//! use harness::engine::ExecOptions;
+//!
+//! let ctx = gpu::Context::new()?;
+//! let reference = harness::CpuReference::default();
+//! let env = harness::Env::standard(&ctx, &reference); // registry() + CPU reference
+//! let opts = CompareOptions {
+//!     scenes: vec!["cornell-sphere".into()],
+//!     techniques: Some(vec!["impostors/false-position-4".into(), "raytracer".into()]),
+//!     all_variants: false,
+//!     size: harness::Size::new(64, 64),
+//!     frames: harness::Frames {
+//!         timed: 4,
+//!         warmup: 1,
+//!         errors: 3,
+//!         timed_budget_s: 0.0,
+//!     },
+//! };
+//! let report = harness::compare::run(&env, &opts, &ExecOptions::new("out"))?;
+//! for row in &report.rows {
+//!     println!("{} {:?} {:?}", row.technique, row.flip_mean_masked, row.frame_ms_median);
+//! }
+//! # Ok(())
+//! # }
+//! ```
 
 pub mod backend;
 pub mod bench;
 pub mod cache;
 pub mod compare;
+pub mod engine;
 pub mod html;
 pub mod images;
+pub mod json_float;
 pub mod limits;
+pub mod measure;
+pub mod merge;
+pub mod model;
+pub mod output;
 pub mod pareto;
+pub mod plan;
 pub mod plot;
+mod progress;
+pub mod provenance;
 pub mod report;
-pub mod run;
+pub mod score;
 pub mod sweep;
+
+pub use progress::Progress;
 
 use anyhow::{Context as _, Result, bail};
 use gpu::HdrImage;
@@ -117,13 +161,45 @@ pub trait GroundTruth {
 /// The CPU reference renderer (`truth::reference`) with its options.
 #[derive(Clone, Debug, Default)]
 pub struct CpuReference {
+    /// Everything but the photon count, which `photons` sets.
     pub options: truth::reference::ReferenceOptions,
+    /// Caustic photons of a render: `None` (the default) the image-scaled density the GPU
+    /// tracer uses too (61 per pixel, at least 100 000:
+    /// `truth::reference::ReferenceOptions::for_image`), so a 128 x 128 reference has the
+    /// per-pixel noise of a 256 x 256 one at a quarter of the cost; `Some(n)` exactly `n`
+    /// (`--ref-photons`).
+    pub photons: Option<u64>,
+}
+
+impl CpuReference {
+    /// The reference with `options`, their photon count as given.
+    pub fn fixed(options: truth::reference::ReferenceOptions) -> Self {
+        CpuReference {
+            photons: Some(options.photons),
+            options,
+        }
+    }
+
+    /// The options of a `width` x `height` render.
+    pub fn options_for(&self, width: u32, height: u32) -> truth::reference::ReferenceOptions {
+        let photons = self.photons.unwrap_or_else(|| {
+            truth::reference::ReferenceOptions::for_image(width, height).photons
+        });
+        truth::reference::ReferenceOptions {
+            photons,
+            ..self.options.clone()
+        }
+    }
 }
 
 impl GroundTruth for CpuReference {
     fn key(&self) -> String {
+        let photons = match self.photons {
+            Some(n) => format!("{n} photons"),
+            None => "photons per image".to_string(),
+        };
         format!(
-            "cpu-reference {}",
+            "cpu-reference {} {photons}",
             backend::reference_options_key(&self.options)
         )
     }
@@ -135,7 +211,7 @@ impl GroundTruth for CpuReference {
         w: u32,
         h: u32,
     ) -> Result<Reference> {
-        backend::render_reference(scene, camera, time, w, h, &self.options)
+        backend::render_reference(scene, camera, time, w, h, &self.options_for(w, h))
     }
 }
 
@@ -161,7 +237,7 @@ impl<'a> Env<'a> {
 }
 
 /// An image size `WxH` (also accepts `W` for a square).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Size {
     pub width: u32,
     pub height: u32,
@@ -200,7 +276,7 @@ impl FromStr for Size {
 }
 
 /// Frame counts of a timed run.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Frames {
     /// Timed frames along the scene's camera path (time = i * duration / N).
     pub timed: u32,
@@ -217,10 +293,13 @@ pub struct Frames {
 }
 
 impl Default for Frames {
+    /// What `compare` and `sweep` measure unless told otherwise: 8 timed frames along the path
+    /// after one warm-up frame (which compiles the shaders and makes the maps), within a second
+    /// of timed frames per row, and error frames at the start, middle and end of the path.
     fn default() -> Self {
         Frames {
-            timed: 16,
-            warmup: 3,
+            timed: 8,
+            warmup: 1,
             errors: 3,
             timed_budget_s: Frames::DEFAULT_TIMED_BUDGET_S,
         }
@@ -234,10 +313,12 @@ impl Frames {
     pub const MAX_TIMED: u32 = 10_000;
     /// Most warm-up frames a run may ask for.
     pub const MAX_WARMUP: u32 = 1_000;
-    /// The default [`Frames::timed_budget_s`]: the exact ray tracer's caustics take ~20 s a
-    /// frame at 256 x 256 on the 2-core software rasterizer, and 16 of them per scene would
-    /// make the default compare an hour longer; every other row fits.
-    pub const DEFAULT_TIMED_BUDGET_S: f64 = 30.0;
+    /// The default [`Frames::timed_budget_s`]: one second of timed frames per row. A row whose
+    /// frame takes more than an eighth of it is timed on fewer frames; one taking more than a
+    /// third of it is timed on its error frames alone (every frame is timed: see
+    /// `measure`). On the 2-core software rasterizer that keeps the main job in minutes;
+    /// `--timed-budget 0` times every row on `--frames` frames.
+    pub const DEFAULT_TIMED_BUDGET_S: f64 = 1.0;
     /// Fewest timed frames a budget leaves (a median and a spread need a few).
     pub const MIN_TIMED: u32 = 3;
 
@@ -428,6 +509,41 @@ pub fn load_scene_noted(spec: &str) -> Result<(Scene, Vec<String>)> {
     Ok(loaded)
 }
 
+/// Resolves `--techniques` entries to technique specs: an id or a family as
+/// [`select_techniques`] takes them, or a spec with parameters (`raytracer/caustics:converge=2`,
+/// which names one technique and the values set on it).
+pub fn select_technique_specs(
+    all_ids: &[String],
+    wanted: &[String],
+) -> Result<Vec<plan::TechniqueSpec>> {
+    let mut out: Vec<plan::TechniqueSpec> = Vec::new();
+    for name in wanted {
+        let specs = match name.contains(':') {
+            true => {
+                let spec = plan::TechniqueSpec::parse(name)?;
+                select_techniques(all_ids, Some(std::slice::from_ref(&spec.id)))?;
+                if !all_ids.contains(&spec.id) {
+                    bail!(
+                        "\"{name}\": parameters are set on one technique, not on the family {}",
+                        spec.id
+                    );
+                }
+                vec![spec]
+            }
+            false => select_techniques(all_ids, Some(std::slice::from_ref(name)))?
+                .iter()
+                .map(|id| plan::TechniqueSpec::id(id))
+                .collect(),
+        };
+        for spec in specs {
+            if !out.contains(&spec) {
+                out.push(spec);
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// The family of a technique id: what comes before the `/` (`envmap/classic` -> `envmap`).
 pub fn technique_family(id: &str) -> &str {
     id.split('/').next().unwrap_or(id)
@@ -462,69 +578,6 @@ pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Resul
         }
     }
     Ok(out)
-}
-
-/// The terminal's progress display of a long run: a bar per scene (its references and
-/// techniques) that stays when the scene is done, and under it a bar of the running technique's
-/// steps (prepare, warm-up, error and timed frames). Hidden when `show` is false or stderr is
-/// no terminal; lines printed through [`Progress::say`] appear above the bars.
-pub struct Progress {
-    multi: indicatif::MultiProgress,
-    show: bool,
-}
-
-impl Progress {
-    pub fn new(show: bool) -> Self {
-        let multi = match show {
-            true => indicatif::MultiProgress::new(),
-            false => {
-                indicatif::MultiProgress::with_draw_target(indicatif::ProgressDrawTarget::hidden())
-            }
-        };
-        Progress { multi, show }
-    }
-
-    fn bar(&self, len: u64, template: &str) -> indicatif::ProgressBar {
-        if !self.show {
-            return indicatif::ProgressBar::hidden();
-        }
-        let bar = self.multi.add(indicatif::ProgressBar::new(len));
-        if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
-            bar.set_style(style.progress_chars("=> "));
-        }
-        // Keeps the clock moving during long steps (a CPU reference takes seconds).
-        bar.enable_steady_tick(std::time::Duration::from_millis(250));
-        bar
-    }
-
-    /// A scene's bar: `len` steps (its reference and each technique), named by `prefix`.
-    pub fn scene(&self, prefix: &str, len: u64) -> indicatif::ProgressBar {
-        let bar = self.bar(
-            len,
-            "{elapsed_precise} {prefix:24!} [{bar:24}] {pos}/{len} {wide_msg}",
-        );
-        bar.set_prefix(prefix.to_string());
-        bar
-    }
-
-    /// The running technique's bar (cleared when it finishes).
-    pub fn technique(&self, name: &str) -> indicatif::ProgressBar {
-        let bar = self.bar(1, "         {prefix:24!} [{bar:24}] {pos}/{len} {wide_msg}");
-        bar.set_prefix(format!("  {name}"));
-        bar
-    }
-
-    /// Shows a technique's step on its bar: what `run::run_technique` tells its `on_frame`.
-    pub fn step(bar: &indicatif::ProgressBar, step: &str, done: usize, total: usize) {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-        bar.set_message(step.to_string());
-    }
-
-    /// Prints a line above the bars.
-    pub fn say(&self, line: &str) {
-        self.multi.suspend(|| eprintln!("{line}"));
-    }
 }
 
 #[cfg(test)]
@@ -566,11 +619,19 @@ mod tests {
 
     #[test]
     fn slow_techniques_are_timed_on_fewer_frames_within_the_budget() {
-        let f = Frames::default(); // 16 frames, 30 s
+        let f = Frames {
+            timed: 16,
+            timed_budget_s: 30.0,
+            ..Frames::default()
+        };
         assert_eq!(f.timed_within_budget(100.0), 16);
         assert_eq!(f.timed_within_budget(1875.0), 16); // exactly 30 s
         assert_eq!(f.timed_within_budget(3000.0), 10);
         assert_eq!(f.timed_within_budget(20_000.0), Frames::MIN_TIMED);
+        let default = Frames::default(); // 8 frames within 1 s
+        assert_eq!(default.timed_within_budget(125.0), 8);
+        assert_eq!(default.timed_within_budget(200.0), 5);
+        assert_eq!(default.timed_within_budget(900.0), Frames::MIN_TIMED);
         let unlimited = Frames {
             timed_budget_s: 0.0,
             ..f

@@ -4,6 +4,9 @@
 use anyhow::{Context as _, Result, bail};
 use clap::{Args, Parser, Subcommand};
 use harness::compare::CompareOptions;
+use harness::engine::{DevicePolicy, ExecOptions};
+use harness::model::RunReport;
+use harness::plan::Shard;
 use harness::sweep::SweepOptions;
 use harness::{Env, Frames, Size, images};
 use std::path::PathBuf;
@@ -44,22 +47,23 @@ struct Cli {
 
 #[derive(Args, Clone, Copy)]
 struct FrameArgs {
-    /// Timed frames along the scene's camera path (time = i * duration / N).
-    #[arg(long, default_value_t = 16, value_name = "N",
+    /// Timed frames along the scene's camera path (time = i * duration / N; the error frames
+    /// are timed too).
+    #[arg(long, default_value_t = Frames::default().timed, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=Frames::MAX_TIMED as i64))]
     frames: u32,
     /// Untimed warm-up frames before them.
-    #[arg(long, default_value_t = 3, value_name = "N",
+    #[arg(long, default_value_t = Frames::default().warmup, value_name = "N",
           value_parser = clap::value_parser!(u32).range(0..=Frames::MAX_WARMUP as i64))]
     warmup: u32,
     /// Error frames: times spread evenly over the camera path, start and end included, at
     /// which the image is measured against a reference of its own (1: time 0 only).
-    #[arg(long, default_value_t = 3, value_name = "N",
+    #[arg(long, default_value_t = Frames::default().errors, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=Frames::MAX_ERRORS as i64))]
     error_frames: u32,
     /// Seconds of timed frames per row: a technique whose first warm-up frame shows that the
-    /// timed frames would take longer is timed on fewer (at least 3), after that one warm-up;
-    /// 0: no limit. The row's `frames` says how many were timed.
+    /// timed frames would take longer is timed on fewer (at least its error frames), after
+    /// that one warm-up; 0: no limit. The row's `frames` says how many were timed.
     #[arg(long, default_value_t = Frames::DEFAULT_TIMED_BUDGET_S, value_name = "SECONDS")]
     timed_budget: f64,
 }
@@ -88,7 +92,8 @@ struct RefArgs {
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u32).range(0..=harness::limits::MAX_REF_DEPTH as i64))]
     ref_depth: Option<u32>,
-    /// Reference: caustic photons in total; 0 disables caustics [default: the renderer's].
+    /// Reference: caustic photons in total; 0 disables caustics [default: the image-scaled
+    /// density, 61 per pixel and at least 100 000, as the GPU tracer's].
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u64).range(0..=harness::limits::MAX_REF_PHOTONS))]
     ref_photons: Option<u64>,
@@ -104,13 +109,47 @@ impl RefArgs {
         if let Some(d) = self.ref_depth {
             options.max_depth = d;
         }
-        if let Some(p) = self.ref_photons {
-            options.photons = p;
-        }
         if let Some(s) = self.ref_spp {
             options.samples_per_pixel = s.max(1);
         }
-        harness::CpuReference { options }
+        harness::CpuReference {
+            options,
+            photons: self.ref_photons,
+        }
+    }
+}
+
+/// Where a compare or sweep writes, and how it runs.
+#[derive(Args, Clone)]
+struct RunArgs {
+    /// The output folder: tables, images, index.html, the reference cache (.cache/).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Run one slice of the rows only, I of N (from 1): a complete output folder of its own,
+    /// which `harness merge` joins with the other N-1 (a job array's tasks, a CI matrix).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<Shard>,
+    /// Keep the rows an interrupted run of the same arguments on the same commit left in
+    /// --out, and run only the rest.
+    #[arg(long)]
+    resume: bool,
+    /// `per-row`: a fresh device for every row (each row finds the driver as the first did);
+    /// `shared`: every row on one device, as an application would.
+    #[arg(long, default_value = "per-row", value_name = "POLICY", value_parser = ["per-row", "shared"])]
+    device: String,
+}
+
+impl RunArgs {
+    fn exec(&self) -> ExecOptions {
+        ExecOptions {
+            out: self.out.clone(),
+            shard: self.shard,
+            resume: self.resume,
+            device: match self.device.as_str() {
+                "shared" => DevicePolicy::Shared,
+                _ => DevicePolicy::PerRow,
+            },
+        }
     }
 }
 
@@ -124,96 +163,23 @@ enum Command {
     },
     /// Every supported (scene, technique) pair against the reference: results.{csv,json,md}
     /// and images under --out.
-    Compare {
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        /// Scene specs or .gltf/.glb paths, comma separated (default: every built-in scene).
-        #[arg(long, value_name = "A,B")]
-        scenes: Option<String>,
-        /// Technique ids or families, comma separated (default: every family's representative
-        /// variants; see --all-variants).
-        #[arg(long, value_name = "X,Y", value_delimiter = ',')]
-        techniques: Option<Vec<String>>,
-        /// Every variant of every family (the default runs each family's representative
-        /// variants; the exhaustive rest, every iteration or slice count, is for sweeps).
-        #[arg(long)]
-        all_variants: bool,
-        /// Image size.
-        #[arg(long, default_value = "256x256", value_name = "WxH")]
-        size: Size,
-        #[command(flatten)]
-        frames: FrameArgs,
-        #[command(flatten)]
-        reference: RefArgs,
-        /// Exit with status 3 if any technique failed or produced NaN/infinite pixels.
-        #[arg(long)]
-        strict: bool,
-    },
+    Compare(CompareArgs),
     /// One technique on one scene over the values of one parameter: sweep.{csv,json,md,png}.
-    Sweep {
-        #[arg(long, value_name = "SCENE")]
-        scene: String,
-        /// The technique's id, with other parameters fixed for the whole sweep if wanted:
-        /// `id:name=value:name=value`.
-        #[arg(long, value_name = "ID")]
-        technique: String,
-        /// A technique or scene parameter and its values.
-        #[arg(long, value_name = "NAME=V1,V2,...")]
-        param: String,
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        #[arg(long, default_value = "256x256", value_name = "WxH")]
-        size: Size,
-        #[command(flatten)]
-        frames: FrameArgs,
-        #[command(flatten)]
-        reference: RefArgs,
-    },
+    Sweep(SweepArgs),
     /// Cost of two or more techniques as ratios to the first, measured in one interleaved run
     /// with the spread over rounds: bench.{json,md} under --out when given.
-    Bench {
-        #[arg(long, value_name = "SCENE")]
-        scene: String,
-        /// A technique, `id` or `id:name=value[:name=value]`; repeat it, the first is the
-        /// baseline.
-        #[arg(long = "technique", value_name = "SPEC", required = true)]
-        techniques: Vec<String>,
-        /// The span compared: `frame`, or a span the techniques record (`lookup`, `slices`).
-        #[arg(long, default_value = "frame", value_name = "LABEL")]
-        span: String,
-        #[arg(long, default_value = "256x256", value_name = "WxH")]
-        size: Size,
-        /// Scene time of the measured view.
-        #[arg(long, default_value_t = 0.0, value_name = "T")]
-        time: f32,
-        /// Interleaved rounds (the spread is over rounds).
-        #[arg(long, default_value_t = 8, value_name = "N",
-              value_parser = clap::value_parser!(u32).range(2..=10_000))]
-        rounds: u32,
-        /// Frames per technique per round.
-        #[arg(long, default_value_t = 8, value_name = "N",
-              value_parser = clap::value_parser!(u32).range(1..=10_000))]
-        frames: u32,
-        /// Untimed frames per technique before the first round.
-        #[arg(long, default_value_t = 3, value_name = "N",
-              value_parser = clap::value_parser!(u32).range(0..=10_000))]
-        warmup: u32,
-        #[arg(long, value_name = "DIR")]
-        out: Option<PathBuf>,
-    },
+    Bench(BenchArgs),
     /// Renders one image of the camera path's view at time 0 (.png or .exr by extension).
     /// `--technique reference` renders the ground truth.
-    Render {
-        #[arg(long, value_name = "SCENE")]
-        scene: String,
-        #[arg(long, value_name = "ID")]
-        technique: String,
-        #[arg(long, value_name = "FILE")]
+    Render(RenderArgs),
+    /// Joins the output folders of the shards of one compare or sweep (`--shard 1/N` ...
+    /// `--shard N/N`) into one, as the unsharded run writes it.
+    Merge {
+        /// The shards' output folders.
+        #[arg(required = true, value_name = "DIR")]
+        shards: Vec<PathBuf>,
+        #[arg(long, value_name = "DIR")]
         out: PathBuf,
-        #[arg(long, default_value = "256x256", value_name = "WxH")]
-        size: Size,
-        #[command(flatten)]
-        reference: RefArgs,
     },
     /// Redraws the Pareto view (error against frame time, `pareto/<scene>.png`, and
     /// `pareto.json`) from the results.json of earlier compare runs, one or more (scenes of
@@ -232,6 +198,100 @@ enum Command {
         #[arg(long, value_name = "FILE.glb")]
         out: PathBuf,
     },
+}
+
+#[derive(Args)]
+struct CompareArgs {
+    #[command(flatten)]
+    run: RunArgs,
+    /// Scene specs or .gltf/.glb paths, comma separated (default: every built-in scene).
+    #[arg(long, value_name = "A,B")]
+    scenes: Option<String>,
+    /// Technique ids, families or specs with parameters (`id:name=value`), comma separated
+    /// (default: every family's representative variants; see --all-variants).
+    #[arg(long, value_name = "X,Y", value_delimiter = ',')]
+    techniques: Option<Vec<String>>,
+    /// Every variant of every family (the default runs each family's representative
+    /// variants; the exhaustive rest, every iteration or slice count, is for sweeps).
+    #[arg(long)]
+    all_variants: bool,
+    /// Image size.
+    #[arg(long, default_value = "128x128", value_name = "WxH")]
+    size: Size,
+    #[command(flatten)]
+    frames: FrameArgs,
+    #[command(flatten)]
+    reference: RefArgs,
+    /// Exit with status 3 if any technique failed or produced NaN/infinite pixels.
+    #[arg(long)]
+    strict: bool,
+}
+
+#[derive(Args)]
+struct SweepArgs {
+    #[arg(long, value_name = "SCENE")]
+    scene: String,
+    /// The technique's id, with other parameters fixed for the whole sweep if wanted:
+    /// `id:name=value:name=value`.
+    #[arg(long, value_name = "ID")]
+    technique: String,
+    /// A technique or scene parameter and its values.
+    #[arg(long, value_name = "NAME=V1,V2,...")]
+    param: String,
+    #[command(flatten)]
+    run: RunArgs,
+    #[arg(long, default_value = "128x128", value_name = "WxH")]
+    size: Size,
+    #[command(flatten)]
+    frames: FrameArgs,
+    #[command(flatten)]
+    reference: RefArgs,
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    #[arg(long, value_name = "SCENE")]
+    scene: String,
+    /// A technique, `id` or `id:name=value[:name=value]`; repeat it, the first is the
+    /// baseline.
+    #[arg(long = "technique", value_name = "SPEC", required = true)]
+    techniques: Vec<String>,
+    /// The span compared: `frame`, or a span the techniques record (`lookup`, `slices`).
+    #[arg(long, default_value = "frame", value_name = "LABEL")]
+    span: String,
+    #[arg(long, default_value = "256x256", value_name = "WxH")]
+    size: Size,
+    /// Scene time of the measured view.
+    #[arg(long, default_value_t = 0.0, value_name = "T")]
+    time: f32,
+    /// Interleaved rounds (the spread is over rounds).
+    #[arg(long, default_value_t = 8, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(2..=10_000))]
+    rounds: u32,
+    /// Frames per technique per round.
+    #[arg(long, default_value_t = 8, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    frames: u32,
+    /// Untimed frames per technique before the first round.
+    #[arg(long, default_value_t = 3, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(0..=10_000))]
+    warmup: u32,
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    #[arg(long, value_name = "SCENE")]
+    scene: String,
+    #[arg(long, value_name = "ID")]
+    technique: String,
+    #[arg(long, value_name = "FILE")]
+    out: PathBuf,
+    #[arg(long, default_value = "256x256", value_name = "WxH")]
+    size: Size,
+    #[command(flatten)]
+    reference: RefArgs,
 }
 
 /// The adapter line and a markdown table, as compare, sweep and bench print them.
@@ -290,192 +350,188 @@ fn context() -> Result<gpu::Context> {
 fn run(cli: Cli) -> Result<ExitCode> {
     match cli.command {
         Command::List { params } => list(params),
-        Command::Compare {
-            out,
-            scenes,
-            techniques,
-            all_variants,
-            size,
-            frames,
-            reference,
-            strict,
-        } => {
-            let scenes = match scenes {
-                Some(list) => {
-                    let specs = harness::split_scene_list(&list);
-                    if specs.is_empty() {
-                        bail!(
-                            "--scenes \"{list}\" names no scene; leave it out to run every built-in scene"
-                        );
-                    }
-                    specs
-                }
-                None => Vec::new(),
-            };
-            // Check names and scenes before creating the GPU context (seconds on a software
-            // adapter); the runner checks them again.
-            let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
-            harness::select_techniques(&all_ids, techniques.as_deref())?;
-            for spec in &scenes {
-                harness::load_scene(spec)?;
-            }
-            let ctx = context()?;
-            let reference = reference.reference();
-            let env = Env::standard(&ctx, &reference);
-            let opts = CompareOptions {
-                out: out.clone(),
-                scenes,
-                techniques,
-                all_variants,
-                size,
-                frames: frames.frames()?,
-            };
-            let report = harness::compare::run(&env, &opts)?;
-            print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
-            outln!();
-            outln!(
-                "wrote {0}/results.csv, {0}/results.json, {0}/results.md and {0}/images/",
-                out.display()
-            );
-            outln!(
-                "report: {}/index.html (open it in a browser)",
-                out.display()
-            );
-            if !report.errors.is_empty() {
-                eprintln!(
-                    "{} error(s), printed above and listed in results.json",
-                    report.errors.len()
-                );
-            }
-            if !report.panics.is_empty() {
-                eprintln!(
-                    "error: {} technique run(s) panicked (a defect, whatever --strict says): {}",
-                    report.panics.len(),
-                    report.panics.join("; ")
-                );
-                return Ok(ExitCode::from(PANIC_EXIT));
-            }
-            let nan = report.rows.iter().any(|r| r.nan_pixels.unwrap_or(0) > 0);
-            if strict && (!report.errors.is_empty() || nan) {
-                eprintln!("error: --strict: the run had errors or non-finite pixels");
-                return Ok(ExitCode::from(3));
-            }
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Sweep {
-            scene,
-            technique,
-            param,
-            out,
-            size,
-            frames,
-            reference,
-        } => {
-            let (param, values) = harness::sweep::parse_param_arg(&param)?;
-            let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
-            let (id, _) = harness::bench::parse_technique_spec(&technique)?;
-            harness::select_techniques(&all_ids, Some(std::slice::from_ref(&id)))?;
-            harness::load_scene(&scene)?;
-            let ctx = context()?;
-            let reference = reference.reference();
-            let env = Env::standard(&ctx, &reference);
-            let opts = SweepOptions {
-                out: out.clone(),
-                scene,
-                technique,
-                param,
-                values,
-                size,
-                frames: frames.frames()?,
-            };
-            let report = harness::sweep::run(&env, &opts)?;
-            print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
-            outln!();
-            outln!(
-                "wrote {0}/sweep.csv, {0}/sweep.json, {0}/sweep.png and {0}/images/",
-                out.display()
-            );
-            outln!(
-                "report: {}/index.html (open it in a browser)",
-                out.display()
-            );
-            if !report.errors.is_empty() {
-                eprintln!(
-                    "{} error(s), printed above and listed in sweep.json",
-                    report.errors.len()
-                );
-            }
-            if !report.panics.is_empty() {
-                eprintln!(
-                    "error: {} technique run(s) panicked: {}",
-                    report.panics.len(),
-                    report.panics.join("; ")
-                );
-                return Ok(ExitCode::from(PANIC_EXIT));
-            }
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Bench {
-            scene,
-            techniques,
-            span,
-            size,
-            time,
-            rounds,
-            frames,
-            warmup,
-            out,
-        } => {
-            if !(0.0..=harness::limits::MAX_TIME).contains(&time) {
-                bail!(
-                    "--time {time} is outside [0, {}] seconds",
-                    harness::limits::MAX_TIME
-                );
-            }
-            harness::load_scene(&scene)?;
-            let ctx = context()?;
-            let reference = RefArgs::default().reference();
-            let env = Env::standard(&ctx, &reference);
-            let opts = harness::bench::BenchOptions {
-                scene,
-                techniques,
-                span,
-                size,
-                time,
-                rounds,
-                frames,
-                warmup,
-                out: out.clone(),
-            };
-            let report = harness::bench::run(&env, &opts)?;
-            print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
-            if let Some(out) = out {
-                outln!();
-                outln!("wrote {0}/bench.json and {0}/bench.md", out.display());
-            }
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Render {
-            scene,
-            technique,
-            out,
-            size,
-            reference,
-        } => render(&scene, &technique, &out, size, &reference.reference()),
+        Command::Compare(args) => compare(args),
+        Command::Sweep(args) => sweep(args),
+        Command::Bench(args) => bench(args),
+        Command::Render(args) => render(&args),
         Command::Pareto { results, out } => pareto(&results, &out),
-        Command::ExportScene { scene, out } => {
-            if !out
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
-            {
-                bail!("{} must end in .glb", out.display());
-            }
-            let model = harness::load_scene(&scene)?;
-            harness::backend::export_glb(&model, &out)?;
-            outln!("wrote {}", out.display());
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::Merge { shards, out } => merge(&shards, &out),
+        Command::ExportScene { scene, out } => export_scene(&scene, &out),
     }
+}
+
+/// `--scenes`: the specs it lists (none: every built-in scene).
+fn scene_list(scenes: Option<String>) -> Result<Vec<String>> {
+    let Some(list) = scenes else {
+        return Ok(Vec::new());
+    };
+    let specs = harness::split_scene_list(&list);
+    if specs.is_empty() {
+        bail!("--scenes \"{list}\" names no scene; leave it out to run every built-in scene");
+    }
+    Ok(specs)
+}
+
+fn compare(args: CompareArgs) -> Result<ExitCode> {
+    let scenes = scene_list(args.scenes)?;
+    // Check names and scenes before creating the GPU context (seconds on a software adapter);
+    // the plan checks them again.
+    let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
+    if let Some(wanted) = &args.techniques {
+        harness::select_technique_specs(&all_ids, wanted)?;
+    }
+    for spec in &scenes {
+        harness::load_scene(spec)?;
+    }
+    let ctx = context()?;
+    let reference = args.reference.reference();
+    let env = Env::standard(&ctx, &reference);
+    let opts = CompareOptions {
+        scenes,
+        techniques: args.techniques,
+        all_variants: args.all_variants,
+        size: args.size,
+        frames: args.frames.frames()?,
+    };
+    let report = harness::compare::run(&env, &opts, &args.run.exec())?;
+    finish(&ctx, &report, &args.run.out, args.strict)
+}
+
+fn sweep(args: SweepArgs) -> Result<ExitCode> {
+    let (param, values) = harness::sweep::parse_param_arg(&args.param)?;
+    let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
+    let id = harness::plan::TechniqueSpec::parse(&args.technique)?.id;
+    harness::select_techniques(&all_ids, Some(std::slice::from_ref(&id)))?;
+    harness::load_scene(&args.scene)?;
+    let ctx = context()?;
+    let reference = args.reference.reference();
+    let env = Env::standard(&ctx, &reference);
+    let opts = SweepOptions {
+        scene: args.scene,
+        technique: args.technique,
+        param,
+        values,
+        size: args.size,
+        frames: args.frames.frames()?,
+    };
+    let report = harness::sweep::run(&env, &opts, &args.run.exec())?;
+    finish(&ctx, &report, &args.run.out, false)
+}
+
+fn bench(args: BenchArgs) -> Result<ExitCode> {
+    if !(0.0..=harness::limits::MAX_TIME).contains(&args.time) {
+        bail!(
+            "--time {} is outside [0, {}] seconds",
+            args.time,
+            harness::limits::MAX_TIME
+        );
+    }
+    harness::load_scene(&args.scene)?;
+    let ctx = context()?;
+    let reference = RefArgs::default().reference();
+    let env = Env::standard(&ctx, &reference);
+    let opts = harness::bench::BenchOptions {
+        scene: args.scene,
+        techniques: args.techniques,
+        span: args.span,
+        size: args.size,
+        time: args.time,
+        rounds: args.rounds,
+        frames: args.frames,
+        warmup: args.warmup,
+        out: args.out.clone(),
+    };
+    let report = harness::bench::run(&env, &opts)?;
+    print_table(&ctx, &report.adapter.timer_kind, &report.markdown);
+    if let Some(out) = args.out {
+        outln!();
+        outln!("wrote {0}/bench.json and {0}/bench.md", out.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn merge(shards: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
+    let report = harness::merge::merge(shards, out)?;
+    outln!(
+        "merged {} shards: {} rows into {}",
+        shards.len(),
+        report.rows.len(),
+        out.display()
+    );
+    wrote(&report, out);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn export_scene(scene: &str, out: &std::path::Path) -> Result<ExitCode> {
+    if !out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
+    {
+        bail!("{} must end in .glb", out.display());
+    }
+    let model = harness::load_scene(scene)?;
+    harness::backend::export_glb(&model, out)?;
+    outln!("wrote {}", out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The files a compare or sweep wrote, one line each.
+fn wrote(report: &RunReport, out: &std::path::Path) {
+    let stem = if report.sweep().is_some() {
+        "sweep"
+    } else {
+        "results"
+    };
+    outln!(
+        "wrote {0}/{stem}.csv, {0}/{stem}.json, {0}/{stem}.md and {0}/images/",
+        out.display()
+    );
+    outln!(
+        "report: {}/index.html (open it in a browser)",
+        out.display()
+    );
+}
+
+/// A compare's or sweep's end: the table, the files, the errors, and the exit status (4 when a
+/// technique panicked; 3 with `strict` when a row failed or had non-finite pixels).
+fn finish(
+    ctx: &gpu::Context,
+    report: &RunReport,
+    out: &std::path::Path,
+    strict: bool,
+) -> Result<ExitCode> {
+    print_table(
+        ctx,
+        &report.adapter.timer_kind,
+        &harness::output::markdown(report),
+    );
+    outln!();
+    wrote(report, out);
+    if !report.errors.is_empty() {
+        eprintln!(
+            "{} error(s), printed above and listed in {}.json",
+            report.errors.len(),
+            if report.sweep().is_some() {
+                "sweep"
+            } else {
+                "results"
+            }
+        );
+    }
+    if !report.panics.is_empty() {
+        eprintln!(
+            "error: {} technique run(s) panicked (a defect, whatever --strict says): {}",
+            report.panics.len(),
+            report.panics.join("; ")
+        );
+        return Ok(ExitCode::from(PANIC_EXIT));
+    }
+    let nan = report.rows.iter().any(|r| r.nan_pixels.unwrap_or(0) > 0);
+    if strict && (!report.errors.is_empty() || nan) {
+        eprintln!("error: --strict: the run had errors or non-finite pixels");
+        return Ok(ExitCode::from(3));
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// `harness pareto`: the plots and points of every scene in `results`.
@@ -577,13 +633,9 @@ fn list(params: bool) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn render(
-    spec: &str,
-    technique: &str,
-    out: &std::path::Path,
-    size: Size,
-    reference: &harness::CpuReference,
-) -> Result<ExitCode> {
+/// `render`: one image of the camera path's view at time 0 (see `RenderArgs`).
+fn render(args: &RenderArgs) -> Result<ExitCode> {
+    let (spec, out, size) = (&args.scene, &args.out, args.size);
     let ext = out
         .extension()
         .and_then(|e| e.to_str())
@@ -594,21 +646,11 @@ fn render(
             out.display()
         );
     }
-    let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
     // `reference` is the ground truth itself, rendered with the --ref-* options (the
     // registry's `reference` technique renders with the defaults; it is there for compare).
-    let use_ground_truth = technique == "reference";
-    let id = if use_ground_truth {
-        String::new()
-    } else {
-        let ids = harness::select_techniques(&all_ids, Some(&[technique.to_string()]))?;
-        match ids.as_slice() {
-            [id] => id.clone(),
-            _ => bail!(
-                "\"{technique}\" names several techniques ({}); give one id",
-                ids.join(", ")
-            ),
-        }
+    let id = match args.technique.as_str() {
+        "reference" => None,
+        technique => Some(one_technique(technique)?),
     };
     let (scene, notes) = harness::load_scene_noted(spec)?;
     for note in notes {
@@ -622,41 +664,17 @@ fn render(
         timed_budget_s: 0.0,
     };
     harness::limits::check_memory(&ctx, size, one_image)?;
-    let image = if use_ground_truth {
-        harness::backend::render_reference(
-            &scene,
-            &scene.camera_at(0.0),
-            0.0,
-            size.width,
-            size.height,
-            &reference.options,
-        )?
-        .image
-    } else {
-        let mut t = harness::registry()
-            .into_iter()
-            .find(|t| t.id() == id)
-            .with_context(|| format!("technique {id} vanished"))?;
-        if !t.supports(&scene) {
-            bail!("technique {id} does not support scene {spec}");
+    let image = match id {
+        None => {
+            let options = args
+                .reference
+                .reference()
+                .options_for(size.width, size.height);
+            let camera = scene.camera_at(0.0);
+            let (w, h) = (size.width, size.height);
+            harness::backend::render_reference(&scene, &camera, 0.0, w, h, &options)?.image
         }
-        ctx.require(t.required_features())
-            .with_context(|| format!("technique {id}"))?;
-        let mut gpu_scene = harness::backend::upload_scene(&ctx, &scene)?;
-        let run = harness::run::run_technique(
-            &ctx,
-            t.as_mut(),
-            &mut gpu_scene,
-            size,
-            Frames {
-                timed: 0,
-                warmup: 0,
-                errors: 1,
-                timed_budget_s: 0.0,
-            },
-            &mut |_, _, _| {},
-        )?;
-        run.image().clone()
+        Some(id) => render_technique(&ctx, &id, spec, &scene, size, one_image)?,
     };
     images::write_by_extension(out, &image)?;
     let bad = image.non_finite_count();
@@ -665,4 +683,47 @@ fn render(
     }
     outln!("wrote {}", out.display());
     Ok(ExitCode::SUCCESS)
+}
+
+/// The one technique id `name` stands for.
+fn one_technique(name: &str) -> Result<String> {
+    let all_ids: Vec<String> = harness::registry().iter().map(|t| t.id()).collect();
+    let ids = harness::select_techniques(&all_ids, Some(&[name.to_string()]))?;
+    match ids.as_slice() {
+        [id] => Ok(id.clone()),
+        _ => bail!(
+            "\"{name}\" names several techniques ({}); give one id",
+            ids.join(", ")
+        ),
+    }
+}
+
+/// Technique `id`'s image of `scene` at time 0.
+fn render_technique(
+    ctx: &gpu::Context,
+    id: &str,
+    spec: &str,
+    scene: &scene::Scene,
+    size: Size,
+    frames: Frames,
+) -> Result<gpu::HdrImage> {
+    let mut t = harness::registry()
+        .into_iter()
+        .find(|t| t.id() == id)
+        .with_context(|| format!("technique {id} vanished"))?;
+    if !t.supports(scene) {
+        bail!("technique {id} does not support scene {spec}");
+    }
+    ctx.require(t.required_features())
+        .with_context(|| format!("technique {id}"))?;
+    let mut gpu_scene = harness::backend::upload_scene(ctx, scene)?;
+    let run = harness::measure::run_technique(
+        ctx,
+        t.as_mut(),
+        &mut gpu_scene,
+        size,
+        frames,
+        &mut |_, _, _| {},
+    )?;
+    Ok(run.image().clone())
 }

@@ -1,5 +1,6 @@
-//! Running one technique on one uploaded scene: prepare, the error frame, warm-up and timed
-//! frames, each in its own command encoder bracketed by the timer.
+//! Measuring one technique on one uploaded scene: prepare, warm-up, then the camera path, whose
+//! frames are both timed samples and, at the error times, the images measured against the
+//! reference.
 //!
 //! The per-step recording is `scene::runner`'s (shared with `testkit`, so tests render what the
 //! harness measures): per frame it creates an encoder, calls `timer.begin(enc, "frame")`,
@@ -14,33 +15,28 @@
 //! submission of its own (objects' transforms and shadow maps: the same work for every
 //! technique), so it is not part of any technique's time.
 //!
-//! Order: prepare (scene at time 0); `warmup` untimed frames on the camera path at time 0 (only
-//! the first when it shows the timed frames would overrun [`Frames::timed_budget_s`]: the row is
-//! then timed on fewer frames, [`Frames::timed_within_budget`]); then the camera path in time
-//! order: the `timed` frames at `time = i * duration / timed` and,
-//! among them, the error frames at [`Frames::error_times_for`] (start, middle and end of the
-//! path by default), each read back and not timed. Every frame uses the path's camera at its
-//! time with the scene moved to that time. Because the error frames sit in the same sequence
-//! as the timed frames, a technique that keeps state from frame to frame (maps made at
+//! Order: prepare (scene at time 0); `warmup` untimed frames at time 0 (only the first when it
+//! shows the timed frames would overrun [`Frames::timed_budget_s`]: the row is then timed on
+//! fewer frames, [`Frames::timed_within_budget`]); then the camera path in time order, each
+//! frame at the path's camera and the scene moved to its time: the `timed` frames at
+//! `time = i * duration / timed` and the error frames at [`Frames::error_times_for`] (start,
+//! middle and end of the path by default). A time that is both is one frame. An error frame is
+//! read back after its submission, in a submission of its own, so its timestamps are those of
+//! any other frame and it is a timed sample too: every frame on the path is timed. A technique
+//! that converges over frames of an unchanged view ([`Technique::frames_to_converge`], the exact
+//! tracer's progressive caustics) renders that many frames at an error frame's view, each one
+//! timed, and its image is read after the last. Because the error frames sit in the same
+//! sequence as the timed frames, a technique that keeps state from frame to frame (maps made at
 //! prepare, amortized regeneration) reaches each error time through the frames an application
 //! would have rendered before it, not by a jump. A GPU validation error in any frame is the
 //! technique's error.
 
-use crate::{Frames, Size};
+use crate::Frames;
 use anyhow::{Result, anyhow};
 use gpu::{Context, GpuTimer, HdrImage, Target, TimeStats, TimerKind};
 use scene::runner::{self, Recorded};
 use scene::{GpuScene, Technique, Timing, View};
 use std::collections::BTreeMap;
-
-/// What a frame of a run is for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Step {
-    /// Read back and measured against the reference at its time; not timed.
-    Error,
-    /// Timed.
-    Timed,
-}
 
 /// One error frame: the image of the camera path's view at `time`, read back.
 #[derive(Clone, Debug)]
@@ -75,7 +71,7 @@ impl TechniqueRun {
 const HARNESS_LABELS: &[&str] = &["frame", "prepare", "wall", "scene_update"];
 
 /// One recorded step (`scene::runner::Recorded`) read the harness's way.
-pub(crate) struct Sample(Recorded);
+pub(crate) struct Sample(pub(crate) Recorded);
 
 impl Sample {
     /// The figure for `label` under this timer kind (see the module documentation).
@@ -100,6 +96,268 @@ impl Sample {
     }
 }
 
+/// A frame on the camera path: its time, and whether its image is read back as an error
+/// frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PathFrame {
+    pub time: f32,
+    pub error: bool,
+}
+
+/// The frames of the camera path in time order: `timed` frames at `i * duration / timed`, of
+/// which those at an error time are that error frame, and the error times no timed frame hit.
+/// At one time, the error frame comes first (a still scene's error frame is its first frame).
+pub(crate) fn path_frames(duration: f32, timed: u32, error_times: &[f32]) -> Vec<PathFrame> {
+    let mut pending: Vec<f32> = error_times.to_vec();
+    let mut frames: Vec<PathFrame> = Vec::new();
+    for i in 0..timed {
+        let time = i as f32 * duration / timed as f32;
+        let error = match pending.iter().position(|&e| e == time) {
+            Some(k) => {
+                pending.remove(k);
+                true
+            }
+            None => false,
+        };
+        frames.push(PathFrame { time, error });
+    }
+    frames.extend(
+        pending
+            .into_iter()
+            .map(|time| PathFrame { time, error: true }),
+    );
+    frames.sort_by(|a, b| a.time.total_cmp(&b.time).then(b.error.cmp(&a.error)));
+    frames
+}
+
+/// The steps of one row, for a progress display: `(step, done, total)`.
+pub type OnStep<'a> = dyn FnMut(&str, usize, usize) + 'a;
+
+/// The frames of a row, as the module documentation orders them.
+struct Schedule {
+    duration: f32,
+    error_times: Vec<f32>,
+    /// Frames an error frame takes ([`Technique::frames_to_converge`]).
+    converge: usize,
+    warmup: usize,
+}
+
+impl Schedule {
+    /// The path's frames with `timed` timed frames; a row timed on no more frames than it has
+    /// error frames is timed on its error frames alone.
+    fn path(&self, timed: u32) -> Vec<PathFrame> {
+        let timed = match timed as usize <= self.error_times.len() {
+            true => 0,
+            false => timed,
+        };
+        path_frames(self.duration, timed, &self.error_times)
+    }
+
+    /// Frames rendered along the path: each once, an error frame `converge` times.
+    fn path_len(&self, timed: u32) -> usize {
+        self.path(timed)
+            .iter()
+            .map(|f| if f.error { self.converge } else { 1 })
+            .sum()
+    }
+
+    /// Every step: prepare, warm-up, the path.
+    fn steps(&self, timed: u32, warmup: usize) -> usize {
+        1 + warmup + self.path_len(timed)
+    }
+}
+
+/// The timed samples of a row's frames.
+#[derive(Default)]
+struct Samples {
+    frames: Vec<f64>,
+    /// Per technique span: its time in every timed frame.
+    spans: BTreeMap<String, Vec<f64>>,
+}
+
+impl Samples {
+    fn add(&mut self, sample: &Sample, timing: Timing, kind: TimerKind) {
+        self.frames.push(sample.time("frame", timing, kind));
+        for (label, ms) in sample.extra() {
+            self.spans
+                .entry(format!("{label}_ms"))
+                .or_default()
+                .push(*ms);
+        }
+    }
+}
+
+/// Renders `technique` on `scene` (see the module documentation). `on_step` is told each step:
+/// what it is, how many steps are done and how many there are (prepare, warm-up frames, the
+/// path's frames; the total shrinks when the timed budget cuts frames).
+pub fn run_technique(
+    ctx: &Context,
+    technique: &mut dyn Technique,
+    scene: &mut GpuScene,
+    size: crate::Size,
+    frames: Frames,
+    on_step: &mut OnStep,
+) -> Result<TechniqueRun> {
+    let mut timer = GpuTimer::new(ctx, 64);
+    let (kind, timing) = (timer.kind(), technique.timing());
+    let target = Target::new(ctx, size.width, size.height)?;
+    let schedule = Schedule {
+        duration: scene.scene.camera_path.duration().max(0.0),
+        error_times: frames.error_times_for(&scene.scene),
+        converge: technique.frames_to_converge().max(1) as usize,
+        warmup: frames.warmup as usize,
+    };
+    let mut recorder = Recorder::new(ctx, &mut timer, target, size, scene);
+    on_step("prepare", 0, schedule.steps(frames.timed, schedule.warmup));
+    update_scene(ctx, recorder.timer, scene, 0.0)?;
+    let prep = prepare(ctx, recorder.timer, technique, scene)?;
+    let mut spans_ms: BTreeMap<String, f64> = BTreeMap::new();
+    for (label, ms) in prep.extra() {
+        *spans_ms.entry(format!("prepare.{label}_ms")).or_insert(0.0) += ms;
+    }
+    let (timed, warmed) = warm_up(&mut recorder, technique, scene, &schedule, frames, on_step)?;
+    let clock = (timing, kind);
+    let (samples, error_frames) = walk_path(
+        &mut recorder,
+        technique,
+        scene,
+        &schedule,
+        (timed, warmed),
+        clock,
+        on_step,
+    )?;
+    for (label, values) in samples.spans {
+        spans_ms.insert(label, TimeStats::from_samples(&values).median_ms);
+    }
+    Ok(TechniqueRun {
+        error_frames,
+        timer: match timing {
+            Timing::Cpu => "cpu".to_string(),
+            Timing::Gpu => kind.label().to_string(),
+        },
+        frame: TimeStats::from_samples(&samples.frames),
+        prepare_ms: prep.time("prepare", timing, kind),
+        prepare_wall_ms: prep.0.total_ms,
+        spans_ms,
+    })
+}
+
+/// The warm-up frames at time 0; the first also tells how many timed frames fit the budget (a
+/// slow technique then needs no further warm-up: its shaders are compiled and its maps made).
+/// Returns the timed frames of the row and the warm-up frames rendered.
+fn warm_up(
+    recorder: &mut Recorder,
+    technique: &mut dyn Technique,
+    scene: &mut GpuScene,
+    schedule: &Schedule,
+    frames: Frames,
+    on_step: &mut OnStep,
+) -> Result<(u32, usize)> {
+    let total = schedule.steps(frames.timed, schedule.warmup);
+    for w in 0..schedule.warmup {
+        on_step("warm-up", 1 + w, total);
+        let sample = recorder.frame(technique, scene, 0.0)?;
+        if w == 0 {
+            let timed = frames.timed_within_budget(sample.0.total_ms);
+            if timed < frames.timed {
+                return Ok((timed, 1));
+            }
+        }
+    }
+    Ok((frames.timed, schedule.warmup))
+}
+
+/// The camera path's frames (see [`Schedule::path`]): every one a timed sample, the error
+/// frames read back after their last frame.
+fn walk_path(
+    recorder: &mut Recorder,
+    technique: &mut dyn Technique,
+    scene: &mut GpuScene,
+    schedule: &Schedule,
+    (timed, warmed): (u32, usize),
+    (timing, kind): (Timing, TimerKind),
+    on_step: &mut OnStep,
+) -> Result<(Samples, Vec<ErrorFrame>)> {
+    let path = schedule.path(timed);
+    let mut done = 1 + warmed;
+    let total = done + schedule.path_len(timed);
+    let mut samples = Samples::default();
+    let mut error_frames = Vec::new();
+    for frame in &path {
+        let repeats = if frame.error { schedule.converge } else { 1 };
+        for k in 0..repeats {
+            let label = match (frame.error, repeats) {
+                (true, 1) => format!("error frame at time {}", frame.time),
+                (true, _) => format!("error frame at time {} ({}/{repeats})", frame.time, k + 1),
+                (false, _) => format!("frame at time {}", frame.time),
+            };
+            on_step(&label, done, total);
+            let sample = recorder.frame(technique, scene, frame.time)?;
+            samples.add(&sample, timing, kind);
+            done += 1;
+        }
+        if frame.error {
+            error_frames.push(ErrorFrame {
+                time: frame.time,
+                image: target_image(recorder.ctx, &recorder.target)?,
+            });
+        }
+    }
+    Ok((samples, error_frames))
+}
+
+fn target_image(ctx: &Context, target: &Target) -> Result<HdrImage> {
+    target
+        .read(ctx)
+        .map_err(|e| anyhow!(e).context("reading the error frame back"))
+}
+
+/// What every frame of a row renders into, and with: the target, the timer and the path's
+/// camera.
+struct Recorder<'t> {
+    ctx: &'t Context,
+    timer: &'t mut GpuTimer,
+    target: Target,
+    size: crate::Size,
+    camera_path: scene::CameraPath,
+    still: scene::Camera,
+}
+
+impl<'t> Recorder<'t> {
+    fn new(
+        ctx: &'t Context,
+        timer: &'t mut GpuTimer,
+        target: Target,
+        size: crate::Size,
+        scene: &GpuScene,
+    ) -> Self {
+        Recorder {
+            ctx,
+            timer,
+            target,
+            size,
+            camera_path: scene.scene.camera_path.clone(),
+            still: scene.scene.camera,
+        }
+    }
+
+    /// One frame of the path's view at `time`.
+    fn frame(
+        &mut self,
+        technique: &mut dyn Technique,
+        scene: &mut GpuScene,
+        time: f32,
+    ) -> Result<Sample> {
+        let view = View {
+            camera: self.camera_path.sample(time).unwrap_or(self.still),
+            time,
+            width: self.size.width,
+            height: self.size.height,
+        };
+        render_frame(self.ctx, self.timer, technique, scene, &view, &self.target)
+    }
+}
+
 /// Moves the shared scene to `time` in a submission of its own.
 pub(crate) fn update_scene(
     ctx: &Context,
@@ -109,111 +367,6 @@ pub(crate) fn update_scene(
 ) -> Result<()> {
     runner::update_scene(ctx, timer, scene, time)
         .map_err(|e| anyhow!(e).context("moving the scene to the frame's time"))
-}
-
-/// Runs `technique` on `scene` (see the module documentation). `on_frame` is told each step:
-/// what it is, how many steps are done and how many there are (prepare, warm-up frames, error
-/// and timed frames; the total shrinks when the timed budget cuts frames).
-pub fn run_technique(
-    ctx: &Context,
-    technique: &mut dyn Technique,
-    scene: &mut GpuScene,
-    size: Size,
-    frames: Frames,
-    on_frame: &mut dyn FnMut(&str, usize, usize),
-) -> Result<TechniqueRun> {
-    let target = Target::new(ctx, size.width, size.height)?;
-    let mut timer = GpuTimer::new(ctx, 64);
-    let kind = timer.kind();
-    let timing = technique.timing();
-    let duration = scene.scene.camera_path.duration().max(0.0);
-    let error_times = frames.error_times_for(&scene.scene);
-    let (camera_path, still) = (scene.scene.camera_path.clone(), scene.scene.camera);
-    let path_camera = |t: f32| camera_path.sample(t).unwrap_or(still);
-    let view = |camera, time| View {
-        camera,
-        time,
-        width: size.width,
-        height: size.height,
-    };
-    let mut total = 1 + frames.warmup as usize + error_times.len() + frames.timed as usize;
-    on_frame("prepare", 0, total);
-    update_scene(ctx, &mut timer, scene, 0.0)?;
-    let prep = prepare(ctx, &mut timer, technique, scene)?;
-    let mut spans_ms = BTreeMap::new();
-    for (label, ms) in prep.extra() {
-        *spans_ms.entry(format!("prepare.{label}_ms")).or_insert(0.0) += ms;
-    }
-
-    // Warm-up; the first frame also tells how many timed frames fit the budget (a slow
-    // technique then needs no further warm-up: its shaders are compiled and its maps made).
-    let mut timed = frames.timed;
-    for w in 0..frames.warmup {
-        on_frame("warm-up", 1 + w as usize, total);
-        let warm = view(path_camera(0.0), 0.0);
-        let sample = render_frame(ctx, &mut timer, technique, scene, &warm, &target)?;
-        if w == 0 {
-            timed = frames.timed_within_budget(sample.0.total_ms);
-            if timed < frames.timed {
-                total = 2 + error_times.len() + timed as usize;
-                break;
-            }
-        }
-    }
-
-    // The error frames take their place among the timed frames in time order (an error frame
-    // before a timed frame of the same time), so a technique reaches each error time through
-    // the frames an application would have rendered before it.
-    let mut path: Vec<(View, Step)> = error_times
-        .iter()
-        .map(|&t| (view(path_camera(t), t), Step::Error))
-        .collect();
-    for i in 0..timed {
-        let t = i as f32 * duration / timed as f32;
-        path.push((view(path_camera(t), t), Step::Timed));
-    }
-    path.sort_by(|a, b| a.0.time.total_cmp(&b.0.time));
-    let steps = path;
-
-    let mut error_frames = Vec::new();
-    let mut times = Vec::new();
-    let mut extra: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-    let mut timed_done = 0;
-    for (done, (v, step)) in (total - steps.len()..).zip(&steps) {
-        let label = match step {
-            Step::Error => format!("error frame at time {}", v.time),
-            Step::Timed => format!("frame {}/{timed}", timed_done + 1),
-        };
-        on_frame(&label, done, total);
-        let sample = render_frame(ctx, &mut timer, technique, scene, v, &target)?;
-        match step {
-            Step::Error => error_frames.push(ErrorFrame {
-                time: v.time,
-                image: target.read(ctx)?,
-            }),
-            Step::Timed => {
-                timed_done += 1;
-                times.push(sample.time("frame", timing, kind));
-                for (label, ms) in sample.extra() {
-                    extra.entry(format!("{label}_ms")).or_default().push(*ms);
-                }
-            }
-        }
-    }
-    for (label, samples) in extra {
-        spans_ms.insert(label, TimeStats::from_samples(&samples).median_ms);
-    }
-    Ok(TechniqueRun {
-        error_frames,
-        timer: match timing {
-            Timing::Cpu => "cpu".to_string(),
-            Timing::Gpu => kind.label().to_string(),
-        },
-        frame: TimeStats::from_samples(&times),
-        prepare_ms: prep.time("prepare", timing, kind),
-        prepare_wall_ms: prep.0.total_ms,
-        spans_ms,
-    })
 }
 
 /// The technique's `prepare`, timed under the label "prepare".
@@ -240,4 +393,48 @@ pub(crate) fn render_frame(
     runner::render_frame(ctx, timer, technique, scene, view, target)
         .map(Sample)
         .map_err(|e| anyhow!(e).context(format!("frame at time {}", view.time)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn error_frames_sit_among_the_timed_frames_once() {
+        let times = |frames: &[PathFrame]| -> Vec<(f32, bool)> {
+            frames.iter().map(|f| (f.time, f.error)).collect()
+        };
+        // 4 timed frames over 2 s (0, 0.5, 1, 1.5) and errors at 0, 1, 2: 0 and 1 are both.
+        assert_eq!(
+            times(&path_frames(2.0, 4, &[0.0, 1.0, 2.0])),
+            [
+                (0.0, true),
+                (0.5, false),
+                (1.0, true),
+                (1.5, false),
+                (2.0, true)
+            ]
+        );
+        // A still scene: every frame at time 0, the first of them the error frame.
+        assert_eq!(
+            times(&path_frames(0.0, 3, &[0.0])),
+            [(0.0, true), (0.0, false), (0.0, false)]
+        );
+        // Fewer timed frames than error times: every error time still has its frame.
+        assert_eq!(
+            times(&path_frames(2.0, 1, &[0.0, 1.0, 2.0])),
+            [(0.0, true), (1.0, true), (2.0, true)]
+        );
+        // Timed frames that miss the error times keep their own places.
+        assert_eq!(
+            times(&path_frames(3.0, 3, &[0.0, 1.5, 3.0])),
+            [
+                (0.0, true),
+                (1.0, false),
+                (1.5, true),
+                (2.0, false),
+                (3.0, true)
+            ]
+        );
+    }
 }

@@ -22,7 +22,7 @@ use std::path::Path;
 pub const YARDSTICK: &str = "raytracer/caustics";
 
 /// One technique on one scene.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ParetoPoint {
     pub technique: String,
     pub frame_ms: f64,
@@ -34,7 +34,7 @@ pub struct ParetoPoint {
 }
 
 /// A scene's points.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ParetoScene {
     pub scene: String,
     /// `flip_mean_masked`, or `flip_mean` where the scene's mask is empty.

@@ -11,16 +11,18 @@
 //! (`errors_at`).
 //!
 //! Missing figures (a technique that failed, no reference) are empty CSV cells and JSON
-//! `null`. PSNR of identical images is infinite: `inf` in CSV and markdown, `null` in JSON
-//! (then `rmse` is 0). `flip_mean_masked` is empty/`null` when the reference mask is empty.
+//! `null`. PSNR of identical images is infinite: `inf` in CSV and markdown, `"inf"` in JSON
+//! (then `rmse` is 0; JSON has no infinity, see [`crate::json_float`]). `flip_mean_masked` is empty/`null` when the reference mask is empty.
 
-use crate::run::TechniqueRun;
+use crate::json_float;
+use crate::measure::TechniqueRun;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use truth::metrics::Metrics;
 
 /// One (scene, technique[, parameter value]) result.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct ResultRow {
     pub scene: String,
     pub technique: String,
@@ -33,30 +35,44 @@ pub struct ResultRow {
     pub height: u32,
     /// Timed frames behind the median and p95.
     pub frames: u32,
+    #[serde(with = "json_float::opt")]
     pub frame_ms_median: Option<f64>,
+    #[serde(with = "json_float::opt")]
     pub frame_ms_p95: Option<f64>,
     /// Time of `prepare`, measured like the frames (same timer kind).
+    #[serde(with = "json_float::opt")]
     pub prepare_ms: Option<f64>,
     /// Wall-clock time of `prepare` including submission and wait.
+    #[serde(with = "json_float::opt")]
     pub prepare_wall_ms: Option<f64>,
     /// "gpu-timestamp", "wall" or "cpu" (see the README).
     pub timer: String,
+    #[serde(with = "json_float::opt")]
     pub rmse: Option<f64>,
+    #[serde(with = "json_float::opt")]
     pub psnr_db: Option<f64>,
+    #[serde(with = "json_float::opt")]
     pub flip_mean: Option<f64>,
+    #[serde(with = "json_float::opt")]
     pub flip_mean_masked: Option<f64>,
+    #[serde(with = "json_float::opt")]
     pub flip_over_0_1_pct: Option<f64>,
     pub nan_pixels: Option<usize>,
     pub masked_pixels: Option<usize>,
+    #[serde(with = "json_float::opt")]
     pub rmse_worst: Option<f64>,
+    #[serde(with = "json_float::opt")]
     pub flip_mean_worst: Option<f64>,
+    #[serde(with = "json_float::opt")]
     pub flip_mean_masked_worst: Option<f64>,
     /// Mean FLIP over the mask's silhouette band (`truth::metrics::silhouette_band`), mean
     /// over the error frames.
+    #[serde(with = "json_float::opt")]
     pub flip_mean_silhouette: Option<f64>,
     /// The exact GPU ray tracer's median frame time on this scene in this run over this row's
     /// (`crate::pareto`): above 1, the technique is that many times faster than tracing the
     /// rays exactly. None without the tracer's row, for CPU-timed rows and failed rows.
+    #[serde(with = "json_float::opt")]
     pub speedup_vs_raytracer: Option<f64>,
     /// Time of the worst error frame (largest masked FLIP, else largest FLIP).
     pub worst_time: Option<f32>,
@@ -70,13 +86,37 @@ pub struct ResultRow {
     pub spans_ms: BTreeMap<String, f64>,
     pub adapter: String,
     pub error: Option<String>,
+    /// Where the row's wall-clock time went (not a figure of the technique: the harness's own
+    /// cost, for whoever makes the run faster).
+    pub wall: RowWall,
+}
+
+/// The wall-clock seconds one row of a run took, by step (`results.csv`'s `wall_*_s`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct RowWall {
+    /// A fresh device and the scene uploaded to it, the technique made, its parameters set and
+    /// its `prepare`.
+    pub prepare_s: f64,
+    /// Warm-up, timed and error frames, read-backs included.
+    pub frames_s: f64,
+    /// The error figures and FLIP maps against the references.
+    pub metrics_s: f64,
+    /// The row's images, and the tables and JSON rewritten after it.
+    pub write_s: f64,
+}
+
+impl RowWall {
+    pub fn total_s(&self) -> f64 {
+        self.prepare_s + self.frames_s + self.metrics_s + self.write_s
+    }
 }
 
 /// The error figures of one error frame.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(from = "ErrorAtJson", into = "ErrorAtJson")]
 pub struct ErrorAt {
     pub time: f32,
-    #[serde(flatten)]
     pub metrics: Metrics,
 }
 
@@ -85,6 +125,62 @@ impl ErrorAt {
         ErrorAt {
             time,
             metrics: *metrics,
+        }
+    }
+}
+
+/// [`ErrorAt`] as JSON: the time and the metrics side by side, NaN as `null` and infinity as
+/// `"inf"` ([`json_float`]), so that a run's JSON reads back to the same figures.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+struct ErrorAtJson {
+    time: f32,
+    #[serde(with = "json_float::num")]
+    rmse: f64,
+    #[serde(with = "json_float::num")]
+    psnr_db: f64,
+    #[serde(with = "json_float::num")]
+    flip_mean: f64,
+    #[serde(with = "json_float::num")]
+    flip_mean_masked: f64,
+    #[serde(with = "json_float::num")]
+    flip_mean_silhouette: f64,
+    #[serde(with = "json_float::num")]
+    flip_over_0_1_pct: f64,
+    nan_pixels: usize,
+    masked_pixels: usize,
+}
+
+impl From<ErrorAtJson> for ErrorAt {
+    fn from(j: ErrorAtJson) -> Self {
+        ErrorAt {
+            time: j.time,
+            metrics: Metrics {
+                rmse: j.rmse,
+                psnr_db: j.psnr_db,
+                flip_mean: j.flip_mean,
+                flip_mean_masked: j.flip_mean_masked,
+                flip_mean_silhouette: j.flip_mean_silhouette,
+                flip_over_0_1_pct: j.flip_over_0_1_pct,
+                nan_pixels: j.nan_pixels,
+                masked_pixels: j.masked_pixels,
+            },
+        }
+    }
+}
+
+impl From<ErrorAt> for ErrorAtJson {
+    fn from(e: ErrorAt) -> Self {
+        let m = e.metrics;
+        ErrorAtJson {
+            time: e.time,
+            rmse: m.rmse,
+            psnr_db: m.psnr_db,
+            flip_mean: m.flip_mean,
+            flip_mean_masked: m.flip_mean_masked,
+            flip_mean_silhouette: m.flip_mean_silhouette,
+            flip_over_0_1_pct: m.flip_over_0_1_pct,
+            nan_pixels: m.nan_pixels,
+            masked_pixels: m.masked_pixels,
         }
     }
 }
@@ -198,6 +294,10 @@ pub const CSV_COLUMNS: &[&str] = &[
     "speedup_vs_raytracer",
     "adapter",
     "error",
+    "wall_prepare_s",
+    "wall_frames_s",
+    "wall_metrics_s",
+    "wall_write_s",
 ];
 
 fn csv_field(s: &str) -> String {
@@ -216,6 +316,11 @@ pub(crate) fn csv_num(v: Option<f64>) -> String {
         Some(v) => format!("{v}"),
         None => String::new(),
     }
+}
+
+/// Seconds of wall clock to the millisecond (they are the harness's cost, not a figure).
+fn wall_s(seconds: f64) -> String {
+    format!("{seconds:.3}")
 }
 
 pub(crate) fn csv_int(v: Option<usize>) -> String {
@@ -261,6 +366,10 @@ pub fn to_csv(rows: &[ResultRow], with_param: bool) -> String {
             csv_num(r.speedup_vs_raytracer),
             csv_field(&r.adapter),
             csv_field(r.error.as_deref().unwrap_or("")),
+            wall_s(r.wall.prepare_s),
+            wall_s(r.wall.frames_s),
+            wall_s(r.wall.metrics_s),
+            wall_s(r.wall.write_s),
         ]);
         out.push_str(&f.join(","));
         out.push('\n');
@@ -363,7 +472,7 @@ pub fn to_markdown(rows: &[ResultRow], with_param: bool) -> String {
 }
 
 /// The adapter as written to JSON.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AdapterJson {
     pub name: String,
     pub backend: String,
@@ -390,7 +499,7 @@ impl AdapterJson {
 }
 
 /// A technique that did not run on a scene, and why.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Skipped {
     pub scene: String,
     pub technique: String,
@@ -418,16 +527,23 @@ mod tests {
         assert_eq!(lines[0], CSV_COLUMNS.join(","));
         assert_eq!(
             lines[1],
-            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,,,,,,,,llvmpipe,\"said \"\"no\"\"\""
+            "\"cornell-sphere:material=a,b\",x/y,4,2,0,,,,,0,inf,,,,,,,,,,,,,llvmpipe,\"said \"\"no\"\"\",0.000,0.000,0.000,0.000"
         );
         let swept = to_csv(std::slice::from_ref(&row), true);
         assert!(swept.starts_with("scene,technique,param,value,width"));
         let md = to_markdown(std::slice::from_ref(&row), false);
         assert!(md.contains("| inf |") && md.lines().count() == 3, "{md}");
         let json = serde_json::to_value(&row).unwrap();
-        assert!(json["psnr_db"].is_null() && json["flip_mean_masked"].is_null());
+        assert_eq!(json["psnr_db"], "inf");
+        assert!(json["flip_mean_masked"].is_null());
         assert_eq!(json["rmse"], 0.0);
         assert!(json.get("param").is_none());
+        let back: ResultRow = serde_json::from_value(json).unwrap();
+        assert_eq!(
+            to_csv(&[back], false),
+            csv,
+            "JSON reads back to the same table"
+        );
     }
 
     #[test]

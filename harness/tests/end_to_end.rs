@@ -5,6 +5,7 @@
 use gpu::wgpu;
 use gpu::{HdrImage, Target};
 use harness::compare::CompareOptions;
+use harness::engine::ExecOptions;
 use harness::sweep::SweepOptions;
 use harness::{Env, Frames, GroundTruth, Reference, ReferenceStats, Size};
 use scene::{
@@ -249,15 +250,15 @@ fn compare_writes_tables_images_and_caches_the_reference() {
     };
     let env = test_env(&truth);
     let out = out_dir("compare");
+    let exec = ExecOptions::new(&out);
     let opts = CompareOptions {
-        out: out.clone(),
         scenes: vec!["cornell-sphere".into()],
         techniques: None,
         all_variants: false,
         size: SIZE,
         frames: FRAMES,
     };
-    let report = harness::compare::run(&env, &opts).unwrap();
+    let report = harness::compare::run(&env, &opts, &exec).unwrap();
     // The one deliberate panic is caught and listed (the binary then exits with status 4);
     // any other caught panic fails the test.
     assert_eq!(
@@ -279,7 +280,9 @@ fn compare_writes_tables_images_and_caches_the_reference() {
     assert!(c.flip_mean.unwrap() > 0.0 && c.flip_mean_masked.unwrap() > 0.0);
     assert_eq!(c.masked_pixels, Some(32 * 16));
     assert_eq!(c.nan_pixels, Some(0));
-    assert_eq!(c.frames, 3);
+    // Every frame on the path is timed: 3 timed frames (times 0, 2/3, 4/3) and the error
+    // frames at 1 and 2 (the one at 0 is the first timed frame).
+    assert_eq!(c.frames, 5);
     assert!(
         c.frame_ms_median.unwrap() >= 0.0 && c.frame_ms_p95.unwrap() >= c.frame_ms_median.unwrap()
     );
@@ -404,7 +407,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         techniques: Some(vec!["test/constant".into()]),
         ..opts
     };
-    let again = harness::compare::run(&env, &opts).unwrap();
+    let again = harness::compare::run(&env, &opts, &exec).unwrap();
     assert!(again.panics.is_empty(), "{:?}", again.panics);
     assert_eq!(truth.renders.load(Ordering::SeqCst), 3);
     assert!(again.references[0].cached);
@@ -420,8 +423,8 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
     };
     let env = test_env(&truth);
     let out = out_dir("sweep");
+    let exec = ExecOptions::new(&out);
     let opts = SweepOptions {
-        out: out.clone(),
         scene: "cornell-sphere".into(),
         technique: "test/constant".into(),
         param: "level".into(),
@@ -429,7 +432,7 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
         size: SIZE,
         frames: FRAMES,
     };
-    let report = harness::sweep::run(&env, &opts).unwrap();
+    let report = harness::sweep::run(&env, &opts, &exec).unwrap();
     assert!(report.panics.is_empty(), "{:?}", report.panics);
     let rmse: Vec<f64> = report.rows.iter().map(|r| r.rmse.unwrap()).collect();
     assert!(
@@ -445,7 +448,7 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
     let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
     assert!(csv.starts_with("scene,technique,param,value,width"));
     assert!(
-        csv.contains("cornell-sphere,test/constant,level,0.5,32,32,3,") && csv.contains(",inf,"),
+        csv.contains("cornell-sphere,test/constant,level,0.5,32,32,5,") && csv.contains(",inf,"),
         "{csv}"
     );
     assert!(
@@ -466,12 +469,11 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
 
     // A scene parameter: the spec is rebuilt per value, one reference each.
     let opts = SweepOptions {
-        out: out.clone(),
         param: "material".into(),
         values: vec!["mirror".into(), "gold".into()],
         ..opts
     };
-    let report = harness::sweep::run(&env, &opts).unwrap();
+    let report = harness::sweep::run(&env, &opts, &exec).unwrap();
     assert!(report.panics.is_empty(), "{:?}", report.panics);
     let scenes: Vec<&str> = report.rows.iter().map(|r| r.scene.as_str()).collect();
     assert_eq!(
@@ -498,7 +500,7 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
             values: values.iter().map(|v| v.to_string()).collect(),
             ..opts.clone()
         };
-        format!("{:#}", harness::sweep::run(&env, &o).unwrap_err())
+        format!("{:#}", harness::sweep::run(&env, &o, &exec).unwrap_err())
     };
     assert!(bad("nosuch", &["1"]).contains("has a parameter \"nosuch\""));
     assert!(bad("level", &["9"]).contains("outside its range"));
@@ -559,4 +561,176 @@ fn bench_interleaves_and_states_ratios_with_their_spread() {
     // The constant records a "clear" span, the NaN image none.
     assert!(bad(&["test/constant", "test/nan"], "clear").contains("test/nan recorded no span"));
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The columns of results.csv that are timings (or made from them): a sharded run and its
+/// merge, or a resumed run, equal the unsharded or uninterrupted run in every other.
+const TIMING_COLUMNS: &[&str] = &[
+    "frame_ms_median",
+    "frame_ms_p95",
+    "prepare_ms",
+    "speedup_vs_raytracer",
+    "wall_prepare_s",
+    "wall_frames_s",
+    "wall_metrics_s",
+    "wall_write_s",
+];
+
+/// results.csv without its timing columns.
+fn figures_of(csv: &str) -> Vec<Vec<String>> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&i| !TIMING_COLUMNS.contains(&header[i]))
+        .collect();
+    std::iter::once(header.iter().map(|s| s.to_string()).collect::<Vec<_>>())
+        .chain(lines.map(|l| l.split(',').map(String::from).collect()))
+        .map(|cells: Vec<String>| keep.iter().filter_map(|&i| cells.get(i).cloned()).collect())
+        .collect()
+}
+
+fn merge_options() -> CompareOptions {
+    CompareOptions {
+        scenes: vec!["cornell-sphere".into(), "cornell-box".into()],
+        techniques: Some(vec![
+            "test/constant".into(),
+            "test/drifts".into(),
+            "test/nan".into(),
+            "test/fails".into(),
+            "test/unsupported".into(),
+        ]),
+        all_variants: false,
+        size: SIZE,
+        frames: FRAMES,
+    }
+}
+
+#[test]
+fn shards_merge_into_the_unsharded_run() {
+    let truth = HalfGrey {
+        renders: AtomicUsize::new(0),
+    };
+    let env = test_env(&truth);
+    let opts = merge_options();
+    let whole_dir = out_dir("whole");
+    let whole = harness::compare::run(&env, &opts, &ExecOptions::new(&whole_dir)).unwrap();
+    assert_eq!(whole.rows.len(), 8, "4 techniques on 2 scenes");
+    let mut shards = Vec::new();
+    for index in 1..=3 {
+        let dir = out_dir(&format!("shard-{index}"));
+        let exec = ExecOptions {
+            shard: Some(harness::plan::Shard { index, count: 3 }),
+            ..ExecOptions::new(&dir)
+        };
+        let part = harness::compare::run(&env, &opts, &exec).unwrap();
+        assert!(part.rows.len() < 8 && dir.join("index.html").is_file());
+        assert!(
+            dir.join("results.csv").is_file(),
+            "a shard is a whole output folder"
+        );
+        shards.push(dir);
+    }
+    // Out of order on purpose: merge orders the shards.
+    shards.swap(0, 2);
+    let merged_dir = out_dir("merged");
+    let merged = harness::merge::merge(&shards, &merged_dir).unwrap();
+    assert_eq!(merged.shard, None);
+    let read = |dir: &Path| std::fs::read_to_string(dir.join("results.csv")).unwrap();
+    assert_eq!(
+        figures_of(&read(&merged_dir)),
+        figures_of(&read(&whole_dir)),
+        "the merge is the unsharded run, timings aside"
+    );
+    assert_eq!(merged.skipped, whole.skipped);
+    assert_eq!(merged.errors, whole.errors);
+    let files = |r: &harness::model::RunReport| -> Vec<String> {
+        r.images
+            .iter()
+            .flat_map(|w| w.frames.iter().map(|f| f.png.clone()))
+            .collect()
+    };
+    assert_eq!(files(&merged), files(&whole));
+    for f in files(&merged) {
+        assert!(exists(&merged_dir, &f), "the merge has {f}");
+    }
+    let page = std::fs::read_to_string(merged_dir.join("index.html")).unwrap();
+    assert!(
+        page.contains("8 results"),
+        "the merged page shows every row"
+    );
+
+    // Not a complete set, or shards of another plan: refused with one sentence.
+    let err = harness::merge::merge(&shards[..2], &out_dir("partial")).unwrap_err();
+    assert!(
+        format!("{err:#}").contains("merge needs each of 1..=3 once"),
+        "{err:#}"
+    );
+    let mut other = shards.clone();
+    other[0] = whole_dir.clone();
+    let err = harness::merge::merge(&other, &out_dir("mixed")).unwrap_err();
+    assert!(
+        format!("{err:#}").contains("not a shard") || format!("{err:#}").contains("another plan"),
+        "{err:#}"
+    );
+    for d in shards.iter().chain([&whole_dir, &merged_dir]) {
+        let _ = std::fs::remove_dir_all(d);
+    }
+}
+
+#[test]
+fn a_resumed_run_keeps_the_finished_rows_and_runs_the_rest() {
+    let truth = HalfGrey {
+        renders: AtomicUsize::new(0),
+    };
+    let env = test_env(&truth);
+    let opts = merge_options();
+    let dir = out_dir("resume");
+    let full = harness::compare::run(&env, &opts, &ExecOptions::new(&dir)).unwrap();
+    let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
+    // As a run stopped after its fifth row leaves the folder: the tables hold five rows.
+    let mut stopped = full.clone();
+    stopped.rows.truncate(5);
+    stopped.images.retain(|w| {
+        w.technique.is_none()
+            || stopped
+                .rows
+                .iter()
+                .any(|r| Some(&r.technique) == w.technique.as_ref() && r.scene == w.scene)
+    });
+    std::fs::write(
+        dir.join("results.json"),
+        serde_json::to_string(&stopped).unwrap(),
+    )
+    .unwrap();
+    let exec = ExecOptions {
+        resume: true,
+        ..ExecOptions::new(&dir)
+    };
+    let resumed = harness::compare::run(&env, &opts, &exec).unwrap();
+    assert_eq!(resumed.rows.len(), 8);
+    assert_eq!(
+        figures_of(&std::fs::read_to_string(dir.join("results.csv")).unwrap()),
+        figures_of(&csv),
+        "the resumed run's table is the uninterrupted run's"
+    );
+    // The first five rows kept their own timings and wall clocks: they were not run again.
+    for (a, b) in resumed.rows.iter().zip(&full.rows).take(5) {
+        assert_eq!(
+            (a.frame_ms_median, a.wall),
+            (b.frame_ms_median, b.wall),
+            "{} kept",
+            a.technique
+        );
+    }
+    // Another plan in the folder is refused.
+    let other = CompareOptions {
+        size: Size::new(16, 16),
+        ..opts
+    };
+    let err = harness::compare::run(&env, &other, &exec).unwrap_err();
+    assert!(
+        format!("{err:#}").contains("results of another run"),
+        "{err:#}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -269,12 +269,10 @@ fn the_report_works_in_headless_chromium() {
     };
     let out = std::env::temp_dir().join(format!("harness-report-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
-    let reference = CpuReference {
-        options: truth::reference::ReferenceOptions {
-            photons: 200_000,
-            ..Default::default()
-        },
-    };
+    let reference = CpuReference::fixed(truth::reference::ReferenceOptions {
+        photons: 200_000,
+        ..Default::default()
+    });
     let env = Env {
         ctx: testkit::context(),
         techniques: &techniques,
@@ -282,7 +280,6 @@ fn the_report_works_in_headless_chromium() {
         progress: false,
     };
     let opts = CompareOptions {
-        out: out.clone(),
         scenes: vec!["cornell-sphere".into(), "hu-qin".into()],
         techniques: None,
         all_variants: true,
@@ -294,7 +291,8 @@ fn the_report_works_in_headless_chromium() {
             timed_budget_s: 0.0,
         },
     };
-    let report = harness::compare::run(&env, &opts).expect("compare runs");
+    let report = harness::compare::run(&env, &opts, &harness::engine::ExecOptions::new(&out))
+        .expect("compare runs");
     assert!(
         report.errors.iter().any(|e| e.contains("test/fails")),
         "{:?}",

@@ -85,7 +85,7 @@ fn top_down_camera_with_parallel_up_renders() {
     );
     let truth = reference_image(&scene, 24);
     assert_eq!(truth.non_finite_count(), 0);
-    assert!(harness::compare::black_reference(&truth).is_none());
+    assert!(harness::score::black_reference(&truth).is_none());
     let _lock = gpu_lock();
     let mut raster = testkit::technique(scene::foundation::techniques(), "raster");
     let images = render_views(raster.as_mut(), &scene, &[scene.camera], 24).unwrap();
@@ -332,25 +332,25 @@ fn files_without_lights_get_default_lighting() {
     );
     assert_eq!(scene.background, scene::DEFAULT_SKY);
     let truth = reference_image(&scene, 32);
-    assert!(harness::compare::black_reference(&truth).is_none());
+    assert!(harness::score::black_reference(&truth).is_none());
     // The project's own asset, which has no light either.
     let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/../scene/assets/bunny.glb");
     let (bunny, notes) = scene::load_noted(bunny).unwrap();
     assert_eq!(bunny.lights.len(), 1, "{notes:?}");
     let truth = reference_image(&bunny, 32);
-    assert!(harness::compare::black_reference(&truth).is_none());
+    assert!(harness::score::black_reference(&truth).is_none());
 }
 
 /// A comparison against a black reference is flagged invalid instead of scored.
 #[test]
 fn black_references_are_not_scored() {
     let black = gpu::HdrImage::new(16, 16);
-    assert!(harness::compare::black_reference(&black).is_some());
+    assert!(harness::score::black_reference(&black).is_some());
     let mut lit = black.clone();
     for p in lit.pixels.iter_mut().take(16) {
         *p = [0.5, 0.5, 0.5, 1.0];
     }
-    assert!(harness::compare::black_reference(&lit).is_none());
+    assert!(harness::score::black_reference(&lit).is_none());
 }
 
 // ---- 7. Scale: many lights, many objects, many triangles --------------------------------
@@ -392,7 +392,7 @@ fn thousands_of_lights_and_objects() {
     let start = std::time::Instant::now();
     let truth = reference::render(&scene, &scene.camera, 0.0, 24, 24, &no_photons());
     assert_eq!(truth.image.non_finite_count(), 0);
-    assert!(harness::compare::black_reference(&truth.image).is_none());
+    assert!(harness::score::black_reference(&truth.image).is_none());
     assert!(start.elapsed().as_secs() < 60, "{:?}", start.elapsed());
     let error = GpuScene::new(context(), &scene)
         .err()
@@ -507,9 +507,7 @@ fn a_panicking_technique_is_a_listed_failure() {
         }
     }
     let factory = || -> Vec<Box<dyn Technique>> { vec![Box::new(Panics)] };
-    let ground_truth = harness::CpuReference {
-        options: no_photons(),
-    };
+    let ground_truth = harness::CpuReference::fixed(no_photons());
     let env = harness::Env {
         ctx: context(),
         techniques: &factory,
@@ -518,7 +516,6 @@ fn a_panicking_technique_is_a_listed_failure() {
     };
     let out = dir("panics");
     let opts = harness::compare::CompareOptions {
-        out: out.clone(),
         scenes: vec!["cornell-sphere".into()],
         techniques: None,
         all_variants: true,
@@ -531,7 +528,8 @@ fn a_panicking_technique_is_a_listed_failure() {
         },
     };
     let _lock = gpu_lock();
-    let report = harness::compare::run(&env, &opts).unwrap();
+    let report =
+        harness::compare::run(&env, &opts, &harness::engine::ExecOptions::new(&out)).unwrap();
     assert_eq!(report.panics.len(), 1, "{:?}", report.errors);
     assert!(
         report.rows[0]

@@ -191,3 +191,181 @@ fn the_checks_catch_a_block_inserted_before_every_character() {
     assert!(is_text(&big) && !is_text(&png));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The modules of a crate's `src/` (a file's module is its path: `html/svg.rs` is `html`'s
+/// child, counted as `html`), each with the top-level modules its code names through `crate::`
+/// (comments and string literals left out). The crate root is not a module here: it declares
+/// the others and holds the vocabulary they share.
+fn module_imports(src: &Path) -> HashMap<String, Vec<String>> {
+    let mut files = Vec::new();
+    files_under(src, &mut files);
+    let mut imports: HashMap<String, Vec<String>> = HashMap::new();
+    for file in files
+        .iter()
+        .filter(|f| f.extension().is_some_and(|e| e == "rs"))
+    {
+        let rel = file.strip_prefix(src).unwrap();
+        let first = rel
+            .components()
+            .next()
+            .unwrap()
+            .as_os_str()
+            .to_string_lossy();
+        let module = first.trim_end_matches(".rs").to_string();
+        if module == "lib" || module == "main" {
+            continue;
+        }
+        let text = std::fs::read_to_string(file).unwrap();
+        let names = imports.entry(module.clone()).or_default();
+        for line in text.lines() {
+            let code = line.split("//").next().unwrap_or("");
+            let mut rest = code;
+            while let Some(at) = rest.find("crate::") {
+                rest = &rest[at + 7..];
+                let name: String = rest
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                    .collect();
+                let is_module = src.join(format!("{name}.rs")).is_file()
+                    || src.join(&name).join("mod.rs").is_file();
+                if is_module && name != module && !names.contains(&name) {
+                    names.push(name);
+                }
+            }
+        }
+    }
+    imports
+}
+
+/// A cycle of module imports, if there is one (depth-first search).
+fn import_cycle(imports: &HashMap<String, Vec<String>>) -> Option<Vec<String>> {
+    fn visit(
+        m: &str,
+        imports: &HashMap<String, Vec<String>>,
+        path: &mut Vec<String>,
+        done: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        if let Some(at) = path.iter().position(|p| p == m) {
+            let mut cycle = path[at..].to_vec();
+            cycle.push(m.to_string());
+            return Some(cycle);
+        }
+        if done.iter().any(|d| d == m) {
+            return None;
+        }
+        path.push(m.to_string());
+        for next in imports.get(m).into_iter().flatten() {
+            if let Some(cycle) = visit(next, imports, path, done) {
+                return Some(cycle);
+            }
+        }
+        path.pop();
+        done.push(m.to_string());
+        None
+    }
+    let mut modules: Vec<&String> = imports.keys().collect();
+    modules.sort();
+    let mut done = Vec::new();
+    modules
+        .into_iter()
+        .find_map(|m| visit(m, imports, &mut Vec::new(), &mut done))
+}
+
+/// The harness's modules import one another without a circle: the runners (`compare`,
+/// `sweep`, `bench`, `merge`) build on the engine and the writers, never on each other.
+#[test]
+fn the_harness_has_no_import_circle() {
+    let src = workspace_root().join("harness/src");
+    let imports = module_imports(&src);
+    assert!(imports.contains_key("engine") && imports.contains_key("compare"));
+    if let Some(cycle) = import_cycle(&imports) {
+        panic!("harness/src imports in a circle: {}", cycle.join(" -> "));
+    }
+    for runner in ["compare", "sweep", "bench", "merge"] {
+        for other in ["compare", "sweep", "bench", "merge"] {
+            assert!(
+                !imports[runner].iter().any(|m| m == other),
+                "{runner} imports {other}: the runners build on the engine, not on each other"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_cycle_check_finds_a_cycle() {
+    let graph: HashMap<String, Vec<String>> = [("a", "b"), ("b", "c"), ("c", "a"), ("d", "a")]
+        .iter()
+        .map(|(k, v)| (k.to_string(), vec![v.to_string()]))
+        .collect();
+    let cycle = import_cycle(&graph).expect("a -> b -> c -> a");
+    assert_eq!(cycle.first(), cycle.last());
+    assert_eq!(cycle.len(), 4);
+    let line: HashMap<String, Vec<String>> = [("a", "b"), ("b", "c")]
+        .iter()
+        .map(|(k, v)| (k.to_string(), vec![v.to_string()]))
+        .collect();
+    assert!(import_cycle(&line).is_none());
+}
+
+/// Functions of `text` longer than `max` lines: (name, first line, lines), for a file rustfmt
+/// formats (a function ends at the first line that is its indentation and `}`).
+fn long_functions(text: &str, max: usize) -> Vec<(String, usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut long = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let signature = ["fn ", "pub fn ", "pub(crate) fn ", "async fn "]
+            .iter()
+            .find_map(|p| trimmed.strip_prefix(p));
+        let Some(rest) = signature else { continue };
+        if line.trim_end().ends_with(';') {
+            continue;
+        }
+        let indent = &line[..line.len() - trimmed.len()];
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect();
+        let close = format!("{indent}}}");
+        if let Some(end) = lines[i + 1..].iter().position(|l| *l == close) {
+            if end + 2 > max {
+                long.push((name, i + 1, end + 2));
+            }
+        }
+    }
+    long
+}
+
+/// No runner function of the harness (the engine, the frames of a row, the plan builders, the
+/// merge, the binary's commands) is longer than 80 lines: each reads as a short sequence of
+/// named steps.
+#[test]
+fn harness_runner_functions_are_short() {
+    const MAX_LINES: usize = 80;
+    let src = workspace_root().join("harness/src");
+    let runners = [
+        "engine.rs",
+        "measure.rs",
+        "compare.rs",
+        "sweep.rs",
+        "bench.rs",
+        "merge.rs",
+        "plan.rs",
+        "output.rs",
+        "score.rs",
+        "main.rs",
+    ];
+    let mut found = Vec::new();
+    for file in runners {
+        let text = std::fs::read_to_string(src.join(file)).unwrap();
+        for (name, line, lines) in long_functions(&text, MAX_LINES) {
+            found.push(format!("harness/src/{file}:{line} {name} ({lines} lines)"));
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "longer than {MAX_LINES} lines: {found:#?}"
+    );
+    let sample = "fn a() {\n    x;\n}\n\nfn b() {\n    x;\n    y;\n    z;\n}\n";
+    assert_eq!(long_functions(sample, 4), vec![("b".to_string(), 5, 5)]);
+}

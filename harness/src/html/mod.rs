@@ -19,9 +19,10 @@
 
 pub mod svg;
 
-use crate::compare::{CompareReport, ImageFrame, WrittenImages};
-use crate::report::{AdapterJson, ResultRow, csv_int, csv_num, times_list};
-use crate::sweep::{ParamOwner, SweepReport};
+use crate::model::{ImageFrame, RunReport, WrittenImages};
+use crate::plan::{ParamOwner, SweepInfo};
+pub use crate::provenance::Provenance;
+use crate::report::{ResultRow, csv_int, csv_num, times_list};
 use crate::{file_name, technique_family as family};
 use anyhow::{Context as _, Result};
 use std::fmt::Write as _;
@@ -30,115 +31,6 @@ use svg::{escape, short};
 
 const STYLE: &str = include_str!("report.css");
 const SCRIPT: &str = include_str!("report.js");
-
-/// What produced a page, so it can be reproduced.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
-pub struct Provenance {
-    /// The program's arguments, shell-quoted where needed.
-    pub command_line: String,
-    /// `git rev-parse HEAD` of the working directory (`-dirty` when tracked files changed), or
-    /// why there is none.
-    pub git_commit: String,
-    /// When the page was written, UTC, ISO 8601.
-    pub date_utc: String,
-    /// The ground truth and its options (the reference cache's key).
-    pub reference: String,
-    pub harness_version: String,
-}
-
-impl Provenance {
-    /// The page's "how this page was made" list: these fields with the run's adapter, image
-    /// size and frames.
-    fn rows(
-        &self,
-        adapter: &AdapterJson,
-        size: &str,
-        frames: String,
-    ) -> Vec<(&'static str, String)> {
-        vec![
-            ("command line", self.command_line.clone()),
-            ("git commit", self.git_commit.clone()),
-            ("date (UTC)", self.date_utc.clone()),
-            ("adapter", adapter_line(adapter)),
-            ("timer", adapter.timer_kind.clone()),
-            ("image size", size.to_string()),
-            ("frames", frames),
-            ("reference", self.reference.clone()),
-            ("harness", self.harness_version.clone()),
-        ]
-    }
-
-    /// This process's command line, the working directory's commit and the time now.
-    pub fn capture(reference: String) -> Self {
-        Provenance {
-            command_line: std::env::args_os()
-                .map(|a| quote(&a.to_string_lossy()))
-                .collect::<Vec<_>>()
-                .join(" "),
-            git_commit: git_commit(),
-            date_utc: utc_now(),
-            reference,
-            harness_version: env!("CARGO_PKG_VERSION").to_string(),
-        }
-    }
-}
-
-/// A word as a POSIX shell would need it.
-fn quote(word: &str) -> String {
-    let plain = |c: char| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c);
-    if !word.is_empty() && word.chars().all(plain) {
-        word.to_string()
-    } else {
-        format!("'{}'", word.replace('\'', r"'\''"))
-    }
-}
-
-fn git_commit() -> String {
-    let git = |args: &[&str]| {
-        std::process::Command::new("git")
-            .args(args)
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    match git(&["rev-parse", "HEAD"]) {
-        Some(commit) => match git(&["status", "--porcelain", "--untracked-files=no"]) {
-            Some(changes) if !changes.is_empty() => format!("{commit}-dirty"),
-            _ => commit,
-        },
-        None => "unknown (not run inside a git checkout)".into(),
-    }
-}
-
-/// The time now, UTC, as `YYYY-MM-DDTHH:MM:SSZ`.
-fn utc_now() -> String {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_secs())
-        .unwrap_or(0);
-    utc(secs)
-}
-
-/// Seconds since 1970 as a UTC date and time (Howard Hinnant's days-to-civil).
-fn utc(secs: u64) -> String {
-    let (days, rest) = ((secs / 86_400) as i64, secs % 86_400);
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
-    format!(
-        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
-        rest / 3600,
-        rest / 60 % 60,
-        rest % 60
-    )
-}
 
 /// The figures under an image.
 #[derive(Clone, Debug, Default, serde::Serialize)]
@@ -221,7 +113,7 @@ fn times_of(entries: &[Entry]) -> Vec<f32> {
 /// The groups of a compare run: one per scene, in the order they ran, the reference first,
 /// then the techniques in the order they ran (families stay together: the registry lists them
 /// so). The `reference` technique shows the ground truth's images (they are the same).
-fn compare_groups(report: &CompareReport) -> Vec<Group> {
+fn compare_groups(report: &RunReport) -> Vec<Group> {
     // Every scene has at least one reference record, even when its reference failed.
     let mut specs: Vec<&String> = report.references.iter().map(|r| &r.scene).collect();
     specs.dedup();
@@ -295,12 +187,12 @@ fn compare_groups(report: &CompareReport) -> Vec<Group> {
 }
 
 /// The one group of a sweep: its reference(s) and one entry per value.
-fn sweep_group(report: &SweepReport) -> Group {
-    let family = family(report.technique.split(':').next().unwrap_or(""));
+fn sweep_group(report: &RunReport, sweep: &SweepInfo) -> Group {
+    let family = family(sweep.technique.split(':').next().unwrap_or(""));
     let mut entries: Vec<Entry> = Vec::new();
     let reference_entry = |entries: &mut Vec<Entry>, value: Option<&String>| {
         let label = match value {
-            Some(v) => format!("reference, {}={v}", report.param),
+            Some(v) => format!("reference, {}={v}", sweep.param),
             None => "reference".into(),
         };
         entries.push(Entry {
@@ -317,11 +209,11 @@ fn sweep_group(report: &SweepReport) -> Group {
         entries.len() - 1
     };
     let shared =
-        (report.owner == ParamOwner::Technique).then(|| reference_entry(&mut entries, None));
+        (sweep.owner == ParamOwner::Technique).then(|| reference_entry(&mut entries, None));
     for row in &report.rows {
         let value = row.value.clone().unwrap_or_default();
         let reference = shared.unwrap_or_else(|| reference_entry(&mut entries, Some(&value)));
-        let suffix = format!("{}={value}", report.param);
+        let suffix = format!("{}={value}", sweep.param);
         entries.push(Entry {
             id: suffix.clone(),
             label: suffix,
@@ -341,7 +233,7 @@ fn sweep_group(report: &SweepReport) -> Group {
             .map(|r| (r.value.clone().unwrap_or_default(), f(r)))
             .collect()
     };
-    let what = format!("{} on {}", report.technique, report.scene);
+    let what = format!("{} on {}", sweep.technique, sweep.scene);
     let plots = [
         ("FLIP (mean)", series(|r| r.flip_mean)),
         ("FLIP over the mask (mean)", series(|r| r.flip_mean_masked)),
@@ -350,11 +242,11 @@ fn sweep_group(report: &SweepReport) -> Group {
     ]
     .into_iter()
     .filter_map(|(figure, points)| {
-        svg::sweep(&format!("{what}: {figure}"), &report.param, figure, &points)
+        svg::sweep(&format!("{what}: {figure}"), &sweep.param, figure, &points)
     })
     .collect();
     Group {
-        title: format!("{what}, over {}", report.param),
+        title: format!("{what}, over {}", sweep.param),
         anchor: "sweep".into(),
         times: times_of(&entries),
         entries,
@@ -683,24 +575,17 @@ impl Page<'_> {
     }
 }
 
-fn adapter_line(a: &AdapterJson) -> String {
-    format!(
-        "{} ({}, {}, driver {}{})",
-        a.name,
-        a.backend,
-        a.device_type,
-        a.driver,
-        if a.is_software { ", software" } else { "" }
-    )
+/// Writes `out/index.html` for a run: a compare's page, or a sweep's.
+pub fn write_page(out: &Path, report: &RunReport) -> Result<()> {
+    let page = match report.sweep() {
+        Some(sweep) => sweep_page(report, sweep),
+        None => compare_page(report),
+    };
+    write(out, &page)
 }
 
-/// Writes `out/index.html` for a compare run.
-pub fn write_compare_page(
-    out: &Path,
-    report: &CompareReport,
-    provenance: &Provenance,
-) -> Result<()> {
-    let groups = compare_groups(report);
+/// The problems a page lists first: errors, panics and rows with NaN pixels.
+fn problems(report: &RunReport) -> Vec<String> {
     let mut problems = report.errors.clone();
     problems.extend(report.panics.iter().map(|p| format!("panic: {p}")));
     problems.extend(
@@ -717,28 +602,42 @@ pub fn write_compare_page(
                 )
             }),
     );
-    let page = Page {
+    problems
+}
+
+/// What a shard's page says of itself.
+fn shard_note(report: &RunReport) -> String {
+    match report.shard {
+        Some(shard) => format!(", shard {shard} of the plan"),
+        None => String::new(),
+    }
+}
+
+fn compare_page(report: &RunReport) -> Page<'_> {
+    let groups = compare_groups(report);
+    Page {
         title: "harness compare".into(),
         summary: format!(
-            "{} scenes, {} results, {} failures, {} skipped (listed under the table), at {} on {}",
+            "{} scenes, {} results, {} failures, {} skipped (listed under the table), at {} on {}{}",
             groups.len(),
             report.rows.len(),
             report.errors.len(),
             report.skipped.len(),
             report.size,
-            report.adapter.name
+            report.adapter.name,
+            shard_note(report)
         ),
         groups,
         rows: &report.rows,
         swept: false,
-        problems,
+        problems: problems(report),
         skipped: report
             .skipped
             .iter()
             .map(|s| format!("{} / {}: {}", s.scene, s.technique, s.reason))
             .collect(),
         notes: report.scene_notes.clone(),
-        provenance: provenance.rows(
+        provenance: report.provenance.rows(
             &report.adapter,
             &report.size,
             format!(
@@ -746,40 +645,38 @@ pub fn write_compare_page(
                 report.frames, report.warmup, report.error_frames
             ),
         ),
-    };
-    write(out, &page)
+    }
 }
 
-/// Writes `out/index.html` for a sweep.
-pub fn write_sweep_page(out: &Path, report: &SweepReport, provenance: &Provenance) -> Result<()> {
-    let group = sweep_group(report);
-    let page = Page {
+fn sweep_page<'a>(report: &'a RunReport, sweep: &SweepInfo) -> Page<'a> {
+    let group = sweep_group(report, sweep);
+    Page {
         title: format!("harness sweep: {}", group.title),
         summary: format!(
-            "{} values of {} ({} parameter), {} failures, at {} on {}",
+            "{} values of {} ({} parameter), {} failures, at {} on {}{}",
             report.rows.len(),
-            report.param,
-            match report.owner {
+            sweep.param,
+            match sweep.owner {
                 ParamOwner::Technique => "technique",
                 ParamOwner::Scene => "scene",
             },
             report.errors.len(),
             report.size,
-            report.adapter.name
+            report.adapter.name,
+            shard_note(report)
         ),
         groups: vec![group],
         rows: &report.rows,
         swept: true,
-        problems: report.errors.clone(),
+        problems: problems(report),
         skipped: Vec::new(),
-        notes: Vec::new(),
-        provenance: provenance.rows(
+        notes: report.scene_notes.clone(),
+        provenance: report.provenance.rows(
             &report.adapter,
             &report.size,
             format!("{} timed, {} warm-up", report.frames, report.warmup),
         ),
-    };
-    write(out, &page)
+    }
 }
 
 fn write(out: &Path, page: &Page) -> Result<()> {
@@ -790,25 +687,6 @@ fn write(out: &Path, page: &Page) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn dates_are_utc_civil_dates() {
-        assert_eq!(utc(0), "1970-01-01T00:00:00Z");
-        assert_eq!(utc(951_782_400), "2000-02-29T00:00:00Z");
-        assert_eq!(utc(1_795_723_445), "2026-11-26T20:04:05Z");
-    }
-
-    #[test]
-    fn command_lines_are_quoted_for_a_shell() {
-        assert_eq!(quote("--scenes"), "--scenes");
-        assert_eq!(
-            quote("cornell-box:material=gold"),
-            "cornell-box:material=gold"
-        );
-        assert_eq!(quote("a b"), "'a b'");
-        assert_eq!(quote("it's"), r"'it'\''s'");
-        assert_eq!(quote(""), "''");
-    }
 
     #[test]
     fn table_cells_hold_the_csv_text_and_mark_failures() {

@@ -1,0 +1,597 @@
+//! The measuring engine: executes a [`Plan`] row by row and keeps the results as they come.
+//!
+//! Per scene of the plan, in order: the importer's notes; the references at every error time
+//! (through the cache, [`crate::cache`]), written as images; then each row:
+//!
+//! 1. a fresh device on the adapter and the scene uploaded to it (see [`DevicePolicy`]), a fresh
+//!    instance of the technique with the row's parameters, its `prepare`;
+//! 2. the frames ([`crate::measure`]): warm-up, then the camera path, every frame timed and the
+//!    error frames read back;
+//! 3. the error figures against the references ([`crate::score`]);
+//! 4. the row's images, then the CSV and JSON tables rewritten with the row in them.
+//!
+//! After the scene's last row its speed-ups against the exact tracer and its Pareto view are
+//! set ([`crate::pareto`]) and every file is rewritten, the markdown table and `index.html`
+//! included. A technique that fails (an error, a GPU validation error, a panic) gets a row with
+//! the error, and the run goes on. Each row also records where its wall-clock time went
+//! ([`crate::report::RowWall`]).
+//!
+//! `--resume` ([`ExecOptions::resume`]) keeps the rows an earlier run of the same plan on the
+//! same commit left in the folder, and runs only the others; `--shard i/n` runs one slice of
+//! the plan ([`Plan::shard`]) into a folder of its own, which `harness merge` joins.
+
+use crate::cache::{self, RefView};
+use crate::measure::{self, ErrorFrame, TechniqueRun};
+use crate::model::{ReferenceInfo, RunReport, SceneWall, WrittenImages};
+use crate::output::{self, Output};
+use crate::plan::{Plan, PlannedRow, PlannedScene, Shard};
+use crate::provenance::Provenance;
+use crate::report::{AdapterJson, ResultRow, RowWall};
+use crate::score::{self, TimedReference};
+use crate::{Env, Progress, backend};
+use anyhow::{Context as _, Result, anyhow, bail};
+use scene::{GpuScene, Scene, Technique};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Which device a row renders on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DevicePolicy {
+    /// A new device on the adapter for every row, the scene uploaded to it: each row finds the
+    /// driver as the first row did. On lavapipe a device keeps the shader variants and caches
+    /// of every pipeline it ran; on one shared device later rows ran up to 20 times slower and
+    /// the process grew by gigabytes (see the harness README, "Cost"). The default.
+    #[default]
+    PerRow,
+    /// Every row on the shared device, the scene uploaded once: what an application does, and
+    /// what `--device shared` measures.
+    Shared,
+}
+
+/// How to execute a plan.
+#[derive(Clone, Debug)]
+pub struct ExecOptions {
+    pub out: PathBuf,
+    /// Execute this slice of the plan only (`--shard i/n`).
+    pub shard: Option<Shard>,
+    /// Keep the rows an earlier run of the same plan and commit left in `out` (`--resume`).
+    pub resume: bool,
+    pub device: DevicePolicy,
+}
+
+impl ExecOptions {
+    /// The whole plan into `out`, nothing resumed, a device per row.
+    pub fn new(out: impl Into<PathBuf>) -> Self {
+        ExecOptions {
+            out: out.into(),
+            shard: None,
+            resume: false,
+            device: DevicePolicy::default(),
+        }
+    }
+}
+
+/// The start of the error of a row whose technique panicked.
+pub const PANICKED: &str = "panicked: ";
+
+/// A one-line message of a caught panic (it starts with [`PANICKED`]).
+fn panic_message(payload: Box<dyn std::any::Any + Send>) -> String {
+    let text = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into());
+    format!("{PANICKED}{}", text.lines().next().unwrap_or(""))
+}
+
+/// A loaded scene of a run: its spec, the model, the importer's notes.
+pub struct LoadedScene {
+    pub spec: String,
+    pub scene: Scene,
+    pub notes: Vec<String>,
+}
+
+/// Loads every scene spec first, so a bad one fails before any GPU work.
+pub fn load_scenes(specs: &[String]) -> Result<Vec<LoadedScene>> {
+    specs
+        .iter()
+        .map(|s| {
+            crate::load_scene_noted(s).map(|(scene, notes)| LoadedScene {
+                spec: s.clone(),
+                scene,
+                notes,
+            })
+        })
+        .collect()
+}
+
+/// Executes `plan` (see the module documentation) and returns what it wrote.
+pub fn execute(env: &Env, plan: &Plan, opts: &ExecOptions) -> Result<RunReport> {
+    let slice = match opts.shard {
+        Some(shard) => plan.shard(shard),
+        None => plan.clone(),
+    };
+    let specs: Vec<String> = slice.scenes.iter().map(|s| s.spec.clone()).collect();
+    let scenes = load_scenes(&specs)?;
+    crate::limits::check_memory(env.ctx, plan.size, plan.frames)?;
+    let _lock = crate::OutputLock::acquire(&opts.out)?;
+    let output = Output::new(&opts.out, plan.table_stem());
+    let provenance = Provenance::capture(env.ground_truth.key());
+    let adapter = AdapterJson::of(env.ctx);
+    let mut report = RunReport::new(&slice, plan.key(), opts.shard, adapter, provenance);
+    let mut earlier = match opts.resume {
+        true => Earlier::read(&output, &report)?,
+        false => Earlier::default(),
+    };
+    let progress = Progress::new(env.progress);
+    let run = Run {
+        env,
+        plan: &slice,
+        out: &output,
+        progress: &progress,
+        device: opts.device,
+    };
+    for loaded in &scenes {
+        run.scene(loaded, &mut report, &mut earlier)?;
+    }
+    output.write_sweep_plot(&mut report)?;
+    output.write_all(&report)?;
+    Ok(report)
+}
+
+/// What an earlier run of the same plan left in the folder (`--resume`).
+#[derive(Default)]
+struct Earlier {
+    rows: BTreeMap<String, (ResultRow, Option<WrittenImages>)>,
+    scenes: BTreeMap<String, (Vec<ReferenceInfo>, Option<WrittenImages>, SceneWall)>,
+}
+
+impl Earlier {
+    /// The finished rows of the folder's results, which must be of the same plan (and shard)
+    /// and the same commit; an empty folder resumes nothing.
+    fn read(output: &Output, now: &RunReport) -> Result<Self> {
+        let path = output.table("json");
+        if !path.is_file() {
+            return Ok(Earlier::default());
+        }
+        let old = RunReport::read(&path)?;
+        if old.plan_key != now.plan_key || old.shard != now.shard {
+            bail!(
+                "--resume: {} holds the results of another run (other scenes, techniques, size, \
+                 frames or reference options); resume with the same arguments, or choose another --out",
+                path.display()
+            );
+        }
+        let (was, is) = (&old.provenance.git_commit, &now.provenance.git_commit);
+        if was != is {
+            bail!(
+                "--resume: {} was written by commit {was}, this is {is}; its rows would not be \
+                 this code's figures (run without --resume to start again)",
+                path.display()
+            );
+        }
+        let mut earlier = Earlier::default();
+        for row in old.rows {
+            let images = old.images.iter().find(|w| row_images(w, &row)).cloned();
+            earlier.rows.insert(result_key(&row), (row, images));
+        }
+        for spec in old.image_dirs.keys() {
+            let refs: Vec<ReferenceInfo> = old
+                .references
+                .iter()
+                .filter(|r| &r.scene == spec)
+                .cloned()
+                .collect();
+            let images = old
+                .images
+                .iter()
+                .find(|w| &w.scene == spec && w.technique.is_none())
+                .cloned();
+            let wall = old.scene_walls.iter().find(|w| &w.scene == spec).cloned();
+            if !refs.is_empty() {
+                earlier
+                    .scenes
+                    .insert(spec.clone(), (refs, images, wall.unwrap_or_default()));
+            }
+        }
+        Ok(earlier)
+    }
+}
+
+/// The key of a result row (what [`PlannedRow::key`] says of its planned row).
+fn result_key(row: &ResultRow) -> String {
+    format!(
+        "{} | {} | {}",
+        row.scene,
+        row.technique,
+        row.value.as_deref().unwrap_or("")
+    )
+}
+
+/// Whether `images` are the images of `row`.
+fn row_images(images: &WrittenImages, row: &ResultRow) -> bool {
+    images.scene == row.scene
+        && images.technique.as_deref() == Some(&row.technique)
+        && images.value == row.value
+}
+
+/// What a plan's execution shares between its scenes.
+struct Run<'a> {
+    env: &'a Env<'a>,
+    plan: &'a Plan,
+    out: &'a Output,
+    progress: &'a Progress,
+    device: DevicePolicy,
+}
+
+impl Run<'_> {
+    fn say(&self, line: String) {
+        self.progress.say(&line);
+    }
+
+    /// One scene: its references, then its rows (see the module documentation).
+    fn scene(
+        &self,
+        loaded: &LoadedScene,
+        report: &mut RunReport,
+        earlier: &mut Earlier,
+    ) -> Result<()> {
+        let planned = self
+            .plan
+            .scene(&loaded.spec)
+            .ok_or_else(|| anyhow!("scene {} is not in the plan", loaded.spec))?;
+        let rows: Vec<&PlannedRow> = self
+            .plan
+            .rows
+            .iter()
+            .filter(|r| r.scene == loaded.spec)
+            .collect();
+        let bar = self.progress.scene(&loaded.spec, rows.len() as u64 + 1);
+        let errors_before = report.errors.len();
+        for note in &loaded.notes {
+            self.say(format!("warning: {}: {note}", loaded.spec));
+            report.scene_notes.push(format!("{}: {note}", loaded.spec));
+        }
+        bar.set_message("reference");
+        let all_done = rows.iter().all(|r| earlier.rows.contains_key(&r.key()));
+        let references = match earlier.scenes.remove(&loaded.spec) {
+            Some((infos, images, wall)) if all_done => {
+                report.references.extend(infos);
+                report.images.extend(images);
+                report.scene_walls.push(wall);
+                Vec::new()
+            }
+            _ => self.references(loaded, planned, report)?,
+        };
+        bar.inc(1);
+        let first_row = report.rows.len();
+        let mut shared: Option<GpuScene> = None;
+        for row in rows {
+            match earlier.rows.remove(&row.key()) {
+                Some((result, images)) => {
+                    report.rows.push(result);
+                    report.images.extend(images);
+                }
+                None => {
+                    bar.set_message(row.label.clone());
+                    let measured = self.row(row, planned, loaded, &references, &mut shared);
+                    self.record(measured, report)?;
+                }
+            }
+            bar.inc(1);
+        }
+        self.pareto(loaded, report, first_row)?;
+        self.out.write_all(report)?;
+        let failed = report.errors.len() - errors_before;
+        bar.finish_with_message(match failed {
+            0 => "done".to_string(),
+            n => format!("done, {n} failed"),
+        });
+        Ok(())
+    }
+
+    /// A row's result into the report, its errors told, the tables rewritten.
+    fn record(&self, measured: Measured, report: &mut RunReport) -> Result<()> {
+        let Measured { mut row, images } = measured;
+        let spec = match &row.value {
+            Some(v) => format!("{} / {} {}={v}", row.scene, row.technique, {
+                row.param.as_deref().unwrap_or("")
+            }),
+            None => format!("{} / {}", row.scene, row.technique),
+        };
+        if let Some(err) = &row.error {
+            let msg = format!("{spec}: {err}");
+            self.say(format!("error: {msg}"));
+            if err.starts_with(PANICKED) {
+                report.panics.push(msg.clone());
+            }
+            report.errors.push(msg);
+        } else if let Some(n) = row.nan_pixels.filter(|&n| n > 0) {
+            self.say(format!("warning: {spec}: {n} NaN or infinite pixels"));
+        }
+        let start = Instant::now();
+        report.images.extend(images);
+        report.rows.push(row.clone());
+        self.out.write_rows(report)?;
+        row.wall.write_s += start.elapsed().as_secs_f64();
+        if let Some(last) = report.rows.last_mut() {
+            *last = row;
+        }
+        Ok(())
+    }
+
+    /// The scene's rows' speed-ups against the exact tracer and its Pareto view.
+    fn pareto(&self, loaded: &LoadedScene, report: &mut RunReport, first_row: usize) -> Result<()> {
+        if report.rows.len() == first_row || report.sweep().is_some() {
+            return Ok(());
+        }
+        let dir_name = report
+            .image_dirs
+            .get(&loaded.spec)
+            .cloned()
+            .unwrap_or_default();
+        let rows = &mut report.rows[first_row..];
+        let adapter = report.adapter.name.clone();
+        let (points, warning) =
+            crate::pareto::write_scene(&self.out.dir, &loaded.spec, &dir_name, rows, &adapter)?;
+        if let Some(w) = warning {
+            self.say(format!("warning: {w}"));
+        }
+        report.pareto.push(points);
+        Ok(())
+    }
+
+    /// The references at every error time of the scene, through the cache, their images
+    /// written; none (and the error in the report) when the reference fails.
+    fn references(
+        &self,
+        loaded: &LoadedScene,
+        planned: &PlannedScene,
+        report: &mut RunReport,
+    ) -> Result<Vec<TimedReference>> {
+        let start = Instant::now();
+        let rendered = path_references(self.env, self.out, loaded, self.plan);
+        let references = match rendered {
+            Ok(timed) => {
+                for (r, cached) in &timed {
+                    report.references.push(ReferenceInfo {
+                        scene: loaded.spec.clone(),
+                        time: r.time,
+                        cached: *cached,
+                        stats: Some(r.reference.stats.clone()),
+                        masked_pixels: r.reference.mask.iter().filter(|&&m| m).count(),
+                        error: None,
+                    });
+                }
+                let timed: Vec<TimedReference> = timed.into_iter().map(|(r, _)| r).collect();
+                let images: Vec<(f32, &gpu::HdrImage)> =
+                    timed.iter().map(|r| (r.time, &r.reference.image)).collect();
+                let frames = output::write_reference_images(
+                    &self.out.dir,
+                    &planned.image_dir,
+                    &planned.reference_stem,
+                    &images,
+                )?;
+                report.images.push(WrittenImages {
+                    scene: loaded.spec.clone(),
+                    technique: None,
+                    value: planned.value.clone(),
+                    frames,
+                });
+                timed
+            }
+            Err(e) => {
+                let msg = format!("{} / reference: {e:#}", loaded.spec);
+                self.say(format!("error: {msg}"));
+                report.errors.push(msg);
+                report.references.push(ReferenceInfo {
+                    scene: loaded.spec.clone(),
+                    time: 0.0,
+                    cached: false,
+                    stats: None,
+                    masked_pixels: 0,
+                    error: Some(format!("{e:#}")),
+                });
+                Vec::new()
+            }
+        };
+        report.scene_walls.push(SceneWall {
+            scene: loaded.spec.clone(),
+            reference_s: start.elapsed().as_secs_f64(),
+        });
+        Ok(references)
+    }
+
+    /// One row, measured and scored, its images written (see the module documentation).
+    fn row(
+        &self,
+        row: &PlannedRow,
+        planned: &PlannedScene,
+        loaded: &LoadedScene,
+        references: &[TimedReference],
+        shared: &mut Option<GpuScene>,
+    ) -> Measured {
+        let start = Instant::now();
+        let mut result = ResultRow::new(
+            &row.scene,
+            &row.label,
+            self.plan.size,
+            &self.env.ctx.summary.name,
+        );
+        if let Some((param, value)) = &row.swept {
+            result.param = Some(param.clone());
+            result.value = Some(value.clone());
+        }
+        let mut technique = match row.technique.instance(self.env.techniques) {
+            Ok(t) => t,
+            Err(e) => return Measured::failed(result.with_error(format!("{e:#}"))),
+        };
+        if !technique.supports(&loaded.scene) {
+            return Measured::failed(
+                result.with_error("the technique does not support this scene"),
+            );
+        }
+        let mut wall = RowWall::default();
+        let run = match technique.id().as_str() {
+            "reference" if !references.is_empty() => Ok(reference_run(references)),
+            _ => self.run_on_device(technique.as_mut(), loaded, row, shared, &mut wall, start),
+        };
+        let run = match run {
+            Ok(run) => run,
+            Err(message) => {
+                result.wall = wall;
+                return Measured::failed(result.with_error(message));
+            }
+        };
+        let scoring = Instant::now();
+        let (mut result, flips) =
+            score::score(technique.as_ref(), &loaded.scene, references, result, &run);
+        wall.metrics_s = scoring.elapsed().as_secs_f64();
+        let writing = Instant::now();
+        let images = match technique.id().as_str() {
+            // The `reference` technique's images are the ground truth's, already written.
+            "reference" => Ok(None),
+            _ => output::write_row_images(
+                &self.out.dir,
+                &planned.image_dir,
+                &row.image_stem,
+                &run.error_frames,
+                &flips,
+            )
+            .map(Some),
+        };
+        wall.write_s = writing.elapsed().as_secs_f64();
+        result.wall = wall;
+        match images {
+            Ok(frames) => Measured {
+                images: frames.map(|frames| WrittenImages {
+                    scene: row.scene.clone(),
+                    technique: Some(row.label.clone()),
+                    value: row.swept.as_ref().map(|(_, v)| v.clone()),
+                    frames,
+                }),
+                row: result,
+            },
+            Err(e) => Measured::failed(result.with_error(format!("writing its images: {e:#}"))),
+        }
+    }
+
+    /// Renders the row's frames on its device (see [`DevicePolicy`]); an error, a GPU
+    /// validation error or a panic is the row's error message.
+    fn run_on_device(
+        &self,
+        technique: &mut dyn Technique,
+        loaded: &LoadedScene,
+        row: &PlannedRow,
+        shared: &mut Option<GpuScene>,
+        wall: &mut RowWall,
+        start: Instant,
+    ) -> Result<TechniqueRun, String> {
+        let fresh;
+        let (ctx, mut own_scene) = match self.device {
+            DevicePolicy::PerRow => {
+                fresh = self.env.ctx.fresh_device().map_err(|e| format!("{e:#}"))?;
+                (&fresh, None)
+            }
+            DevicePolicy::Shared => (self.env.ctx, None),
+        };
+        let gpu_scene = match (self.device, shared.as_mut()) {
+            (DevicePolicy::Shared, Some(s)) => s,
+            (policy, _) => {
+                let uploaded = backend::upload_scene(ctx, &loaded.scene)
+                    .map_err(|e| format!("scene upload failed: {e:#}"))?;
+                match policy {
+                    DevicePolicy::Shared => shared.insert(uploaded),
+                    DevicePolicy::PerRow => own_scene.insert(uploaded),
+                }
+            }
+        };
+        let bar = self.progress.technique(&row.label);
+        let mut on_step =
+            |step: &str, done: usize, total: usize| Progress::step(&bar, step, done, total);
+        let setup_s = start.elapsed().as_secs_f64();
+        let frames_start = Instant::now();
+        let (size, frames) = (self.plan.size, self.plan.frames);
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            measure::run_technique(ctx, technique, gpu_scene, size, frames, &mut on_step)
+        }));
+        bar.finish_and_clear();
+        let elapsed = frames_start.elapsed().as_secs_f64();
+        wall.prepare_s = setup_s;
+        wall.frames_s = elapsed;
+        let run = match result {
+            Ok(Ok(run)) => run,
+            Ok(Err(e)) => return Err(format!("{e:#}")),
+            Err(p) => return Err(panic_message(p)),
+        };
+        let prepare_s = run.prepare_wall_ms / 1e3;
+        wall.prepare_s += prepare_s;
+        wall.frames_s = (elapsed - prepare_s).max(0.0);
+        Ok(run)
+    }
+}
+
+/// A row as measured, with the images it wrote.
+struct Measured {
+    row: ResultRow,
+    images: Option<WrittenImages>,
+}
+
+impl Measured {
+    fn failed(row: ResultRow) -> Self {
+        Measured { row, images: None }
+    }
+}
+
+/// The `reference` technique's run: the ground truth itself. Instead of rendering it again for
+/// every frame (seconds each on the CPU), its row reuses the (cached) ground-truth images and
+/// reports the CPU time the first took as one frame.
+fn reference_run(references: &[TimedReference]) -> TechniqueRun {
+    let ms = references[0].reference.stats.seconds * 1e3;
+    TechniqueRun {
+        error_frames: references
+            .iter()
+            .map(|r| ErrorFrame {
+                time: r.time,
+                image: r.reference.image.clone(),
+            })
+            .collect(),
+        timer: "cpu".into(),
+        frame: gpu::TimeStats {
+            median_ms: ms,
+            p95_ms: ms,
+            samples: 1,
+        },
+        prepare_ms: 0.0,
+        prepare_wall_ms: 0.0,
+        spans_ms: Default::default(),
+    }
+}
+
+/// The references at every error-frame time of the plan on the scene's camera path, each with
+/// whether it came from the cache.
+fn path_references(
+    env: &Env,
+    out: &Output,
+    loaded: &LoadedScene,
+    plan: &Plan,
+) -> Result<Vec<(TimedReference, bool)>> {
+    plan.frames
+        .error_times_for(&loaded.scene)
+        .into_iter()
+        .map(|time| {
+            let view = RefView {
+                spec: &loaded.spec,
+                scene: &loaded.scene,
+                camera: loaded.scene.camera_at(time),
+                time,
+                size: plan.size,
+            };
+            let (reference, cached) =
+                cache::reference(&out.dir.join(".cache"), env.ground_truth, &view)
+                    .with_context(|| format!("reference at time {time}"))?;
+            Ok((TimedReference { time, reference }, cached))
+        })
+        .collect()
+}
