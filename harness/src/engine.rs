@@ -30,7 +30,7 @@ use crate::report::{AdapterJson, ResultRow, RowWall};
 use crate::score::{self, TimedReference};
 use crate::{Env, Progress, backend};
 use anyhow::{Context as _, Result, anyhow, bail};
-use scene::{GpuScene, Scene, Technique};
+use scene::{Contained, GpuScene, Scene, Technique};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -71,6 +71,10 @@ impl ExecOptions {
         }
     }
 }
+
+/// The share of a frame its named spans must account for before a contained variant is timed
+/// from them (see `measure::TechniqueRun::spans_cover`).
+const SPANS_COVER: std::ops::RangeInclusive<f64> = 0.8..=1.25;
 
 /// The start of the error of a row whose technique panicked.
 pub const PANICKED: &str = "panicked: ";
@@ -266,8 +270,9 @@ impl Run<'_> {
         };
         bar.inc(1);
         let first_row = report.rows.len();
+        let mut turns = Turns::new(self, &rows, &loaded.scene, earlier);
         let mut shared: Option<GpuScene> = None;
-        for row in rows {
+        for (i, row) in rows.iter().enumerate() {
             match earlier.rows.remove(&row.key()) {
                 Some((result, images)) => {
                     report.rows.push(result);
@@ -275,7 +280,8 @@ impl Run<'_> {
                 }
                 None => {
                     bar.set_message(row.label.clone());
-                    let measured = self.row(row, planned, loaded, &references, &mut shared);
+                    let on = ((planned, loaded), references.as_slice(), &mut shared);
+                    let measured = turns.take(self, i, on);
                     self.record(measured, report)?;
                 }
             }
@@ -403,16 +409,52 @@ impl Run<'_> {
         Ok(references)
     }
 
-    /// One row, measured and scored, its images written (see the module documentation).
+    /// One row, measured and scored, its images written (see the module documentation); with
+    /// its run when it measured `contained` variants too.
     fn row(
         &self,
         row: &PlannedRow,
-        planned: &PlannedScene,
-        loaded: &LoadedScene,
+        scene: (&PlannedScene, &LoadedScene),
         references: &[TimedReference],
         shared: &mut Option<GpuScene>,
-    ) -> Measured {
+        contained: &[Contained],
+    ) -> (Measured, Option<TechniqueRun>) {
+        let (_, loaded) = scene;
         let start = Instant::now();
+        let result = self.new_row(row);
+        let mut technique = match row.technique.instance(self.env.techniques) {
+            Ok(t) => t,
+            Err(e) => return (Measured::failed(result.with_error(format!("{e:#}"))), None),
+        };
+        if !technique.supports(&loaded.scene) {
+            let message = "the technique does not support this scene";
+            return (Measured::failed(result.with_error(message)), None);
+        }
+        let mut wall = RowWall::default();
+        let run = match technique.id().as_str() {
+            "reference" if !references.is_empty() => Ok(reference_run(references)),
+            _ => {
+                let on = (loaded, shared);
+                self.run_on_device(technique.as_mut(), on, row, contained, &mut wall, start)
+            }
+        };
+        match run {
+            Ok(run) => {
+                let technique = technique.as_ref();
+                let measured =
+                    self.finish_row(result, technique, &run, row, scene, references, wall);
+                (measured, Some(run))
+            }
+            Err(message) => {
+                let mut result = result.with_error(message);
+                result.wall = wall;
+                (Measured::failed(result), None)
+            }
+        }
+    }
+
+    /// A row of `row`'s identity, no figure yet.
+    fn new_row(&self, row: &PlannedRow) -> ResultRow {
         let mut result = ResultRow::new(
             &row.scene,
             &row.label,
@@ -423,30 +465,24 @@ impl Run<'_> {
             result.param = Some(param.clone());
             result.value = Some(value.clone());
         }
-        let mut technique = match row.technique.instance(self.env.techniques) {
-            Ok(t) => t,
-            Err(e) => return Measured::failed(result.with_error(format!("{e:#}"))),
-        };
-        if !technique.supports(&loaded.scene) {
-            return Measured::failed(
-                result.with_error("the technique does not support this scene"),
-            );
-        }
-        let mut wall = RowWall::default();
-        let run = match technique.id().as_str() {
-            "reference" if !references.is_empty() => Ok(reference_run(references)),
-            _ => self.run_on_device(technique.as_mut(), loaded, row, shared, &mut wall, start),
-        };
-        let run = match run {
-            Ok(run) => run,
-            Err(message) => {
-                result.wall = wall;
-                return Measured::failed(result.with_error(message));
-            }
-        };
+        result
+    }
+
+    /// A measured row's error figures and images.
+    #[allow(clippy::too_many_arguments)]
+    fn finish_row(
+        &self,
+        result: ResultRow,
+        technique: &dyn Technique,
+        run: &TechniqueRun,
+        row: &PlannedRow,
+        (planned, loaded): (&PlannedScene, &LoadedScene),
+        references: &[TimedReference],
+        mut wall: RowWall,
+    ) -> Measured {
+        let scene = &loaded.scene;
         let scoring = Instant::now();
-        let (mut result, flips) =
-            score::score(technique.as_ref(), &loaded.scene, references, result, &run);
+        let (mut result, flips) = score::score(technique, scene, references, result, run);
         wall.metrics_s = scoring.elapsed().as_secs_f64();
         let writing = Instant::now();
         let images = match technique.id().as_str() {
@@ -477,14 +513,54 @@ impl Run<'_> {
         }
     }
 
+    /// The row of variant `row`, contained in `container`'s run (see `Technique::contains`):
+    /// its images and times from that run; `None` where the run's spans do not account for its
+    /// frames (an adapter whose timer cannot time passes apart), and the row runs itself.
+    fn contained_row(
+        &self,
+        row: &PlannedRow,
+        scene: (&PlannedScene, &LoadedScene),
+        references: &[TimedReference],
+        (container, run): (&PlannedRow, &TechniqueRun),
+    ) -> Option<Measured> {
+        let id = &row.technique.id;
+        let contained = run.contained.iter().find(|c| &c.id == id)?;
+        if !(SPANS_COVER.contains(&run.spans_cover) && contained.frame.samples > 0) {
+            return None;
+        }
+        let technique = row.technique.instance(self.env.techniques).ok()?;
+        let own = TechniqueRun {
+            error_frames: contained.error_frames.clone(),
+            timer: run.timer.clone(),
+            frame: contained.frame,
+            prepare_ms: 0.0,
+            prepare_wall_ms: 0.0,
+            spans_ms: Default::default(),
+            contained: Vec::new(),
+            spans_cover: f64::NAN,
+        };
+        let mut result = self.new_row(row);
+        result.measured_with = Some(container.label.clone());
+        let wall = RowWall::default();
+        Some(self.finish_row(
+            result,
+            technique.as_ref(),
+            &own,
+            row,
+            scene,
+            references,
+            wall,
+        ))
+    }
+
     /// Renders the row's frames on its device (see [`DevicePolicy`]); an error, a GPU
     /// validation error or a panic is the row's error message.
     fn run_on_device(
         &self,
         technique: &mut dyn Technique,
-        loaded: &LoadedScene,
+        (loaded, shared): (&LoadedScene, &mut Option<GpuScene>),
         row: &PlannedRow,
-        shared: &mut Option<GpuScene>,
+        contained: &[Contained],
         wall: &mut RowWall,
         start: Instant,
     ) -> Result<TechniqueRun, String> {
@@ -514,7 +590,8 @@ impl Run<'_> {
         let frames_start = Instant::now();
         let (size, frames) = (self.plan.size, self.plan.frames);
         let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            measure::run_technique(ctx, technique, gpu_scene, size, frames, &mut on_step)
+            let scene = gpu_scene;
+            measure::run_containing(ctx, technique, scene, size, frames, contained, &mut on_step)
         }));
         bar.finish_and_clear();
         let elapsed = frames_start.elapsed().as_secs_f64();
@@ -529,6 +606,102 @@ impl Run<'_> {
         wall.prepare_s += prepare_s;
         wall.frames_s = (elapsed - prepare_s).max(0.0);
         Ok(run)
+    }
+}
+
+/// A scene's rows in turn, where one row's run measures another's (see
+/// `Technique::contains`: the tracer's caustics contain its Whitted eye pass): the container
+/// runs at the first of their turns, and the other row's result waits for its own turn.
+struct Turns<'r> {
+    rows: Vec<&'r PlannedRow>,
+    /// Per container row: the rows it measures, with what of its frame they are.
+    contains: BTreeMap<usize, Vec<(usize, Contained)>>,
+    /// Per contained row: its container.
+    container_of: BTreeMap<usize, usize>,
+    /// Results measured before their turn.
+    ready: BTreeMap<usize, Measured>,
+}
+
+/// Where a row runs: its scene (planned and loaded), its references, the shared GPU scene.
+type RowSite<'a, 'b> = (
+    (&'a PlannedScene, &'a LoadedScene),
+    &'a [TimedReference],
+    &'b mut Option<GpuScene>,
+);
+
+impl<'r> Turns<'r> {
+    /// Which rows contain which, among the rows an earlier run did not leave done.
+    fn new(run: &Run, rows: &[&'r PlannedRow], scene: &Scene, earlier: &Earlier) -> Self {
+        let mut turns = Turns {
+            rows: rows.to_vec(),
+            contains: BTreeMap::new(),
+            container_of: BTreeMap::new(),
+            ready: BTreeMap::new(),
+        };
+        let todo = |r: &PlannedRow| !earlier.rows.contains_key(&r.key());
+        for (i, row) in rows.iter().enumerate().filter(|(_, r)| todo(r)) {
+            let Ok(technique) = row.technique.instance(run.env.techniques) else {
+                continue;
+            };
+            if !technique.supports(scene) {
+                continue;
+            }
+            for c in technique.contains() {
+                let plain = crate::plan::TechniqueSpec::id(&c.id);
+                let found = rows.iter().position(|r| r.technique == plain && todo(r));
+                if let Some(j) = found.filter(|j| !turns.container_of.contains_key(j)) {
+                    turns.container_of.insert(j, i);
+                    turns.contains.entry(i).or_default().push((j, c));
+                }
+            }
+        }
+        turns
+    }
+
+    /// Row `i`'s result at its turn: measured ahead by its container, or now (its container
+    /// first when that comes later, or the row itself).
+    fn take(&mut self, run: &Run, i: usize, site: RowSite) -> Measured {
+        if let Some(m) = self.ready.remove(&i) {
+            return m;
+        }
+        let (scene, references, shared) = site;
+        if let Some(&r) = self.container_of.get(&i).filter(|&&r| r > i) {
+            self.measure(run, r, i, (scene, references, &mut *shared));
+            if let Some(m) = self.ready.remove(&i) {
+                return m;
+            }
+            // Its container could not time it (see `SPANS_COVER`): it runs itself.
+            self.container_of.remove(&i);
+        }
+        self.measure(run, i, i, (scene, references, shared));
+        self.ready
+            .remove(&i)
+            .unwrap_or_else(|| Measured::failed(ResultRow::default().with_error("not measured")))
+    }
+
+    /// Runs row `i` with the rows it contains from turn `now` on, keeping every result.
+    fn measure(&mut self, run: &Run, i: usize, now: usize, site: RowSite) {
+        let (scene, references, shared) = site;
+        let contained: Vec<(usize, Contained)> = self
+            .contains
+            .get(&i)
+            .into_iter()
+            .flatten()
+            .filter(|(j, _)| *j >= now && self.container_of.get(j) == Some(&i))
+            .cloned()
+            .collect();
+        let variants: Vec<Contained> = contained.iter().map(|(_, c)| c.clone()).collect();
+        let (measured, technique_run) = run.row(self.rows[i], scene, references, shared, &variants);
+        self.ready.insert(i, measured);
+        let Some(technique_run) = technique_run else {
+            return;
+        };
+        for (j, _) in contained {
+            let container = (self.rows[i], &technique_run);
+            if let Some(m) = run.contained_row(self.rows[j], scene, references, container) {
+                self.ready.insert(j, m);
+            }
+        }
     }
 }
 
@@ -566,6 +739,8 @@ fn reference_run(references: &[TimedReference]) -> TechniqueRun {
         prepare_ms: 0.0,
         prepare_wall_ms: 0.0,
         spans_ms: Default::default(),
+        contained: Vec::new(),
+        spans_cover: f64::NAN,
     }
 }
 

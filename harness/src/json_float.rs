@@ -4,28 +4,25 @@
 //! JSON has no infinity and no NaN. A figure that is NaN (no finite pixel, an empty mask) is
 //! written as `null`, as before; an infinite one (the PSNR of identical images) as the string
 //! `"inf"` or `"-inf"` instead of a `null` that would read back as "missing". Reading accepts a
-//! number, `null` (NaN, or `None` for an optional figure) and those strings.
+//! number, `null` (NaN, or `None` for an optional figure) and those strings, and reads a number
+//! from its text with Rust's exact parser (serde_json's own is exact only to within an ulp
+//! unless its `float_roundtrip` feature is on, which would change how every crate of the
+//! workspace reads JSON): so these fields must be read from JSON text (`serde_json::from_str`),
+//! not from a `serde_json::Value`.
 
 use serde::{Deserialize, Deserializer, Serializer};
+use serde_json::value::RawValue;
 
-/// A JSON value of a figure: a number, `null` or one of the strings.
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum Figure {
-    Number(f64),
-    Text(String),
-}
-
-fn from_figure<E: serde::de::Error>(figure: Option<Figure>) -> Result<Option<f64>, E> {
-    match figure {
-        None => Ok(None),
-        Some(Figure::Number(v)) => Ok(Some(v)),
-        Some(Figure::Text(t)) => match t.as_str() {
-            "inf" => Ok(Some(f64::INFINITY)),
-            "-inf" => Ok(Some(f64::NEG_INFINITY)),
-            "nan" | "NaN" => Ok(Some(f64::NAN)),
-            other => Err(E::custom(format!("\"{other}\" is not a number"))),
-        },
+fn from_figure<E: serde::de::Error>(raw: &RawValue) -> Result<Option<f64>, E> {
+    match raw.get().trim() {
+        "null" => Ok(None),
+        "\"inf\"" => Ok(Some(f64::INFINITY)),
+        "\"-inf\"" => Ok(Some(f64::NEG_INFINITY)),
+        "\"nan\"" | "\"NaN\"" => Ok(Some(f64::NAN)),
+        text => text
+            .parse::<f64>()
+            .map(Some)
+            .map_err(|_| E::custom(format!("{text} is not a number"))),
     }
 }
 
@@ -50,7 +47,7 @@ pub mod opt {
     }
 
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
-        from_figure(Option::<Figure>::deserialize(d)?)
+        from_figure(&Box::<RawValue>::deserialize(d)?)
     }
 }
 
@@ -63,7 +60,7 @@ pub mod num {
     }
 
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-        Ok(from_figure(Option::<Figure>::deserialize(d)?)?.unwrap_or(f64::NAN))
+        Ok(from_figure(&Box::<RawValue>::deserialize(d)?)?.unwrap_or(f64::NAN))
     }
 }
 

@@ -70,6 +70,11 @@ pub mod sweep;
 
 pub use progress::Progress;
 
+/// The README's code (its library example) compiled as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
+
 use anyhow::{Context as _, Result, bail};
 use gpu::HdrImage;
 use scene::{Camera, Scene, Technique};

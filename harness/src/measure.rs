@@ -35,7 +35,7 @@ use crate::Frames;
 use anyhow::{Result, anyhow};
 use gpu::{Context, GpuTimer, HdrImage, Target, TimeStats, TimerKind};
 use scene::runner::{self, Recorded};
-use scene::{GpuScene, Technique, Timing, View};
+use scene::{Contained, GpuScene, Technique, Timing, View};
 use std::collections::BTreeMap;
 
 /// One error frame: the image of the camera path's view at `time`, read back.
@@ -43,6 +43,16 @@ use std::collections::BTreeMap;
 pub struct ErrorFrame {
     pub time: f32,
     pub image: HdrImage,
+}
+
+/// A contained variant (`Technique::contains`) as its container's run measured it.
+#[derive(Clone, Debug)]
+pub struct ContainedRun {
+    pub id: String,
+    /// Its images at the container's error frames.
+    pub error_frames: Vec<ErrorFrame>,
+    /// The sum of its spans in each timed frame of the container.
+    pub frame: TimeStats,
 }
 
 /// What a run measured.
@@ -58,6 +68,13 @@ pub struct TechniqueRun {
     pub prepare_wall_ms: f64,
     /// Extra named spans: `<label>_ms` (median per timed frame) and `prepare.<label>_ms`.
     pub spans_ms: BTreeMap<String, f64>,
+    /// The contained variants asked for, measured from this run's frames.
+    pub contained: Vec<ContainedRun>,
+    /// The median share of a frame's time its named spans account for: about 1 where the
+    /// timer's spans are trustworthy (GPUs, Mesa 25's lavapipe), far below where they are not
+    /// (Mesa 22.3's lavapipe gives compute passes no time), and then a contained variant
+    /// cannot be timed from them.
+    pub spans_cover: f64,
 }
 
 impl TechniqueRun {
@@ -173,16 +190,33 @@ struct Samples {
     frames: Vec<f64>,
     /// Per technique span: its time in every timed frame.
     spans: BTreeMap<String, Vec<f64>>,
+    /// Per contained variant: the sum of its spans in every timed frame.
+    contained: Vec<Vec<f64>>,
+    /// Per timed frame: the share of it the technique's spans account for.
+    cover: Vec<f64>,
 }
 
 impl Samples {
-    fn add(&mut self, sample: &Sample, timing: Timing, kind: TimerKind) {
-        self.frames.push(sample.time("frame", timing, kind));
+    fn add(&mut self, sample: &Sample, timing: Timing, kind: TimerKind, contained: &[Contained]) {
+        let frame = sample.time("frame", timing, kind);
+        self.frames.push(frame);
+        let mut named = 0.0;
         for (label, ms) in sample.extra() {
             self.spans
                 .entry(format!("{label}_ms"))
                 .or_default()
                 .push(*ms);
+            named += ms;
+        }
+        self.cover.push(named / frame);
+        self.contained.resize(contained.len(), Vec::new());
+        for (c, times) in contained.iter().zip(&mut self.contained) {
+            let sum = sample
+                .extra()
+                .filter(|(label, _)| c.spans.contains(&label.as_str()))
+                .map(|(_, ms)| ms)
+                .sum();
+            times.push(sum);
         }
     }
 }
@@ -196,6 +230,20 @@ pub fn run_technique(
     scene: &mut GpuScene,
     size: crate::Size,
     frames: Frames,
+    on_step: &mut OnStep,
+) -> Result<TechniqueRun> {
+    run_containing(ctx, technique, scene, size, frames, &[], on_step)
+}
+
+/// [`run_technique`], measuring the `contained` variants from its frames too (see
+/// `Technique::contains`): their images at each error frame, their times from their spans.
+pub fn run_containing(
+    ctx: &Context,
+    technique: &mut dyn Technique,
+    scene: &mut GpuScene,
+    size: crate::Size,
+    frames: Frames,
+    contained: &[Contained],
     on_step: &mut OnStep,
 ) -> Result<TechniqueRun> {
     let mut timer = GpuTimer::new(ctx, 64);
@@ -217,19 +265,36 @@ pub fn run_technique(
     }
     let (timed, warmed) = warm_up(&mut recorder, technique, scene, &schedule, frames, on_step)?;
     let clock = (timing, kind);
-    let (samples, error_frames) = walk_path(
+    let (samples, error_frames, contained_frames) = walk_path(
         &mut recorder,
         technique,
         scene,
         &schedule,
         (timed, warmed),
-        clock,
+        (clock, contained),
         on_step,
     )?;
     for (label, values) in samples.spans {
         spans_ms.insert(label, TimeStats::from_samples(&values).median_ms);
     }
+    let contained = contained
+        .iter()
+        .zip(contained_frames)
+        .zip(
+            samples
+                .contained
+                .iter()
+                .chain(std::iter::repeat(&Vec::new())),
+        )
+        .map(|((c, error_frames), times)| ContainedRun {
+            id: c.id.clone(),
+            error_frames,
+            frame: TimeStats::from_samples(times),
+        })
+        .collect();
     Ok(TechniqueRun {
+        contained,
+        spans_cover: TimeStats::from_samples(&samples.cover).median_ms,
         error_frames,
         timer: match timing {
             Timing::Cpu => "cpu".to_string(),
@@ -275,14 +340,15 @@ fn walk_path(
     scene: &mut GpuScene,
     schedule: &Schedule,
     (timed, warmed): (u32, usize),
-    (timing, kind): (Timing, TimerKind),
+    ((timing, kind), contained): ((Timing, TimerKind), &[Contained]),
     on_step: &mut OnStep,
-) -> Result<(Samples, Vec<ErrorFrame>)> {
+) -> Result<(Samples, Vec<ErrorFrame>, Vec<Vec<ErrorFrame>>)> {
     let path = schedule.path(timed);
     let mut done = 1 + warmed;
     let total = done + schedule.path_len(timed);
     let mut samples = Samples::default();
     let mut error_frames = Vec::new();
+    let mut contained_frames = vec![Vec::new(); contained.len()];
     for frame in &path {
         let repeats = if frame.error { schedule.converge } else { 1 };
         for k in 0..repeats {
@@ -293,7 +359,7 @@ fn walk_path(
             };
             on_step(&label, done, total);
             let sample = recorder.frame(technique, scene, frame.time)?;
-            samples.add(&sample, timing, kind);
+            samples.add(&sample, timing, kind, contained);
             done += 1;
         }
         if frame.error {
@@ -301,9 +367,15 @@ fn walk_path(
                 time: frame.time,
                 image: target_image(recorder.ctx, &recorder.target)?,
             });
+            for (c, frames) in contained.iter().zip(&mut contained_frames) {
+                frames.push(ErrorFrame {
+                    time: frame.time,
+                    image: recorder.contained(technique, &c.id)?,
+                });
+            }
         }
     }
-    Ok((samples, error_frames))
+    Ok((samples, error_frames, contained_frames))
 }
 
 fn target_image(ctx: &Context, target: &Target) -> Result<HdrImage> {
@@ -339,6 +411,17 @@ impl<'t> Recorder<'t> {
             camera_path: scene.scene.camera_path.clone(),
             still: scene.scene.camera,
         }
+    }
+
+    /// Contained variant `id`'s image of the frame just rendered, drawn in a submission of its
+    /// own into a target of its own and read back.
+    fn contained(&mut self, technique: &mut dyn Technique, id: &str) -> Result<HdrImage> {
+        let target = Target::new(self.ctx, self.size.width, self.size.height)?;
+        runner::record(self.ctx, self.timer, "contained", |frame| {
+            technique.render_contained(frame, id, &target)
+        })
+        .map_err(|e| anyhow!(e).context(format!("the image of {id}")))?;
+        target_image(self.ctx, &target)
     }
 
     /// One frame of the path's view at `time`.

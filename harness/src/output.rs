@@ -49,10 +49,12 @@ impl Output {
         write_text(&self.table("json"), &json)
     }
 
-    /// Everything but the sweep's plot: the tables, the markdown table and `index.html`.
+    /// Everything but the sweep's plot: the tables, the markdown table, `wall.md` and
+    /// `index.html`.
     pub fn write_all(&self, report: &RunReport) -> Result<()> {
         self.write_rows(report)?;
         write_text(&self.table("md"), &markdown(report))?;
+        write_text(&self.dir.join("wall.md"), &wall_markdown(report))?;
         crate::html::write_page(&self.dir, report)
     }
 
@@ -80,6 +82,53 @@ impl Output {
         report.plot_has_text = text == PlotText::Drawn;
         Ok(())
     }
+}
+
+/// Where the run's wall-clock time went (`wall.md`): per scene its references and rows, per
+/// row its steps (prepare, frames, metrics, writing), then the totals. The harness's own cost,
+/// for whoever makes the run faster; not a figure of any technique.
+pub fn wall_markdown(report: &RunReport) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::new();
+    let (mut rows_s, mut references_s) = (0.0, 0.0);
+    let _ = writeln!(
+        out,
+        "| scene | row | prepare s | frames s | metrics s | write s | total s |\n| --- | --- | --- | --- | --- | --- | --- |"
+    );
+    for wall in &report.scene_walls {
+        references_s += wall.reference_s;
+        let _ = writeln!(
+            out,
+            "| {} | references | | | | | {:.2} |",
+            wall.scene, wall.reference_s
+        );
+        for r in report.rows.iter().filter(|r| r.scene == wall.scene) {
+            let w = r.wall;
+            rows_s += w.total_s();
+            let name = match (&r.value, &r.measured_with) {
+                (Some(v), _) => format!("{} {}={v}", r.technique, r.param.as_deref().unwrap_or("")),
+                (None, Some(with)) => format!("{} (in {with}'s frames)", r.technique),
+                (None, None) => r.technique.clone(),
+            };
+            let _ = writeln!(
+                out,
+                "| {} | {name} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+                r.scene,
+                w.prepare_s,
+                w.frames_s,
+                w.metrics_s,
+                w.write_s,
+                w.total_s()
+            );
+        }
+    }
+    let _ = writeln!(
+        out,
+        "\n{} rows: {rows_s:.1} s; references: {references_s:.1} s; together {:.1} s",
+        report.rows.len(),
+        rows_s + references_s
+    );
+    out
 }
 
 /// The markdown table of a report.

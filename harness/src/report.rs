@@ -86,6 +86,10 @@ pub struct ResultRow {
     pub spans_ms: BTreeMap<String, f64>,
     pub adapter: String,
     pub error: Option<String>,
+    /// The row whose run measured this one (`Technique::contains`: `raytracer/whitted` from
+    /// `raytracer/caustics`' eye pass), its images and times taken from that run's frames.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measured_with: Option<String>,
     /// Where the row's wall-clock time went (not a figure of the technique: the harness's own
     /// cost, for whoever makes the run faster).
     pub wall: RowWall,
@@ -97,12 +101,16 @@ pub struct ResultRow {
 pub struct RowWall {
     /// A fresh device and the scene uploaded to it, the technique made, its parameters set and
     /// its `prepare`.
+    #[serde(with = "json_float::num")]
     pub prepare_s: f64,
     /// Warm-up, timed and error frames, read-backs included.
+    #[serde(with = "json_float::num")]
     pub frames_s: f64,
     /// The error figures and FLIP maps against the references.
+    #[serde(with = "json_float::num")]
     pub metrics_s: f64,
     /// The row's images, and the tables and JSON rewritten after it.
+    #[serde(with = "json_float::num")]
     pub write_s: f64,
 }
 
@@ -538,7 +546,7 @@ mod tests {
         assert!(json["flip_mean_masked"].is_null());
         assert_eq!(json["rmse"], 0.0);
         assert!(json.get("param").is_none());
-        let back: ResultRow = serde_json::from_value(json).unwrap();
+        let back: ResultRow = serde_json::from_str(&json.to_string()).unwrap();
         assert_eq!(
             to_csv(&[back], false),
             csv,

@@ -32,12 +32,15 @@ pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
 /// The image checks of this crate (run by the tests crate against the reference along the
 /// camera path).
 pub fn image_checks() -> Vec<scene::ImageCheck> {
+    /// 16 frames of a sixteenth of the reference's photons: its density.
+    const CONVERGED: &[(&str, f64)] = &[("converge", 16.0)];
     use scene::ImageCheck;
     // Measured with `harness compare --size 64x64 --error-frames 3 --ref-photons 249856` (the
     // reference's photon density at 64 x 64, what the image-check test renders): the worst of
     // t = start, middle, end; bounds about 1.25 x the measured values. The caustic checks are
     // the noise of two independent photon sets of the same size (tests/images.rs shows the
-    // reference differs from itself with another seed by as much).
+    // reference differs from itself with another seed by as much). They accumulate 16 frames
+    // (`converge=16`), the reference's density: the default, 4, holds a quarter of it.
     vec![
         ImageCheck::new(
             "raytracer/caustics",
@@ -46,14 +49,16 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             0.0045,
             "the reference traced on the GPU, caustic included: measured FLIP 0.0089, RMSE \
              0.0034 (photon noise)",
-        ),
+        )
+        .with_params(CONVERGED),
         ImageCheck::new(
             "raytracer/caustics",
             "hu-qin:refractor=morph",
             0.0095,
             0.0105,
             "a deforming refractor, the BVH rebuilt every frame: measured FLIP 0.0074, RMSE 0.0082",
-        ),
+        )
+        .with_params(CONVERGED),
         ImageCheck::new(
             "raytracer/caustics",
             "murky-pool",
@@ -61,7 +66,8 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             0.078,
             "light shafts (photon beams) and caustics under the waves, lit by photons alone: \
              measured FLIP 0.089, RMSE 0.062, the noise of 61 photons per pixel",
-        ),
+        )
+        .with_params(CONVERGED),
         ImageCheck::new(
             "raytracer/whitted",
             "smoke",

@@ -21,8 +21,15 @@ pub enum Variant {
 pub struct RayTracer {
     variant: Variant,
     settings: TracerSettings,
+    /// Frames an error frame accumulates ([`Technique::frames_to_converge`]).
+    converge: u32,
     tracer: Option<GpuTracer>,
 }
+
+/// The default of `converge`: an error frame holds 4 frames' photons, a quarter of the
+/// reference's density (16 frames reach it; the default compare on a 2-core software adapter
+/// cannot afford that at every error time of every scene).
+pub const DEFAULT_CONVERGE: u32 = 4;
 
 impl RayTracer {
     pub fn new(variant: Variant) -> Self {
@@ -35,6 +42,10 @@ impl RayTracer {
             settings: TracerSettings {
                 photons,
                 ..TracerSettings::default()
+            },
+            converge: match variant {
+                Variant::Whitted => 1,
+                Variant::Caustics | Variant::RayQuery => DEFAULT_CONVERGE,
             },
             tracer: None,
         }
@@ -84,8 +95,16 @@ impl Technique for RayTracer {
                 0.0,
                 (0.0, MAX_PHOTONS as f64),
                 true,
-                "caustic photons per frame; 0: the reference's density, 61 per pixel (at \
-                 least 100 000)",
+                "caustic photons per frame; 0: a sixteenth of the reference's density (61 per \
+                 pixel, at least 100 000), so 16 frames of one view reach it",
+            ));
+            params.push(Param::new(
+                "converge",
+                DEFAULT_CONVERGE as f64,
+                (1.0, 1024.0),
+                true,
+                "frames of one view an error frame accumulates (each with new photons, the \
+                 image their running mean): 16 reach the reference's density with photons=0",
             ));
         }
         params
@@ -95,6 +114,7 @@ impl Technique for RayTracer {
         check_param(&self.id(), &self.params(), name, value)?;
         match name {
             "max_depth" => self.settings.max_depth = value as u32,
+            "converge" => self.converge = value as u32,
             _ => self.settings.photons = Some(value as u64),
         }
         if let Some(t) = &mut self.tracer {
@@ -107,6 +127,53 @@ impl Technique for RayTracer {
         match self.variant {
             Variant::RayQuery => gpu::wgpu::Features::EXPERIMENTAL_RAY_QUERY,
             _ => gpu::wgpu::Features::empty(),
+        }
+    }
+
+    fn frames_to_converge(&self) -> u32 {
+        self.converge
+    }
+
+    /// The ray-query variant is the same image as `caustics`, traversed by the hardware: what
+    /// it measures is a GPU's ray-tracing units, which a software adapter only emulates (it
+    /// took 14 times `caustics`' frame on lavapipe 25). `--all-variants` or naming it runs it.
+    fn representative(&self) -> bool {
+        self.variant != Variant::RayQuery
+    }
+
+    /// `caustics` contains `whitted`: its eye pass is whitted's whole frame (the same rays by
+    /// the same traversal), timed by the "eye" and "resolve" spans; with another `max_depth`
+    /// than whitted's default it is another eye pass, and contains nothing.
+    fn contains(&self) -> Vec<scene::Contained> {
+        let whitted = RayTracer::new(Variant::Whitted);
+        if self.variant != Variant::Caustics
+            || self.settings.max_depth != whitted.settings.max_depth
+        {
+            return Vec::new();
+        }
+        vec![scene::Contained {
+            id: whitted.id(),
+            spans: vec!["eye", "resolve"],
+        }]
+    }
+
+    fn render_contained(
+        &mut self,
+        frame: &mut Frame,
+        id: &str,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let contained = self.contains().iter().any(|c| c.id == id);
+        match (&self.tracer, contained) {
+            (Some(tracer), true) => {
+                tracer.resolve_eye_only(frame, target);
+                Ok(())
+            }
+            (None, _) => Err(not_prepared(self)),
+            (Some(_), false) => Err(scene::TechniqueError::Unsupported(format!(
+                "{} contains no variant {id}",
+                self.id()
+            ))),
         }
     }
 

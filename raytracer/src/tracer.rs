@@ -44,10 +44,14 @@ const PHOTON_ROW_WORKGROUPS: u32 = 32768;
 pub struct TracerSettings {
     /// Specular interactions followed along a path (the reference's `max_depth`).
     pub max_depth: u32,
-    /// Caustic photons per frame: `None` traces none, `Some(0)` the reference's density for
-    /// the image ([`photons_for_image`]).
+    /// Caustic photons per frame: `None` traces none, `Some(0)` a [`FRAME_SHARE`]th of the
+    /// reference's density for the image ([`photons_for_image`]). Frames of an unchanged view
+    /// (camera, time, size) add up: each traces new photons with a seed of its own
+    /// ([`frame_seed`]) and the image is the running mean of the frames' photon estimates, so
+    /// [`FRAME_SHARE`] frames of one view reach the reference's density.
     pub photons: Option<u64>,
-    /// Seed of the photons' random numbers.
+    /// Seed of the photons' random numbers (of the first frame of a view; frame `k` of the
+    /// same view uses [`frame_seed`]).
     pub seed: u32,
 }
 
@@ -58,6 +62,19 @@ impl Default for TracerSettings {
             photons: None,
             seed: 0x5eed,
         }
+    }
+}
+
+/// The share of the reference's photons one frame traces by default: a frame costs a
+/// sixteenth of the reference's light pass, and 16 frames of one view reach its density.
+pub const FRAME_SHARE: u64 = 16;
+
+/// The seed of frame `k` of one view: `seed` for the first, then a hash of both, so no two
+/// frames of a view trace the same photons.
+pub fn frame_seed(seed: u32, k: u32) -> u32 {
+    match k {
+        0 => seed,
+        _ => seed ^ k.wrapping_mul(0x9e37_79b9).rotate_left(16) ^ 0x85eb_ca6b,
     }
 }
 
@@ -245,7 +262,7 @@ pub struct GpuTracer {
     layout: wgpu::BindGroupLayout,
     group: wgpu::BindGroup,
     resolve_layout: wgpu::BindGroupLayout,
-    /// Width, height, 1 when photons were traced.
+    /// Width, height, 1 when photons were traced, frames in the photon sum.
     resolve_params: Uniform<[u32; 4]>,
     resolve_group: wgpu::BindGroup,
     eye_pipeline: wgpu::ComputePipeline,
@@ -253,6 +270,8 @@ pub struct GpuTracer {
     resolve_pipeline: wgpu::RenderPipeline,
     /// Pixels the per-pixel buffers hold.
     pixels: u64,
+    /// The view the photon sum holds frames of, and how many.
+    accumulated: Option<(View, u32)>,
     bvh_time: f32,
     moves: bool,
     traversal: Traversal,
@@ -334,6 +353,7 @@ pub fn tracer_wgsl(traversal: Traversal) -> String {
 }
 
 const RESOLVE_WGSL: &str = r#"
+// width, height, 1 when photons were traced, frames the photon sum holds.
 struct ResolveParams { size: vec4u, };
 @group(0) @binding(0) var<uniform> resolve: ResolveParams;
 @group(0) @binding(1) var<storage, read> eye_radiance: array<vec4f>;
@@ -353,7 +373,8 @@ fn fs_main(in: FullscreenOut) -> @location(0) vec4f {
     let p = y * resolve.size.x + x;
     var l = eye_radiance[p].rgb;
     if (resolve.size.z == 1u) {
-        l += vec3f(photon_radiance(p, 0u), photon_radiance(p, 1u), photon_radiance(p, 2u));
+        let frames = f32(max(resolve.size.w, 1u));
+        l += vec3f(photon_radiance(p, 0u), photon_radiance(p, 1u), photon_radiance(p, 2u)) / frames;
     }
     return vec4f(l, 1.0);
 }
@@ -463,6 +484,7 @@ impl GpuTracer {
             photon_pipeline,
             resolve_pipeline,
             pixels: 0,
+            accumulated: None,
             bvh_time: f32::NAN,
             moves: geometry_moves(scene),
             traversal,
@@ -479,6 +501,7 @@ impl GpuTracer {
 
     pub fn set_settings(&mut self, settings: TracerSettings) {
         self.settings = settings;
+        self.accumulated = None;
     }
 
     /// The emission cones for `photons` photons (at least one cone gets a photon each).
@@ -712,6 +735,7 @@ impl GpuTracer {
         if self.pixels == pixels {
             return;
         }
+        self.accumulated = None;
         let device = &ctx.device;
         let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -757,13 +781,23 @@ impl GpuTracer {
         self.pixels = pixels;
     }
 
-    /// Photons this frame traces for a `width` x `height` image.
+    /// Photons one frame traces for a `width` x `height` image.
     pub fn photons(&self, width: u32, height: u32) -> u64 {
         match self.settings.photons {
             None => 0,
-            Some(0) => photons_for_image(width, height),
+            Some(0) => photons_for_image(width, height).div_ceil(FRAME_SHARE),
             Some(n) => n.min(MAX_PHOTONS),
         }
+    }
+
+    /// Which frame of `view` this is (0: the first, whose photon sum starts empty), noted.
+    fn next_frame_of(&mut self, view: &View) -> u32 {
+        let k = match self.accumulated {
+            Some((v, n)) if v == *view => n,
+            _ => 0,
+        };
+        self.accumulated = Some((*view, k + 1));
+        k
     }
 
     /// Records one frame of `view` into `target`.
@@ -781,6 +815,7 @@ impl GpuTracer {
         let (width, height) = (target.width, target.height);
         self.ensure_pixels(ctx, width as u64 * height as u64);
         let photons = self.photons(width, height);
+        let k = self.next_frame_of(view);
         let emitters = if photons > 0 {
             Self::emitters_of(scene, view.time, photons)
         } else {
@@ -805,13 +840,14 @@ impl GpuTracer {
                 height,
                 self.settings,
                 &tables,
-                [traced as u32, self.settings.seed],
+                [traced as u32, frame_seed(self.settings.seed, k)],
                 row_threads,
                 scene,
             ),
         );
+        // The photon sum holds k + 1 frames' estimates: their mean is the image's.
         self.resolve_params
-            .write(ctx, &[width, height, (traced > 0) as u32, 0]);
+            .write(ctx, &[width, height, (traced > 0) as u32, k + 1]);
         if matches!(self.structure, Structure::RayQuery { stale: true, .. }) {
             frame.timer.begin(frame.encoder, "build");
             self.build_acceleration_structures(frame.encoder);
@@ -819,7 +855,9 @@ impl GpuTracer {
         }
         let encoder = &mut *frame.encoder;
         encoder.clear_buffer(&self.stats, 0, None);
-        encoder.clear_buffer(&self.photon_sum, 0, None);
+        if k == 0 {
+            encoder.clear_buffer(&self.photon_sum, 0, None);
+        }
 
         frame.timer.begin(encoder, "eye");
         {
@@ -863,6 +901,25 @@ impl GpuTracer {
         frame.timer.end(encoder, "resolve");
         encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
         Ok(())
+    }
+
+    /// Draws the last frame's eye pass alone (its Whitted image, no photons) into `target`:
+    /// record it after that frame's submission (it rewrites the resolve's parameters, which
+    /// the next frame sets again).
+    pub fn resolve_eye_only(&self, frame: &mut Frame, target: &Target) {
+        let ctx = frame.gpu;
+        self.resolve_params
+            .write(ctx, &[target.width, target.height, 0, 1]);
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            "ray tracer resolve (eye pass)",
+            &[gpu::pass::color(&target.color_view, gpu::pass::CLEAR_BLACK)],
+            None,
+            None,
+        );
+        pass.set_pipeline(&self.resolve_pipeline);
+        pass.set_bind_group(0, &self.resolve_group, &[]);
+        gpu::fullscreen::draw(&mut pass);
     }
 
     /// The rays the last recorded frame cast (after its submission finished).

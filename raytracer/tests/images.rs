@@ -125,7 +125,8 @@ fn caustics_match_the_reference_within_photon_noise() {
                     ..options
                 },
             );
-            let image = render(Variant::Caustics, &[], spec, time, SIZE);
+            // 16 frames of a sixteenth of the reference's photons each: its density.
+            let image = render(Variant::Caustics, &[("converge", 16.0)], spec, time, SIZE);
             assert_eq!(image.non_finite_count(), 0, "{spec}: NaN pixels");
             let mask = Some(reference.mask.as_slice());
             let (gpu, _) = truth::metrics::compare(&image, &reference.image, mask);
@@ -176,7 +177,13 @@ fn caustics_converge_as_the_photon_count_grows() {
     let errors: Vec<(f64, f64)> = [25_000.0, 100_000.0, 400_000.0, 1_600_000.0]
         .iter()
         .map(|&n| {
-            let image = render(Variant::Caustics, &[("photons", n)], spec, 0.0, SIZE);
+            let image = render(
+                Variant::Caustics,
+                &[("photons", n), ("converge", 1.0)],
+                spec,
+                0.0,
+                SIZE,
+            );
             (n, rmse(&image, &reference))
         })
         .collect();
@@ -190,6 +197,53 @@ fn caustics_converge_as_the_photon_count_grows() {
     assert!(
         errors[3].1 < 0.5 * errors[0].1,
         "64 times the photons should at least halve the error: {errors:?}"
+    );
+}
+
+/// Progressive caustics: the frames of one view add up to one image of all their photons. 16
+/// frames of a sixteenth of the photons match one frame of all of them as closely as two photon
+/// sets of that size match each other (the mean radiance equal, no frame counted twice or
+/// lost), and each further frame brings the image closer to the reference.
+#[test]
+fn frames_of_one_view_add_up_to_one_image_of_all_their_photons() {
+    let spec = "cornell-sphere";
+    let scene = scene::load(spec).unwrap();
+    let shot = Shot::along_path(&scene, 0.0, SIZE);
+    let reference = testkit::reference(spec, &scene, shot, 4_000_000).image;
+    let all = raytracer::tracer::photons_for_image(SIZE, SIZE) as f64;
+    let at_once = render(
+        Variant::Caustics,
+        &[("photons", all), ("converge", 1.0)],
+        spec,
+        0.0,
+        SIZE,
+    );
+    let errors: Vec<(f64, f64)> = [1.0, 4.0, 16.0]
+        .iter()
+        .map(|&k| {
+            let image = render(Variant::Caustics, &[("converge", k)], spec, 0.0, SIZE);
+            (k, rmse(&image, &reference))
+        })
+        .collect();
+    let sixteen = render(Variant::Caustics, &[("converge", 16.0)], spec, 0.0, SIZE);
+    println!(
+        "frames, RMSE against 4M reference photons: {errors:?}; all photons at once {:.5}; \
+         mean radiance at once {:.5}, in 16 frames {:.5}",
+        rmse(&at_once, &reference),
+        mean(&at_once),
+        mean(&sixteen)
+    );
+    assert!(
+        errors[0].1 > errors[1].1 && errors[1].1 > errors[2].1,
+        "more frames, larger error: {errors:?}"
+    );
+    assert!(
+        (mean(&sixteen) - mean(&at_once)).abs() <= 0.01 * mean(&at_once),
+        "16 frames carry the light of one frame of all their photons"
+    );
+    assert!(
+        errors[2].1 <= 1.25 * rmse(&at_once, &reference),
+        "16 frames of 1/16 are as close as all photons at once: {errors:?}"
     );
 }
 

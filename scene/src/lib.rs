@@ -33,7 +33,7 @@ pub use kinds::Kinds;
 pub use medium::Medium;
 pub use model::*;
 pub use technique::{
-    Frame, ImageCheck, Param, Technique, TechniqueError, TechniqueResult, Timing, View,
+    Contained, Frame, ImageCheck, Param, Technique, TechniqueError, TechniqueResult, Timing, View,
 };
 
 use std::path::Path;

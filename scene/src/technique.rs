@@ -150,6 +150,26 @@ pub trait Technique {
     fn frames_to_converge(&self) -> u32 {
         1
     }
+    /// Variants whose whole frame is a part of this technique's frame (the exact tracer's
+    /// caustics contain its Whitted eye pass): a run that measures both measures the contained
+    /// one from this one's frames (its image through [`Technique::render_contained`], its
+    /// time the sum of the named spans) instead of rendering it again.
+    fn contains(&self) -> Vec<Contained> {
+        Vec::new()
+    }
+    /// Draws contained variant `id`'s image of the frame just rendered into `target` (a pass
+    /// over what the frame made, recorded into `frame`).
+    fn render_contained(
+        &mut self,
+        _frame: &mut Frame,
+        id: &str,
+        _target: &Target,
+    ) -> TechniqueResult<()> {
+        Err(TechniqueError::Unsupported(format!(
+            "{} contains no variant {id}",
+            self.id()
+        )))
+    }
     /// The exact image this technique approximates, when that is not the scene's reference
     /// alone; computed on the CPU from `reference` (the scene's reference image of `view`).
     /// `None` (every technique in the workspace today) means the reference. A technique must
@@ -174,6 +194,14 @@ pub trait Technique {
         view: &View,
         target: &Target,
     ) -> TechniqueResult<()>;
+}
+
+/// A variant inside another's frame (see [`Technique::contains`]): its id (with its default
+/// parameters) and the timer spans of the containing frame that are its own frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Contained {
+    pub id: String,
+    pub spans: Vec<&'static str>,
 }
 
 /// Validates `name=value` against declared parameters: the default `set_param` check, and
@@ -223,6 +251,8 @@ pub struct ImageCheck {
     /// Why the bounds are what they are: the measured values they were set from, and what a
     /// loose bound tolerates (a failure case the README names, noise of the reference...).
     pub reason: &'static str,
+    /// Parameters set on the technique for the check (none: its defaults).
+    pub params: &'static [(&'static str, f64)],
 }
 
 impl ImageCheck {
@@ -244,7 +274,13 @@ impl ImageCheck {
             max_flip_mean,
             max_rmse,
             reason,
+            params: &[],
         }
+    }
+
+    /// The check with `params` set on the technique.
+    pub const fn with_params(self, params: &'static [(&'static str, f64)]) -> Self {
+        Self { params, ..self }
     }
 }
 

@@ -91,10 +91,11 @@ impl Shot {
 }
 
 /// Renders `technique` on `scene`: prepares it at the first shot's time, renders every shot
-/// in turn (a map made at an earlier time is reused when the technique allows it) and
-/// returns the last image, with the harness's own steps (`scene::runner`). Errors, GPU
-/// validation errors included, fail the test. Tests that run in parallel hold [`gpu_lock`]
-/// around it.
+/// in turn (a map made at an earlier time is reused when the technique allows it), the last
+/// one as many times as the technique takes to converge (`Technique::frames_to_converge`, as
+/// the harness renders an error frame), and returns the last image, with the harness's own
+/// steps (`scene::runner`). Errors, GPU validation errors included, fail the test. Tests that
+/// run in parallel hold [`gpu_lock`] around it.
 pub fn render_shots(technique: &mut dyn Technique, scene: &Scene, shots: &[Shot]) -> HdrImage {
     let first = shots.first().expect("at least one shot");
     let ctx = context();
@@ -104,16 +105,23 @@ pub fn render_shots(technique: &mut dyn Technique, scene: &Scene, shots: &[Shot]
     // The harness's own steps (scene::runner): what a test renders is what compare measures.
     runner::update_scene(ctx, &mut timer, &mut gpu_scene, first.time).expect("scene update");
     runner::prepare(ctx, &mut timer, technique, &gpu_scene).expect("prepare");
-    for shot in shots {
-        runner::render_frame(
-            ctx,
-            &mut timer,
-            technique,
-            &mut gpu_scene,
-            &shot.view(),
-            &target,
-        )
-        .expect("render");
+    let last = shots.len() - 1;
+    for (i, shot) in shots.iter().enumerate() {
+        let repeats = match i == last {
+            true => technique.frames_to_converge().max(1),
+            false => 1,
+        };
+        for _ in 0..repeats {
+            runner::render_frame(
+                ctx,
+                &mut timer,
+                technique,
+                &mut gpu_scene,
+                &shot.view(),
+                &target,
+            )
+            .expect("render");
+        }
     }
     target.read(ctx).expect("read back")
 }

@@ -24,6 +24,11 @@ fn every_declared_image_check_holds_along_the_camera_path() {
             .into_iter()
             .find(|t| t.id() == check.technique)
             .unwrap_or_else(|| panic!("image check names unknown technique {}", check.technique));
+        for (name, value) in check.params {
+            technique
+                .set_param(name, *value)
+                .unwrap_or_else(|e| panic!("{check:?}: {e}"));
+        }
         assert!(
             technique.supports(&scene),
             "{} does not support {}",

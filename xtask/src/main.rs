@@ -40,6 +40,8 @@
 //!
 //! Every command is printed before it runs; the exit status is the child's.
 
+mod runner;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
@@ -88,26 +90,20 @@ fn main() -> ExitCode {
             if status != ExitCode::SUCCESS {
                 return status;
             }
-            let status = run(&command);
-            if status != ExitCode::SUCCESS || selects_packages(&rest) {
-                return status;
+            if !runs_everything(&rest) {
+                return run(&command);
             }
-            let artifacts = match test_build() {
-                Ok(a) => a,
-                Err(code) => return code,
-            };
-            let status = check_compare_build_is_fresh(&artifacts);
-            if status != ExitCode::SUCCESS {
-                return status;
-            }
-            ray_queries_on_backported_lavapipe(&artifacts)
+            timed_tests(&rest)
         }
         "compare" if !release => compare_with_test_build(&rest),
         "ray-query" => match test_build() {
-            Ok(artifacts) => ray_queries_on_backported_lavapipe(&artifacts),
+            Ok(artifacts) => tests_on_backported_lavapipe(&artifacts),
             Err(code) => code,
         },
-        _ => run(&command),
+        _ => match compare_driver() {
+            Some(icd) => run_with(&command, &[("VK_ICD_FILENAMES", icd.as_os_str())]),
+            None => run(&command),
+        },
     }
 }
 
@@ -136,6 +132,8 @@ struct Artifact {
     test_profile: bool,
     fresh: bool,
     executable: Option<String>,
+    /// The folder of the package's Cargo.toml (where cargo runs its tests).
+    dir: PathBuf,
 }
 
 /// Pulls the few fields we need out of cargo's JSON messages (one object per line) without a
@@ -167,6 +165,14 @@ fn parse_artifacts(stdout: &str) -> Vec<Artifact> {
                 executable: json_field(l, "executable")
                     .filter(|e| *e != "null")
                     .map(String::from),
+                dir: json_field(l, "manifest_path")
+                    .map(|m| {
+                        Path::new(m)
+                            .parent()
+                            .unwrap_or(Path::new("."))
+                            .to_path_buf()
+                    })
+                    .unwrap_or_else(workspace_root),
             }
         })
         .collect()
@@ -189,6 +195,84 @@ fn test_build() -> Result<Vec<Artifact>, ExitCode> {
         return Err(ExitCode::FAILURE);
     }
     Ok(parse_artifacts(&String::from_utf8_lossy(&output.stdout)))
+}
+
+/// Whether `cargo xtask test ARGS` runs every test of the workspace (ARGS only after `--`, for
+/// the test executables): then the timed runner runs them; otherwise `cargo test ARGS`.
+fn runs_everything(rest: &[String]) -> bool {
+    rest.first().is_none_or(|a| a == "--")
+}
+
+/// The full test run: the test build, every test executable with each test timed (see
+/// `runner`), the doc tests, the check that `compare` reuses this build, the tests that run on
+/// Mesa 25's lavapipe, and the slowest tests listed.
+fn timed_tests(rest: &[String]) -> ExitCode {
+    let artifacts = match test_build() {
+        Ok(a) => a,
+        Err(code) => return code,
+    };
+    let args: Vec<String> = rest.iter().skip(1).cloned().collect();
+    let mut summary = runner::Summary::default();
+    let mut ok = true;
+    for test in test_executables(&artifacts) {
+        ok &= runner::run_executable(&test, &args, &TEST_ENV, &mut summary);
+    }
+    let doc = [cargo(), "test".into(), "--workspace".into(), "--doc".into()];
+    let start = std::time::Instant::now();
+    ok &= run(&doc) == ExitCode::SUCCESS;
+    summary.executables.push((
+        "doc tests (cargo test --doc)".into(),
+        start.elapsed().as_secs_f64(),
+    ));
+    eprint!("{}", runner::report(&summary, 15));
+    if !ok {
+        eprintln!("error: failed: {}", summary.failed.join("; "));
+        return ExitCode::FAILURE;
+    }
+    let artifacts = match test_build() {
+        Ok(a) => a,
+        Err(code) => return code,
+    };
+    let status = check_compare_build_is_fresh(&artifacts);
+    if status != ExitCode::SUCCESS {
+        return status;
+    }
+    tests_on_backported_lavapipe(&artifacts)
+}
+
+/// What every test runs with: the device-select layer quiet, and the HTML report's browser
+/// test failing rather than skipping without Chromium (the `test` job installed it).
+const TEST_ENV: [(&str, &str); 2] = [
+    ("NODEVICE_SELECT", "1"),
+    ("HARNESS_BROWSER_TEST", "require"),
+];
+
+/// A package's name from its id: `path+file:///w/harness#0.1.0` (the folder's name) or
+/// `path+file:///w/tests#workspace-tests@0.1.0`.
+fn package_name(id: &str) -> &str {
+    match id.rsplit_once('#') {
+        Some((_, name_version)) if name_version.contains('@') => {
+            name_version.split('@').next().unwrap_or(id)
+        }
+        Some((path, _)) => path.rsplit('/').next().unwrap_or(id),
+        None => id,
+    }
+}
+
+/// The test executables of the build, in cargo's order.
+fn test_executables(artifacts: &[Artifact]) -> Vec<runner::TestExecutable> {
+    artifacts
+        .iter()
+        .filter(|a| a.test_profile)
+        .filter_map(|a| {
+            let package = package_name(&a.package);
+            Some(runner::TestExecutable {
+                name: format!("{package}/{}", a.name),
+                path: a.executable.clone()?,
+                dir: a.dir.clone(),
+            })
+        })
+        .collect()
 }
 
 /// `compare`: the test build (nothing to compile right after `cargo xtask test`), then the
@@ -225,7 +309,53 @@ fn compare_with_test_build(rest: &[String]) -> ExitCode {
         cmd.extend(["--out", "out"].map(String::from));
     }
     cmd.extend(rest.iter().cloned());
-    run(&cmd)
+    match compare_driver() {
+        Some(icd) => {
+            eprintln!("+ VK_ICD_FILENAMES={}", icd.display());
+            run_with(&cmd, &[("VK_ICD_FILENAMES", icd.as_os_str())])
+        }
+        None => run(&cmd),
+    }
+}
+
+/// The Vulkan driver `cargo xtask compare` runs the harness on: on a machine whose only
+/// Vulkan device is the software rasterizer (no `/dev/dri/renderD*`, no `/dev/nvidia*`), Mesa
+/// 25's lavapipe from bookworm-backports, which `cargo xtask test` fetched (fetched here if
+/// not): it renders the main job 2-3 times faster than Debian 12's Mesa 22.3 and, unlike it,
+/// gives back the memory of every frame (measured in harness/README.md, "Cost"). `None` (the
+/// system's drivers) where there is a GPU, where `VK_ICD_FILENAMES` or `VK_DRIVER_FILES` is
+/// set already, or where the backport cannot be had (said on stderr).
+fn compare_driver() -> Option<PathBuf> {
+    let chosen = ["VK_ICD_FILENAMES", "VK_DRIVER_FILES"]
+        .iter()
+        .any(|k| std::env::var_os(k).is_some_and(|v| !v.is_empty()));
+    if chosen || has_gpu_device() {
+        return None;
+    }
+    match backported_lavapipe() {
+        Ok(icd) => Some(icd),
+        Err(why) => {
+            eprintln!(
+                "xtask: comparing on the system's lavapipe (Mesa 25's could not be had: {why})"
+            );
+            None
+        }
+    }
+}
+
+/// Whether the machine has a GPU's device node (a DRM render node or NVIDIA's).
+fn has_gpu_device() -> bool {
+    let names = |dir: &str| -> Vec<String> {
+        std::fs::read_dir(dir)
+            .map(|d| {
+                d.flatten()
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    names("/dev/dri").iter().any(|n| n.starts_with("renderD"))
+        || names("/dev").iter().any(|n| n.starts_with("nvidia"))
 }
 
 /// After the tests: the build `compare` uses must be exactly the one the tests made (every
@@ -252,57 +382,71 @@ fn check_compare_build_is_fresh(artifacts: &[Artifact]) -> ExitCode {
     }
 }
 
-/// Where `ray_queries_on_backported_lavapipe` keeps Mesa's backported lavapipe.
+/// Where [`backported_lavapipe`] keeps Mesa's backported lavapipe.
 const BACKPORTS_DIR: &str = "target/mesa-backports";
 
-/// The one test that needs hardware ray queries, which Debian 12's Mesa (22.3) lacks and
-/// bookworm-backports' Mesa (25.0) has: Mesa 25's lavapipe is fetched into
+/// A test that runs again on Mesa 25's lavapipe: (package, test target, test name, the
+/// variable that makes it fail rather than skip where its adapter cannot run it).
+const ON_MESA_25: [(&str, &str, &str, &str); 2] = [
+    // Hardware ray queries, which Debian 12's Mesa (22.3) lacks and Mesa 25 has.
+    (
+        "raytracer",
+        "images",
+        "ray_queries_trace_what_the_bvh_traces_or_are_refused_with_the_reason",
+        "RAYTRACER_EXPECT_RAY_QUERY",
+    ),
+    // Memory flat over 50 frames, which Mesa 22.3's lavapipe cannot keep (it holds on to
+    // megabytes per descriptor set a draw binds: harness/README.md, "Memory").
+    (
+        "harness",
+        "memory",
+        "fifty_frames_keep_the_memory_flat",
+        "HARNESS_MEMORY_TEST",
+    ),
+];
+
+/// The tests of [`ON_MESA_25`] on Mesa 25's lavapipe from bookworm-backports, fetched into
 /// `target/mesa-backports` (`apt-get download`, unpacked with `dpkg -x`: nothing is installed,
-/// the system's driver stays the one every other test ran on), and the raytracer's ray-query
-/// test runs on it through `VK_ICD_FILENAMES`, with `RAYTRACER_EXPECT_RAY_QUERY=1` so that an
-/// adapter without ray queries fails it instead of passing through the refusal branch. Where
-/// the driver cannot be fetched (no apt, no network), this says so and is skipped.
-fn ray_queries_on_backported_lavapipe(artifacts: &[Artifact]) -> ExitCode {
-    let Some(test) = artifacts
-        .iter()
-        .find(|a| a.package.contains("raytracer") && a.name == "images" && a.test_profile)
-        .and_then(|a| a.executable.clone())
-    else {
-        eprintln!("error: the test build made no raytracer images test");
-        return ExitCode::FAILURE;
-    };
+/// the system's driver stays the one every other test ran on), through `VK_ICD_FILENAMES`, each
+/// with its variable set to `require` so that it fails instead of passing through its
+/// refusal branch. Where the driver cannot be fetched (no apt, no network), this says so and
+/// is skipped.
+fn tests_on_backported_lavapipe(artifacts: &[Artifact]) -> ExitCode {
     let icd = match backported_lavapipe() {
         Ok(icd) => icd,
         Err(why) => {
-            eprintln!("xtask: skipped the ray-query test on Mesa 25's lavapipe: {why}");
+            eprintln!("xtask: skipped the tests on Mesa 25's lavapipe: {why}");
             return ExitCode::SUCCESS;
         }
     };
-    let cmd = [
-        test.as_str(),
-        "ray_queries_trace_what_the_bvh_traces_or_are_refused_with_the_reason",
-        "--exact",
-    ];
-    eprintln!(
-        "+ VK_ICD_FILENAMES={} RAYTRACER_EXPECT_RAY_QUERY=1 {}",
-        icd.display(),
-        cmd.join(" ")
-    );
-    let status = Command::new(cmd[0])
-        .args(&cmd[1..])
-        .current_dir(workspace_root().join("raytracer"))
-        .env("NODEVICE_SELECT", "1")
-        .env("VK_ICD_FILENAMES", &icd)
-        .env("RAYTRACER_EXPECT_RAY_QUERY", "1")
-        .status();
-    match status {
-        Ok(s) if s.success() => ExitCode::SUCCESS,
-        Ok(_) => ExitCode::FAILURE,
-        Err(e) => {
-            eprintln!("error: cannot run {test}: {e}");
-            ExitCode::FAILURE
+    let icd = icd.to_string_lossy().into_owned();
+    let mut status = ExitCode::SUCCESS;
+    for (package, target, test, require) in ON_MESA_25 {
+        let Some(a) = artifacts
+            .iter()
+            .find(|a| a.package.contains(package) && a.name == target && a.test_profile)
+        else {
+            eprintln!("error: the test build made no {package} {target} test");
+            return ExitCode::FAILURE;
+        };
+        let Some(executable) = &a.executable else {
+            continue;
+        };
+        eprintln!("+ VK_ICD_FILENAMES={icd} {require}=require {executable} {test} --exact");
+        let ok = Command::new(executable)
+            .args([test, "--exact"])
+            .current_dir(&a.dir)
+            .env("NODEVICE_SELECT", "1")
+            .env("VK_ICD_FILENAMES", &icd)
+            .env(require, "require")
+            .status()
+            .is_ok_and(|s| s.success());
+        if !ok {
+            eprintln!("error: {package} {test} failed on Mesa 25's lavapipe");
+            status = ExitCode::FAILURE;
         }
     }
+    status
 }
 
 /// The ICD manifest of Mesa 25's lavapipe from bookworm-backports, fetched once into
@@ -378,17 +522,6 @@ fn backported_lavapipe() -> Result<PathBuf, String> {
         dir.display()
     );
     Ok(icd)
-}
-
-/// Whether ARGS pick packages (then the test run is partial and there is no full build to
-/// check).
-fn selects_packages(rest: &[String]) -> bool {
-    let before_separator = rest
-        .iter()
-        .position(|a| a == "--")
-        .map_or(rest, |i| &rest[..i]);
-    has_flag(before_separator, &["-p", "--package", "--exclude"])
-        || before_separator.iter().any(|a| a.starts_with("--no-run"))
 }
 
 /// `cargo fmt --all --check`: one style for the workspace (`rustfmt.toml`), checked before the
@@ -488,10 +621,16 @@ fn print_command(cmd: &[String]) {
 }
 
 fn run(cmd: &[String]) -> ExitCode {
+    run_with(cmd, &[])
+}
+
+/// [`run`] with extra environment variables.
+fn run_with(cmd: &[String], env: &[(&str, &std::ffi::OsStr)]) -> ExitCode {
     print_command(cmd);
     let status = Command::new(&cmd[0])
         .args(&cmd[1..])
         .current_dir(workspace_root())
+        .envs(env.iter().copied())
         .env("NODEVICE_SELECT", "1")
         // The HTML report's browser test fails, rather than skips, without Chromium: the
         // `test` job has installed it.
