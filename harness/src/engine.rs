@@ -3,8 +3,9 @@
 //! Per scene of the plan, in order: the importer's notes; the references at every error time
 //! (through the cache, [`crate::cache`]), written as images; then each row:
 //!
-//! 1. a fresh device on the adapter and the scene uploaded to it (see [`DevicePolicy`]), a fresh
-//!    instance of the technique with the row's parameters, its `prepare`;
+//! 1. a fresh instance of the technique with the row's parameters and its `prepare`, on the
+//!    run's device and the scene uploaded once (or a fresh device and upload per row: see
+//!    [`DevicePolicy`]);
 //! 2. the frames ([`crate::measure`]): warm-up, then the camera path, every frame timed and the
 //!    error frames read back;
 //! 3. the error figures against the references ([`crate::score`]);
@@ -38,15 +39,15 @@ use std::time::Instant;
 /// Which device a row renders on.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DevicePolicy {
-    /// A new device on the adapter for every row, the scene uploaded to it: each row finds the
-    /// driver as the first row did. On lavapipe a device keeps the shader variants and caches
-    /// of every pipeline it ran; on one shared device later rows ran up to 20 times slower and
-    /// the process grew by gigabytes (see the harness README, "Cost"). The default.
+    /// Every row on the run's device, the scene uploaded once per scene: what an application
+    /// does. The default.
     #[default]
-    PerRow,
-    /// Every row on the shared device, the scene uploaded once: what an application does, and
-    /// what `--device shared` measures.
     Shared,
+    /// A new device on the adapter for every row, the scene uploaded to it: each row finds the
+    /// driver as the first did, whatever ran before it (`--device per-row`). It costs about
+    /// 0.05 s a row (13 s of the default compare) and changed no figure and no timing beyond
+    /// the run-to-run spread on Mesa 25's lavapipe (see the harness README, "Cost").
+    PerRow,
 }
 
 /// How to execute a plan.
@@ -61,7 +62,7 @@ pub struct ExecOptions {
 }
 
 impl ExecOptions {
-    /// The whole plan into `out`, nothing resumed, a device per row.
+    /// The whole plan into `out`, nothing resumed, on the run's device.
     pub fn new(out: impl Into<PathBuf>) -> Self {
         ExecOptions {
             out: out.into(),
@@ -287,8 +288,16 @@ impl Run<'_> {
             }
             bar.inc(1);
         }
+        let closing = Instant::now();
         self.pareto(loaded, report, first_row)?;
         self.out.write_all(report)?;
+        if let Some(wall) = report
+            .scene_walls
+            .iter_mut()
+            .find(|w| w.scene == loaded.spec)
+        {
+            wall.close_s = closing.elapsed().as_secs_f64();
+        }
         let failed = report.errors.len() - errors_before;
         bar.finish_with_message(match failed {
             0 => "done".to_string(),
@@ -405,6 +414,7 @@ impl Run<'_> {
         report.scene_walls.push(SceneWall {
             scene: loaded.spec.clone(),
             reference_s: start.elapsed().as_secs_f64(),
+            close_s: 0.0,
         });
         Ok(references)
     }

@@ -299,8 +299,9 @@ pub struct Frames {
 
 impl Default for Frames {
     /// What `compare` and `sweep` measure unless told otherwise: 8 timed frames along the path
-    /// after one warm-up frame (which compiles the shaders and makes the maps), within a second
-    /// of timed frames per row, and error frames at the start, middle and end of the path.
+    /// after one warm-up frame (which compiles the shaders and makes the maps), within a
+    /// quarter of a second of timed frames per row, and error frames at the start, middle and
+    /// end of the path.
     fn default() -> Self {
         Frames {
             timed: 8,
@@ -318,12 +319,13 @@ impl Frames {
     pub const MAX_TIMED: u32 = 10_000;
     /// Most warm-up frames a run may ask for.
     pub const MAX_WARMUP: u32 = 1_000;
-    /// The default [`Frames::timed_budget_s`]: one second of timed frames per row. A row whose
-    /// frame takes more than an eighth of it is timed on fewer frames; one taking more than a
-    /// third of it is timed on its error frames alone (every frame is timed: see
-    /// `measure`). On the 2-core software rasterizer that keeps the main job in minutes;
-    /// `--timed-budget 0` times every row on `--frames` frames.
-    pub const DEFAULT_TIMED_BUDGET_S: f64 = 1.0;
+    /// The default [`Frames::timed_budget_s`]: a quarter of a second of timed frames per row.
+    /// A row whose frame takes more than 31 ms is timed on fewer than 8 frames; one taking more
+    /// than 83 ms on its error frames alone (every frame is timed: see `measure`). On the
+    /// 2-core software rasterizer that keeps the main job in minutes; `--timed-budget 0` times
+    /// every row on `--frames` frames, and `harness bench` compares a few techniques' times in
+    /// interleaved rounds.
+    pub const DEFAULT_TIMED_BUDGET_S: f64 = 0.25;
     /// Fewest timed frames a budget leaves (a median and a spread need a few).
     pub const MIN_TIMED: u32 = 3;
 
@@ -633,9 +635,9 @@ mod tests {
         assert_eq!(f.timed_within_budget(1875.0), 16); // exactly 30 s
         assert_eq!(f.timed_within_budget(3000.0), 10);
         assert_eq!(f.timed_within_budget(20_000.0), Frames::MIN_TIMED);
-        let default = Frames::default(); // 8 frames within 1 s
-        assert_eq!(default.timed_within_budget(125.0), 8);
-        assert_eq!(default.timed_within_budget(200.0), 5);
+        let default = Frames::default(); // 8 frames within 0.25 s
+        assert_eq!(default.timed_within_budget(31.25), 8);
+        assert_eq!(default.timed_within_budget(50.0), 5);
         assert_eq!(default.timed_within_budget(900.0), Frames::MIN_TIMED);
         let unlimited = Frames {
             timed_budget_s: 0.0,

@@ -133,9 +133,9 @@ struct RunArgs {
     /// --out, and run only the rest.
     #[arg(long)]
     resume: bool,
-    /// `per-row`: a fresh device for every row (each row finds the driver as the first did);
-    /// `shared`: every row on one device, as an application would.
-    #[arg(long, default_value = "per-row", value_name = "POLICY", value_parser = ["per-row", "shared"])]
+    /// `shared`: every row on the run's device, as an application would; `per-row`: a fresh
+    /// device for every row (each row finds the driver as the first did).
+    #[arg(long, default_value = "shared", value_name = "POLICY", value_parser = ["per-row", "shared"])]
     device: String,
 }
 

@@ -25,7 +25,9 @@
 //! any other frame and it is a timed sample too: every frame on the path is timed. A technique
 //! that converges over frames of an unchanged view ([`Technique::frames_to_converge`], the exact
 //! tracer's progressive caustics) renders that many frames at an error frame's view, each one
-//! timed, and its image is read after the last. Because the error frames sit in the same
+//! timed, and its image is read after the last; it is timed on those frames alone, without a
+//! warm-up frame (which, at the first error frame's view, would add to its image: its shaders
+//! are compiled in the first of them, which shows in its p95, not its median). Because the error frames sit in the same
 //! sequence as the timed frames, a technique that keeps state from frame to frame (maps made at
 //! prepare, amortized regeneration) reaches each error time through the frames an application
 //! would have rendered before it, not by a jump. A GPU validation error in any frame is the
@@ -160,6 +162,29 @@ struct Schedule {
 }
 
 impl Schedule {
+    /// The schedule of `technique` on `scene` with `frames`, and the frames it keeps: a
+    /// progressive technique is timed on its error frames' frames (`converge` each) and warms
+    /// up in the first of them (a warm-up frame of the first error frame's view would add to
+    /// that view's image).
+    fn of(technique: &dyn Technique, scene: &scene::Scene, frames: Frames) -> (Self, Frames) {
+        let converge = technique.frames_to_converge().max(1) as usize;
+        let frames = match converge > 1 {
+            true => Frames {
+                timed: 0,
+                warmup: 0,
+                ..frames
+            },
+            false => frames,
+        };
+        let schedule = Schedule {
+            duration: scene.camera_path.duration().max(0.0),
+            error_times: frames.error_times_for(scene),
+            converge,
+            warmup: frames.warmup as usize,
+        };
+        (schedule, frames)
+    }
+
     /// The path's frames with `timed` timed frames; a row timed on no more frames than it has
     /// error frames is timed on its error frames alone.
     fn path(&self, timed: u32) -> Vec<PathFrame> {
@@ -249,12 +274,7 @@ pub fn run_containing(
     let mut timer = GpuTimer::new(ctx, 64);
     let (kind, timing) = (timer.kind(), technique.timing());
     let target = Target::new(ctx, size.width, size.height)?;
-    let schedule = Schedule {
-        duration: scene.scene.camera_path.duration().max(0.0),
-        error_times: frames.error_times_for(&scene.scene),
-        converge: technique.frames_to_converge().max(1) as usize,
-        warmup: frames.warmup as usize,
-    };
+    let (schedule, frames) = Schedule::of(technique, &scene.scene, frames);
     let mut recorder = Recorder::new(ctx, &mut timer, target, size, scene);
     on_step("prepare", 0, schedule.steps(frames.timed, schedule.warmup));
     update_scene(ctx, recorder.timer, scene, 0.0)?;
@@ -277,23 +297,8 @@ pub fn run_containing(
     for (label, values) in samples.spans {
         spans_ms.insert(label, TimeStats::from_samples(&values).median_ms);
     }
-    let contained = contained
-        .iter()
-        .zip(contained_frames)
-        .zip(
-            samples
-                .contained
-                .iter()
-                .chain(std::iter::repeat(&Vec::new())),
-        )
-        .map(|((c, error_frames), times)| ContainedRun {
-            id: c.id.clone(),
-            error_frames,
-            frame: TimeStats::from_samples(times),
-        })
-        .collect();
     Ok(TechniqueRun {
-        contained,
+        contained: contained_runs(contained, contained_frames, &samples.contained),
         spans_cover: TimeStats::from_samples(&samples.cover).median_ms,
         error_frames,
         timer: match timing {
@@ -305,6 +310,24 @@ pub fn run_containing(
         prepare_wall_ms: prep.0.total_ms,
         spans_ms,
     })
+}
+
+/// The contained variants' runs: their images and the sums of their spans.
+fn contained_runs(
+    contained: &[Contained],
+    frames: Vec<Vec<ErrorFrame>>,
+    times: &[Vec<f64>],
+) -> Vec<ContainedRun> {
+    contained
+        .iter()
+        .zip(frames)
+        .enumerate()
+        .map(|(i, (c, error_frames))| ContainedRun {
+            id: c.id.clone(),
+            error_frames,
+            frame: TimeStats::from_samples(times.get(i).map_or(&[][..], |t| t.as_slice())),
+        })
+        .collect()
 }
 
 /// The warm-up frames at time 0; the first also tells how many timed frames fit the budget (a

@@ -51,7 +51,11 @@ pub struct WrittenImages {
 pub struct SceneWall {
     pub scene: String,
     /// The references at every error time: rendered, or read from the cache, and written.
+    #[serde(with = "crate::json_float::num")]
     pub reference_s: f64,
+    /// After its rows: the Pareto view and every file written again.
+    #[serde(default, with = "crate::json_float::num")]
+    pub close_s: f64,
 }
 
 /// Everything a run produced (its JSON is `results.json` or `sweep.json`).

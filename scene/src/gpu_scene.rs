@@ -176,6 +176,11 @@ pub struct GpuScene {
     shadow_pipeline: wgpu::RenderPipeline,
     time: Option<f32>,
     cameras: std::sync::Mutex<CameraCache>,
+    /// Per object: its bounding sphere where the shadow maps last saw it (moving and deforming
+    /// objects only; see [`GpuScene::set_time`]).
+    shadow_spheres: Vec<Option<(Vec3, f32)>>,
+    /// The shadow cube maps (six layers per light).
+    shadow_maps: wgpu::Texture,
 }
 
 /// The camera bind groups of the views a scene was drawn from, by their contents: a view seen
@@ -318,7 +323,9 @@ impl GpuScene {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         let shadow_depth = gpu::depth_texture(ctx, shadow_size, shadow_size, 6, "shadow depth");
@@ -434,7 +441,17 @@ impl GpuScene {
             shadow_pipeline,
             time: None,
             cameras: Default::default(),
+            shadow_spheres: vec![None; scene.objects.len()],
+            shadow_maps: shadow,
         })
+    }
+
+    /// The shadow cube maps' distances, layer by layer (six per light), read back: what a test
+    /// compares.
+    pub fn read_shadow_maps(&self, ctx: &Context) -> Result<Vec<Vec<u8>>, gpu::GpuError> {
+        (0..self.shadow_maps.depth_or_array_layers())
+            .map(|layer| gpu::read_texture_bytes(ctx, &self.shadow_maps, layer, 4))
+            .collect()
     }
 
     /// The scene bind group (`@group(1)`) for technique pipelines.
@@ -510,8 +527,26 @@ impl GpuScene {
                 );
             }
         }
+        let first = self.time.is_none();
         self.time = Some(time);
-        self.render_shadows(frame);
+        let moved = self.moved_spheres(time);
+        self.render_shadows(frame, (!first).then_some(moved.as_slice()));
+    }
+
+    /// The bounding spheres of every moving or deforming object where the shadow maps last saw
+    /// it and where it is at `time` (both: the old shadow goes, the new one comes), noted as
+    /// seen.
+    fn moved_spheres(&mut self, time: f32) -> Vec<(Vec3, f32)> {
+        let mut spheres = Vec::new();
+        for (o, seen) in self.scene.objects.iter().zip(&mut self.shadow_spheres) {
+            if o.motion.is_static() && !o.is_deforming() {
+                continue;
+            }
+            let now = (o.center_at(time), o.bounding_radius_at(time) * 1.01 + 1e-4);
+            spheres.extend(seen.replace(now));
+            spheres.push(now);
+        }
+        spheres
     }
 
     /// The time the GPU transforms were last set to.
@@ -519,12 +554,23 @@ impl GpuScene {
         self.time.unwrap_or(0.0)
     }
 
-    fn render_shadows(&self, frame: &mut Frame) {
+    /// Renders the shadow maps: every face, or (`moved`: the spheres of what moved) only the
+    /// cube faces one of them reaches: a face no moving object enters or leaves holds the same
+    /// distances as before, so drawing it again would write what it holds. The fitted 2D map
+    /// of a light outside the scene is one face, drawn again whenever anything moved.
+    fn render_shadows(&self, frame: &mut Frame, moved: Option<&[(Vec3, f32)]>) {
         for (l, light) in self.scene.lights.iter().enumerate() {
             // A light outside the scene renders one 2D map fitted to it; others six cube faces.
-            let faces: Vec<(Mat4, &wgpu::TextureView)> = match &self.fitted[l] {
-                Some(f) => vec![(f.view_proj, &self.fitted_views[l])],
+            let faces: Vec<(usize, Mat4, &wgpu::TextureView)> = match &self.fitted[l] {
+                Some(f) => vec![(0, f.view_proj, &self.fitted_views[l])],
                 None => (0..6)
+                    .filter(|&face| {
+                        moved.is_none_or(|spheres| {
+                            spheres
+                                .iter()
+                                .any(|&(c, r)| sphere_meets_cube_face(c - light.position, r, face))
+                        })
+                    })
                     .map(|face| {
                         let vp = gpu::cube::cube_face_view_proj(
                             face,
@@ -532,11 +578,11 @@ impl GpuScene {
                             0.01,
                             2.0 * BACKGROUND_DISTANCE,
                         );
-                        (vp, &self.shadow_face_views[6 * l + face])
+                        (face, vp, &self.shadow_face_views[6 * l + face])
                     })
                     .collect(),
             };
-            for (face, (view_proj, view)) in faces.into_iter().enumerate() {
+            for (face, view_proj, view) in faces {
                 let camera = self.camera_bind_group(frame.gpu, view_proj, light.position);
                 let writes = frame.timer.render_pass("shadow maps");
                 let far = wgpu::Color {
@@ -1041,6 +1087,21 @@ impl FittedShadow {
             tan_half_fov: half.tan(),
         })
     }
+}
+
+/// Whether a sphere (centre `c` relative to the light, radius `r`) may reach cube face `face`
+/// (+X, -X, +Y, -Y, +Z, -Z, as `gpu::cube::cube_face_view_proj` orders them): the face sees the
+/// directions whose largest component is its axis, `s p_a >= |p_b|` and `s p_a >= |p_c|`, four
+/// half-spaces through the light; the sphere reaches the face unless it lies wholly outside
+/// one of them. Conservative: a sphere near a corner may be said to reach a face it misses.
+pub fn sphere_meets_cube_face(c: Vec3, r: f32, face: usize) -> bool {
+    let axis = face / 2;
+    let sign = if face % 2 == 0 { 1.0 } else { -1.0 };
+    let along = sign * c[axis];
+    let reach = r * std::f32::consts::SQRT_2;
+    (0..3)
+        .filter(|&k| k != axis)
+        .all(|k| along - c[k] >= -reach && along + c[k] >= -reach)
 }
 
 /// Bounding sphere of every object over its motion and deformation (centre of the box of all

@@ -138,3 +138,75 @@ fn set_time_on_a_morphing_object_changes_what_the_raster_pass_draws() {
         "t = 0 after t = 1 draws what the first t = 0 drew"
     );
 }
+
+/// Shadow maps kept up to date face by face (`GpuScene::set_time` draws again only the cube
+/// faces a moving or deforming object enters or leaves) hold, texel for texel, what drawing
+/// every face at that time holds: along cornell-sphere's path (a moving sphere), chess's (a
+/// moving pawn) and this deforming sphere's.
+#[test]
+fn shadow_maps_drawn_face_by_face_equal_drawn_whole() {
+    let ctx = testkit::context();
+    let scenes = [
+        scene::load("cornell-sphere").unwrap(),
+        scene::load("chess").unwrap(),
+        morphing_scene(),
+    ];
+    for scene in scenes {
+        // The morph runs from 0 to 1; the built-in scenes' motion over their camera path.
+        let end = scene.camera_path.duration().max(1.0);
+        let mut stepped = GpuScene::new(ctx, &scene).unwrap();
+        let mut timer = gpu::GpuTimer::new(ctx, 8);
+        let _lock = testkit::gpu_lock();
+        for i in 0..=4 {
+            let time = end * i as f32 / 4.0;
+            scene::runner::update_scene(ctx, &mut timer, &mut stepped, time).unwrap();
+            let mut whole = GpuScene::new(ctx, &scene).unwrap();
+            scene::runner::update_scene(ctx, &mut timer, &mut whole, time).unwrap();
+            let (a, b) = (
+                stepped.read_shadow_maps(ctx).unwrap(),
+                whole.read_shadow_maps(ctx).unwrap(),
+            );
+            for (layer, (a, b)) in a.iter().zip(&b).enumerate() {
+                assert!(
+                    a == b,
+                    "{} objects, time {time}: shadow layer {layer} differs from the map drawn whole",
+                    scene.objects.len()
+                );
+            }
+        }
+    }
+}
+
+/// The face test that decides which faces are drawn again: every point of a sphere lies in a
+/// face (the one of its largest component) that the test says the sphere reaches.
+#[test]
+fn a_sphere_reaches_the_face_of_every_point_in_it() {
+    let mut seed = 0x1234_5678u32;
+    let mut next = || {
+        seed = seed.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+        (seed >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+    };
+    for _ in 0..20_000 {
+        let c = Vec3::new(next(), next(), next()) * 3.0;
+        let r = (next() + 1.0) * 0.5;
+        let p = c + Vec3::new(next(), next(), next()).normalize_or_zero() * r * next().abs();
+        let a = p.abs();
+        let axis = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        let face = 2 * axis + usize::from(p[axis] < 0.0);
+        assert!(
+            scene::sphere_meets_cube_face(c, r, face),
+            "sphere {c} r {r} holds {p}, which face {face} sees"
+        );
+    }
+    // A small sphere far along +X reaches +X alone.
+    let hits: Vec<usize> = (0..6)
+        .filter(|&f| scene::sphere_meets_cube_face(Vec3::new(5.0, 0.1, -0.2), 0.5, f))
+        .collect();
+    assert_eq!(hits, vec![0]);
+}
