@@ -92,11 +92,10 @@ impl Context {
     }
 
     /// A new device (and queue) on this context's adapter, with the same features and limits,
-    /// and nothing else shared: what a long run uses to give each measurement a driver in its
-    /// first state. On lavapipe a device accumulates the shader variants and caches of every
-    /// pipeline it ever ran, and a process that ran many techniques on one device renders later
-    /// ones up to 20 times slower and keeps growing (see the harness's README, "Cost"); a
-    /// device costs 25-55 ms to create there.
+    /// and nothing else shared: what a run uses to give each measurement a driver in its first
+    /// state (`harness compare --device per-row`). Mesa 22.3's lavapipe keeps megabytes for
+    /// every descriptor set a draw binds until its device is dropped (see the harness's README,
+    /// "Cost"); a device costs 25-55 ms to create there.
     pub fn fresh_device(&self) -> Result<Self, GpuError> {
         let (device, queue) = pollster::block_on(request_device(&self.adapter))?;
         Self::from_parts(self.instance.clone(), self.adapter.clone(), device, queue)

@@ -17,7 +17,9 @@
 //!
 //! Order: prepare (scene at time 0); `warmup` untimed frames at time 0 (only the first when it
 //! shows the timed frames would overrun [`Frames::timed_budget_s`]: the row is then timed on
-//! fewer frames, [`Frames::timed_within_budget`]); then the camera path in time order, each
+//! fewer frames, [`Frames::timed_within_budget`]; when that leaves it its error frames alone,
+//! the warm-up frame is the first of them, timed and read back, so a slow row renders each
+//! error frame once and nothing more); then the camera path in time order, each
 //! frame at the path's camera and the scene moved to its time: the `timed` frames at
 //! `time = i * duration / timed` and the error frames at [`Frames::error_times_for`] (start,
 //! middle and end of the path by default). A time that is both is one frame. An error frame is
@@ -188,11 +190,25 @@ impl Schedule {
     /// The path's frames with `timed` timed frames; a row timed on no more frames than it has
     /// error frames is timed on its error frames alone.
     fn path(&self, timed: u32) -> Vec<PathFrame> {
-        let timed = match timed as usize <= self.error_times.len() {
+        let timed = match self.error_frames_only(timed) {
             true => 0,
             false => timed,
         };
         path_frames(self.duration, timed, &self.error_times)
+    }
+
+    /// Whether a row with `timed` timed frames is timed on its error frames alone.
+    fn error_frames_only(&self, timed: u32) -> bool {
+        timed as usize <= self.error_times.len()
+    }
+
+    /// Whether the warm-up frame (time 0) can be the first error frame of a row timed on
+    /// `timed` frames: the row is timed on its error frames alone, the first of them is at
+    /// time 0, and it takes one frame.
+    fn warm_up_is_first_error_frame(&self, timed: u32) -> bool {
+        self.error_frames_only(timed)
+            && self.converge == 1
+            && self.error_times.first() == Some(&0.0)
     }
 
     /// Frames rendered along the path: each once, an error frame `converge` times.
@@ -283,14 +299,23 @@ pub fn run_containing(
     for (label, ms) in prep.extra() {
         *spans_ms.entry(format!("prepare.{label}_ms")).or_insert(0.0) += ms;
     }
-    let (timed, warmed) = warm_up(&mut recorder, technique, scene, &schedule, frames, on_step)?;
+    let keep_first = contained.is_empty();
+    let warmed_up = warm_up(
+        &mut recorder,
+        technique,
+        scene,
+        &schedule,
+        frames,
+        keep_first,
+        on_step,
+    )?;
     let clock = (timing, kind);
     let (samples, error_frames, contained_frames) = walk_path(
         &mut recorder,
         technique,
         scene,
         &schedule,
-        (timed, warmed),
+        warmed_up,
         (clock, contained),
         on_step,
     )?;
@@ -330,17 +355,32 @@ fn contained_runs(
         .collect()
 }
 
+/// What the warm-up leaves for the path.
+struct WarmedUp {
+    /// Timed frames the row keeps.
+    timed: u32,
+    /// Warm-up frames rendered.
+    warmed: usize,
+    /// For a row timed on its error frames alone, the warm-up frame as the first of them (its
+    /// sample and image): the frame at time 0 rendered again would add nothing but time.
+    first: Option<(Sample, ErrorFrame)>,
+}
+
 /// The warm-up frames at time 0; the first also tells how many timed frames fit the budget (a
 /// slow technique then needs no further warm-up: its shaders are compiled and its maps made).
-/// Returns the timed frames of the row and the warm-up frames rendered.
+/// When the budget leaves the row its error frames alone, the first warm-up frame is the first
+/// error frame (if `keep_first`): its image is read back and its time is a sample, so such a row
+/// renders each error frame once and nothing else. Its first-frame costs then count among the
+/// samples, where a median of three outvotes them; they show in p95.
 fn warm_up(
     recorder: &mut Recorder,
     technique: &mut dyn Technique,
     scene: &mut GpuScene,
     schedule: &Schedule,
     frames: Frames,
+    keep_first: bool,
     on_step: &mut OnStep,
-) -> Result<(u32, usize)> {
+) -> Result<WarmedUp> {
     let total = schedule.steps(frames.timed, schedule.warmup);
     for w in 0..schedule.warmup {
         on_step("warm-up", 1 + w, total);
@@ -348,11 +388,23 @@ fn warm_up(
         if w == 0 {
             let timed = frames.timed_within_budget(sample.0.total_ms);
             if timed < frames.timed {
-                return Ok((timed, 1));
+                let first = match keep_first && schedule.warm_up_is_first_error_frame(timed) {
+                    true => Some((sample, recorder.error_frame(0.0)?)),
+                    false => None,
+                };
+                return Ok(WarmedUp {
+                    timed,
+                    warmed: 1,
+                    first,
+                });
             }
         }
     }
-    Ok((frames.timed, schedule.warmup))
+    Ok(WarmedUp {
+        timed: frames.timed,
+        warmed: schedule.warmup,
+        first: None,
+    })
 }
 
 /// The camera path's frames (see [`Schedule::path`]): every one a timed sample, the error
@@ -362,15 +414,27 @@ fn walk_path(
     technique: &mut dyn Technique,
     scene: &mut GpuScene,
     schedule: &Schedule,
-    (timed, warmed): (u32, usize),
+    warmed_up: WarmedUp,
     ((timing, kind), contained): ((Timing, TimerKind), &[Contained]),
     on_step: &mut OnStep,
 ) -> Result<(Samples, Vec<ErrorFrame>, Vec<Vec<ErrorFrame>>)> {
-    let path = schedule.path(timed);
+    let WarmedUp {
+        timed,
+        warmed,
+        first,
+    } = warmed_up;
+    let mut path = schedule.path(timed);
     let mut done = 1 + warmed;
-    let total = done + schedule.path_len(timed);
+    let total = done + schedule.path_len(timed) - usize::from(first.is_some());
     let mut samples = Samples::default();
     let mut error_frames = Vec::new();
+    if let Some((sample, image)) = first {
+        // The warm-up frame was the path's first frame, the error frame at time 0.
+        debug_assert!(path[0].error && path[0].time == 0.0);
+        path.remove(0);
+        samples.add(&sample, timing, kind, contained);
+        error_frames.push(image);
+    }
     let mut contained_frames = vec![Vec::new(); contained.len()];
     for frame in &path {
         let repeats = if frame.error { schedule.converge } else { 1 };
@@ -386,10 +450,7 @@ fn walk_path(
             done += 1;
         }
         if frame.error {
-            error_frames.push(ErrorFrame {
-                time: frame.time,
-                image: target_image(recorder.ctx, &recorder.target)?,
-            });
+            error_frames.push(recorder.error_frame(frame.time)?);
             for (c, frames) in contained.iter().zip(&mut contained_frames) {
                 frames.push(ErrorFrame {
                     time: frame.time,
@@ -445,6 +506,14 @@ impl<'t> Recorder<'t> {
         })
         .map_err(|e| anyhow!(e).context(format!("the image of {id}")))?;
         target_image(self.ctx, &target)
+    }
+
+    /// The image of the frame just rendered, as the error frame at `time`.
+    fn error_frame(&self, time: f32) -> Result<ErrorFrame> {
+        Ok(ErrorFrame {
+            time,
+            image: target_image(self.ctx, &self.target)?,
+        })
     }
 
     /// One frame of the path's view at `time`.

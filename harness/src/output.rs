@@ -11,6 +11,7 @@
 use crate::measure::ErrorFrame;
 use crate::model::{ImageFrame, RunReport};
 use crate::plot::{self, PlotPoint, PlotText};
+use crate::report::ResultRow;
 use crate::{images, report, time_suffix};
 use anyhow::{Context as _, Result, anyhow};
 use std::path::{Path, PathBuf};
@@ -53,7 +54,7 @@ impl Output {
     /// `index.html`.
     pub fn write_all(&self, report: &RunReport) -> Result<()> {
         self.write_rows(report)?;
-        write_text(&self.table("md"), &markdown(report))?;
+        write_text(&self.table("md"), &results_markdown(report))?;
         write_text(&self.dir.join("wall.md"), &wall_markdown(report))?;
         crate::html::write_page(&self.dir, report)
     }
@@ -84,58 +85,178 @@ impl Output {
     }
 }
 
-/// Where the run's wall-clock time went (`wall.md`): per scene its references and rows, per
-/// row its steps (prepare, frames, metrics, writing), then the totals. The harness's own cost,
-/// for whoever makes the run faster; not a figure of any technique.
+/// Where the run's wall-clock time went (`wall.md`): what made the run, then the time by
+/// family and by scene, then per scene its references and rows, per row its steps (prepare,
+/// frames, metrics, writing). The harness's own cost, for whoever makes the run faster; not a
+/// figure of any technique.
 pub fn wall_markdown(report: &RunReport) -> String {
-    use std::fmt::Write as _;
-    let mut out = String::new();
-    let (mut rows_s, mut references_s, mut close_s) = (0.0, 0.0, 0.0);
-    let _ = writeln!(
-        out,
-        "| scene | row | prepare s | frames s | metrics s | write s | total s |\n| --- | --- | --- | --- | --- | --- | --- |"
+    let mut out = String::from("# Where the run's wall-clock time went\n\n");
+    out.push_str(&provenance_markdown(report));
+    out.push_str(&wall_totals(report));
+    out.push_str("\n## By family\n\n");
+    out.push_str(&wall_by_family(report));
+    out.push_str("\n## By scene\n\n");
+    out.push_str(&wall_by_scene(report));
+    out.push_str("\n## Per row\n\n");
+    out.push_str(&wall_per_row(report));
+    out
+}
+
+/// A row's name in `wall.md`: its technique, the swept value, or the row whose frames it was
+/// measured in.
+fn wall_row_name(r: &ResultRow) -> String {
+    match (&r.value, &r.measured_with) {
+        (Some(v), _) => format!("{} {}={v}", r.technique, r.param.as_deref().unwrap_or("")),
+        (None, Some(with)) => format!("{} (in {with}'s frames)", r.technique),
+        (None, None) => r.technique.clone(),
+    }
+}
+
+fn wall_totals(report: &RunReport) -> String {
+    let rows_s: f64 = report.rows.iter().map(|r| r.wall.total_s()).sum();
+    let references_s: f64 = report.scene_walls.iter().map(|w| w.reference_s).sum();
+    let close_s: f64 = report.scene_walls.iter().map(|w| w.close_s).sum();
+    format!(
+        "\n{} rows: {rows_s:.1} s; references: {references_s:.1} s; Pareto views and files \
+         after each scene: {close_s:.1} s; together {:.1} s (the process's start, its device and \
+         the scenes' loading are outside it)\n",
+        report.rows.len(),
+        rows_s + references_s + close_s
+    )
+}
+
+/// Seconds per step summed over `rows`, and their total.
+fn summed_walls<'a>(rows: impl Iterator<Item = &'a ResultRow>) -> (usize, [f64; 5]) {
+    let mut n = 0;
+    let mut s = [0.0; 5];
+    for r in rows {
+        n += 1;
+        let w = r.wall;
+        for (acc, v) in
+            s.iter_mut()
+                .zip([w.prepare_s, w.frames_s, w.metrics_s, w.write_s, w.total_s()])
+        {
+            *acc += v;
+        }
+    }
+    (n, s)
+}
+
+fn wall_by_family(report: &RunReport) -> String {
+    let all_s = summed_walls(report.rows.iter()).1[4].max(1e-9);
+    let mut families: Vec<&str> = report
+        .rows
+        .iter()
+        .map(|r| crate::technique_family(&r.technique))
+        .collect();
+    families.sort_unstable();
+    families.dedup();
+    let mut sums: Vec<(&str, usize, [f64; 5])> = families
+        .into_iter()
+        .map(|family| {
+            let rows = report
+                .rows
+                .iter()
+                .filter(|r| crate::technique_family(&r.technique) == family);
+            let (n, s) = summed_walls(rows);
+            (family, n, s)
+        })
+        .collect();
+    sums.sort_by(|a, b| b.2[4].total_cmp(&a.2[4]));
+    let mut out = String::from(
+        "| family | rows | prepare s | frames s | metrics s | write s | total s | share of rows |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+    );
+    for (family, n, s) in sums {
+        out.push_str(&format!(
+            "| {family} | {n} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} % |\n",
+            s[0],
+            s[1],
+            s[2],
+            s[3],
+            s[4],
+            100.0 * s[4] / all_s
+        ));
+    }
+    out
+}
+
+fn wall_by_scene(report: &RunReport) -> String {
+    let mut out = String::from(
+        "| scene | references s | rows | rows s | files s | total s |\n| --- | --- | --- | --- | --- | --- |\n",
     );
     for wall in &report.scene_walls {
-        references_s += wall.reference_s;
-        close_s += wall.close_s;
-        let _ = writeln!(
-            out,
-            "| {} | references | | | | | {:.2} |",
+        let (n, s) = summed_walls(report.rows.iter().filter(|r| r.scene == wall.scene));
+        out.push_str(&format!(
+            "| {} | {:.1} | {n} | {:.1} | {:.1} | {:.1} |\n",
+            wall.scene,
+            wall.reference_s,
+            s[4],
+            wall.close_s,
+            wall.reference_s + s[4] + wall.close_s
+        ));
+    }
+    out
+}
+
+fn wall_per_row(report: &RunReport) -> String {
+    let mut out = String::from(
+        "| scene | row | prepare s | frames s | metrics s | write s | total s |\n| --- | --- | --- | --- | --- | --- | --- |\n",
+    );
+    for wall in &report.scene_walls {
+        out.push_str(&format!(
+            "| {} | references | | | | | {:.2} |\n",
             wall.scene, wall.reference_s
-        );
+        ));
         for r in report.rows.iter().filter(|r| r.scene == wall.scene) {
             let w = r.wall;
-            rows_s += w.total_s();
-            let name = match (&r.value, &r.measured_with) {
-                (Some(v), _) => format!("{} {}={v}", r.technique, r.param.as_deref().unwrap_or("")),
-                (None, Some(with)) => format!("{} (in {with}'s frames)", r.technique),
-                (None, None) => r.technique.clone(),
-            };
-            let _ = writeln!(
-                out,
-                "| {} | {name} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            out.push_str(&format!(
+                "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |\n",
                 r.scene,
+                wall_row_name(r),
                 w.prepare_s,
                 w.frames_s,
                 w.metrics_s,
                 w.write_s,
                 w.total_s()
-            );
+            ));
         }
-        let _ = writeln!(
-            out,
-            "| {} | Pareto view, files written | | | | | {:.2} |",
+        out.push_str(&format!(
+            "| {} | Pareto view, files written | | | | | {:.2} |\n",
             wall.scene, wall.close_s
-        );
+        ));
     }
-    let _ = writeln!(
-        out,
-        "\n{} rows: {rows_s:.1} s; references: {references_s:.1} s; Pareto views and files \
-         after each scene: {close_s:.1} s; together {:.1} s",
-        report.rows.len(),
-        rows_s + references_s + close_s
-    );
     out
+}
+
+/// What made the run, as a markdown list: command line, commit, date, adapter, size, frames,
+/// reference, drivers.
+fn provenance_markdown(report: &RunReport) -> String {
+    let frames = format!(
+        "{} timed, {} warm-up, {} error frames",
+        report.frames, report.warmup, report.error_frames
+    );
+    report
+        .provenance
+        .rows(&report.adapter, &report.size, frames)
+        .into_iter()
+        .map(|(what, value)| format!("- {what}: {value}\n"))
+        .collect()
+}
+
+/// `results.md`: what made the run, then the markdown table, so that a copy of the file says
+/// where its figures come from.
+pub fn results_markdown(report: &RunReport) -> String {
+    let title = if report.sweep().is_some() {
+        "Sweep"
+    } else {
+        "Results"
+    };
+    format!(
+        "# {title}\n\n{}\n{}",
+        provenance_markdown(report),
+        markdown(report)
+    )
 }
 
 /// The markdown table of a report.

@@ -143,7 +143,7 @@ impl Technique for NanImage {
     }
 }
 
-/// Fails in render, or panics, or declares a feature no software adapter has, or supports nothing.
+/// Fails in render, or panics, or declares a feature no device of the context has, or supports nothing.
 struct Broken {
     id: &'static str,
 }
@@ -156,8 +156,9 @@ impl Technique for Broken {
         "broken on purpose".into()
     }
     fn required_features(&self) -> wgpu::Features {
-        if self.id == "test/needs-ray-query" {
-            wgpu::Features::EXPERIMENTAL_RAY_QUERY
+        if self.id == "test/needs-missing-feature" {
+            // A feature the context never asks for, so no adapter's device has it.
+            wgpu::Features::SHADER_F64
         } else {
             wgpu::Features::empty()
         }
@@ -192,7 +193,7 @@ fn techniques() -> Vec<Box<dyn Technique>> {
         Box::new(Broken { id: "test/fails" }),
         Box::new(Broken { id: "test/panics" }),
         Box::new(Broken {
-            id: "test/needs-ray-query",
+            id: "test/needs-missing-feature",
         }),
         Box::new(Broken {
             id: "test/unsupported",
@@ -330,7 +331,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         .iter()
         .map(|s| s.technique.as_str())
         .collect();
-    assert_eq!(skipped, ["test/needs-ray-query", "test/unsupported"]);
+    assert_eq!(skipped, ["test/needs-missing-feature", "test/unsupported"]);
     assert!(
         report.skipped[0].reason.contains("lacks required features"),
         "{}",
@@ -367,6 +368,29 @@ fn compare_writes_tables_images_and_caches_the_reference() {
             .contains(",rmse_worst,flip_mean_worst,flip_mean_masked_worst,worst_time,error_times,")
     );
     assert_eq!(csv.lines().count(), 6);
+    let md = std::fs::read_to_string(out.join("results.md")).unwrap();
+    assert!(md.starts_with("# Results\n\n- command line: "), "{md}");
+    assert!(md.contains("\n| cornell-sphere | test/constant |"), "{md}");
+    let wall = std::fs::read_to_string(out.join("wall.md")).unwrap();
+    for section in [
+        "## By family",
+        "## By scene",
+        "## Per row",
+        "- git commit: ",
+    ] {
+        assert!(wall.contains(section), "wall.md lacks {section:?}:\n{wall}");
+    }
+    for row in csv.lines().skip(1) {
+        let technique = row.split(',').nth(1).unwrap();
+        assert!(
+            wall.contains(&format!("| cornell-sphere | {technique} |")),
+            "wall.md lacks the row of {technique}:\n{wall}"
+        );
+    }
+    assert!(
+        wall.contains("| test | "),
+        "wall.md has no line for the family test:\n{wall}"
+    );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(json["skipped"].as_array().unwrap().len(), 2);
@@ -385,7 +409,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
     assert!(page.contains("panic: cornell-sphere / test/panics"));
     assert!(page.contains(r#"class="has-nan""#));
     assert!(
-        page.contains("test/needs-ray-query: "),
+        page.contains("test/needs-missing-feature: "),
         "skipped with the reason"
     );
     assert!(page.contains("<details><summary>Skipped: 2 (scene, technique) pairs"));
@@ -733,4 +757,108 @@ fn a_resumed_run_keeps_the_finished_rows_and_runs_the_rest() {
         "{err:#}"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A technique whose every render takes at least `sleep` and draws the view's time as its
+/// level, counting its renders (the times it was asked to render at).
+struct Slow {
+    sleep: std::time::Duration,
+    renders: std::sync::Arc<std::sync::Mutex<Vec<f32>>>,
+}
+
+impl Technique for Slow {
+    fn id(&self) -> String {
+        "test/slow".into()
+    }
+    fn description(&self) -> String {
+        "slow on purpose".into()
+    }
+    fn supports(&self, _: &Scene) -> bool {
+        true
+    }
+    fn prepare(&mut self, _: &mut Frame, _: &GpuScene) -> TechniqueResult<()> {
+        Ok(())
+    }
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        _: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        std::thread::sleep(self.sleep);
+        self.renders.lock().unwrap().push(view.time);
+        let level = 0.25 * view.time;
+        let texels = vec![[level, level, level, 1.0]; (target.width * target.height) as usize];
+        frame.gpu.queue.write_texture(
+            target.color.as_image_copy(),
+            &texels
+                .iter()
+                .flatten()
+                .flat_map(|c| c.to_le_bytes())
+                .collect::<Vec<u8>>(),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(16 * target.width),
+                rows_per_image: None,
+            },
+            target.color.size(),
+        );
+        Ok(())
+    }
+}
+
+/// A row the timed budget leaves its error frames alone renders each of them once: the
+/// warm-up frame is the first (timed, its image read back), so nothing is rendered twice. A
+/// row within its budget keeps its warm-up frame apart from the timed frames.
+#[test]
+fn a_row_timed_on_its_error_frames_renders_each_once() {
+    let ctx = testkit::context();
+    let scene = scene::load("cornell-sphere").unwrap();
+    let mut gpu_scene = GpuScene::new(ctx, &scene).unwrap();
+    let run = |budget_s: f64, gpu_scene: &mut GpuScene| {
+        let renders = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let mut slow = Slow {
+            sleep: std::time::Duration::from_millis(20),
+            renders: renders.clone(),
+        };
+        let frames = Frames {
+            timed: 8,
+            warmup: 1,
+            errors: 3,
+            timed_budget_s: budget_s,
+        };
+        let run = harness::measure::run_technique(
+            ctx,
+            &mut slow,
+            gpu_scene,
+            SIZE,
+            frames,
+            &mut |_, _, _| {},
+        )
+        .unwrap();
+        let renders = renders.lock().unwrap().clone();
+        (run, renders)
+    };
+
+    // 20 ms a frame against 10 ms of budget: error frames alone, each rendered once.
+    let (slow_run, renders) = run(0.01, &mut gpu_scene);
+    assert_eq!(renders, [0.0, 1.0, 2.0]);
+    assert_eq!(slow_run.frame.samples, 3);
+    let levels: Vec<(f32, f32)> = slow_run
+        .error_frames
+        .iter()
+        .map(|f| (f.time, f.image.pixels[0][0]))
+        .collect();
+    assert_eq!(levels, [(0.0, 0.0), (1.0, 0.25), (2.0, 0.5)]);
+
+    // No budget: the warm-up frame, then 8 timed frames of which 0 and 1 are error frames,
+    // then the error frame at 2.
+    let (run, renders) = run(0.0, &mut gpu_scene);
+    assert_eq!(
+        renders,
+        [0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0]
+    );
+    assert_eq!(run.frame.samples, 9);
+    assert_eq!(run.error_frames.len(), 3);
 }

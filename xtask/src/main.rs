@@ -22,12 +22,16 @@
 //!
 //! - `test`: `cargo fmt --all --check` (the style of `rustfmt.toml`), then
 //!   `cargo test --workspace [ARGS...]` (every member: unit, integration and doc tests; `-p
-//!   NAME` in ARGS replaces `--workspace`); after a full run it checks that the build `compare`
-//!   uses is exactly this one (`cargo test --workspace --no-run` reports every artifact fresh)
-//!   and fails naming what would be compiled otherwise; then the one test that needs hardware
-//!   ray queries runs again on Mesa 25's lavapipe from bookworm-backports, fetched into
-//!   `target/mesa-backports` without installing it (skipped, saying why, where it cannot be
-//!   fetched): see `ray_queries_on_backported_lavapipe`;
+//!   NAME` in ARGS replaces `--workspace`). A full run builds the test targets (timed), runs
+//!   every test executable with each test timed and lists the slowest (`runner`), on the
+//!   driver `compare` uses (on a machine without a GPU, Mesa 25's lavapipe from
+//!   bookworm-backports, fetched into `target/mesa-backports` without installing it: faster
+//!   than Debian 12's Mesa 22.3 and without its memory growth; the system's where
+//!   it cannot be fetched, or where `VK_ICD_FILENAMES` is set); checks that the build
+//!   `compare` uses is exactly this one (`cargo test --workspace --no-run` reports every
+//!   artifact fresh) and fails naming what would be compiled otherwise; then runs the tests
+//!   that must not skip on Mesa 25 ([`ON_MESA_25`]: hardware ray queries, the 50-frame memory
+//!   test) again there with their `require` variables;
 //! - `ray-query`: that last step alone;
 //! - `compare`: the same test build (`cargo test --workspace --no-run`: nothing to compile
 //!   after `cargo xtask test`), then the `harness` binary it contains: `harness compare --out
@@ -107,6 +111,13 @@ fn main() -> ExitCode {
     }
 }
 
+/// `CARGO_INCREMENTAL` for every cargo command xtask runs, whatever the caller's shell says:
+/// the flag is part of every crate's fingerprint, so a `test` run with one setting and a
+/// `compare` with the other would recompile every crate of the workspace (it did, in a fresh
+/// clone, for a `compare` run after `.ci/run`'s `test`). Off, because the workspace is
+/// built once per run and incremental artifacts only add gigabytes to CI's disk.
+const ONE_BUILD_INCREMENTAL: &str = "0";
+
 /// The build `cargo xtask test` makes and `cargo xtask compare` reuses: every test target of
 /// the workspace, which includes the `harness` binary built with the workspace's unified
 /// features (`cargo run -p harness` would unify features over harness's dependencies only
@@ -185,6 +196,7 @@ fn test_build() -> Result<Vec<Artifact>, ExitCode> {
     let output = Command::new(&cmd[0])
         .args(&cmd[1..])
         .current_dir(workspace_root())
+        .env("CARGO_INCREMENTAL", ONE_BUILD_INCREMENTAL)
         .stderr(std::process::Stdio::inherit())
         .output()
         .map_err(|e| {
@@ -207,19 +219,34 @@ fn runs_everything(rest: &[String]) -> bool {
 /// `runner`), the doc tests, the check that `compare` reuses this build, the tests that run on
 /// Mesa 25's lavapipe, and the slowest tests listed.
 fn timed_tests(rest: &[String]) -> ExitCode {
+    let build_start = std::time::Instant::now();
     let artifacts = match test_build() {
         Ok(a) => a,
         Err(code) => return code,
     };
+    eprintln!(
+        "xtask: the test build took {:.0} s",
+        build_start.elapsed().as_secs_f64()
+    );
     let args: Vec<String> = rest.iter().skip(1).cloned().collect();
+    let driver = compare_driver().map(|icd| icd.to_string_lossy().into_owned());
+    let mut env: Vec<(&str, &str)> = TEST_ENV.to_vec();
+    if let Some(icd) = &driver {
+        eprintln!("xtask: the tests run on the driver compare uses: VK_ICD_FILENAMES={icd}");
+        env.push(("VK_ICD_FILENAMES", icd));
+    }
     let mut summary = runner::Summary::default();
     let mut ok = true;
     for test in test_executables(&artifacts) {
-        ok &= runner::run_executable(&test, &args, &TEST_ENV, &mut summary);
+        ok &= runner::run_executable(&test, &args, &env, &mut summary);
     }
     let doc = [cargo(), "test".into(), "--workspace".into(), "--doc".into()];
     let start = std::time::Instant::now();
-    ok &= run(&doc) == ExitCode::SUCCESS;
+    let doc_env: Vec<(&str, &std::ffi::OsStr)> = driver
+        .iter()
+        .map(|icd| ("VK_ICD_FILENAMES", std::ffi::OsStr::new(icd.as_str())))
+        .collect();
+    ok &= run_with(&doc, &doc_env) == ExitCode::SUCCESS;
     summary.executables.push((
         "doc tests (cargo test --doc)".into(),
         start.elapsed().as_secs_f64(),
@@ -396,7 +423,7 @@ const ON_MESA_25: [(&str, &str, &str, &str); 2] = [
         "RAYTRACER_EXPECT_RAY_QUERY",
     ),
     // Memory flat over 50 frames, which Mesa 22.3's lavapipe cannot keep (it holds on to
-    // megabytes per descriptor set a draw binds: harness/README.md, "Memory").
+    // megabytes per descriptor set a draw binds: harness/README.md, "Cost").
     (
         "harness",
         "memory",
@@ -631,6 +658,7 @@ fn run_with(cmd: &[String], env: &[(&str, &std::ffi::OsStr)]) -> ExitCode {
         .args(&cmd[1..])
         .current_dir(workspace_root())
         .envs(env.iter().copied())
+        .env("CARGO_INCREMENTAL", ONE_BUILD_INCREMENTAL)
         .env("NODEVICE_SELECT", "1")
         // The HTML report's browser test fails, rather than skips, without Chromium: the
         // `test` job has installed it.
