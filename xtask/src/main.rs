@@ -348,8 +348,8 @@ fn compare_with_test_build(rest: &[String]) -> ExitCode {
 /// The Vulkan driver `cargo xtask compare` runs the harness on: on a machine whose only
 /// Vulkan device is the software rasterizer (no `/dev/dri/renderD*`, no `/dev/nvidia*`), Mesa
 /// 25's lavapipe from bookworm-backports, which `cargo xtask test` fetched (fetched here if
-/// not): it renders the main job 2-3 times faster than Debian 12's Mesa 22.3 and, unlike it,
-/// gives back the memory of every frame (measured in harness/README.md, "Cost"). `None` (the
+/// not): it renders the main job faster than Debian 12's Mesa 22.3 and, unlike it, gives back
+/// the memory of every frame (measured in harness/README.md, "Cost"). `None` (the
 /// system's drivers) where there is a GPU, where `VK_ICD_FILENAMES` or `VK_DRIVER_FILES` is
 /// set already, or where the backport cannot be had (said on stderr).
 fn compare_driver() -> Option<PathBuf> {
