@@ -68,15 +68,12 @@ pub fn plan(env: &Env, opts: &CompareOptions) -> Result<Plan> {
         false => opts.scenes.clone(),
     };
     let scenes = engine::load_scenes(&specs)?;
-    let mut plan = Plan {
-        kind: PlanKind::Compare,
-        size: opts.size,
-        frames: opts.frames,
-        ground_truth: env.ground_truth.key(),
-        scenes: Vec::new(),
-        rows: Vec::new(),
-        skipped: Vec::new(),
-    };
+    let mut plan = Plan::empty(
+        PlanKind::Compare,
+        opts.size,
+        opts.frames,
+        env.ground_truth.key(),
+    );
     for (loaded, image_dir) in scenes.iter().zip(plan::compare_image_dirs(&specs)) {
         plan.scenes.push(PlannedScene {
             spec: loaded.spec.clone(),

@@ -215,13 +215,8 @@ struct CompareArgs {
     /// variants; the exhaustive rest, every iteration or slice count, is for sweeps).
     #[arg(long)]
     all_variants: bool,
-    /// Image size.
-    #[arg(long, default_value = "128x128", value_name = "WxH")]
-    size: Size,
     #[command(flatten)]
-    frames: FrameArgs,
-    #[command(flatten)]
-    reference: RefArgs,
+    measure: MeasureArgs,
     /// Exit with status 3 if any technique failed or produced NaN/infinite pixels.
     #[arg(long)]
     strict: bool,
@@ -240,6 +235,14 @@ struct SweepArgs {
     param: String,
     #[command(flatten)]
     run: RunArgs,
+    #[command(flatten)]
+    measure: MeasureArgs,
+}
+
+/// What a compare or a sweep measures with: the image size, the frames, the ground truth.
+#[derive(Args)]
+struct MeasureArgs {
+    /// Image size.
     #[arg(long, default_value = "128x128", value_name = "WxH")]
     size: Size,
     #[command(flatten)]
@@ -384,14 +387,14 @@ fn compare(args: CompareArgs) -> Result<ExitCode> {
         harness::load_scene(spec)?;
     }
     let ctx = context()?;
-    let reference = args.reference.reference();
+    let reference = args.measure.reference.reference();
     let env = Env::standard(&ctx, &reference);
     let opts = CompareOptions {
         scenes,
         techniques: args.techniques,
         all_variants: args.all_variants,
-        size: args.size,
-        frames: args.frames.frames()?,
+        size: args.measure.size,
+        frames: args.measure.frames.frames()?,
     };
     let report = harness::compare::run(&env, &opts, &args.run.exec())?;
     finish(&ctx, &report, &args.run.out, args.strict)
@@ -404,15 +407,15 @@ fn sweep(args: SweepArgs) -> Result<ExitCode> {
     harness::select_techniques(&all_ids, Some(std::slice::from_ref(&id)))?;
     harness::load_scene(&args.scene)?;
     let ctx = context()?;
-    let reference = args.reference.reference();
+    let reference = args.measure.reference.reference();
     let env = Env::standard(&ctx, &reference);
     let opts = SweepOptions {
         scene: args.scene,
         technique: args.technique,
         param,
         values,
-        size: args.size,
-        frames: args.frames.frames()?,
+        size: args.measure.size,
+        frames: args.measure.frames.frames()?,
     };
     let report = harness::sweep::run(&env, &opts, &args.run.exec())?;
     finish(&ctx, &report, &args.run.out, false)

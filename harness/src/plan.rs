@@ -156,6 +156,20 @@ pub struct Plan {
 }
 
 impl Plan {
+    /// A plan of `kind` with no scenes or rows yet: the builders (`compare::plan`,
+    /// `sweep::plan`) add them.
+    pub fn empty(kind: PlanKind, size: Size, frames: Frames, ground_truth: String) -> Self {
+        Plan {
+            kind,
+            size,
+            frames,
+            ground_truth,
+            scenes: Vec::new(),
+            rows: Vec::new(),
+            skipped: Vec::new(),
+        }
+    }
+
     /// The stem of the run's table files: `results` or `sweep`.
     pub fn table_stem(&self) -> &'static str {
         match self.kind {

@@ -126,15 +126,12 @@ pub fn plan(env: &Env, opts: &SweepOptions) -> Result<Plan> {
         param: opts.param.clone(),
         owner,
     };
-    let mut plan = Plan {
-        kind: PlanKind::Sweep(info),
-        size: opts.size,
-        frames: opts.frames,
-        ground_truth: env.ground_truth.key(),
-        scenes: Vec::new(),
-        rows: Vec::new(),
-        skipped: Vec::new(),
-    };
+    let mut plan = Plan::empty(
+        PlanKind::Sweep(info),
+        opts.size,
+        opts.frames,
+        env.ground_truth.key(),
+    );
     if owner == ParamOwner::Technique {
         plan.scenes
             .push(sweep_scene(opts.scene.clone(), "reference".into(), None));

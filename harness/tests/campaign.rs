@@ -756,11 +756,14 @@ fn campaign() {
         Outcome::Hang,
         Outcome::UncleanError,
     ];
+    let made = harness::provenance::Provenance::capture(String::new());
     let mut md = format!(
-        "# Bad-input campaign\n\n{} runs of {} in {:.0} s (`cargo test -p harness --test campaign -- --ignored`).\n\n| group | runs | {} |\n| --- | --- |{}\n",
+        "# Bad-input campaign\n\n{} runs of {} in {:.0} s (`cargo test -p harness --test campaign -- --ignored`), commit {}, {}.\n\n| group | runs | {} |\n| --- | --- |{}\n",
         results.len(),
         std::env::var("CAMPAIGN_HARNESS").unwrap_or("this build's harness".into()),
         start.elapsed().as_secs_f64(),
+        made.git_commit,
+        made.date_utc,
         outcomes.map(|o| o.label()).join(" | "),
         " --- |".repeat(outcomes.len())
     );

@@ -35,6 +35,14 @@ struct Constant {
     level: f64,
     /// Change of the level per second of scene time (a technique whose error moves).
     drift: f64,
+    /// Slows every render down and records the times asked for, where set.
+    pace: Option<Pace>,
+}
+
+/// How long each render of a [`Constant`] takes at least, and the view times it rendered.
+struct Pace {
+    sleep: std::time::Duration,
+    renders: std::sync::Arc<std::sync::Mutex<Vec<f32>>>,
 }
 
 impl Technique for Constant {
@@ -72,6 +80,10 @@ impl Technique for Constant {
         view: &View,
         target: &Target,
     ) -> TechniqueResult<()> {
+        if let Some(pace) = &self.pace {
+            std::thread::sleep(pace.sleep);
+            pace.renders.lock().unwrap().push(view.time);
+        }
         let l = self.level + self.drift * view.time as f64;
         let timestamps = frame.timer.render_pass("clear");
         let _pass = frame
@@ -183,11 +195,13 @@ fn techniques() -> Vec<Box<dyn Technique>> {
             id: "test/constant",
             level: 0.25,
             drift: 0.0,
+            pace: None,
         }),
         Box::new(Constant {
             id: "test/drifts",
             level: 0.5,
             drift: -0.125,
+            pace: None,
         }),
         Box::new(NanImage),
         Box::new(Broken { id: "test/fails" }),
@@ -759,55 +773,6 @@ fn a_resumed_run_keeps_the_finished_rows_and_runs_the_rest() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A technique whose every render takes at least `sleep` and draws the view's time as its
-/// level, counting its renders (the times it was asked to render at).
-struct Slow {
-    sleep: std::time::Duration,
-    renders: std::sync::Arc<std::sync::Mutex<Vec<f32>>>,
-}
-
-impl Technique for Slow {
-    fn id(&self) -> String {
-        "test/slow".into()
-    }
-    fn description(&self) -> String {
-        "slow on purpose".into()
-    }
-    fn supports(&self, _: &Scene) -> bool {
-        true
-    }
-    fn prepare(&mut self, _: &mut Frame, _: &GpuScene) -> TechniqueResult<()> {
-        Ok(())
-    }
-    fn render(
-        &mut self,
-        frame: &mut Frame,
-        _: &GpuScene,
-        view: &View,
-        target: &Target,
-    ) -> TechniqueResult<()> {
-        std::thread::sleep(self.sleep);
-        self.renders.lock().unwrap().push(view.time);
-        let level = 0.25 * view.time;
-        let texels = vec![[level, level, level, 1.0]; (target.width * target.height) as usize];
-        frame.gpu.queue.write_texture(
-            target.color.as_image_copy(),
-            &texels
-                .iter()
-                .flatten()
-                .flat_map(|c| c.to_le_bytes())
-                .collect::<Vec<u8>>(),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(16 * target.width),
-                rows_per_image: None,
-            },
-            target.color.size(),
-        );
-        Ok(())
-    }
-}
-
 /// A row the timed budget leaves its error frames alone renders each of them once: the
 /// warm-up frame is the first (timed, its image read back), so nothing is rendered twice. A
 /// row within its budget keeps its warm-up frame apart from the timed frames.
@@ -818,9 +783,15 @@ fn a_row_timed_on_its_error_frames_renders_each_once() {
     let mut gpu_scene = GpuScene::new(ctx, &scene).unwrap();
     let run = |budget_s: f64, gpu_scene: &mut GpuScene| {
         let renders = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
-        let mut slow = Slow {
-            sleep: std::time::Duration::from_millis(20),
-            renders: renders.clone(),
+        // Level 0.25 * time: each error frame's image says which time it shows.
+        let mut slow = Constant {
+            id: "test/slow",
+            level: 0.0,
+            drift: 0.25,
+            pace: Some(Pace {
+                sleep: std::time::Duration::from_millis(20),
+                renders: renders.clone(),
+            }),
         };
         let frames = Frames {
             timed: 8,

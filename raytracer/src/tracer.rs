@@ -886,18 +886,7 @@ impl GpuTracer {
             frame.timer.end(encoder, "photons");
         }
         frame.timer.begin(encoder, "resolve");
-        {
-            let mut pass = gpu::pass::begin(
-                encoder,
-                "ray tracer resolve",
-                &[gpu::pass::color(&target.color_view, gpu::pass::CLEAR_BLACK)],
-                None,
-                None,
-            );
-            pass.set_pipeline(&self.resolve_pipeline);
-            pass.set_bind_group(0, &self.resolve_group, &[]);
-            gpu::fullscreen::draw(&mut pass);
-        }
+        self.draw_resolve(encoder, "ray tracer resolve", target);
         frame.timer.end(encoder, "resolve");
         encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
         Ok(())
@@ -910,9 +899,15 @@ impl GpuTracer {
         let ctx = frame.gpu;
         self.resolve_params
             .write(ctx, &[target.width, target.height, 0, 1]);
+        self.draw_resolve(frame.encoder, "ray tracer resolve (eye pass)", target);
+    }
+
+    /// The resolve pass: the eye pass's radiance plus the photon sum (as its parameters say)
+    /// into `target`.
+    fn draw_resolve(&self, encoder: &mut wgpu::CommandEncoder, label: &str, target: &Target) {
         let mut pass = gpu::pass::begin(
-            frame.encoder,
-            "ray tracer resolve (eye pass)",
+            encoder,
+            label,
             &[gpu::pass::color(&target.color_view, gpu::pass::CLEAR_BLACK)],
             None,
             None,
