@@ -2,7 +2,7 @@
 //! allocate until the machine runs out of memory, or run for days.
 //!
 //! Every option of the command line has a declared range (clap checks the integer ones with
-//! the constants here; see README.md, "Reliability"). What a range cannot say, the memory a
+//! the constants here; see docs/reliability.md). What a range cannot say, the memory a
 //! run of a given image size needs, [`check_memory`] estimates before any image is allocated
 //! and compares with what the machine can give and with the adapter's largest buffer (wgpu
 //! does not report a hardware adapter's free memory; on a software adapter the machine's

@@ -8,7 +8,7 @@
 //! fuzzes the file sandbox with built URIs ([`mutated_uris_stay_in_the_folder`]);
 //! `GLTF_FUZZ_CASES=1000000 cargo test -p scene --test gltf_fuzz -- --nocapture` (the dev
 //! profile builds `scene` at opt-level 3)
-//! runs a long one (harness/README.md, "Reliability", has the count and the findings of the
+//! runs a long one (docs/reliability.md has the count and the findings of the
 //! last). Every input that ever failed is a file in `tests/corpus/`, imported by
 //! [`corpus_inputs_never_panic`].
 
