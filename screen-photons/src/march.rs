@@ -388,7 +388,7 @@ pub fn test_sample(
 
 /// The paper's line march (section 2.1): every sample of the line is tested with the
 /// tolerance test (one fragment each), then the first hit along the row is kept (the
-/// horizontal log-step reduction). Returns the hit and the number of samples tested.
+/// row reduction, `reduce.wgsl`). Returns the hit and the number of samples tested.
 pub fn march_lines(
     ldi: &Ldi,
     eye: &Eye,

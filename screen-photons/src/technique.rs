@@ -85,7 +85,7 @@ const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// How photon rays find their first surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum March {
-    /// The paper's: lines rasterized into rows, the tolerance test, a log-step reduction.
+    /// The paper's: lines rasterized into rows, the tolerance test, the first hit per row.
     Lines,
     /// One compute invocation per photon marching pixel by pixel with a thickness per layer.
     Dda,
@@ -2060,7 +2060,13 @@ impl Passes {
                     batch.binding(),
                 ],
             );
-            self.dispatch(frame, groups, &self.reduce, &reduce_group, rows);
+            self.dispatch(
+                frame,
+                groups,
+                &self.reduce,
+                &reduce_group,
+                rows.div_ceil(64),
+            );
         }
     }
 

@@ -242,10 +242,26 @@ fn timed_tests(rest: &[String]) -> ExitCode {
                 .map(|(_, _, _, require)| (*require, "require")),
         );
     }
-    let mut summary = runner::Summary::default();
-    let mut ok = true;
-    for test in test_executables(&artifacts) {
-        ok &= runner::run_executable(&test, &args, &env, &mut summary);
+    let jobs = test_jobs();
+    let times = workspace_root().join(TEST_TIMES);
+    eprintln!("xtask: {jobs} test executables at a time (XTASK_TEST_JOBS; 1 runs them one by one)");
+    let start = std::time::Instant::now();
+    let (mut ok, mut summary) = runner::run_all(
+        test_executables(&artifacts),
+        &args,
+        &env,
+        jobs,
+        &runner::read_times(&times),
+    );
+    eprintln!(
+        "xtask: the test executables took {:.0} s",
+        start.elapsed().as_secs_f64()
+    );
+    if let Err(e) = std::fs::write(&times, summary.times_text()) {
+        eprintln!(
+            "xtask: cannot keep the executables' times in {}: {e}",
+            times.display()
+        );
     }
     let doc = [cargo(), "test".into(), "--workspace".into(), "--doc".into()];
     let start = std::time::Instant::now();
@@ -273,6 +289,20 @@ fn timed_tests(rest: &[String]) -> ExitCode {
         return status;
     }
     tests_on_backported_lavapipe(&artifacts)
+}
+
+/// Where the test run keeps each executable's wall-clock time, for the next run's longest-first
+/// order.
+const TEST_TIMES: &str = "target/xtask-test-times.tsv";
+
+/// How many test executables run at a time: `XTASK_TEST_JOBS`, else the machine's cores.
+fn test_jobs() -> usize {
+    std::env::var("XTASK_TEST_JOBS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
+        .unwrap_or(1)
+        .max(1)
 }
 
 /// What every test runs with: the device-select layer quiet, and the HTML report's browser

@@ -1,15 +1,20 @@
-//! Running the test build's test executables one by one, each test timed, and the slowest
-//! listed at the end: what `cargo test` does (every executable in its package's folder, the
-//! tests of one executable in parallel threads), plus the times it does not print.
+//! Running the test build's test executables, each test timed, and the slowest listed at the
+//! end: what `cargo test` does (every executable in its package's folder, the tests of one
+//! executable in parallel threads), plus the times it does not print, and executables run side
+//! by side ([`run_all`]): one test executable keeps about 1.3 of the 2 cores busy (a single
+//! long test draws through lavapipe's one command thread), so running them one after another
+//! left a third of the machine idle.
 //!
 //! Per-test times come from libtest's JSON events (`--format json --report-time`), which stable
 //! libtest gives when `RUSTC_BOOTSTRAP=1` is in the *test's* environment (only there: the build
 //! never sees it, so no artifact changes). An executable that refuses the options (a harness
 //! other than libtest) runs again without them, its time then counted as one.
 
+use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// A test executable of the build: which package and target, where it runs.
@@ -174,6 +179,76 @@ pub fn run_executable(
     ok
 }
 
+/// Runs every executable of `tests`, `jobs` at a time, the longest first by `previous` (their
+/// wall-clock seconds in an earlier run; an executable it does not know counts as long, so a
+/// first run starts with cargo's order): longest-first keeps the last one to finish from
+/// starting last. Returns whether all passed, and what they gave.
+pub fn run_all(
+    tests: Vec<TestExecutable>,
+    args: &[String],
+    env: &[(&str, &str)],
+    jobs: usize,
+    previous: &HashMap<String, f64>,
+) -> (bool, Summary) {
+    let mut queue = tests;
+    // Stable sort: unknown executables first, in cargo's order, then the known longest-first.
+    queue.sort_by(|a, b| {
+        let time = |t: &TestExecutable| previous.get(&t.name).copied().unwrap_or(f64::INFINITY);
+        time(b).total_cmp(&time(a))
+    });
+    queue.reverse(); // popped from the back
+    let queue = Mutex::new(queue);
+    let results = Mutex::new((true, Summary::default()));
+    std::thread::scope(|scope| {
+        for _ in 0..jobs.max(1) {
+            scope.spawn(|| {
+                loop {
+                    let Some(test) = queue.lock().unwrap_or_else(|e| e.into_inner()).pop() else {
+                        break;
+                    };
+                    let mut own = Summary::default();
+                    let ok = run_executable(&test, args, env, &mut own);
+                    let mut all = results.lock().unwrap_or_else(|e| e.into_inner());
+                    all.0 &= ok;
+                    all.1.absorb(own);
+                }
+            });
+        }
+    });
+    results.into_inner().unwrap_or_else(|e| e.into_inner())
+}
+
+impl Summary {
+    fn absorb(&mut self, other: Summary) {
+        self.tests.extend(other.tests);
+        self.executables.extend(other.executables);
+        self.passed += other.passed;
+        self.failed.extend(other.failed);
+        self.ignored += other.ignored;
+    }
+
+    /// The executables' wall-clock seconds as `seconds<TAB>name` lines: what [`read_times`]
+    /// reads back for the next run's order.
+    pub fn times_text(&self) -> String {
+        self.executables
+            .iter()
+            .map(|(name, seconds)| format!("{seconds:.2}\t{name}\n"))
+            .collect()
+    }
+}
+
+/// The executables' times a previous run wrote with [`Summary::times_text`] (empty when there
+/// is none or it cannot be read).
+pub fn read_times(path: &Path) -> HashMap<String, f64> {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    text.lines()
+        .filter_map(|line| {
+            let (seconds, name) = line.split_once('\t')?;
+            Some((name.to_string(), seconds.parse().ok()?))
+        })
+        .collect()
+}
+
 /// The slowest tests and executables as a table, and the totals.
 pub fn report(summary: &Summary, slowest: usize) -> String {
     let mut tests = summary.tests.clone();
@@ -192,7 +267,8 @@ pub fn report(summary: &Summary, slowest: usize) -> String {
     }
     let total: f64 = summary.executables.iter().map(|e| e.1).sum();
     out.push_str(&format!(
-        "xtask: {} passed, {} failed, {} ignored, in {} executables, {:.1} s\n",
+        "xtask: {} passed, {} failed, {} ignored, in {} executables, {:.1} s of executables' \
+         wall-clock time together\n",
         summary.passed,
         summary.failed.len(),
         summary.ignored,
@@ -276,5 +352,50 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("2 passed, 0 failed, 0 ignored, in 1 executables, 9.5 s"));
+    }
+
+    #[test]
+    fn times_are_read_back() {
+        let summary = Summary {
+            executables: vec![("a/b".into(), 12.5), ("c/d".into(), 0.25)],
+            ..Default::default()
+        };
+        let dir = std::env::temp_dir().join(format!("xtask-times-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("times.tsv");
+        std::fs::write(&path, summary.times_text()).unwrap();
+        let times = read_times(&path);
+        assert_eq!(times.get("a/b"), Some(&12.5));
+        assert_eq!(times.get("c/d"), Some(&0.25));
+        assert!(read_times(&dir.join("none")).is_empty());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Every executable runs once, side by side, and a failing one fails the whole.
+    #[test]
+    fn all_executables_run_and_a_failure_counts() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = std::env::temp_dir().join(format!("xtask-run-all-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // A script ignores the libtest options it is given.
+        let script = |name: &str, status: u8| {
+            let path = dir.join(name);
+            std::fs::write(&path, format!("#!/bin/sh\nexit {status}\n")).unwrap();
+            std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+            TestExecutable {
+                name: format!("pkg/{name}"),
+                path: path.to_string_lossy().into_owned(),
+                dir: dir.clone(),
+            }
+        };
+        let tests = vec![script("ok", 0), script("fails", 1), script("also-ok", 0)];
+        let previous = HashMap::from([("pkg/ok".to_string(), 1.0)]);
+        let (ok, summary) = run_all(tests, &[], &[], 2, &previous);
+        assert!(!ok);
+        let mut ran: Vec<&str> = summary.executables.iter().map(|e| e.0.as_str()).collect();
+        ran.sort();
+        assert_eq!(ran, ["pkg/also-ok", "pkg/fails", "pkg/ok"]);
+        assert_eq!(summary.failed, ["pkg/fails (the executable failed)"]);
+        std::fs::remove_dir_all(dir).unwrap();
     }
 }

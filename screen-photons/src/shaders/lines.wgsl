@@ -3,7 +3,7 @@
 // line into its own row of an offscreen buffer, as many fragments long as the ray covers
 // pixels on the screen; each fragment tests its sample against every LDI layer (tolerance
 // test) and writes (t, layer, pixel) where it finds a surface. `reduce_main` then keeps the
-// first hit of each row by a log-step reduction.
+// first hit of each row (the paper's reduction, as a scan per row).
 // ---------------------------------------------------------------------------------------------
 
 struct Batch {

@@ -1,5 +1,11 @@
-// The horizontal reduction of the line buffer: one workgroup per row; each invocation finds
-// the first hit among its texels, then log2(64) halving steps keep the row's first.
+// The horizontal reduction of the line buffer: the first hit of each row (the photon's first
+// surface along its ray), one invocation per row scanning from the left.
+//
+// The paper reduces each row by log-step halving passes, as a 2005 GPU without compute shaders
+// must; the result is the same texel (the leftmost with a hit). A scan that stops at the first
+// hit reads no more texels than the halving reads and needs no barriers: on a software
+// rasterizer, 4096 barrier-synchronised workgroups per batch cost more than the lines
+// themselves.
 
 struct Batch {
     first: u32,
@@ -12,34 +18,18 @@ struct Batch {
 @group(3) @binding(1) var<storage, read_write> hits: array<vec4f>;
 @group(3) @binding(2) var<uniform> batch: Batch;
 
-const REDUCE_WIDTH: u32 = 64u;
-const NONE: u32 = 0xffffffffu;
-var<workgroup> first_x: array<u32, 64>;
-
 @compute @workgroup_size(64)
-fn reduce_main(@builtin(workgroup_id) wg: vec3u, @builtin(local_invocation_index) lid: u32) {
-    let row = wg.x;
-    var best = NONE;
-    for (var x = lid; x < batch.width; x += REDUCE_WIDTH) {
-        if (textureLoad(rows_texture, vec2u(x, row), 0).x > 0.0) {
-            best = x;
+fn reduce_main(@builtin(global_invocation_id) id: vec3u) {
+    let row = id.x;
+    let i = batch.first + row;
+    if (row >= batch.rows || i >= arrayLength(&hits)) { return; }
+    var h = vec4f(0.0);
+    for (var x = 0u; x < batch.width; x++) {
+        let texel = textureLoad(rows_texture, vec2u(x, row), 0);
+        if (texel.x > 0.0) {
+            h = texel;
             break;
         }
     }
-    first_x[lid] = best;
-    workgroupBarrier();
-    for (var stride = REDUCE_WIDTH / 2u; stride > 0u; stride /= 2u) {
-        if (lid < stride) {
-            first_x[lid] = min(first_x[lid], first_x[lid + stride]);
-        }
-        workgroupBarrier();
-    }
-    let i = batch.first + row;
-    if (lid == 0u && i < arrayLength(&hits)) {
-        var h = vec4f(0.0);
-        if (first_x[0] != NONE) {
-            h = textureLoad(rows_texture, vec2u(first_x[0], row), 0);
-        }
-        hits[i] = h;
-    }
+    hits[i] = h;
 }
