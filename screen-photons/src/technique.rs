@@ -499,7 +499,7 @@ impl Technique for ScreenPhotons {
         }
         let ctx = frame.gpu;
         ctx.require(wgpu::Features::FLOAT32_BLENDABLE)?;
-        self.passes = Some(ctx.validated(|| Passes::new(ctx, scene))?);
+        self.passes = Some(ctx.validated(|| Passes::new(ctx, scene, &self.variant))?);
         self.sized = None;
         Ok(())
     }
@@ -1454,22 +1454,38 @@ struct Passes {
     specular_layout: wgpu::BindGroupLayout,
     shadow_mask_layout: wgpu::BindGroupLayout,
     shadowed_layout: wgpu::BindGroupLayout,
-    transfer: wgpu::RenderPipeline,
-    shadow_mask: wgpu::ComputePipeline,
-    shadowed: wgpu::RenderPipeline,
-    gather: wgpu::ComputePipeline,
-    lines: wgpu::RenderPipeline,
-    reduce: wgpu::ComputePipeline,
-    dda: wgpu::ComputePipeline,
-    resolve: wgpu::ComputePipeline,
-    splat: wgpu::RenderPipeline,
-    apply: wgpu::RenderPipeline,
+    // The pipelines of the variant's passes only ([`Passes::new`]; [`made`] takes one out).
+    transfer: Option<wgpu::RenderPipeline>,
+    shadow_mask: Option<wgpu::ComputePipeline>,
+    shadowed: Option<wgpu::RenderPipeline>,
+    gather: Option<wgpu::ComputePipeline>,
+    lines: Option<wgpu::RenderPipeline>,
+    reduce: Option<wgpu::ComputePipeline>,
+    dda: Option<wgpu::ComputePipeline>,
+    resolve: Option<wgpu::ComputePipeline>,
+    splat: Option<wgpu::RenderPipeline>,
+    apply: Option<wgpu::RenderPipeline>,
     specular: wgpu::RenderPipeline,
 }
 
+/// A pipeline of the variant's passes: [`Passes::new`] made it (a variant asking for one it
+/// did not make is a bug in this file, not an input error).
+fn made<T>(pipeline: &Option<T>) -> &T {
+    pipeline
+        .as_ref()
+        .expect("Passes::new makes every pipeline the variant's passes use")
+}
+
 impl Passes {
-    fn new(ctx: &Context, scene: &GpuScene) -> Self {
+    /// The layouts, and the pipelines of `variant`'s passes: the caustic passes (and the
+    /// marcher it uses) for a caustic variant, the shadow mask for screen-space shadows, the
+    /// refraction pass for all. On lavapipe a pipeline costs ~30 ms of compilation, so a
+    /// variant that made them all spent most of its prepare on passes it never runs.
+    fn new(ctx: &Context, scene: &GpuScene, variant: &Variant) -> Self {
         use wgpu::ShaderStages as S;
+        let caustics = variant.caustics.is_some();
+        let marches = |m: March| matches!(variant.caustics, Some((march, _)) if march == m);
+        let shadows = variant.screen_space_shadows;
         let all = S::VERTEX_FRAGMENT | S::COMPUTE;
         let layers = bind::texture(wgpu::TextureViewDimension::D2Array, false);
         let ldi_layout = bind::layout(
@@ -1536,37 +1552,41 @@ impl Passes {
 
         let with =
             |own: &wgpu::BindGroupLayout| scene.pipeline_layout_with(ctx, &[&ldi_layout, own]);
-        let transfer_module = gpu::shader_with_prelude(
-            ctx,
-            "transfer map",
-            &format!("{SCENE_WGSL}\n{TRANSFER_WGSL}"),
-        );
-        let transfer = scene::scene_pipeline_with(
-            ctx,
-            "transfer map",
-            &scene.pipeline_layout_with(ctx, &[&transfer_layout]),
-            &transfer_module,
-            "transfer_fs",
-            &[
-                pass::color_target(MAP_FORMAT, None),
-                pass::color_target(MAP_FORMAT, None),
-            ],
-            (true, wgpu::CompareFunction::Less),
-        );
+        let transfer = caustics.then(|| {
+            let transfer_module = gpu::shader_with_prelude(
+                ctx,
+                "transfer map",
+                &format!("{SCENE_WGSL}\n{TRANSFER_WGSL}"),
+            );
+            scene::scene_pipeline_with(
+                ctx,
+                "transfer map",
+                &scene.pipeline_layout_with(ctx, &[&transfer_layout]),
+                &transfer_module,
+                "transfer_fs",
+                &[
+                    pass::color_target(MAP_FORMAT, None),
+                    pass::color_target(MAP_FORMAT, None),
+                ],
+                (true, wgpu::CompareFunction::Less),
+            )
+        });
         let hdr_module =
             |label: &str, own: &str| gpu::shader_with_prelude(ctx, label, &pass_source(own));
-        let apply = scene::scene_pipeline_with(
-            ctx,
-            "caustic apply",
-            &with(&apply_layout),
-            &hdr_module("caustic apply", APPLY_WGSL),
-            "apply_fs",
-            &[pass::color_target(
-                gpu::HDR_FORMAT,
-                Some(ADD_RGB_KEEP_ALPHA),
-            )],
-            (false, wgpu::CompareFunction::Equal),
-        );
+        let apply = caustics.then(|| {
+            scene::scene_pipeline_with(
+                ctx,
+                "caustic apply",
+                &with(&apply_layout),
+                &hdr_module("caustic apply", APPLY_WGSL),
+                "apply_fs",
+                &[pass::color_target(
+                    gpu::HDR_FORMAT,
+                    Some(ADD_RGB_KEEP_ALPHA),
+                )],
+                (false, wgpu::CompareFunction::Equal),
+            )
+        });
         let specular = scene::scene_pipeline_with(
             ctx,
             "screen-space refraction",
@@ -1576,71 +1596,87 @@ impl Passes {
             &[pass::color_target(gpu::HDR_FORMAT, None)],
             (true, wgpu::CompareFunction::Less),
         );
-        let shadowed = scene::scene_pipeline_with(
-            ctx,
-            "screen-space shadowed",
-            &with(&shadowed_layout),
-            &hdr_module("screen-space shadowed", SHADOWED_WGSL),
-            "shadowed_fs",
-            &[pass::color_target(gpu::HDR_FORMAT, None)],
-            (true, wgpu::CompareFunction::Less),
-        );
+        let shadowed = shadows.then(|| {
+            scene::scene_pipeline_with(
+                ctx,
+                "screen-space shadowed",
+                &with(&shadowed_layout),
+                &hdr_module("screen-space shadowed", SHADOWED_WGSL),
+                "shadowed_fs",
+                &[pass::color_target(gpu::HDR_FORMAT, None)],
+                (true, wgpu::CompareFunction::Less),
+            )
+        });
         Self {
             medium: scene
                 .scene
                 .medium
                 .is_some()
                 .then(|| MediumPasses::new(ctx, scene, &ldi_layout)),
-            shadow_mask: compute_pipeline(
-                ctx,
-                "shadow mask",
-                &with(&shadow_mask_layout),
-                SHADOW_MASK_WGSL,
-                "shadow_main",
-            ),
+            shadow_mask: shadows.then(|| {
+                compute_pipeline(
+                    ctx,
+                    "shadow mask",
+                    &with(&shadow_mask_layout),
+                    SHADOW_MASK_WGSL,
+                    "shadow_main",
+                )
+            }),
             shadowed,
             shadow_mask_layout,
             shadowed_layout,
-            gather: compute_pipeline(
-                ctx,
-                "gather photons",
-                &with(&gather_layout),
-                GATHER_WGSL,
-                "gather_main",
-            ),
-            lines: bufferless_pipeline(
-                ctx,
-                "photon lines",
-                &with(&lines_layout),
-                LINES_WGSL,
-                ("line_vs", "line_fs"),
-                wgpu::PrimitiveTopology::LineList,
-                None,
-            ),
-            reduce: compute_pipeline(
-                ctx,
-                "reduce rows",
-                &with(&reduce_layout),
-                REDUCE_WGSL,
-                "reduce_main",
-            ),
-            dda: compute_pipeline(ctx, "dda march", &with(&dda_layout), DDA_WGSL, "dda_main"),
-            resolve: compute_pipeline(
-                ctx,
-                "resolve photons",
-                &with(&resolve_layout),
-                RESOLVE_WGSL,
-                "resolve_main",
-            ),
-            splat: bufferless_pipeline(
-                ctx,
-                "splats",
-                &with(&splat_layout),
-                &format!("{}\n{SPLAT_WGSL}", crate::splat::WEIGHT_WGSL),
-                ("splat_vs", "splat_fs"),
-                wgpu::PrimitiveTopology::TriangleList,
-                Some(ADD),
-            ),
+            gather: caustics.then(|| {
+                compute_pipeline(
+                    ctx,
+                    "gather photons",
+                    &with(&gather_layout),
+                    GATHER_WGSL,
+                    "gather_main",
+                )
+            }),
+            lines: marches(March::Lines).then(|| {
+                bufferless_pipeline(
+                    ctx,
+                    "photon lines",
+                    &with(&lines_layout),
+                    LINES_WGSL,
+                    ("line_vs", "line_fs"),
+                    wgpu::PrimitiveTopology::LineList,
+                    None,
+                )
+            }),
+            reduce: marches(March::Lines).then(|| {
+                compute_pipeline(
+                    ctx,
+                    "reduce rows",
+                    &with(&reduce_layout),
+                    REDUCE_WGSL,
+                    "reduce_main",
+                )
+            }),
+            dda: marches(March::Dda).then(|| {
+                compute_pipeline(ctx, "dda march", &with(&dda_layout), DDA_WGSL, "dda_main")
+            }),
+            resolve: caustics.then(|| {
+                compute_pipeline(
+                    ctx,
+                    "resolve photons",
+                    &with(&resolve_layout),
+                    RESOLVE_WGSL,
+                    "resolve_main",
+                )
+            }),
+            splat: caustics.then(|| {
+                bufferless_pipeline(
+                    ctx,
+                    "splats",
+                    &with(&splat_layout),
+                    &format!("{}\n{SPLAT_WGSL}", crate::splat::WEIGHT_WGSL),
+                    ("splat_vs", "splat_fs"),
+                    wgpu::PrimitiveTopology::TriangleList,
+                    Some(ADD),
+                )
+            }),
             transfer,
             apply,
             specular,
@@ -1779,7 +1815,7 @@ impl Passes {
                 self.dispatch(
                     frame,
                     &groups,
-                    &self.gather,
+                    made(&self.gather),
                     &bind::group(
                         ctx,
                         "gather",
@@ -1800,7 +1836,7 @@ impl Passes {
                         March::Dda => self.dispatch(
                             frame,
                             &groups,
-                            &self.dda,
+                            made(&self.dda),
                             &bind::group(
                                 ctx,
                                 "dda",
@@ -1856,7 +1892,7 @@ impl Passes {
                 Some(pass::depth(&target.depth_view, pass::Load::Keep)),
                 None,
             );
-            pass.set_pipeline(&self.apply);
+            pass.set_pipeline(made(&self.apply));
             groups.set(&mut pass, &apply_group);
             scene.draw_objects(&mut pass, &ObjectFilter::Except(specular.clone()));
         }
@@ -1926,7 +1962,7 @@ impl Passes {
             let mut pass = frame
                 .encoder
                 .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&self.shadow_mask);
+            pass.set_pipeline(made(&self.shadow_mask));
             pass.set_bind_group(0, groups.camera, &[]);
             pass.set_bind_group(1, groups.scene, &[]);
             pass.set_bind_group(2, groups.ldi, &[]);
@@ -1956,7 +1992,7 @@ impl Passes {
             Some(pass::depth(&target.depth_view, CLEAR_FAR)),
             None,
         );
-        pass.set_pipeline(&self.shadowed);
+        pass.set_pipeline(made(&self.shadowed));
         groups.set(&mut pass, &group);
         scene.draw_objects(&mut pass, &ObjectFilter::Except(specular.to_vec()));
     }
@@ -1988,7 +2024,7 @@ impl Passes {
             Some(pass::depth(&sized.transfer[2], CLEAR_FAR)),
             None,
         );
-        pass.set_pipeline(&self.transfer);
+        pass.set_pipeline(made(&self.transfer));
         pass.set_bind_group(0, &camera, &[]);
         pass.set_bind_group(1, scene.bind_group(), &[]);
         pass.set_bind_group(2, &group, &[]);
@@ -2046,7 +2082,7 @@ impl Passes {
                     None,
                     None,
                 );
-                pass.set_pipeline(&self.lines);
+                pass.set_pipeline(made(&self.lines));
                 groups.set(&mut pass, &lines_group);
                 pass.draw(0..2, 0..rows);
             }
@@ -2063,7 +2099,7 @@ impl Passes {
             self.dispatch(
                 frame,
                 groups,
-                &self.reduce,
+                made(&self.reduce),
                 &reduce_group,
                 rows.div_ceil(64),
             );
@@ -2107,7 +2143,7 @@ impl Passes {
         self.dispatch(
             frame,
             groups,
-            &self.resolve,
+            made(&self.resolve),
             &group,
             sized.photons.count.div_ceil(64),
         );
@@ -2168,7 +2204,7 @@ impl Passes {
             None,
             None,
         );
-        pass.set_pipeline(&self.splat);
+        pass.set_pipeline(made(&self.splat));
         groups.set(&mut pass, &group);
         pass.draw(0..6, 0..sized.photons.count);
     }
