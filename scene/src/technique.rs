@@ -253,6 +253,10 @@ pub struct ImageCheck {
     pub reason: &'static str,
     /// Parameters set on the technique for the check (none: its defaults).
     pub params: &'static [(&'static str, f64)],
+    /// Per checked frame (in [`check_times`] order), a tighter RMSE bound than `max_rmse`
+    /// where one frame alone needs the loose one (empty: `max_rmse` for every frame). A bound
+    /// loose enough for the worst frame can be loose enough for a broken feature too.
+    pub rmse_per_frame: &'static [f32],
 }
 
 impl ImageCheck {
@@ -275,12 +279,30 @@ impl ImageCheck {
             max_rmse,
             reason,
             params: &[],
+            rmse_per_frame: &[],
         }
     }
 
     /// The check with `params` set on the technique.
     pub const fn with_params(self, params: &'static [(&'static str, f64)]) -> Self {
         Self { params, ..self }
+    }
+
+    /// The check with an RMSE bound per checked frame, each at most `max_rmse`.
+    pub const fn with_rmse_per_frame(self, rmse_per_frame: &'static [f32]) -> Self {
+        Self {
+            rmse_per_frame,
+            ..self
+        }
+    }
+
+    /// The RMSE bound of the `frame`-th checked frame.
+    pub fn rmse_bound(&self, frame: usize) -> f32 {
+        self.rmse_per_frame
+            .get(frame)
+            .copied()
+            .unwrap_or(self.max_rmse)
+            .min(self.max_rmse)
     }
 }
 

@@ -92,9 +92,34 @@ fn lines_and_dda_mostly_find_the_same_first_hits() {
     }
 }
 
-/// Misclassified share of the diffuse pixels facing the light: the GPU's screen-space shadow
-/// mask against the BVH's shadow rays from the same surface points (layer 0 of the LDI).
-fn misclassified(spec: &str) -> (f64, usize) {
+/// How the screen-space shadow mask classified the diffuse pixels facing the light, against
+/// the BVH's shadow rays from the same surface points (layer 0 of the LDI).
+#[derive(Default)]
+struct ShadowCounts {
+    /// Pixels facing the light, and how many of them the mask misclassified.
+    candidates: usize,
+    wrong: usize,
+    /// The pixels whose shadow ray meets nothing or first meets an occluder inside the view
+    /// (what the LDI can hold: the method's own error, without the occluders it cannot see
+    /// by design; README, "Known failure cases"), split by the truth and the mask.
+    in_view_shadowed: usize,
+    in_view_shadowed_found: usize,
+    in_view_lit: usize,
+    in_view_lit_shadowed: usize,
+}
+
+impl ShadowCounts {
+    /// The share of the shadowed pixels the mask finds (0 for a mask without shadows).
+    fn found(&self) -> f64 {
+        self.in_view_shadowed_found as f64 / self.in_view_shadowed.max(1) as f64
+    }
+    /// The share of the lit pixels the mask puts in shadow.
+    fn false_shadows(&self) -> f64 {
+        self.in_view_lit_shadowed as f64 / self.in_view_lit.max(1) as f64
+    }
+}
+
+fn shadow_counts(spec: &str) -> ShadowCounts {
     let scene = scene::load(spec).unwrap();
     let mut t = variant("shadows");
     let camera = scene.camera_at(0.0);
@@ -104,7 +129,12 @@ fn misclassified(spec: &str) -> (f64, usize) {
     let layer0 = t.last_ldi_layer(ctx, 0).unwrap();
     let bvh = SceneBvh::build(&scene, 0.0);
     let light = &scene.lights[0];
-    let (mut candidates, mut wrong) = (0, 0);
+    let view_proj = camera.view_proj(SIZE, SIZE);
+    let seen = |p: Vec3| {
+        let clip = view_proj * p.extend(1.0);
+        clip.w > 0.0 && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
+    };
+    let mut c = ShadowCounts::default();
     for y in 0..SIZE {
         for x in 0..SIZE {
             let i = (y * SIZE + x) as usize;
@@ -130,34 +160,74 @@ fn misclassified(spec: &str) -> (f64, usize) {
             }
             let origin = p + n * 1e-4 * p.length().max(1.0);
             let dist = to_light.length();
-            let occluded = bvh.any_hit(origin, to_light / dist, dist * (1.0 - 1e-4));
-            candidates += 1;
-            wrong += ((mask[i][0] < 0.5) != occluded) as usize;
+            let dir = to_light / dist;
+            let occluder = bvh.closest_hit(origin, dir, dist * (1.0 - 1e-4));
+            let masked = mask[i][0] < 0.5;
+            c.candidates += 1;
+            c.wrong += (masked != occluder.is_some()) as usize;
+            match occluder {
+                None => {
+                    c.in_view_lit += 1;
+                    c.in_view_lit_shadowed += masked as usize;
+                }
+                Some(h) if seen(origin + dir * h.t) => {
+                    c.in_view_shadowed += 1;
+                    c.in_view_shadowed_found += masked as usize;
+                }
+                Some(_) => {}
+            }
         }
     }
-    (wrong as f64 / candidates.max(1) as f64, candidates)
+    c
 }
 
 #[test]
 fn screen_space_shadows_against_ray_traced_ones() {
     let _lock = testkit::gpu_lock();
-    println!("| scene | pixels facing the light | misclassified |");
-    println!("| --- | --- | --- |");
-    // The bounds are the measured shares rounded up (0.0078, 0.0057, 0.0066, 0.7957); the
-    // pool's water lies mostly above the view, so most of its shadow is missed (README,
-    // "Known failure cases").
-    for (spec, bound) in [
-        ("cornell-sphere", 0.012),
-        ("refraction-bunny", 0.01),
-        ("chess", 0.01),
-        ("pool", 0.85),
+    println!(
+        "| scene | pixels facing the light | misclassified | in shadow, occluder in view | \
+         found by the mask | lit | put in shadow by the mask |"
+    );
+    println!("| --- | --- | --- | --- | --- | --- | --- |");
+    // Over the pixels whose occluder (if any) the view holds: the share of the shadowed ones
+    // the mask finds (a mask without shadows finds none) and the share of the lit ones it
+    // darkens, bounded at the measured shares rounded down and up (found 0.9991, 0.8882,
+    // 0.7059 of 51 pixels, 0.3355; darkened 0.0091, 0.0036, 0.0045; the pool has no lit pixel
+    // facing the light). Pixels whose occluder lies outside the view are the method's known
+    // failure (README, "Known failure cases": the pool's water, mostly above the view, casts
+    // almost none of its shadow): counted in "misclassified", not bounded. Even with the water
+    // in view the mask finds only a third of the pool's shadow (not yet explained; the shadow
+    // rays use the tolerance test alone, not the paper's in-out test of section 5).
+    for (spec, min_found, max_false) in [
+        ("cornell-sphere", 0.99, 0.012),
+        ("refraction-bunny", 0.85, 0.005),
+        ("chess", 0.65, 0.006),
+        ("pool", 0.3, 0.0),
     ] {
-        let (share, n) = misclassified(spec);
-        println!("| {spec} | {n} | {share:.4} |");
-        assert!(n > 500, "{spec}: {n} pixels");
+        let c = shadow_counts(spec);
+        println!(
+            "| {spec} | {} | {:.4} | {} | {:.4} | {} | {:.4} |",
+            c.candidates,
+            c.wrong as f64 / c.candidates.max(1) as f64,
+            c.in_view_shadowed,
+            c.found(),
+            c.in_view_lit,
+            c.false_shadows()
+        );
         assert!(
-            share <= bound,
-            "{spec}: {share:.4} misclassified, bound {bound}"
+            c.in_view_shadowed > 20,
+            "{spec}: {} pixels in shadow",
+            c.in_view_shadowed
+        );
+        assert!(
+            c.found() >= min_found,
+            "{spec}: the mask finds {:.4} of the shadowed pixels, bound {min_found}",
+            c.found()
+        );
+        assert!(
+            c.false_shadows() <= max_false,
+            "{spec}: the mask darkens {:.4} of the lit pixels, bound {max_false}",
+            c.false_shadows()
         );
     }
 }

@@ -452,7 +452,7 @@ const BACKPORTS_DIR: &str = "target/mesa-backports";
 
 /// A test that runs again on Mesa 25's lavapipe: (package, test target, test name, the
 /// variable that makes it fail rather than skip where its adapter cannot run it).
-const ON_MESA_25: [(&str, &str, &str, &str); 2] = [
+const ON_MESA_25: [(&str, &str, &str, &str); 3] = [
     // Hardware ray queries, which Debian 12's Mesa (22.3) lacks and Mesa 25 has.
     (
         "raytracer",
@@ -467,6 +467,14 @@ const ON_MESA_25: [(&str, &str, &str, &str); 2] = [
         "memory",
         "fifty_frames_keep_the_memory_flat",
         "HARNESS_MEMORY_TEST",
+    ),
+    // Every declared image check, caustic variants included (float32 blending, which some
+    // adapters lack): none may be left out as not run.
+    (
+        "workspace-tests",
+        "image_checks",
+        "every_declared_image_check_holds_along_the_camera_path",
+        "IMAGE_CHECKS_ALL",
     ),
 ];
 
