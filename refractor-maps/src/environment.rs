@@ -46,6 +46,11 @@ pub struct EnvSettings {
     pub separated: bool,
     /// Rounds of drawing the pieces into the impostors (section 5.1's DEPTH).
     pub env_depth: u32,
+    /// Metres the moving piece may travel from where the impostors were last updated before
+    /// they are updated again (0: every frame). Section 5.1: the maps are recomputed "only
+    /// when the rate of changes makes it necessary", not every frame; between updates the
+    /// impostors show the moving piece where it was.
+    pub rebuild_threshold: f32,
     /// The maps and their searches (`env_resolution`: each piece's impostor).
     pub maps: Maps,
 }
@@ -55,6 +60,7 @@ impl Default for EnvSettings {
         Self {
             separated: true,
             env_depth: 2,
+            rebuild_threshold: 0.0,
             maps: Maps::with_env_resolution(128),
         }
     }
@@ -93,6 +99,9 @@ struct State {
     eye_group: wgpu::BindGroup,
     /// Impostor renders (one per impostor per round) since `prepare` (for tests).
     rebuilds: u32,
+    /// Where the moving piece's centre was when the frame's update last ran (none before the
+    /// first frame): what `rebuild_threshold` measures from.
+    updated_at: Option<Vec3>,
 }
 
 /// The uniform block `EnvParams` of environment_pieces.wgsl.
@@ -166,6 +175,14 @@ impl Technique for EnvironmentMaps {
             true,
             "rounds of drawing the pieces into each other's impostors (0: diffuse scene only)",
         )];
+        p.push(Param::new(
+            "rebuild_threshold",
+            s.rebuild_threshold as f64,
+            (0.0, 10.0),
+            false,
+            "metres the moving piece travels before the impostors are updated again (0: every \
+             frame)",
+        ));
         p.extend(
             s.maps
                 .params("cube face size of each piece's environment impostor (texels)"),
@@ -177,6 +194,7 @@ impl Technique for EnvironmentMaps {
         let s = &mut self.settings;
         match name {
             "env_depth" => s.env_depth = value as u32,
+            "rebuild_threshold" => s.rebuild_threshold = value as f32,
             name if s.maps.set(name, value) => {}
             _ => unreachable!("check_param accepted an undeclared parameter"),
         }
@@ -332,6 +350,7 @@ impl Technique for EnvironmentMaps {
             build_group,
             eye_group,
             rebuilds: 0,
+            updated_at: None,
         };
         if s.separated {
             // The static impostors, once: every piece but the moving one, all rounds.
@@ -366,17 +385,24 @@ impl Technique for EnvironmentMaps {
             .as_mut()
             .ok_or(TechniqueError::NotPrepared(self.id.clone()))?;
         let all: Vec<usize> = (0..state.kinds.pieces.len()).collect();
-        frame.timer.begin(frame.encoder, "update impostors");
-        if s.separated {
+        let mover_now = mover_centre(scene, state);
+        if !update_due(state.updated_at, mover_now, s.rebuild_threshold) {
+            // Not far enough: this frame keeps the impostors as they are.
+        } else if s.separated {
+            state.updated_at = Some(mover_now);
+            frame.timer.begin(frame.encoder, "update impostors");
             if let Some(mover) = state.mover {
                 let statics: Vec<usize> = all.iter().copied().filter(|&p| p != mover).collect();
                 let rounds = s.env_depth.min(1);
                 build_impostors(frame, scene, state, &[mover], &statics, rounds, rounds == 0);
             }
+            frame.timer.end(frame.encoder, "update impostors");
         } else {
+            state.updated_at = Some(mover_now);
+            frame.timer.begin(frame.encoder, "update impostors");
             build_impostors(frame, scene, state, &all, &all, s.env_depth, true);
+            frame.timer.end(frame.encoder, "update impostors");
         }
-        frame.timer.end(frame.encoder, "update impostors");
 
         let ctx = frame.gpu;
         write_pieces(ctx, state, scene);
@@ -613,6 +639,27 @@ fn write_pieces(ctx: &Context, state: &State, scene: &GpuScene) {
         .write_buffer(&state.centres, 0, bytemuck::cast_slice(&centres));
 }
 
+/// The moving piece's centre now (the origin in a scene without one: nothing moves, so the
+/// impostors need updating only once).
+fn mover_centre(scene: &GpuScene, state: &State) -> Vec3 {
+    let Some(mover) = state.mover else {
+        return Vec3::ZERO;
+    };
+    let (pieces, _) = pieces_at(&scene.scene, &state.kinds, scene.time());
+    pieces_centre(&pieces[mover])
+}
+
+/// Whether this frame updates the impostors: every frame with no threshold, else the first
+/// frame and whenever the moving piece is more than `threshold` from where it was at the
+/// last update.
+fn update_due(updated_at: Option<Vec3>, mover_now: Vec3, threshold: f32) -> bool {
+    match updated_at {
+        None => true,
+        Some(_) if threshold <= 0.0 => true,
+        Some(at) => at.distance(mover_now) > threshold,
+    }
+}
+
 /// A storage buffer of `bytes` (at least 16) that the queue rewrites.
 fn writable_storage(ctx: &Context, label: &str, bytes: u64) -> wgpu::Buffer {
     ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -621,4 +668,19 @@ fn writable_storage(ctx: &Context, label: &str, bytes: u64) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_update_is_due_first_then_every_frame_or_past_the_threshold() {
+        let at = Some(Vec3::ZERO);
+        let moved = Vec3::new(0.0, 0.0, 0.3);
+        assert!(update_due(None, moved, 1.0));
+        assert!(update_due(at, Vec3::ZERO, 0.0));
+        assert!(!update_due(at, moved, 0.5));
+        assert!(update_due(at, moved, 0.25));
+    }
 }

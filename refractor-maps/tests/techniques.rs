@@ -147,6 +147,36 @@ fn separated_rebuilds_only_the_moving_impostor() {
     }
 }
 
+/// `rebuild_threshold` (section 5.1's "only when the rate of changes makes it necessary"):
+/// the pawn moves a square a second, so with a threshold of three quarters of a square the
+/// frames at t = 0, 1 and 2 update the impostors and those at 0.5 and 1.5 keep them.
+#[test]
+fn impostors_are_updated_only_when_the_mover_has_gone_far_enough() {
+    let _lock = gpu_lock();
+    let scene = scene::load("chess").unwrap();
+    let pieces = scene.specular_objects().len() as u32;
+    let times = [0.0, 0.5, 1.0, 1.5, 2.0];
+    let shots: Vec<_> = times.map(|t| Shot::along_path(&scene, t, 16)).into();
+    let square = scene::builtin::chess::SQUARE;
+    for (separated, expected) in [(true, 3 * (pieces - 1) + 3), (false, 3 * pieces * 3)] {
+        let mut t = EnvironmentMaps::new(
+            "refractor-maps/test",
+            "test",
+            true,
+            EnvSettings {
+                separated,
+                env_depth: 2,
+                ..EnvSettings::default()
+            },
+        );
+        small(&mut t);
+        t.set_param("rebuild_threshold", 0.75 * square as f64)
+            .unwrap();
+        render_shots(&mut t, &scene, &shots);
+        assert_eq!(t.rebuilds(), expected, "separated: {separated}");
+    }
+}
+
 /// The tracer: searching every piece and walking every grid cell give the same image (the
 /// grid only skips pieces a ray cannot meet first); the paper's first-square shortcut and a
 /// single bounce differ from it.
