@@ -315,3 +315,19 @@ pub fn check_times(duration: f32) -> Vec<f32> {
         vec![0.0]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_without_its_own_rmse_bound_takes_max_rmse() {
+        let check = ImageCheck::new("a/b", "cornell-box", 0.1, 0.5, "test");
+        assert_eq!(check.rmse_bound(0), 0.5);
+        let check = check.with_rmse_per_frame(&[0.1, 0.5, 0.2]);
+        assert_eq!(
+            [0, 1, 2, 3].map(|f| check.rmse_bound(f)),
+            [0.1, 0.5, 0.2, 0.5]
+        );
+    }
+}

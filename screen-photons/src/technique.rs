@@ -1479,8 +1479,10 @@ fn made<T>(pipeline: &Option<T>) -> &T {
 impl Passes {
     /// The layouts, and the pipelines of `variant`'s passes: the caustic passes (and the
     /// marcher it uses) for a caustic variant, the shadow mask for screen-space shadows, the
-    /// refraction pass for all. On lavapipe a pipeline costs ~30 ms of compilation, so a
-    /// variant that made them all spent most of its prepare on passes it never runs.
+    /// refraction pass for all; in a scene with a scattering medium, the medium's passes for
+    /// every variant (each variant's image is attenuated by it). On lavapipe a pipeline costs
+    /// ~30 ms of compilation, so a variant that made them all spent most of its prepare on
+    /// passes it never runs.
     fn new(ctx: &Context, scene: &GpuScene, variant: &Variant) -> Self {
         use wgpu::ShaderStages as S;
         let caustics = variant.caustics.is_some();

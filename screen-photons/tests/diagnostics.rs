@@ -3,8 +3,9 @@
 //!
 //! - lines against the DDA: the share of photons whose first hit is the same LDI sample (pixel
 //!   and layer), from the hit buffers of the same transfer map (`bounces = 0`);
-//! - screen-space shadow rays against exact ones: the share of misclassified pixels among the
-//!   diffuse pixels that face a light.
+//! - screen-space shadow rays against exact ones: among the diffuse pixels that face a light,
+//!   the share misclassified, and over those whose occluder lies in the view the share of the
+//!   shadowed ones the mask finds and of the lit ones it darkens.
 
 use glam::Vec3;
 use scene::Technique;
@@ -99,9 +100,10 @@ struct ShadowCounts {
     /// Pixels facing the light, and how many of them the mask misclassified.
     candidates: usize,
     wrong: usize,
-    /// The pixels whose shadow ray meets nothing or first meets an occluder inside the view
-    /// (what the LDI can hold: the method's own error, without the occluders it cannot see
-    /// by design; README, "Known failure cases"), split by the truth and the mask.
+    /// The pixels whose shadow ray meets nothing or first meets an occluder that projects
+    /// inside the image (the frustum's sides; the LDI may still lack it past its layers): the
+    /// method's own error, without the occluders it cannot see by design (README, "Known
+    /// failure cases"), split by the truth and the mask.
     in_view_shadowed: usize,
     in_view_shadowed_found: usize,
     in_view_lit: usize,
@@ -198,11 +200,13 @@ fn screen_space_shadows_against_ray_traced_ones() {
     // almost none of its shadow): counted in "misclassified", not bounded. Even with the water
     // in view the mask finds only a third of the pool's shadow (not yet explained; the shadow
     // rays use the tolerance test alone, not the paper's in-out test of section 5).
+    // Chess's share rests on 51 pixels (36 found): its bound leaves room for a few pixels
+    // more or less on another driver. The pool has no lit pixel to darken.
     for (spec, min_found, max_false) in [
-        ("cornell-sphere", 0.99, 0.012),
-        ("refraction-bunny", 0.85, 0.005),
-        ("chess", 0.65, 0.006),
-        ("pool", 0.3, 0.0),
+        ("cornell-sphere", 0.99, Some(0.012)),
+        ("refraction-bunny", 0.85, Some(0.005)),
+        ("chess", 0.55, Some(0.006)),
+        ("pool", 0.3, None),
     ] {
         let c = shadow_counts(spec);
         println!(
@@ -214,6 +218,7 @@ fn screen_space_shadows_against_ray_traced_ones() {
             c.in_view_lit,
             c.false_shadows()
         );
+        assert!(c.candidates > 500, "{spec}: {} pixels", c.candidates);
         assert!(
             c.in_view_shadowed > 20,
             "{spec}: {} pixels in shadow",
@@ -224,11 +229,14 @@ fn screen_space_shadows_against_ray_traced_ones() {
             "{spec}: the mask finds {:.4} of the shadowed pixels, bound {min_found}",
             c.found()
         );
-        assert!(
-            c.false_shadows() <= max_false,
-            "{spec}: the mask darkens {:.4} of the lit pixels, bound {max_false}",
-            c.false_shadows()
-        );
+        if let Some(max_false) = max_false {
+            assert!(c.in_view_lit > 500, "{spec}: {} lit pixels", c.in_view_lit);
+            assert!(
+                c.false_shadows() <= max_false,
+                "{spec}: the mask darkens {:.4} of the lit pixels, bound {max_false}",
+                c.false_shadows()
+            );
+        }
     }
 }
 

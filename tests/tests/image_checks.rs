@@ -42,10 +42,6 @@ fn every_declared_image_check_holds_along_the_camera_path() {
             check.technique,
             check.scene
         );
-        if let Err(e) = context().require(technique.required_features()) {
-            not_run.push(format!("{} on {}: {e}", check.technique, check.scene));
-            continue;
-        }
         let times = check_times(scene.camera_path.duration());
         assert!(
             check.rmse_per_frame.is_empty() || check.rmse_per_frame.len() == times.len(),
@@ -53,6 +49,14 @@ fn every_declared_image_check_holds_along_the_camera_path() {
             check.rmse_per_frame.len(),
             times.len()
         );
+        assert!(
+            check.rmse_per_frame.iter().all(|&b| b <= check.max_rmse),
+            "{check:?}: a per-frame RMSE bound above max_rmse"
+        );
+        if let Err(e) = context().require(technique.required_features()) {
+            not_run.push(format!("{} on {}: {e}", check.technique, check.scene));
+            continue;
+        }
         for (frame, time) in times.into_iter().enumerate() {
             let max_rmse = check.rmse_bound(frame);
             let camera = scene.camera_at(time);

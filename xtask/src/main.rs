@@ -30,7 +30,8 @@
 //!   it cannot be fetched, or where `VK_ICD_FILENAMES` is set); checks that the build
 //!   `compare` uses is exactly this one (`cargo test --workspace --no-run` reports every
 //!   artifact fresh) and fails naming what would be compiled otherwise. The tests that must
-//!   not skip on Mesa 25 ([`ON_MESA_25`]: hardware ray queries, the 50-frame memory test) run
+//!   not skip on Mesa 25 ([`ON_MESA_25`]: hardware ray queries, the 50-frame memory test,
+//!   every declared image check) run
 //!   with their `require` variables set: in the suite when it ran on Mesa 25, otherwise again
 //!   there after it (skipped, saying why, where it cannot be fetched);
 //! - `ray-query`: that last step alone;
@@ -59,9 +60,9 @@ const ICD_DIRS: &[&str] = &[
 fn usage() -> ExitCode {
     eprintln!(
         "usage: cargo xtask <test|compare|ray-query> [ARGS...]\n\
-         \x20 test      cargo test --workspace [ARGS...], then the ray-query test on Mesa 25's lavapipe\n\
+         \x20 test      cargo test --workspace [ARGS...], every test on Mesa 25's lavapipe where there is no GPU\n\
          \x20 compare   harness compare --out out [ARGS...] on the test build   (--release for a release build)\n\
-         \x20 ray-query the raytracer's ray-query test alone, on Mesa 25's lavapipe from bookworm-backports"
+         \x20 ray-query the tests that must run on Mesa 25's lavapipe (ray queries, flat memory, every image check), alone"
     );
     ExitCode::from(2)
 }
@@ -257,7 +258,10 @@ fn timed_tests(rest: &[String]) -> ExitCode {
         "xtask: the test executables took {:.0} s",
         start.elapsed().as_secs_f64()
     );
-    if let Err(e) = std::fs::write(&times, summary.times_text()) {
+    // Only a whole run's times order the next run (a filtered run's are those of its filter).
+    if args.is_empty()
+        && let Err(e) = std::fs::write(&times, summary.times_text())
+    {
         eprintln!(
             "xtask: cannot keep the executables' times in {}: {e}",
             times.display()
