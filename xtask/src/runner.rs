@@ -190,12 +190,7 @@ pub fn run_all(
     jobs: usize,
     previous: &HashMap<String, f64>,
 ) -> (bool, Summary) {
-    let mut queue = tests;
-    // Stable sort: unknown executables first, in cargo's order, then the known longest-first.
-    queue.sort_by(|a, b| {
-        let time = |t: &TestExecutable| previous.get(&t.name).copied().unwrap_or(f64::INFINITY);
-        time(b).total_cmp(&time(a))
-    });
+    let mut queue = run_order(tests, previous);
     queue.reverse(); // popped from the back
     let queue = Mutex::new(queue);
     let results = Mutex::new((true, Summary::default()));
@@ -216,6 +211,20 @@ pub fn run_all(
         }
     });
     results.into_inner().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The order [`run_all`] starts `tests` in: those `previous` does not know first, in the
+/// order given (cargo's), then the known ones, longest first.
+fn run_order(
+    mut tests: Vec<TestExecutable>,
+    previous: &HashMap<String, f64>,
+) -> Vec<TestExecutable> {
+    // A stable sort on the time, unknown as infinite, longest first.
+    tests.sort_by(|a, b| {
+        let time = |t: &TestExecutable| previous.get(&t.name).copied().unwrap_or(f64::INFINITY);
+        time(b).total_cmp(&time(a))
+    });
+    tests
 }
 
 impl Summary {
@@ -369,6 +378,28 @@ mod tests {
         assert_eq!(times.get("c/d"), Some(&0.25));
         assert!(read_times(&dir.join("none")).is_empty());
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn unknown_executables_start_first_then_the_longest() {
+        let named = |name: &str| TestExecutable {
+            name: name.into(),
+            path: String::new(),
+            dir: PathBuf::new(),
+        };
+        let tests = ["short", "new-1", "long", "new-2", "middle"]
+            .map(named)
+            .to_vec();
+        let previous = HashMap::from([
+            ("short".to_string(), 1.0),
+            ("long".to_string(), 90.0),
+            ("middle".to_string(), 10.0),
+        ]);
+        let order: Vec<String> = run_order(tests, &previous)
+            .into_iter()
+            .map(|t| t.name)
+            .collect();
+        assert_eq!(order, ["new-1", "new-2", "long", "middle", "short"]);
     }
 
     /// Every executable runs once, side by side, and a failing one fails the whole.
