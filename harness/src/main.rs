@@ -480,11 +480,7 @@ fn export_scene(scene: &str, out: &std::path::Path) -> Result<ExitCode> {
 
 /// The files a compare or sweep wrote, one line each.
 fn wrote(report: &RunReport, out: &std::path::Path) {
-    let stem = if report.sweep().is_some() {
-        "sweep"
-    } else {
-        "results"
-    };
+    let stem = report.kind.table_stem();
     outln!(
         "wrote {0}/{stem}.csv, {0}/{stem}.json, {0}/{stem}.md and {0}/images/",
         out.display()
@@ -514,11 +510,7 @@ fn finish(
         eprintln!(
             "{} error(s), printed above and listed in {}.json",
             report.errors.len(),
-            if report.sweep().is_some() {
-                "sweep"
-            } else {
-                "results"
-            }
+            report.kind.table_stem()
         );
     }
     if !report.panics.is_empty() {

@@ -10,7 +10,6 @@
 
 use crate::model::RunReport;
 use crate::output::Output;
-use crate::plan::PlanKind;
 use anyhow::{Context as _, Result, bail};
 use std::path::{Path, PathBuf};
 
@@ -118,11 +117,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<RunReport> {
     report.pareto.clear();
     report.provenance.command_line =
         crate::provenance::Provenance::capture(String::new()).command_line;
-    let stem = match report.kind {
-        PlanKind::Compare => "results",
-        PlanKind::Sweep(_) => "sweep",
-    };
-    let output = Output::new(out, stem);
+    let output = Output::new(out, report.kind.table_stem());
     if report.sweep().is_none() {
         pareto_again(&mut report, out)?;
     }

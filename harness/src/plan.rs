@@ -121,6 +121,16 @@ pub enum PlanKind {
     Sweep(SweepInfo),
 }
 
+impl PlanKind {
+    /// The stem of the run's table files: `results` or `sweep`.
+    pub fn table_stem(&self) -> &'static str {
+        match self {
+            PlanKind::Compare => "results",
+            PlanKind::Sweep(_) => "sweep",
+        }
+    }
+}
+
 /// What a sweep sweeps.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SweepInfo {
@@ -172,10 +182,7 @@ impl Plan {
 
     /// The stem of the run's table files: `results` or `sweep`.
     pub fn table_stem(&self) -> &'static str {
-        match self.kind {
-            PlanKind::Compare => "results",
-            PlanKind::Sweep(_) => "sweep",
-        }
+        self.kind.table_stem()
     }
 
     /// A hash of everything that decides the run's figures (kind, size, frames, ground truth,

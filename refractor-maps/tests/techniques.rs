@@ -118,32 +118,44 @@ fn separated_stays_close_to_full_update_with_a_moving_mirror() {
     );
 }
 
+/// Impostor renders over `times` on chess, at 16 x 16 with small maps, for `separated` or
+/// full update and a `rebuild_threshold` (metres).
+fn rebuilds_along_the_path(separated: bool, rebuild_threshold: f32, times: &[f32]) -> u32 {
+    let scene = scene::load("chess").unwrap();
+    let shots: Vec<_> = times
+        .iter()
+        .map(|&t| Shot::along_path(&scene, t, 16))
+        .collect();
+    let mut t = EnvironmentMaps::new(
+        "refractor-maps/test",
+        "test",
+        true,
+        EnvSettings {
+            separated,
+            env_depth: 2,
+            rebuild_threshold,
+            ..EnvSettings::default()
+        },
+    );
+    small(&mut t);
+    render_shots(&mut t, &scene, &shots);
+    t.rebuilds()
+}
+
+fn chess_pieces() -> u32 {
+    scene::load("chess").unwrap().specular_objects().len() as u32
+}
+
 /// Separated: the static impostors once (a diffuse start and env_depth rounds), then one
 /// impostor per frame; full update: every impostor, all of that, every frame.
 #[test]
 fn separated_rebuilds_only_the_moving_impostor() {
     let _lock = gpu_lock();
-    let scene = scene::load("chess").unwrap();
-    let pieces = scene.specular_objects().len() as u32;
+    let pieces = chess_pieces();
     let times = [0.0, 0.5, 1.0];
-    let shots: Vec<_> = times.map(|t| Shot::along_path(&scene, t, 16)).into();
-    for (separated, expected) in [
-        (true, 3 * (pieces - 1) + times.len() as u32),
-        (false, 3 * pieces * times.len() as u32),
-    ] {
-        let mut t = EnvironmentMaps::new(
-            "refractor-maps/test",
-            "test",
-            true,
-            EnvSettings {
-                separated,
-                env_depth: 2,
-                ..EnvSettings::default()
-            },
-        );
-        small(&mut t);
-        render_shots(&mut t, &scene, &shots);
-        assert_eq!(t.rebuilds(), expected, "separated: {separated}");
+    for (separated, expected) in [(true, 3 * (pieces - 1) + 3), (false, 3 * pieces * 3)] {
+        let rebuilds = rebuilds_along_the_path(separated, 0.0, &times);
+        assert_eq!(rebuilds, expected, "separated: {separated}");
     }
 }
 
@@ -153,27 +165,12 @@ fn separated_rebuilds_only_the_moving_impostor() {
 #[test]
 fn impostors_are_updated_only_when_the_mover_has_gone_far_enough() {
     let _lock = gpu_lock();
-    let scene = scene::load("chess").unwrap();
-    let pieces = scene.specular_objects().len() as u32;
+    let pieces = chess_pieces();
     let times = [0.0, 0.5, 1.0, 1.5, 2.0];
-    let shots: Vec<_> = times.map(|t| Shot::along_path(&scene, t, 16)).into();
-    let square = scene::builtin::chess::SQUARE;
+    let threshold = 0.75 * scene::builtin::chess::SQUARE;
     for (separated, expected) in [(true, 3 * (pieces - 1) + 3), (false, 3 * pieces * 3)] {
-        let mut t = EnvironmentMaps::new(
-            "refractor-maps/test",
-            "test",
-            true,
-            EnvSettings {
-                separated,
-                env_depth: 2,
-                ..EnvSettings::default()
-            },
-        );
-        small(&mut t);
-        t.set_param("rebuild_threshold", 0.75 * square as f64)
-            .unwrap();
-        render_shots(&mut t, &scene, &shots);
-        assert_eq!(t.rebuilds(), expected, "separated: {separated}");
+        let rebuilds = rebuilds_along_the_path(separated, threshold, &times);
+        assert_eq!(rebuilds, expected, "separated: {separated}");
     }
 }
 
