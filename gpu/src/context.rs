@@ -23,7 +23,8 @@ const WANTED_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::SHADER_FLOAT32_ATOMIC)
     .union(wgpu::Features::TEXTURE_ATOMIC)
     .union(wgpu::Features::IMMEDIATES)
-    .union(wgpu::Features::PIPELINE_CACHE);
+    .union(wgpu::Features::PIPELINE_CACHE)
+    .union(wgpu::Features::INDIRECT_FIRST_INSTANCE);
 
 /// What a user sees about the adapter in every results table.
 #[derive(Clone, Debug)]

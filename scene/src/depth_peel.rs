@@ -27,6 +27,10 @@
 //! - depth ([`gpu::DEPTH_FORMAT`]): the clip-space depth in [0, 1] of the same fragment; empty
 //!   texels hold the clear value 1.
 //!
+//! With [`DepthPeeler::count_layers`] the peeler first counts the view's depth complexity on
+//! the GPU and peels only that many layers (at most its `layers`): the paper's section 2.2
+//! ([`crate::layer_count`]).
+//!
 //! Shader: `gpu` prelude + [`crate::SCENE_WGSL`] + the peel fragment stage below; camera at
 //! `@group(0)`, scene at `@group(1)`, the peel's uniform (layer, epsilon) and the previous
 //! layer's depth at `@group(2)`.
@@ -36,6 +40,7 @@ use gpu::pass;
 use gpu::wgpu;
 use gpu::{Context, GpuError, Uniform, bind};
 
+use crate::layer_count::LayerCounter;
 use crate::{Frame, GpuScene, ObjectFilter, SCENE_WGSL, scene_pipeline_with};
 
 const PEEL_WGSL: &str = r#"
@@ -101,6 +106,9 @@ pub struct DepthPeeler {
     pipeline: wgpu::RenderPipeline,
     uniforms: Vec<Uniform<PeelUniforms>>,
     bind_groups: Vec<wgpu::BindGroup>,
+    /// Set by [`DepthPeeler::count_layers`]: the passes past the view's depth complexity draw
+    /// nothing.
+    counter: Option<LayerCounter>,
 }
 
 impl DepthPeeler {
@@ -232,7 +240,30 @@ impl DepthPeeler {
             pipeline,
             uniforms,
             bind_groups,
+            counter: None,
         }
+    }
+
+    /// From the next [`DepthPeeler::peel`] on, counts the view's depth complexity first and
+    /// peels only that many layers (section 2.2 of Krüger et al.; the module
+    /// [`crate::layer_count`]); the layers past it are cleared, as empty. Peel `gpu_scene`
+    /// (or one with the same objects) from then on. Fails where the adapter lacks
+    /// `INDIRECT_FIRST_INSTANCE` (the peeler then peels every layer, as before).
+    pub fn count_layers(&mut self, ctx: &Context, gpu_scene: &GpuScene) -> Result<(), GpuError> {
+        self.counter = Some(LayerCounter::new(
+            ctx,
+            gpu_scene,
+            self.width,
+            self.height,
+            self.layers,
+        )?);
+        Ok(())
+    }
+
+    /// The depth complexity the last submitted peel counted (`None` without
+    /// [`DepthPeeler::count_layers`]): read back, for tests and diagnostics.
+    pub fn counted_complexity(&self, ctx: &Context) -> Option<Result<u32, GpuError>> {
+        self.counter.as_ref().map(|c| c.complexity(ctx))
     }
 
     pub fn width(&self) -> u32 {
@@ -309,6 +340,24 @@ impl DepthPeeler {
             );
         }
         let camera = gpu_scene.camera_bind_group(ctx, view_proj, eye);
+        if let Some(counter) = &self.counter {
+            if counter.draws() != gpu_scene.draws.len() {
+                return Err(GpuError::InvalidInput(format!(
+                    "the depth peeler counts layers for a scene of {} objects, not {}",
+                    counter.draws(),
+                    gpu_scene.draws.len()
+                )));
+            }
+            let writes = frame.timer.render_pass("depth peel");
+            counter.count(
+                frame.encoder,
+                gpu_scene,
+                filter,
+                &camera,
+                &self.depth_layer_views[0],
+                writes,
+            );
+        }
         for layer in 0..self.layers as usize {
             let writes = frame.timer.render_pass("depth peel");
             let mut pass = pass::begin(
@@ -325,7 +374,15 @@ impl DepthPeeler {
             pass.set_bind_group(0, &camera, &[]);
             pass.set_bind_group(1, gpu_scene.bind_group(), &[]);
             pass.set_bind_group(2, &self.bind_groups[layer], &[]);
-            gpu_scene.draw_objects(&mut pass, filter);
+            match &self.counter {
+                Some(counter) => gpu_scene.draw_objects_indirect(
+                    &mut pass,
+                    filter,
+                    counter.args(),
+                    counter.layer_offset(layer as u32),
+                ),
+                None => gpu_scene.draw_objects(&mut pass, filter),
+            }
         }
         Ok(())
     }

@@ -740,6 +740,46 @@ impl GpuScene {
         self.draw_filtered(pass, |i| filter.includes(i, &scene.objects[i]));
     }
 
+    /// The arguments of every object's indexed draw as `draw_indexed_indirect` reads them
+    /// (`index_count, instance_count, first_index, base_vertex, first_instance`), one instance
+    /// each, the object's index as the instance (what `scene_vs` reads): the initial contents of
+    /// an indirect buffer a GPU pass then edits (the depth peeler's layer count).
+    pub fn indirect_draw_args(&self) -> Vec<[u32; 5]> {
+        self.draws
+            .iter()
+            .enumerate()
+            .map(|(i, d)| {
+                [
+                    d.index_count,
+                    1,
+                    d.first_index,
+                    d.base_vertex as u32,
+                    i as u32,
+                ]
+            })
+            .collect()
+    }
+
+    /// [`GpuScene::draw_objects`] from an indirect buffer laid out as
+    /// [`GpuScene::indirect_draw_args`], starting at byte `offset`. The device must have
+    /// `INDIRECT_FIRST_INSTANCE` (the object index is the first instance).
+    pub fn draw_objects_indirect(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        filter: &ObjectFilter,
+        args: &wgpu::Buffer,
+        offset: u64,
+    ) {
+        pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+        pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+        let stride = std::mem::size_of::<[u32; 5]>() as u64;
+        for (i, d) in self.draws.iter().enumerate() {
+            if filter.includes(i, &self.scene.objects[i]) && d.index_count > 0 {
+                pass.draw_indexed_indirect(args, offset + i as u64 * stride);
+            }
+        }
+    }
+
     fn draw_filtered(&self, pass: &mut wgpu::RenderPass<'_>, include: impl Fn(usize) -> bool) {
         pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
         pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);

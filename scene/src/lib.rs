@@ -14,6 +14,7 @@ pub mod foundation;
 pub mod gltf_io;
 mod gpu_scene;
 pub mod kinds;
+pub mod layer_count;
 pub mod lightmap;
 pub mod medium;
 pub mod mesh;

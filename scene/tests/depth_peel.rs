@@ -628,3 +628,86 @@ fn builtin_scenes_peel_into_strictly_increasing_layers() {
         }
     }
 }
+
+/// Section 2.2's layer count: a peeler that counts the depth complexity first gives, layer
+/// for layer, what peeling every layer gives (the passes past the complexity are empty either
+/// way), and the count is the deepest pixel's number of surfaces (two spheres on the axis:
+/// four; the built-in views: at least what was peeled, and all of it when the cap is higher).
+#[test]
+fn counted_peels_match_full_peels() {
+    let ctx = testkit::context();
+    let _lock = testkit::gpu_lock();
+    if !ctx
+        .features()
+        .contains(gpu::wgpu::Features::INDIRECT_FIRST_INSTANCE)
+    {
+        let gpu_scene = GpuScene::new(ctx, &two_spheres().0).expect("scene uploads");
+        let mut peeler = DepthPeeler::new(ctx, &gpu_scene, SIZE, SIZE, 6).expect("peeler");
+        assert!(peeler.count_layers(ctx, &gpu_scene).is_err());
+        println!("not run: the adapter lacks INDIRECT_FIRST_INSTANCE");
+        return;
+    }
+    let (scene, near, _) = two_spheres();
+    let camera = Camera::behind(near.center, 3.0);
+    let mut gpu_scene = GpuScene::new(ctx, &scene).expect("scene uploads");
+    let mut counted = DepthPeeler::new(ctx, &gpu_scene, SIZE, SIZE, 6).expect("peeler");
+    counted.count_layers(ctx, &gpu_scene).expect("counter");
+    let peeled = peel_with(&counted, &mut gpu_scene, &ObjectFilter::All, &camera, 0.0);
+    assert_eq!(counted.counted_complexity(ctx).unwrap().unwrap(), 4);
+    assert_centre_layers(
+        &peeled,
+        &[
+            (2.0, Vec3::Z),
+            (4.0, Vec3::NEG_Z),
+            (5.5, Vec3::Z),
+            (6.5, Vec3::NEG_Z),
+        ],
+    );
+    // The far sphere alone: two.
+    peel_with(
+        &counted,
+        &mut gpu_scene,
+        &ObjectFilter::Only(vec![0]),
+        &camera,
+        0.0,
+    );
+    assert_eq!(counted.counted_complexity(ctx).unwrap().unwrap(), 2);
+
+    let size = 48;
+    for (spec, layers) in [("pool", 8), ("refraction-bunny", 8), ("chess", 4)] {
+        let scene = scene::load(spec).expect("scene");
+        let mut gpu_scene = GpuScene::new(ctx, &scene).expect("scene uploads");
+        let full = DepthPeeler::new(ctx, &gpu_scene, size, size, layers).expect("peeler");
+        let mut counted = DepthPeeler::new(ctx, &gpu_scene, size, size, layers).expect("peeler");
+        counted.count_layers(ctx, &gpu_scene).expect("counter");
+        let cam = scene.camera_at(0.0);
+        let camera = Camera {
+            view_proj: cam.view_proj(size, size),
+            eye: cam.eye,
+        };
+        peel_with(&full, &mut gpu_scene, &ObjectFilter::All, &camera, 0.0);
+        peel_with(&counted, &mut gpu_scene, &ObjectFilter::All, &camera, 0.0);
+        let mut deepest = 0;
+        for l in 0..layers {
+            let (a, b) = (
+                full.read_layer(ctx, l).unwrap(),
+                counted.read_layer(ctx, l).unwrap(),
+            );
+            assert!(a == b, "{spec}: layer {l} differs");
+            if a.iter().any(|t| t[3] > 0.0) {
+                deepest = l + 1;
+            }
+        }
+        let complexity = counted.counted_complexity(ctx).unwrap().unwrap();
+        println!(
+            "{spec}: depth complexity {complexity}, {deepest} of {layers} layers hold surfaces"
+        );
+        assert!(
+            complexity >= deepest,
+            "{spec}: counted {complexity}, peeled {deepest}"
+        );
+        if deepest < layers {
+            assert_eq!(complexity, deepest, "{spec}");
+        }
+    }
+}
