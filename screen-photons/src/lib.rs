@@ -7,7 +7,8 @@
 //! photon rays are also light shafts (section 3.2).
 //!
 //! - [`march`]: the screen-space march over an LDI (segment clipping and projection, the
-//!   paper's tolerance test and the engines' thickness test, section 4's monotone layers):
+//!   paper's tolerance test and the engines' thickness test, section 4's monotone layers,
+//!   section 5's shadow rays with the in-out test):
 //!   the Rust twin of `shaders/ldi.wgsl`.
 //! - [`splat`]: the splat kernel and the weights of oriented splats and screen-aligned
 //!   sprites: the twin of `shaders/splat.wgsl`'s `splat_weight`.
@@ -15,7 +16,7 @@
 //!   integration: the twin of `shaders/beam.wgsl` and of `shaders/froxels.wgsl`'s
 //!   integration.
 //! - [`technique`]: the passes of a frame and the variants `lines`, `dda`, `sprites`,
-//!   `refraction`, `refraction-dda`, `shadows`, `god-rays`, `froxel-fog`.
+//!   `shader`, `refraction`, `refraction-dda`, `shadows`, `god-rays`, `froxel-fog`.
 //!
 //! See `README.md` for the mapping to the paper, the departures and the failure cases.
 
@@ -60,12 +61,15 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
         ImageCheck::new(
             "screen-photons/lines",
             "cornell-sphere",
-            0.072,
-            0.34,
-            "the sphere's caustic through two refractions (section 2.3): measured FLIP 0.0637 / \
-             0.0519 / 0.0637, RMSE 0.2440 / 0.3159 / 0.2440; raster (no caustic) FLIP 0.1728, \
-             RMSE 0.4896",
-        ),
+            0.065,
+            0.33,
+            "the sphere's caustic through two refractions (section 2.3): measured FLIP 0.0570 / \
+             0.0490 / 0.0570, RMSE 0.1674 / 0.3009 / 0.1674; raster (no caustic) FLIP 0.1728, \
+             RMSE 0.4896. The reduction's first hit instead of the nearest sample of its run \
+             (the paper's) measured RMSE 0.2440 / 0.3159 / 0.2440: t = 0 and t = 2 are held \
+             to 0.19, which it fails",
+        )
+        .with_rmse_per_frame(&[0.19, 0.33, 0.19]),
         ImageCheck::new(
             "screen-photons/dda",
             "cornell-sphere",
@@ -78,8 +82,8 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             "refraction-bunny",
             0.095,
             0.077,
-            "section 4's refraction through monotone layers: measured FLIP 0.0802 / 0.0680 / \
-             0.0863, RMSE 0.0634 / 0.0583 / 0.0701; raster FLIP 0.1472",
+            "section 4's refraction through monotone layers: measured FLIP 0.0813 / 0.0653 / \
+             0.0779, RMSE 0.0643 / 0.0585 / 0.0683; raster FLIP 0.1472",
         ),
         ImageCheck::new(
             "screen-photons/refraction-dda",
@@ -112,7 +116,7 @@ pub fn image_checks() -> Vec<scene::ImageCheck> {
             "cornell-sphere",
             0.125,
             0.54,
-            "screen-space shadow rays: measured FLIP 0.1124 / 0.0855 / 0.1124, RMSE 0.4872 / \
+            "screen-space shadow rays: measured FLIP 0.1135 / 0.0855 / 0.1135, RMSE 0.4872 / \
              0.3923 / 0.4872 (the variant has no caustics: the RMSE is the reference's caustic, \
              as for raster's 0.4896)",
         ),

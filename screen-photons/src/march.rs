@@ -13,7 +13,13 @@
 //! - [`Test::Tolerance`], the paper's: a layer is hit when the ray's distance at the sample
 //!   is within a world-space tolerance of the layer's (section 5: "if the world space
 //!   distance ... was less than 0.01"). Every sample is tested (each fragment of the line)
-//!   and the first one that hits is kept (the horizontal reduction).
+//!   and the horizontal reduction keeps the first run of hits; of that run, the sample where
+//!   the gap between the ray and the layer stops shrinking (the sample nearest the crossing).
+//!   The paper keeps the run's first sample. That sample lies up to a tolerance before the
+//!   surface, and where a sample spans less than the tolerance (a fine screen, or a ray
+//!   seen end-on) it lies several pixels before it: the exit point and normal are read there,
+//!   which biased the caustic under cornell-sphere's sphere by 0.35, 0.62 and 1.26 pixels at
+//!   64, 128 and 256 pixels (the crate README's "Line marcher" section).
 //! - [`Test::Thickness`], the marcher engines use today (McGuire and Mara, JCGT 2014): the
 //!   ray's distance range over the sample's pixel must overlap `[d, d + thickness]` of a
 //!   layer, each surface being assumed that thick; the walk stops at the first hit.
@@ -337,6 +343,19 @@ pub fn test_sample(
     test: Test,
     state: RayState,
 ) -> Option<Hit> {
+    test_sample_gap(ldi, eye, seg, k, test, state).map(|(hit, _)| hit)
+}
+
+/// [`test_sample`] with the hit's gap: `|ray distance - layer distance|` for the tolerance
+/// test, 0 for the thickness test.
+fn test_sample_gap(
+    ldi: &Ldi,
+    eye: &Eye,
+    seg: &Segment,
+    k: u32,
+    test: Test,
+    state: RayState,
+) -> Option<(Hit, f32)> {
     let s = seg.fraction(k);
     let t = seg.t_at(s);
     if t < state.t_skip {
@@ -377,18 +396,23 @@ pub fn test_sample(
             }
         }
     }
-    best.map(|(layer, _)| Hit {
-        t,
-        x,
-        y,
-        layer,
-        step: k,
+    best.map(|(layer, gap)| {
+        let hit = Hit {
+            t,
+            x,
+            y,
+            layer,
+            step: k,
+        };
+        (hit, gap)
     })
 }
 
 /// The paper's line march (section 2.1): every sample of the line is tested with the
-/// tolerance test (one fragment each), then the first hit along the row is kept (the
-/// row reduction, `reduce.wgsl`). Returns the hit and the number of samples tested.
+/// tolerance test (one fragment each), then the row reduction (`reduce.wgsl`) keeps the first
+/// run of hits and, within it, the sample nearest the crossing: from the run's first sample
+/// it moves on while the next sample hits with a smaller gap (see the module documentation).
+/// Returns the hit and the number of samples tested.
 pub fn march_lines(
     ldi: &Ldi,
     eye: &Eye,
@@ -396,10 +420,24 @@ pub fn march_lines(
     tolerance: f32,
     state: RayState,
 ) -> (Option<Hit>, u32) {
-    let hits: Vec<Hit> = (0..seg.steps)
-        .filter_map(|k| test_sample(ldi, eye, seg, k, Test::Tolerance(tolerance), state))
+    let tested: Vec<Option<(Hit, f32)>> = (0..seg.steps)
+        .map(|k| test_sample_gap(ldi, eye, seg, k, Test::Tolerance(tolerance), state))
         .collect();
-    (hits.into_iter().min_by_key(|h| h.step), seg.steps)
+    (nearest_of_first_run(&tested), seg.steps)
+}
+
+/// The reduction of a row of tolerance-test results: the first hit, then each following hit
+/// whose gap is smaller than the last one kept, up to the first that is not.
+fn nearest_of_first_run(row: &[Option<(Hit, f32)>]) -> Option<Hit> {
+    let first = row.iter().position(Option::is_some)?;
+    let mut kept = row[first]?;
+    for next in row[first + 1..].iter() {
+        match next {
+            Some(next) if next.1 < kept.1 => kept = *next,
+            _ => break,
+        }
+    }
+    Some(kept.0)
 }
 
 /// The DDA march: samples in order, the thickness test, stopping at the first hit. Returns
@@ -421,18 +459,88 @@ pub fn march_dda(
 
 /// Section 4's refraction march through the LDI of one refractor: the `n`-th intersection
 /// along a ray is assumed to be in layer `n + 1` ("monotonic" layers), so each sample reads
-/// that one layer only, and the ray meets it where its distance passes the layer's: from in
-/// front of it to behind it ("the depth along the ray is greater than the depth in the next
-/// layer"). Returns the hit, or `None` when the ray leaves the view first.
-pub fn march_monotone(ldi: &Ldi, eye: &Eye, seg: &Segment, layer: u32) -> Option<Hit> {
+/// the layer the ray is between: `layer` (the next) and `layer - 1` (the current, the one it
+/// entered through). The ray meets a surface where "the depth along the ray is either greater
+/// than the depth in the next layer or less than the depth in the current layer": it passed
+/// behind `layer` (the exit in the back) or came out in front of `layer - 1` (the exit through
+/// a surface facing the eye, where a ray bent sideways leaves). Samples before `t_skip` are
+/// not tested: the ray starts on a surface of one of the two layers. Returns the hit (its
+/// `layer` says which of the two), or `None` when the ray leaves the view, or both layers'
+/// pixels, first.
+pub fn march_monotone(ldi: &Ldi, eye: &Eye, seg: &Segment, layer: u32, t_skip: f32) -> Option<Hit> {
     if layer >= ldi.layers {
         return None;
     }
     (0..seg.steps).find_map(|k| {
         let t = seg.t_at(seg.fraction(k));
+        if t < t_skip {
+            return None;
+        }
         let (x, y) = seg.pixel(eye, k);
-        let texel = ldi.get(x, y, layer);
-        (texel.distance > 0.0 && seg.distance(eye, t) >= texel.distance).then_some(Hit {
+        let d = seg.distance(eye, t);
+        let hit = |layer| Hit {
+            t,
+            x,
+            y,
+            layer,
+            step: k,
+        };
+        let next = ldi.get(x, y, layer);
+        if next.distance > 0.0 && d >= next.distance {
+            return Some(hit(layer));
+        }
+        let current = ldi.get(x, y, layer.saturating_sub(1));
+        (layer > 0 && current.distance > 0.0 && d <= current.distance).then(|| hit(layer - 1))
+    })
+}
+
+/// Section 5's in-out test over consecutive layer pairs, at pixel `(x, y)` and distance `d`
+/// from the eye: the layer `l` that opens a solid the point is inside, if any. A solid is
+/// entered through a face turned to the eye (layer `l`) and left through the next layer, a
+/// face turned away (`l + 1`); the point is inside when its distance lies between theirs.
+/// The paper pairs the layers (0, 1), (2, 3), ...; the faces' orientation pairs them here,
+/// so that an open surface (the pool's water, a floor) does not shift every pair behind it.
+pub fn solid_layer_at(ldi: &Ldi, eye: &Eye, x: u32, y: u32, d: f32) -> Option<u32> {
+    let view = eye.pixel_ray(x, y);
+    (0..ldi.layers.saturating_sub(1)).find(|&l| {
+        let (front, back) = (ldi.get(x, y, l), ldi.get(x, y, l + 1));
+        front.distance > 0.0
+            && back.distance > 0.0
+            && front.normal.dot(view) < 0.0
+            && back.normal.dot(view) > 0.0
+            && front.distance <= d
+            && d <= back.distance
+    })
+}
+
+/// The paper's screen-space shadow ray (section 5, figures 11 and 12) with the in-out test it
+/// proposes: the first sample at which a layer lies within the tolerance of the ray (any
+/// surface, glass included) or the ray is inside a solid ([`solid_layer_at`]). The tolerance
+/// test alone misses a thick occluder whenever the samples step over both of its faces' windows
+/// ("the artifacts in the shadow of some of the thick branches"); inside it, the in-out test
+/// finds every sample. Samples before `t_skip` are not tested.
+pub fn march_shadow(
+    ldi: &Ldi,
+    eye: &Eye,
+    seg: &Segment,
+    tolerance: f32,
+    t_skip: f32,
+) -> Option<Hit> {
+    let any = RayState {
+        side: Side::Any,
+        t_skip,
+    };
+    (0..seg.steps).find_map(|k| {
+        if let Some(hit) = test_sample(ldi, eye, seg, k, Test::Tolerance(tolerance), any) {
+            return Some(hit);
+        }
+        let t = seg.t_at(seg.fraction(k));
+        if t < t_skip {
+            return None;
+        }
+        let (x, y) = seg.pixel(eye, k);
+        let layer = solid_layer_at(ldi, eye, x, y, seg.distance(eye, t))?;
+        Some(Hit {
             t,
             x,
             y,
@@ -444,10 +552,10 @@ pub fn march_monotone(ldi: &Ldi, eye: &Eye, seg: &Segment, layer: u32) -> Option
 
 /// Whether the monotone-layer assumption held for a ray inside a refractor: the first surface
 /// it leaves through, found by the DDA over every layer (the thickness test, back faces only:
-/// [`Side::Inside`]), is in `layer`, the one the monotone march reads (or neither finds one).
-/// A `false` is a violation: the monotone march reads the wrong surface (another refractor in
-/// front, a concave refractor, a ray bent across a silhouette). `thickness` and `t_skip` are
-/// the DDA's.
+/// [`Side::Inside`]), is in the layer the monotone march stops at (`layer` or `layer - 1`;
+/// or neither finds one). A `false` is a violation: the monotone march reads the wrong
+/// surface (another refractor in front, a concave refractor, a ray bent across a
+/// silhouette). `thickness` and `t_skip` are the DDA's.
 pub fn monotone_holds(
     ldi: &Ldi,
     eye: &Eye,
@@ -460,16 +568,17 @@ pub fn monotone_holds(
         side: Side::Inside,
         t_skip,
     };
-    match march_dda(ldi, eye, seg, thickness, inside).0 {
-        Some(hit) => hit.layer == layer,
-        None => march_monotone(ldi, eye, seg, layer).is_none(),
-    }
+    let dda = march_dda(ldi, eye, seg, thickness, inside).0;
+    let monotone = march_monotone(ldi, eye, seg, layer, t_skip);
+    dda.map(|h| h.layer) == monotone.map(|h| h.layer)
 }
 
 /// The brute-force answer the marchers are held to, written apart from [`test_sample`]: every
 /// sample and every layer are examined (no early exit, no skipping past an empty layer's
-/// followers), each hit condition spelled out again, and the hit with the smallest `t` (for
-/// the tolerance test, the layer nearest the ray's distance at that sample) is returned.
+/// followers), each hit condition spelled out again. For the thickness test the hit with the
+/// smallest `t` is returned (the nearest overlapping layer there); for the tolerance test the
+/// first sample that hits (the layer nearest the ray's distance there), then each next sample
+/// for as long as it hits with a smaller gap.
 pub fn first_hit_brute(
     ldi: &Ldi,
     eye: &Eye,
@@ -477,7 +586,8 @@ pub fn first_hit_brute(
     test: Test,
     state: RayState,
 ) -> Option<Hit> {
-    let mut best: Option<(Hit, f32)> = None;
+    // Each sample's hit, with the gap (tolerance) or the layer (thickness) that ranks it.
+    let mut per_sample: Vec<Option<(Hit, f32)>> = vec![None; seg.steps as usize];
     for k in 0..seg.steps {
         let s = (k as f32 + 0.5) / seg.steps as f32;
         let t = seg.t_at(s);
@@ -502,7 +612,7 @@ pub fn first_hit_brute(
             if !allowed {
                 continue;
             }
-            let gap = match test {
+            let rank = match test {
                 Test::Tolerance(tolerance) => {
                     let gap = (d - texel.distance).abs();
                     if gap >= tolerance {
@@ -530,16 +640,24 @@ pub fn first_hit_brute(
                 layer,
                 step: k,
             };
-            let better = match &best {
-                None => true,
-                Some((b, g)) => t < b.t || (t == b.t && gap < *g),
-            };
-            if better {
-                best = Some((hit, gap));
+            let slot = &mut per_sample[k as usize];
+            if slot.is_none_or(|(_, r)| rank < r) {
+                *slot = Some((hit, rank));
             }
         }
     }
-    best.map(|(h, _)| h)
+    let mut k = per_sample.iter().position(|h| h.is_some())?;
+    if let Test::Tolerance(_) = test {
+        // Walk down the gap while it keeps shrinking.
+        while let (Some((_, here)), Some(Some((_, next)))) = (per_sample[k], per_sample.get(k + 1))
+        {
+            if *next >= here {
+                break;
+            }
+            k += 1;
+        }
+    }
+    per_sample[k].map(|(h, _)| h)
 }
 
 #[cfg(test)]

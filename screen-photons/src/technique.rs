@@ -4,7 +4,8 @@
 //!
 //! 1. *LDI* ("ldi" span): two layered depth images from the eye by `scene::DepthPeeler`: the
 //!    whole scene (photons and retraced rays march over it) and the specular objects alone
-//!    (section 4's LDI "of the transmitting object").
+//!    (section 4's LDI "of the transmitting object"), each peeled only as deep as the view's
+//!    depth complexity, counted first (section 2.2; `count_layers`).
 //! 2. The shared raster pass draws the diffuse scene (direct light, shadow maps); the
 //!    `shadows` variant instead draws it with screen-space shadow rays ("shadows" span:
 //!    `shadow_mask.wgsl`, `shadowed.wgsl`).
@@ -12,8 +13,9 @@
 //!    - the transfer map: every object drawn from the light into a `photons` x `photons`
 //!      grid fitted to the caustic casters; a pixel on a specular surface is one photon,
 //!      refracted or reflected there (`transfer.wgsl`), gathered into a photon buffer;
-//!    - `1 + bounces` rounds of a march over the scene's LDI (the paper's lines, `lines.wgsl`
-//!      and `reduce.wgsl`, or the DDA, `dda.wgsl`) and a resolve (`resolve.wgsl`): a photon
+//!    - `1 + bounces` rounds of a march over the scene's LDI ("march" span: the paper's
+//!      lines, `lines.wgsl` and `reduce.wgsl`, or one invocation per photon, `dda.wgsl`: the
+//!      DDA or the lines' test) and a resolve (`resolve.wgsl`): a photon
 //!      that met a specular surface reflects or refracts and goes on (section 2.3), one that
 //!      met a diffuse surface becomes a receiver point.
 //! 4. *Splats* ("splat" span): a quad per receiver point adds its flux times a normalised
@@ -89,6 +91,11 @@ pub enum March {
     Lines,
     /// One compute invocation per photon marching pixel by pixel with a thickness per layer.
     Dda,
+    /// The paper's single-shader alternative (section 2.1: "photon tracing can also be
+    /// implemented as a single pixel shader being executed for each photon"): one compute
+    /// invocation per photon walking the same samples with the lines' tolerance test and
+    /// keeping the same sample, stopping there.
+    Shader,
 }
 
 /// How receiver points spread their flux.
@@ -126,6 +133,11 @@ pub struct Settings {
     pub photons: u32,
     /// LDI layers peeled (the paper: "usually sufficient to only consider up to eight").
     pub layers: u32,
+    /// Count the view's depth complexity first and peel only that many layers (section 2.2:
+    /// a count pass and a reduce-max; `scene::layer_count`). Where the adapter cannot draw
+    /// the layers indirectly (no `INDIRECT_FIRST_INSTANCE`) every layer is peeled, which gives
+    /// the same LDI.
+    pub count_layers: bool,
     /// The paper's world-space tolerance of the line test (m).
     pub tolerance: f32,
     /// The DDA's thickness of every surface (m).
@@ -151,6 +163,7 @@ impl Default for Settings {
         Self {
             photons: 256,
             layers: 8,
+            count_layers: true,
             tolerance: 0.03,
             thickness: 0.1,
             splat_radius: 3.0,
@@ -181,6 +194,14 @@ impl Settings {
                 (1.0, 16.0),
                 true,
                 "LDI layers peeled from the eye (depth complexity cap)",
+            ),
+            Param::new(
+                "count_layers",
+                self.count_layers as u32 as f64,
+                (0.0, 1.0),
+                true,
+                "1: count the depth complexity and peel only that many layers (section 2.2); \
+                 0: peel every layer",
             ),
             Param::new(
                 "tolerance",
@@ -252,6 +273,7 @@ impl Settings {
         match name {
             "photons" => self.photons = value as u32,
             "layers" => self.layers = value as u32,
+            "count_layers" => self.count_layers = value != 0.0,
             "tolerance" => self.tolerance = value as f32,
             "thickness" => self.thickness = value as f32,
             "splat_radius" => self.splat_radius = value as f32,
@@ -278,8 +300,8 @@ pub struct Variant {
     pub shafts: Option<Shafts>,
 }
 
-/// The variants: `lines`, `dda`, `sprites` (caustics; the specular surfaces traced by the
-/// DDA), `refraction` and `refraction-dda` (refraction tracing alone), `shadows` (screen-space
+/// The variants: `lines`, `dda`, `sprites`, `shader` (caustics; the specular surfaces traced by
+/// the DDA), `refraction` and `refraction-dda` (refraction tracing alone), `shadows` (screen-space
 /// shadow rays instead of shadow maps, no caustics), `god-rays` and `froxel-fog` (the `dda`
 /// caustics plus light shafts, the paper's and the engines').
 pub fn variants() -> Vec<Variant> {
@@ -302,6 +324,7 @@ pub fn variants() -> Vec<Variant> {
         caustics("lines", Lines, Splat::Oriented),
         caustics("dda", Dda, Splat::Oriented),
         caustics("sprites", Lines, Splat::Sprite),
+        caustics("shader", Shader, Splat::Oriented),
         Variant {
             name: "refraction",
             caustics: None,
@@ -413,6 +436,12 @@ impl Technique for ScreenPhotons {
         format!("screen-photons/{}", self.variant.name)
     }
 
+    /// `shader` makes the same image as `lines` (the conformance test holds them to the same
+    /// hits): it is there for the speed comparison of the two, not for the default table.
+    fn representative(&self) -> bool {
+        !matches!(self.variant.caustics, Some((March::Shader, _)))
+    }
+
     fn description(&self) -> String {
         let refraction = match self.variant.refraction {
             Refraction::Monotone => "refraction traced through monotone LDI layers",
@@ -448,6 +477,10 @@ impl Technique for ScreenPhotons {
                 match march {
                     March::Lines => "rasterized lines (the paper)",
                     March::Dda => "a compute DDA (engine-style marcher)",
+                    March::Shader => {
+                        "one compute invocation per photon with the lines' tolerance test (the \
+                         paper's single-shader alternative)"
+                    }
                 },
                 match splat {
                     Splat::Oriented => "oriented",
@@ -658,8 +691,15 @@ impl Sized {
                 max_binding >> 20
             )));
         }
-        let scene_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
-        let refractor_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
+        let mut scene_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
+        let mut refractor_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
+        if settings.count_layers {
+            // Without indirect first instances the peelers peel every layer: the same LDI.
+            let counting = scene_ldi.count_layers(ctx, scene).is_ok();
+            if counting {
+                refractor_ldi.count_layers(ctx, scene)?;
+            }
+        }
         let grid = settings.photons;
         ctx.check_size(grid, grid)?;
         let count = grid * grid;
@@ -1461,7 +1501,8 @@ struct Passes {
     gather: Option<wgpu::ComputePipeline>,
     lines: Option<wgpu::RenderPipeline>,
     reduce: Option<wgpu::ComputePipeline>,
-    dda: Option<wgpu::ComputePipeline>,
+    /// The per-photon march: the DDA or the tolerance test in one invocation per photon.
+    per_photon: Option<wgpu::ComputePipeline>,
     resolve: Option<wgpu::ComputePipeline>,
     splat: Option<wgpu::RenderPipeline>,
     apply: Option<wgpu::RenderPipeline>,
@@ -1656,8 +1697,13 @@ impl Passes {
                     "reduce_main",
                 )
             }),
-            dda: marches(March::Dda).then(|| {
-                compute_pipeline(ctx, "dda march", &with(&dda_layout), DDA_WGSL, "dda_main")
+            per_photon: match variant.caustics {
+                Some((March::Dda, _)) => Some(("dda march", "dda_main")),
+                Some((March::Shader, _)) => Some(("tolerance march", "tolerance_main")),
+                _ => None,
+            }
+            .map(|(label, entry)| {
+                compute_pipeline(ctx, label, &with(&dda_layout), DDA_WGSL, entry)
             }),
             resolve: caustics.then(|| {
                 compute_pipeline(
@@ -1833,12 +1879,15 @@ impl Passes {
                     sized.photons.count.div_ceil(64),
                 );
                 for round in 0..=settings.bounces {
+                    // The march alone (the paper: "intersection testing consumed over 80% of
+                    // the time").
+                    frame.timer.begin(frame.encoder, "march");
                     match march {
                         March::Lines => self.march_lines(frame, &groups, sized),
-                        March::Dda => self.dispatch(
+                        March::Dda | March::Shader => self.dispatch(
                             frame,
                             &groups,
-                            made(&self.dda),
+                            made(&self.per_photon),
                             &bind::group(
                                 ctx,
                                 "dda",
@@ -1851,6 +1900,7 @@ impl Passes {
                             sized.photons.count.div_ceil(64),
                         ),
                     }
+                    frame.timer.end(frame.encoder, "march");
                     let beams = media.map(|(targets, _)| &targets.beams);
                     let keep = beams.filter(|_| keep_beams);
                     self.resolve(frame, &groups, sized, settings, round, keep);

@@ -58,7 +58,8 @@ const KERNEL_BINDINGS: &str = r#"
 fn ldi_kind(object: u32) -> u32 { return kinds[object]; }
 
 struct RayCase {
-    // xyz origin, w: mode (0 DDA, 1 tolerance in order, 2 monotone in layer 1 of the refractors)
+    // xyz origin, w: mode (0 DDA, 1 tolerance in order, 2 monotone in layer 1 of the
+    // refractors, 3 the shadow ray with the in-out test)
     origin: vec4f,
     // xyz direction, w: the side (0 outside glass, 1 inside, 2 any: a shadow ray)
     dir: vec4f,
@@ -75,8 +76,10 @@ const MARCH_BODY: &str = r#"
         h = march_dda(LDI_SCENE, s, side);
     } else if (c.origin.w == 1.0) {
         h = march_tolerance(LDI_SCENE, s, side);
-    } else {
+    } else if (c.origin.w == 2.0) {
         h = march_monotone(LDI_REFRACTORS, s, 1u);
+    } else {
+        h = march_shadow(LDI_SCENE, s);
     }
     outputs[i] = select(vec4f(0.0), vec4f(h.t, f32(h.layer), vec2f(h.pixel)), h.found);
 "#;
@@ -154,6 +157,7 @@ fn cases(eye: &Eye, scene_ldi: &Ldi) -> Vec<[[f32; 4]; 2]> {
                     cases.push([origin.extend(mode).to_array(), dir.extend(side).to_array()]);
                 }
             }
+            cases.push([origin.extend(3.0).to_array(), dir.extend(2.0).to_array()]);
         }
     }
     cases
@@ -188,7 +192,8 @@ fn twin(eye: &Eye, scene_ldi: &Ldi, refractor_ldi: &Ldi, case: &[[f32; 4]; 2]) -
     let hit = match origin.w {
         0.0 => march::march_dda(scene_ldi, eye, &seg, THICKNESS, state).0,
         1.0 => march::march_lines(scene_ldi, eye, &seg, TOLERANCE, state).0,
-        _ => march::march_monotone(refractor_ldi, eye, &seg, 1),
+        2.0 => march::march_monotone(refractor_ldi, eye, &seg, 1, state.t_skip),
+        _ => march::march_shadow(scene_ldi, eye, &seg, TOLERANCE, state.t_skip),
     };
     hit.map_or([0.0; 4], |h| [h.t, h.layer as f32, h.x as f32, h.y as f32])
 }
@@ -313,8 +318,8 @@ fn the_wgsl_splat_weight_matches_the_twin() {
 }
 
 /// The technique's own marchers, in place: the paper's line marcher (lines drawn into rows,
-/// the row reduction) and the compute DDA, run by `screen-photons/lines` and `/dda` on a real
-/// frame (`bounces = 0`: the hit buffer holds the first hits of the transfer map's photons),
+/// the row reduction), its single-shader alternative and the compute DDA, run by
+/// `screen-photons/lines`, `/shader` and `/dda` on a real frame (`bounces = 0`: the hit buffer holds the first hits of the transfer map's photons),
 /// against the twin's `march_lines` and `march_dda` on the same photons over the same LDI
 /// read back from the GPU.
 #[test]
@@ -325,7 +330,7 @@ fn the_marchers_in_a_frame_find_the_twins_first_hits() {
     let ctx = testkit::context();
     for spec in ["cornell-sphere", "pool"] {
         let scene = scene::load(spec).unwrap();
-        for name in ["lines", "dda"] {
+        for name in ["lines", "shader", "dda"] {
             let mut t =
                 ScreenPhotons::new(variants().into_iter().find(|v| v.name == name).unwrap());
             t.set_param("bounces", 0.0).unwrap();
@@ -391,7 +396,7 @@ fn the_marchers_in_a_frame_find_the_twins_first_hits() {
                     2.0 * tolerance,
                 )
                 .and_then(|seg| match name {
-                    "lines" => march::march_lines(&ldi, &eye, &seg, tolerance, state).0,
+                    "lines" | "shader" => march::march_lines(&ldi, &eye, &seg, tolerance, state).0,
                     _ => march::march_dda(&ldi, &eye, &seg, thickness, state).0,
                 })
                 .map_or([0.0; 4], |h| [h.t, h.layer as f32, h.x as f32, h.y as f32]);

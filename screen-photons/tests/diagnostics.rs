@@ -193,19 +193,21 @@ fn screen_space_shadows_against_ray_traced_ones() {
     println!("| --- | --- | --- | --- | --- | --- | --- |");
     // Over the pixels whose occluder (if any) the view holds: the share of the shadowed ones
     // the mask finds (a mask without shadows finds none) and the share of the lit ones it
-    // darkens, bounded at the measured shares rounded down and up (found 0.9991, 0.8882,
-    // 0.7059 of 51 pixels, 0.3355; darkened 0.0091, 0.0036, 0.0045; the pool has no lit pixel
-    // facing the light). Pixels whose occluder lies outside the view are the method's known
-    // failure (README, "Known failure cases": the pool's water, mostly above the view, casts
-    // almost none of its shadow): counted in "misclassified", not bounded. Even with the water
-    // in view the mask finds only a third of the pool's shadow (not yet explained; the shadow
-    // rays use the tolerance test alone, not the paper's in-out test of section 5).
-    // Chess's share rests on 51 pixels (36 found): its bound leaves room for a few pixels
-    // more or less on another driver. The pool has no lit pixel to darken.
+    // darkens, bounded at the measured shares rounded down and up (found 0.9991, 0.9130,
+    // 0.7451 of 51 pixels, 0.3442; darkened 0.0091, 0.0036, 0.0045; the pool has no lit pixel
+    // facing the light). The tolerance test alone, without section 5's in-out test, found
+    // 0.8882 on refraction-bunny and 0.7059 on chess: both below their bounds. Pixels whose
+    // occluder lies outside the view are the method's known failure (README, "Known failure
+    // cases": the pool's water, mostly above the view, casts almost none of its shadow):
+    // counted in "misclassified", not bounded. Even with the water in view the mask finds only
+    // a third of the pool's shadow (not yet explained: the water is an open surface, which the
+    // in-out test cannot pair). Chess's share rests on 51 pixels (38 found, 36 without the
+    // in-out test): its bound, 37, leaves room for one pixel on another driver. The pool has
+    // no lit pixel to darken.
     for (spec, min_found, max_false) in [
         ("cornell-sphere", 0.99, Some(0.012)),
-        ("refraction-bunny", 0.85, Some(0.005)),
-        ("chess", 0.55, Some(0.006)),
+        ("refraction-bunny", 0.9, Some(0.005)),
+        ("chess", 0.72, Some(0.006)),
         ("pool", 0.3, None),
     ] {
         let c = shadow_counts(spec);

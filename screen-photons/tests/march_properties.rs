@@ -56,10 +56,10 @@ fn sides() -> impl Strategy<Value = Side> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(96))]
 
-    /// The line march returns the first sample (smallest t) at which some layer lies within
-    /// the tolerance of the ray, the layer nearest in distance there; no earlier sample has a
-    /// layer within the tolerance. The DDA returns the brute-force first sample of the
-    /// thickness test, stopping there.
+    /// The line march returns a sample of the first run of samples at which some layer lies
+    /// within the tolerance of the ray (the layer nearest in distance there): the run's first,
+    /// or a later one reached while the gap shrinks. The DDA returns the brute-force first
+    /// sample of the thickness test, stopping there.
     #[test]
     fn the_first_hit_is_the_nearest_sample_within_the_test(
         spheres in spheres(),
@@ -81,8 +81,20 @@ proptest! {
             let d = seg.distance(&eye, h.t);
             prop_assert!((d - texel.distance).abs() < TOLERANCE);
             prop_assert!(march::side_ok(&texel, dir, side));
-            for k in 0..h.step {
-                prop_assert!(march::test_sample(&ldi, &eye, &seg, k, Test::Tolerance(TOLERANCE), st).is_none());
+            // The first run of hits starts at `first`; the march moved on from there only
+            // while the gap shrank, and stopped where it does not shrink any more.
+            let gap_at = |k: u32| {
+                march::test_sample(&ldi, &eye, &seg, k, Test::Tolerance(TOLERANCE), st).map(|o| {
+                    (seg.distance(&eye, o.t) - ldi.get(o.x, o.y, o.layer).distance).abs()
+                })
+            };
+            let first = (0..seg.steps).find(|&k| gap_at(k).is_some()).unwrap();
+            prop_assert!(first <= h.step);
+            for k in first..h.step {
+                prop_assert!(gap_at(k + 1).unwrap() < gap_at(k).unwrap());
+            }
+            if h.step + 1 < seg.steps {
+                prop_assert!(gap_at(h.step + 1).is_none_or(|g| g >= gap_at(h.step).unwrap()));
             }
             // No other layer at that sample is nearer in distance and also allowed.
             for l in 0..ldi.layers {
@@ -148,10 +160,60 @@ proptest! {
         let exact = gpu::prelude::ray_sphere(p, dir, Vec3::ZERO, 1.2).y;
         let seg = march::clip(&eye, p, dir, (0.0, 12.0), 2.0 * TOLERANCE).unwrap();
         prop_assert!(march::monotone_holds(&ldi, &eye, &seg, 1, THICKNESS, TOLERANCE));
-        let hit = march::march_monotone(&ldi, &eye, &seg, 1).expect("an exit");
+        let hit = march::march_monotone(&ldi, &eye, &seg, 1, TOLERANCE).expect("an exit");
         let step = (seg.t1 - seg.t0) / seg.steps as f32;
         prop_assert!((hit.t - exact).abs() <= 2.0 * step + 0.05, "t {} exact {} step {}", hit.t, exact, step);
     }
+}
+
+/// The other half of the paper's stop rule: a ray inside a glass sphere that leaves through
+/// the half facing the eye never passes behind layer 1; it comes out in front of layer 0, and
+/// the monotone march stops there, in layer 0, at the first sample past the exact exit.
+#[test]
+fn a_ray_leaving_through_the_front_stops_at_the_current_layer() {
+    let eye = eye();
+    let glass = [Sphere {
+        centre: Vec3::ZERO,
+        radius: 1.2,
+        object: 0,
+        specular: true,
+    }];
+    let ldi = Ldi::of_spheres(&eye, 4, &glass);
+    let mut rays = 0;
+    for i in 0..200 {
+        // From a point inside, towards a point on the front half (seen from the eye).
+        let a = i as f32 * 0.7;
+        let origin = Vec3::new(0.5 * a.cos(), 0.4 * (1.3 * a).sin(), -0.6);
+        let to_eye = (eye.position - Vec3::ZERO).normalize();
+        let aim = (to_eye + Vec3::new((2.1 * a).cos(), (1.7 * a).sin(), 0.0) * 0.8).normalize();
+        let dir = (aim * 1.2 - origin).normalize();
+        let exact = gpu::prelude::ray_sphere(origin, dir, Vec3::ZERO, 1.2).y;
+        let exit = origin + dir * exact;
+        let Some(seg) = march::clip(&eye, origin, dir, (0.0, 12.0), 2.0 * TOLERANCE) else {
+            continue;
+        };
+        // Only exits in view, on the half facing the eye.
+        let c = eye.view_proj * exit.extend(1.0);
+        let on_screen = c.x.abs() < 0.95 * c.w && c.y.abs() < 0.95 * c.w;
+        let facing = exit.normalize().dot((eye.position - exit).normalize());
+        if !on_screen || facing < 0.3 {
+            continue;
+        }
+        rays += 1;
+        let hit = march::march_monotone(&ldi, &eye, &seg, 1, TOLERANCE).expect("an exit");
+        assert_eq!(hit.layer, 0, "ray {i}: stopped in layer {}", hit.layer);
+        // The first sample past the exit (samples are even on the screen, not along the ray),
+        // give or take what the depth changes over a pixel (the LDI holds pixel centres' depths;
+        // a pixel is about 0.13 wide at the sphere).
+        let before = seg.t_at(seg.fraction(hit.step.max(1) - 1));
+        let slack = 0.15;
+        assert!(
+            before - slack <= exact && exact <= hit.t + slack,
+            "ray {i}: exit {exact} not in [{before}, {}]",
+            hit.t
+        );
+    }
+    assert!(rays > 50, "{rays}");
 }
 
 /// Two glass spheres, a small one in front of a large one: rays refracted into the large one
@@ -199,4 +261,198 @@ fn monotone_layer_violations_are_counted() {
     assert!(rays > 100);
     assert!(violations > 0, "no ray crossed behind the small sphere");
     assert_eq!(single_violations, 0, "the large sphere alone is convex");
+}
+
+/// Where a sample spans much less than the tolerance, the line march's hit is the sample
+/// nearest the surface, not the first sample within the tolerance (which lies up to a
+/// tolerance before it): over rays into a glass sphere seen on a fine screen, the hit is within
+/// two samples' travel of the exact crossing, and it is for every ray.
+#[test]
+fn the_line_march_hits_near_the_crossing_on_a_fine_screen() {
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.5, 6.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y_deg: 50.0,
+    };
+    let (w, h) = (256, 192);
+    let eye = Eye {
+        view_proj: cam.view_proj(w, h),
+        position: cam.eye,
+        width: w,
+        height: h,
+    };
+    let glass = [Sphere {
+        centre: Vec3::ZERO,
+        radius: 1.0,
+        object: 0,
+        specular: true,
+    }];
+    let ldi = Ldi::of_spheres(&eye, 4, &glass);
+    let tolerance = 0.1;
+    let st = RayState {
+        side: Side::Outside,
+        t_skip: 0.0,
+    };
+    let mut rng = 0x2545_f491_u32;
+    let mut unit = || {
+        rng ^= rng << 13;
+        rng ^= rng >> 17;
+        rng ^= rng << 5;
+        rng as f32 / u32::MAX as f32
+    };
+    let (mut rays, mut far_first, mut worst) = (0, 0, 0.0f32);
+    for _ in 0..400 {
+        // From a point around the sphere towards a point on its front half.
+        let origin = Vec3::new(unit() * 6.0 - 3.0, unit() * 4.0 - 2.0, unit() * 3.0 - 1.0);
+        let target = Vec3::new(unit() - 0.5, unit() - 0.5, 0.5).normalize() * 0.9;
+        let dir = (target - origin).normalize();
+        let exact = gpu::prelude::ray_sphere(origin, dir, Vec3::ZERO, 1.0).x;
+        if !(exact > 0.2) || origin.length() < 1.05 {
+            continue;
+        }
+        let Some(seg) = march::clip(&eye, origin, dir, (0.0, 12.0), 2.0 * tolerance) else {
+            continue;
+        };
+        let Some(hit) = march::march_lines(&ldi, &eye, &seg, tolerance, st).0 else {
+            continue;
+        };
+        let step = (seg.t1 - seg.t0) / seg.steps as f32;
+        let first = (0..seg.steps)
+            .find_map(|k| march::test_sample(&ldi, &eye, &seg, k, Test::Tolerance(tolerance), st))
+            .unwrap();
+        rays += 1;
+        worst = worst.max((hit.t - exact).abs() / step);
+        far_first += ((first.t - exact).abs() > 2.0 * step) as u32;
+    }
+    println!(
+        "{rays} rays; worst miss {worst:.2} samples; the first sample of the run over 2 samples off for {far_first}"
+    );
+    assert!(rays > 100);
+    assert!(worst <= 2.0, "a hit {worst} samples from the crossing");
+    // The test has teeth: the run's first sample would fail it for many rays.
+    assert!(far_first > rays / 4, "{far_first} of {rays}");
+}
+
+/// Section 5's in-out test: shadow rays through a solid sphere whose faces' tolerance windows
+/// the samples step over (a tolerance of 1e-5 m) are still stopped, inside the sphere, by the
+/// in-out test over the layer pair (front face, back face); rays passing clear of it are not.
+/// The tolerance test alone stops almost none of them: the in-out test is what finds them.
+#[test]
+fn the_in_out_test_stops_shadow_rays_inside_a_solid() {
+    let eye = eye();
+    let solid = [Sphere {
+        centre: Vec3::new(0.2, -0.1, 0.0),
+        radius: 1.0,
+        object: 0,
+        specular: false,
+    }];
+    let ldi = Ldi::of_spheres(&eye, 4, &solid);
+    let tolerance = 1e-5;
+    let (mut through, mut stopped, mut by_tolerance, mut clear, mut false_hits) = (0, 0, 0, 0, 0);
+    for i in 0..300 {
+        let a = i as f32 * 0.37;
+        let origin = Vec3::new(2.5 * a.cos(), 1.5 * (0.7 * a).sin(), -1.5 + (1.3 * a).cos());
+        let aim =
+            solid[0].centre + Vec3::new((1.9 * a).sin(), (2.3 * a).cos(), (0.9 * a).sin()) * 1.4;
+        let dir = (aim - origin).normalize();
+        let Some(seg) = march::clip(&eye, origin, dir, (0.0, 12.0), 0.5) else {
+            continue;
+        };
+        let chord = gpu::prelude::ray_sphere(origin, dir, solid[0].centre, 1.0);
+        let hit = march::march_shadow(&ldi, &eye, &seg, tolerance, 0.0);
+        let any = RayState {
+            side: Side::Any,
+            t_skip: 0.0,
+        };
+        let tolerance_only = (0..seg.steps).any(|k| {
+            march::test_sample(&ldi, &eye, &seg, k, Test::Tolerance(tolerance), any).is_some()
+        });
+        // Samples inside the sphere, kept off its faces by a pixel's footprint (0.15).
+        let inside = (0..seg.steps)
+            .map(|k| seg.t_at(seg.fraction(k)))
+            .filter(|&t| chord.x > 0.0 && t > chord.x + 0.15 && t < chord.y - 0.15)
+            .count();
+        let closest = (solid[0].centre - origin).dot(dir).max(0.0);
+        let miss = (origin + dir * closest - solid[0].centre).length();
+        if inside >= 2 {
+            through += 1;
+            stopped += hit.is_some_and(|h| h.t >= chord.x - 0.15 && h.t <= chord.y + 0.15) as u32;
+            by_tolerance += tolerance_only as u32;
+        } else if miss > 1.2 {
+            clear += 1;
+            false_hits += hit.is_some() as u32;
+        }
+    }
+    println!(
+        "{through} rays through: {stopped} stopped ({by_tolerance} by the tolerance test alone); \
+         {clear} clear: {false_hits} stopped"
+    );
+    assert!(
+        through > 50 && clear > 30,
+        "{through} through, {clear} clear"
+    );
+    assert_eq!(stopped, through);
+    assert_eq!(false_hits, 0);
+    assert!(by_tolerance * 4 < through, "{by_tolerance} of {through}");
+}
+
+/// A ray reflected inside a glass sphere (total internal reflection at its back) is still
+/// between layers 0 and 1: marched between them it stops at its next crossing, the first
+/// sample past it (give or take a pixel's depth change). The paper's numbering (the third
+/// intersection in layer 2) would read layers 1 and 2: the reflected ray turns towards the
+/// eye, so it is in front of layer 1 at its first tested sample and stops there.
+#[test]
+fn a_ray_reflected_inside_stays_between_the_same_layers() {
+    let eye = eye();
+    let glass = [Sphere {
+        centre: Vec3::ZERO,
+        radius: 1.2,
+        object: 0,
+        specular: true,
+    }];
+    let ldi = Ldi::of_spheres(&eye, 4, &glass);
+    let (mut rays, mut at_once, mut lost) = (0, 0, 0);
+    for i in 0..200 {
+        let a = i as f32 * 0.61;
+        // A point on the back half, a ray arriving from inside, reflected there.
+        let away = (Vec3::ZERO - eye.position).normalize();
+        let n = (away + Vec3::new(a.cos(), (1.7 * a).sin(), 0.0) * 0.7).normalize();
+        let p = n * 1.2;
+        let incoming = (p - Vec3::new(0.3 * (2.3 * a).sin(), 0.3 * a.cos(), 0.0)).normalize();
+        let dir = incoming - 2.0 * incoming.dot(n) * n;
+        let exact = gpu::prelude::ray_sphere(p, dir, Vec3::ZERO, 1.2).y;
+        let Some(seg) = march::clip(&eye, p, dir, (0.0, 12.0), 2.0 * TOLERANCE) else {
+            continue;
+        };
+        let far = p + dir * exact;
+        let c = eye.view_proj * far.extend(1.0);
+        // Away from the silhouette (the crossing projects within 0.87 of the disc's radius:
+        // over a pixel inside it), where the ray can cross out of the disc between samples.
+        let facing = far.normalize().dot((eye.position - far).normalize());
+        if exact < 0.3 || facing.abs() < 0.5 || c.x.abs() > 0.95 * c.w || c.y.abs() > 0.95 * c.w {
+            continue;
+        }
+        rays += 1;
+        let Some(hit) = march::march_monotone(&ldi, &eye, &seg, 1, TOLERANCE) else {
+            lost += 1;
+            continue;
+        };
+        let before = seg.t_at(seg.fraction(hit.step.max(1) - 1));
+        let slack = 0.15;
+        assert!(
+            before - slack <= exact && exact <= hit.t + slack,
+            "ray {i}: crossing {exact} not in [{before}, {}]",
+            hit.t
+        );
+        let numbered = march::march_monotone(&ldi, &eye, &seg, 2, TOLERANCE);
+        at_once += numbered.is_some_and(|h| h.t < exact * 0.5) as u32;
+    }
+    println!(
+        "{rays} reflected rays, {lost} lost; the paper's numbering stops {at_once} of them \
+         half-way or sooner"
+    );
+    assert!(rays > 50, "{rays}");
+    assert_eq!(lost, 0, "{lost} of {rays} rays found no crossing");
+    assert!(at_once * 2 > rays, "{at_once} of {rays}");
 }

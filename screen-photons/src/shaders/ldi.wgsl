@@ -193,17 +193,19 @@ fn side_ok(texel: LdiTexel, dir: vec3f, side: u32) -> bool {
 const TEST_TOLERANCE: u32 = 0u;
 const TEST_THICKNESS: u32 = 1u;
 
-// A hit of a march: the ray parameter, the LDI sample (layer, pixel), the sample's index.
+// A hit of a march: the ray parameter, the LDI sample (layer, pixel), the sample's index, the
+// gap |ray distance - layer distance| (the tolerance test's; 0 for the others).
 struct LdiHit {
     t: f32,
     layer: u32,
     pixel: vec2u,
     step: u32,
     found: bool,
+    gap: f32,
 };
 
 fn no_hit() -> LdiHit {
-    return LdiHit(0.0, 0u, vec2u(0u), 0u, false);
+    return LdiHit(0.0, 0u, vec2u(0u), 0u, false, 0.0);
 }
 
 // The layer hit at sample k under `test` (tolerance: the layer nearest the ray's distance;
@@ -233,10 +235,10 @@ fn test_sample(which: u32, s: Segment, k: u32, test: u32, side: u32) -> LdiHit {
             let gap = abs(d - texel.distance);
             if (gap < ldi.tests.x && gap < best_gap) {
                 best_gap = gap;
-                hit = LdiHit(t, layer, px, k, true);
+                hit = LdiHit(t, layer, px, k, true, gap);
             }
         } else if (lo <= texel.distance + ldi.tests.y && hi >= texel.distance) {
-            hit = LdiHit(t, layer, px, k, true);
+            hit = LdiHit(t, layer, px, k, true, 0.0);
             break;
         }
     }
@@ -253,29 +255,82 @@ fn march_dda(which: u32, s: Segment, side: u32) -> LdiHit {
     return no_hit();
 }
 
-// The paper's tolerance test walked in order: the first sample a line's fragments would
-// report after the reduction (what the line marcher computes in parallel, for rays a pass
-// traces one per pixel: section 4's view rays).
+// The paper's tolerance test walked in order: the sample a line's fragments would report
+// after the reduction (what the line marcher computes in parallel, for rays a pass traces one
+// per pixel: section 4's view rays). The first sample that hits, then each next one for as
+// long as it hits with a smaller gap: the sample nearest the crossing (march.rs explains why).
 fn march_tolerance(which: u32, s: Segment, side: u32) -> LdiHit {
     if (!s.visible) { return no_hit(); }
     for (var k = 0u; k < s.steps; k++) {
-        let hit = test_sample(which, s, k, TEST_TOLERANCE, side);
-        if (hit.found) { return hit; }
+        var hit = test_sample(which, s, k, TEST_TOLERANCE, side);
+        if (hit.found) {
+            for (var j = k + 1u; j < s.steps; j++) {
+                let next = test_sample(which, s, j, TEST_TOLERANCE, side);
+                if (!next.found || next.gap >= hit.gap) { break; }
+                hit = next;
+            }
+            return hit;
+        }
     }
     return no_hit();
 }
 
-// Section 4's monotone march: the ray's next intersection is assumed to be in `layer`; the
-// first sample at which the ray is behind that layer.
+// Section 4's monotone march: the ray's next intersection is assumed to be in `layer`, the
+// last one it crossed in `layer - 1`; the first sample, from t_skip on (the ray starts on a
+// surface), at which the ray is behind the next layer or in front of the current one
+// (march.rs's `march_monotone`).
 fn march_monotone(which: u32, s: Segment, layer: u32) -> LdiHit {
     if (!s.visible || layer >= ldi.size.z) { return no_hit(); }
     for (var k = 0u; k < s.steps; k++) {
         let t = segment_t_at(s, segment_fraction(s, k));
+        if (t < ldi.tests.z) { continue; }
         let px = segment_pixel(s, k);
-        let texel = ldi_texel(which, px.x, px.y, layer);
-        if (texel.distance > 0.0 && segment_distance(s, t) >= texel.distance) {
-            return LdiHit(t, layer, px, k, true);
+        let d = segment_distance(s, t);
+        let next = ldi_texel(which, px.x, px.y, layer);
+        if (next.distance > 0.0 && d >= next.distance) {
+            return LdiHit(t, layer, px, k, true, 0.0);
         }
+        if (layer > 0u) {
+            let current = ldi_texel(which, px.x, px.y, layer - 1u);
+            if (current.distance > 0.0 && d <= current.distance) {
+                return LdiHit(t, layer - 1u, px, k, true, 0.0);
+            }
+        }
+    }
+    return no_hit();
+}
+
+const NO_LAYER: u32 = 0xffffffffu;
+
+// Section 5's in-out test over consecutive layer pairs (march.rs's `solid_layer_at`): the layer
+// of a face turned to the eye whose next layer is a face turned away, with distance d between
+// the two (the point is inside that solid), else NO_LAYER.
+fn solid_layer_at(which: u32, x: u32, y: u32, d: f32) -> u32 {
+    let view = normalize(ldi_point(x, y, 1.0) - ldi.eye.xyz);
+    for (var l = 0u; l + 1u < ldi.size.z; l++) {
+        let front = ldi_texel(which, x, y, l);
+        let back = ldi_texel(which, x, y, l + 1u);
+        if (front.distance <= 0.0 || back.distance <= 0.0) { break; }
+        if (dot(front.normal, view) < 0.0 && dot(back.normal, view) > 0.0
+            && front.distance <= d && d <= back.distance) {
+            return l;
+        }
+    }
+    return NO_LAYER;
+}
+
+// The paper's shadow ray with its in-out test (march.rs's `march_shadow`): the first sample
+// within the tolerance of any surface, or inside a solid.
+fn march_shadow(which: u32, s: Segment) -> LdiHit {
+    if (!s.visible) { return no_hit(); }
+    for (var k = 0u; k < s.steps; k++) {
+        let hit = test_sample(which, s, k, TEST_TOLERANCE, SIDE_ANY);
+        if (hit.found) { return hit; }
+        let t = segment_t_at(s, segment_fraction(s, k));
+        if (t < ldi.tests.z) { continue; }
+        let px = segment_pixel(s, k);
+        let layer = solid_layer_at(which, px.x, px.y, segment_distance(s, t));
+        if (layer != NO_LAYER) { return LdiHit(t, layer, px, k, true, 0.0); }
     }
     return no_hit();
 }

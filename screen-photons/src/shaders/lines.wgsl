@@ -2,8 +2,9 @@
 // The paper's line marcher (section 2.1): each photon ray of a batch is drawn as a horizontal
 // line into its own row of an offscreen buffer, as many fragments long as the ray covers
 // pixels on the screen; each fragment tests its sample against every LDI layer (tolerance
-// test) and writes (t, layer, pixel) where it finds a surface. `reduce_main` then keeps the
-// first hit of each row (the paper's reduction, as a scan per row).
+// test) and writes (t, layer, pixel, gap) where it finds a surface. `reduce_main` then keeps
+// the first hit of each row, moved on to the nearest sample of its run (the paper's reduction,
+// as a scan per row; see reduce.wgsl).
 // ---------------------------------------------------------------------------------------------
 
 struct Batch {
@@ -64,6 +65,8 @@ fn line_fs(in: LineOut) -> @location(0) vec4f {
     s.visible = true;
     let k = min(u32(in.position.x), s.steps - 1u);
     let h = test_sample(LDI_SCENE, s, k, TEST_TOLERANCE, side_of(photon_is_inside(p)));
-    // No discard: a fragment without a hit writes zero (t = 0 is "none").
-    return select(vec4f(0.0), vec4f(h.t, f32(h.layer), vec2f(h.pixel)), h.found && u32(in.position.x) < in.steps);
+    // No discard: a fragment without a hit writes zero (t = 0 is "none"). The pixel is packed
+    // as y * width + x (exact in f32 up to 2^24 pixels) to leave room for the gap.
+    let pixel = f32(h.pixel.y * ldi.size.x + h.pixel.x);
+    return select(vec4f(0.0), vec4f(h.t, f32(h.layer), pixel, h.gap), h.found && u32(in.position.x) < in.steps);
 }

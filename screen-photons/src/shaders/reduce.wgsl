@@ -1,5 +1,7 @@
 // The horizontal reduction of the line buffer: the first hit of each row (the photon's first
-// surface along its ray), one invocation per row scanning from the left.
+// surface along its ray), one invocation per row scanning from the left. From that hit the scan
+// moves on while the next texel hits with a smaller gap, to the sample nearest the crossing
+// (`march_tolerance` in ldi.wgsl and `march::march_lines` do the same; march.rs says why).
 //
 // The paper reduces each row by log-step halving passes, as a 2005 GPU without compute shaders
 // must; the result is the same texel (the leftmost with a hit). A scan that stops at the first
@@ -23,13 +25,19 @@ fn reduce_main(@builtin(global_invocation_id) id: vec3u) {
     let row = id.x;
     let i = batch.first + row;
     if (row >= batch.rows || i >= arrayLength(&hits)) { return; }
+    // Texels: (t, layer, y * width + x, gap); t = 0 where the fragment found nothing.
     var h = vec4f(0.0);
-    for (var x = 0u; x < batch.width; x++) {
-        let texel = textureLoad(rows_texture, vec2u(x, row), 0);
-        if (texel.x > 0.0) {
-            h = texel;
-            break;
-        }
+    var x = 0u;
+    for (; x < batch.width; x++) {
+        h = textureLoad(rows_texture, vec2u(x, row), 0);
+        if (h.x > 0.0) { break; }
     }
-    hits[i] = h;
+    for (x++; x < batch.width && h.x > 0.0; x++) {
+        let next = textureLoad(rows_texture, vec2u(x, row), 0);
+        if (!(next.x > 0.0) || next.w >= h.w) { break; }
+        h = next;
+    }
+    // The hit buffer's layout: (t, layer, pixel x, pixel y); zero for none.
+    let pixel = u32(h.z);
+    hits[i] = select(vec4f(0.0), vec4f(h.x, h.y, f32(pixel % ldi.size.x), f32(pixel / ldi.size.x)), h.x > 0.0);
 }

@@ -1,8 +1,9 @@
 // ---------------------------------------------------------------------------------------------
 // Screen-space shadow rays (the paper's figures 11 and 12): for every pixel whose nearest
 // surface (LDI layer 0) is diffuse, a ray from that point back to each light (the first four)
-// marched over the scene's LDI with the paper's tolerance test; any surface it meets, glass
-// included (as in the reference), shadows the point. The part of a ray that leaves the view
+// marched over the scene's LDI with the paper's tolerance test and the in-out test over
+// consecutive layers it proposes (`march_shadow`); any surface it meets, glass included (as in
+// the reference), and any solid it passes through shadows the point. The part of a ray that leaves the view
 // cannot be tested: occluders off screen cast no shadow (README, "Failure cases").
 // ---------------------------------------------------------------------------------------------
 
@@ -25,7 +26,7 @@ fn shadow_main(@builtin(global_invocation_id) g: vec3u) {
             let dir = to_l / dist;
             let range = scene_range(p, dir);
             let s = clip_segment(p, dir, max(range.x, SHADOW_START * ldi.tests.x), min(range.y, dist));
-            let h = march_tolerance(LDI_SCENE, s, SIDE_ANY);
+            let h = march_shadow(LDI_SCENE, s);
             v[i] = select(1.0, 0.0, h.found);
         }
     }

@@ -68,10 +68,13 @@ fn retrace(origin: vec3f, dir: vec3f, inside: bool) -> vec3f {
 // The radiance leaving a refractor toward `origin` along a ray refracted into it there. The
 // DDA marches the scene's layers from inside (side rule: glass back faces are the way out,
 // diffuse surfaces inside the refractor stop the ray); the paper's monotone rule reads the
-// refractors' layer `chord + 1`, and where that layer has nothing along the ray (an open
-// surface such as the pool's water, or an exit outside the view) the ray is retraced into the
-// scene from inside. At the exit the refracted share (1 - F) is followed; under total
-// internal reflection the reflected ray tries the next layer, up to EXIT_CHORDS chords.
+// refractors' layers 0 and 1 (the ray leaves behind layer 1 or in front of layer 0), and
+// where they have nothing along the ray (an open surface such as the pool's water, or an exit
+// outside the view) the ray is retraced into the scene from inside. At the exit the refracted
+// share (1 - F) is followed; under total internal reflection the reflected ray, still inside
+// the same solid, marches between the same two layers again, up to EXIT_CHORDS chords (the
+// paper's numbering would send it to layers 1 and 2, which assumes rays moving away from the
+// eye: a reflected ray turns back, and would stop at once in front of layer 1).
 fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
     var o = origin;
     var dir = dir_in;
@@ -87,7 +90,8 @@ fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
         if (specular.mode == 1u) {
             h = march_dda(LDI_SCENE, s, SIDE_INSIDE);
         } else {
-            h = march_monotone(LDI_REFRACTORS, s, chord + 1u);
+            // Between layers 0 and 1 on every chord: a ray reflected inside stays inside.
+            h = march_monotone(LDI_REFRACTORS, s, 1u);
             which = LDI_REFRACTORS;
         }
         if (!h.found) {
