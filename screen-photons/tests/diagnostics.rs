@@ -41,12 +41,13 @@ fn lines_and_dda_mostly_find_the_same_first_hits() {
     );
     println!("| --- | --- | --- | --- | --- | --- | --- |");
     // Bounds: the measured shares of photons whose hits are the same sample or a pixel apart on
-    // the same layer (the thickness test reports the sample after the crossing, the tolerance
-    // test the one nearest it), rounded down.
+    // the same layer (the thickness test reports the first sample past the crossing, the lines
+    // the one nearest it), 0.578, 0.803 and 1.000, rounded down. The lines' first hit of a run
+    // (the reduction before it kept the nearest sample) gave 0.550, 0.701 and 0.879.
     for (spec, min_near) in [
-        ("pool", 0.50),
-        ("refraction-bunny", 0.65),
-        ("cornell-sphere", 0.80),
+        ("pool", 0.55),
+        ("refraction-bunny", 0.8),
+        ("cornell-sphere", 0.99),
     ] {
         let scene = scene::load(spec).unwrap();
         let lines = first_hits("lines", &scene);
