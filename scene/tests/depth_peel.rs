@@ -706,6 +706,9 @@ fn counted_peels_match_full_peels() {
             complexity >= deepest,
             "{spec}: counted {complexity}, peeled {deepest}"
         );
+        // The count is never below the layers peeled; it could exceed them where two surfaces
+        // lie closer than the peeler's epsilon (they count twice, peel once), which these views
+        // do not have: below the cap the two are equal.
         if deepest < layers {
             assert_eq!(complexity, deepest, "{spec}");
         }

@@ -502,11 +502,12 @@ pub fn march_monotone(ldi: &Ldi, eye: &Eye, seg: &Segment, layer: u32, t_skip: f
 /// so that an open surface (the pool's water, a floor) does not shift every pair behind it.
 pub fn solid_layer_at(ldi: &Ldi, eye: &Eye, x: u32, y: u32, d: f32) -> Option<u32> {
     let view = eye.pixel_ray(x, y);
-    (0..ldi.layers.saturating_sub(1)).find(|&l| {
+    // The pairs before the first empty layer (the WGSL stops there too).
+    let filled = (0..ldi.layers.saturating_sub(1))
+        .take_while(|&l| ldi.get(x, y, l).distance > 0.0 && ldi.get(x, y, l + 1).distance > 0.0);
+    filled.into_iter().find(|&l| {
         let (front, back) = (ldi.get(x, y, l), ldi.get(x, y, l + 1));
-        front.distance > 0.0
-            && back.distance > 0.0
-            && front.normal.dot(view) < 0.0
+        front.normal.dot(view) < 0.0
             && back.normal.dot(view) > 0.0
             && front.distance <= d
             && d <= back.distance

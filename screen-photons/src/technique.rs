@@ -693,12 +693,14 @@ impl Sized {
         }
         let mut scene_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
         let mut refractor_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
-        if settings.count_layers {
-            // Without indirect first instances the peelers peel every layer: the same LDI.
-            let counting = scene_ldi.count_layers(ctx, scene).is_ok();
-            if counting {
-                refractor_ldi.count_layers(ctx, scene)?;
-            }
+        // Without indirect first instances the peelers peel every layer: the same LDI. Any
+        // other failure to make the counters is an error.
+        let indirect = ctx
+            .features()
+            .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
+        if settings.count_layers && indirect {
+            scene_ldi.count_layers(ctx, scene)?;
+            refractor_ldi.count_layers(ctx, scene)?;
         }
         let grid = settings.photons;
         ctx.check_size(grid, grid)?;

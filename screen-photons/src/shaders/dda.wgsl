@@ -1,7 +1,8 @@
-// The per-photon marchers, one invocation per photon stopping at its first hit: the DDA
-// (McGuire and Mara's screen-space march over every LDI layer with a thickness per layer) and
-// the paper's single-shader alternative (section 2.1), the lines' tolerance test walked in
-// order (`march_tolerance`: the same sample the line raster and its reduction keep).
+// The per-photon marchers, one invocation per photon: the DDA (McGuire and Mara's screen-space
+// march over every LDI layer with a thickness per layer), stopping at its first hit, and the
+// paper's single-shader alternative (section 2.1), the lines' tolerance test walked in order
+// (`march_tolerance`: from the first hit on to the sample nearest the crossing, the one the
+// line raster and its reduction keep), stopping there.
 
 @group(3) @binding(0) var<storage, read> photons: array<Photon>;
 @group(3) @binding(1) var<storage, read_write> hits: array<vec4f>;

@@ -3,9 +3,10 @@
 // moves on while the next texel hits with a smaller gap, to the sample nearest the crossing
 // (`march_tolerance` in ldi.wgsl and `march::march_lines` do the same; march.rs says why).
 //
-// The paper reduces each row by log-step halving passes, as a 2005 GPU without compute shaders
-// must; the result is the same texel (the leftmost with a hit). A scan that stops at the first
-// hit reads no more texels than the halving reads and needs no barriers: on a software
+// The paper reduces each row to its leftmost hit by log-step halving passes, as a 2005 GPU
+// without compute shaders must; this scan keeps a later texel of the same run where its gap is
+// smaller (a departure: README, "Departures"). A scan that stops where the run's gap stops
+// shrinking reads no more texels than the halving reads and needs no barriers: on a software
 // rasterizer, 4096 barrier-synchronised workgroups per batch cost more than the lines
 // themselves.
 
