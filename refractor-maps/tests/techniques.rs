@@ -61,19 +61,20 @@ fn still_chess() -> Scene {
     scene
 }
 
+/// The section-5 impostors with `settings`, at the small sizes of [`small`].
+fn small_environment_maps(settings: EnvSettings) -> EnvironmentMaps {
+    let mut t = EnvironmentMaps::new("refractor-maps/test", "test", true, settings);
+    small(&mut t);
+    t
+}
+
 /// The last image of `shots` by the separated variant, then by full update (small maps).
 fn separated_and_full_update(scene: &Scene, shots: &[Shot]) -> [gpu::HdrImage; 2] {
     [true, false].map(|separated| {
-        let mut t = EnvironmentMaps::new(
-            "refractor-maps/test",
-            "test",
-            true,
-            EnvSettings {
-                separated,
-                ..EnvSettings::default()
-            },
-        );
-        small(&mut t);
+        let mut t = small_environment_maps(EnvSettings {
+            separated,
+            ..EnvSettings::default()
+        });
         render_shots(&mut t, scene, shots)
     })
 }
@@ -126,18 +127,12 @@ fn rebuilds_along_the_path(separated: bool, rebuild_threshold: f32, times: &[f32
         .iter()
         .map(|&t| Shot::along_path(&scene, t, 16))
         .collect();
-    let mut t = EnvironmentMaps::new(
-        "refractor-maps/test",
-        "test",
-        true,
-        EnvSettings {
-            separated,
-            env_depth: 2,
-            rebuild_threshold,
-            ..EnvSettings::default()
-        },
-    );
-    small(&mut t);
+    let mut t = small_environment_maps(EnvSettings {
+        separated,
+        env_depth: 2,
+        rebuild_threshold,
+        ..EnvSettings::default()
+    });
     render_shots(&mut t, &scene, &shots);
     t.rebuilds()
 }

@@ -96,6 +96,13 @@ pub struct LayerCounter {
 }
 
 impl LayerCounter {
+    /// Whether `ctx`'s adapter can draw the peel passes indirectly with the object as the first
+    /// instance (`INDIRECT_FIRST_INSTANCE`), which counting needs.
+    pub fn available(ctx: &Context) -> bool {
+        ctx.features()
+            .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE)
+    }
+
     /// A counter for `width` x `height` views of `gpu_scene`, peeled into at most `layers`
     /// layers. Fails where the adapter lacks `INDIRECT_FIRST_INSTANCE`.
     pub fn new(
@@ -105,10 +112,7 @@ impl LayerCounter {
         height: u32,
         layers: u32,
     ) -> Result<Self, GpuError> {
-        if !ctx
-            .features()
-            .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE)
-        {
+        if !Self::available(ctx) {
             return Err(GpuError::InvalidInput(
                 "counting the depth complexity needs the adapter's INDIRECT_FIRST_INSTANCE \
                  feature, which this one lacks"

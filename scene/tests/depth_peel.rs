@@ -307,6 +307,15 @@ fn two_spheres() -> (Scene, Sphere, Sphere) {
     (scene, near, far)
 }
 
+/// The four surfaces of [`two_spheres`] at the centre pixel seen from `Camera::behind` the
+/// near one (3 m): distance and normal, nearest first.
+const TWO_SPHERES_ON_THE_AXIS: [(f32, Vec3); 4] = [
+    (2.0, Vec3::Z),
+    (4.0, Vec3::NEG_Z),
+    (5.5, Vec3::Z),
+    (6.5, Vec3::NEG_Z),
+];
+
 fn assert_centre_layers(peeled: &Peeled, want: &[(f32, Vec3)]) {
     let c = SIZE / 2;
     for (layer, &(distance, normal)) in want.iter().enumerate() {
@@ -335,15 +344,7 @@ fn two_spheres_peel_in_order() {
     let (scene, near, _) = two_spheres();
     let camera = Camera::behind(near.center, 3.0);
     let peeled = peel(&scene, &ObjectFilter::All, &camera, 5);
-    assert_centre_layers(
-        &peeled,
-        &[
-            (2.0, Vec3::Z),
-            (4.0, Vec3::NEG_Z),
-            (5.5, Vec3::Z),
-            (6.5, Vec3::NEG_Z),
-        ],
-    );
+    assert_centre_layers(&peeled, &TWO_SPHERES_ON_THE_AXIS);
 }
 
 /// `ObjectFilter::Only` peels the selected object alone: with only the far sphere, layers 0
@@ -637,10 +638,7 @@ fn builtin_scenes_peel_into_strictly_increasing_layers() {
 fn counted_peels_match_full_peels() {
     let ctx = testkit::context();
     let _lock = testkit::gpu_lock();
-    if !ctx
-        .features()
-        .contains(gpu::wgpu::Features::INDIRECT_FIRST_INSTANCE)
-    {
+    if !scene::layer_count::LayerCounter::available(ctx) {
         let gpu_scene = GpuScene::new(ctx, &two_spheres().0).expect("scene uploads");
         let mut peeler = DepthPeeler::new(ctx, &gpu_scene, SIZE, SIZE, 6).expect("peeler");
         assert!(peeler.count_layers(ctx, &gpu_scene).is_err());
@@ -654,15 +652,7 @@ fn counted_peels_match_full_peels() {
     counted.count_layers(ctx, &gpu_scene).expect("counter");
     let peeled = peel_with(&counted, &mut gpu_scene, &ObjectFilter::All, &camera, 0.0);
     assert_eq!(counted.counted_complexity(ctx).unwrap().unwrap(), 4);
-    assert_centre_layers(
-        &peeled,
-        &[
-            (2.0, Vec3::Z),
-            (4.0, Vec3::NEG_Z),
-            (5.5, Vec3::Z),
-            (6.5, Vec3::NEG_Z),
-        ],
-    );
+    assert_centre_layers(&peeled, &TWO_SPHERES_ON_THE_AXIS);
     // The far sphere alone: two.
     peel_with(
         &counted,

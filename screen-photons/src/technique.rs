@@ -695,10 +695,7 @@ impl Sized {
         let mut refractor_ldi = DepthPeeler::new(ctx, scene, width, height, settings.layers)?;
         // Without indirect first instances the peelers peel every layer: the same LDI. Any
         // other failure to make the counters is an error.
-        let indirect = ctx
-            .features()
-            .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
-        if settings.count_layers && indirect {
+        if settings.count_layers && scene::layer_count::LayerCounter::available(ctx) {
             scene_ldi.count_layers(ctx, scene)?;
             refractor_ldi.count_layers(ctx, scene)?;
         }

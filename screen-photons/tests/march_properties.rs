@@ -53,6 +53,39 @@ fn sides() -> impl Strategy<Value = Side> {
     prop_oneof![Just(Side::Outside), Just(Side::Inside), Just(Side::Any)]
 }
 
+/// A glass sphere of radius 1.2 at the origin and its exact LDI (4 layers).
+const GLASS_RADIUS: f32 = 1.2;
+fn glass_sphere_ldi(eye: &Eye) -> Ldi {
+    let glass = [Sphere {
+        centre: Vec3::ZERO,
+        radius: GLASS_RADIUS,
+        object: 0,
+        specular: true,
+    }];
+    Ldi::of_spheres(eye, 4, &glass)
+}
+
+/// How squarely the glass sphere's surface point `p` faces the eye (cosine), and whether it
+/// projects inside 95% of the screen.
+fn facing_and_on_screen(eye: &Eye, p: Vec3) -> (f32, bool) {
+    let c = eye.view_proj * p.extend(1.0);
+    let facing = p.normalize().dot((eye.position - p).normalize());
+    (facing, c.x.abs() < 0.95 * c.w && c.y.abs() < 0.95 * c.w)
+}
+
+/// `hit` is the first sample past the exact crossing at `exact` (samples are even on the
+/// screen, not along the ray), give or take what the depth changes over a pixel (the LDI
+/// holds pixel centres' depths; a pixel is about 0.13 wide at the glass sphere).
+fn assert_first_sample_past(seg: &march::Segment, hit: &march::Hit, exact: f32, ray: u32) {
+    let before = seg.t_at(seg.fraction(hit.step.max(1) - 1));
+    let slack = 0.15;
+    assert!(
+        before - slack <= exact && exact <= hit.t + slack,
+        "ray {ray}: crossing {exact} not in [{before}, {}]",
+        hit.t
+    );
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(96))]
 
@@ -150,14 +183,13 @@ proptest! {
         x in 14u32..34, y in 10u32..26, ior in 1.1f32..2.4,
     ) {
         let eye = eye();
-        let glass = [Sphere { centre: Vec3::ZERO, radius: 1.2, object: 0, specular: true }];
-        let ldi = Ldi::of_spheres(&eye, 4, &glass);
+        let ldi = glass_sphere_ldi(&eye);
         let front = ldi.get(x, y, 0);
         prop_assume!(front.distance > 0.0);
         let view = eye.pixel_ray(x, y);
         let p = eye.position + view * front.distance;
         let dir = gpu::prelude::refract_dir(view, front.normal, 1.0 / ior).truncate();
-        let exact = gpu::prelude::ray_sphere(p, dir, Vec3::ZERO, 1.2).y;
+        let exact = gpu::prelude::ray_sphere(p, dir, Vec3::ZERO, GLASS_RADIUS).y;
         let seg = march::clip(&eye, p, dir, (0.0, 12.0), 2.0 * TOLERANCE).unwrap();
         prop_assert!(march::monotone_holds(&ldi, &eye, &seg, 1, THICKNESS, TOLERANCE));
         let hit = march::march_monotone(&ldi, &eye, &seg, 1, TOLERANCE).expect("an exit");
@@ -172,13 +204,7 @@ proptest! {
 #[test]
 fn a_ray_leaving_through_the_front_stops_at_the_current_layer() {
     let eye = eye();
-    let glass = [Sphere {
-        centre: Vec3::ZERO,
-        radius: 1.2,
-        object: 0,
-        specular: true,
-    }];
-    let ldi = Ldi::of_spheres(&eye, 4, &glass);
+    let ldi = glass_sphere_ldi(&eye);
     let mut rays = 0;
     for i in 0..200 {
         // From a point inside, towards a point on the front half (seen from the eye).
@@ -186,32 +212,21 @@ fn a_ray_leaving_through_the_front_stops_at_the_current_layer() {
         let origin = Vec3::new(0.5 * a.cos(), 0.4 * (1.3 * a).sin(), -0.6);
         let to_eye = (eye.position - Vec3::ZERO).normalize();
         let aim = (to_eye + Vec3::new((2.1 * a).cos(), (1.7 * a).sin(), 0.0) * 0.8).normalize();
-        let dir = (aim * 1.2 - origin).normalize();
-        let exact = gpu::prelude::ray_sphere(origin, dir, Vec3::ZERO, 1.2).y;
+        let dir = (aim * GLASS_RADIUS - origin).normalize();
+        let exact = gpu::prelude::ray_sphere(origin, dir, Vec3::ZERO, GLASS_RADIUS).y;
         let exit = origin + dir * exact;
         let Some(seg) = march::clip(&eye, origin, dir, (0.0, 12.0), 2.0 * TOLERANCE) else {
             continue;
         };
         // Only exits in view, on the half facing the eye.
-        let c = eye.view_proj * exit.extend(1.0);
-        let on_screen = c.x.abs() < 0.95 * c.w && c.y.abs() < 0.95 * c.w;
-        let facing = exit.normalize().dot((eye.position - exit).normalize());
+        let (facing, on_screen) = facing_and_on_screen(&eye, exit);
         if !on_screen || facing < 0.3 {
             continue;
         }
         rays += 1;
         let hit = march::march_monotone(&ldi, &eye, &seg, 1, TOLERANCE).expect("an exit");
         assert_eq!(hit.layer, 0, "ray {i}: stopped in layer {}", hit.layer);
-        // The first sample past the exit (samples are even on the screen, not along the ray),
-        // give or take what the depth changes over a pixel (the LDI holds pixel centres' depths;
-        // a pixel is about 0.13 wide at the sphere).
-        let before = seg.t_at(seg.fraction(hit.step.max(1) - 1));
-        let slack = 0.15;
-        assert!(
-            before - slack <= exact && exact <= hit.t + slack,
-            "ray {i}: exit {exact} not in [{before}, {}]",
-            hit.t
-        );
+        assert_first_sample_past(&seg, &hit, exact, i);
     }
     assert!(rays > 50, "{rays}");
 }
@@ -405,32 +420,24 @@ fn the_in_out_test_stops_shadow_rays_inside_a_solid() {
 #[test]
 fn a_ray_reflected_inside_stays_between_the_same_layers() {
     let eye = eye();
-    let glass = [Sphere {
-        centre: Vec3::ZERO,
-        radius: 1.2,
-        object: 0,
-        specular: true,
-    }];
-    let ldi = Ldi::of_spheres(&eye, 4, &glass);
+    let ldi = glass_sphere_ldi(&eye);
     let (mut rays, mut at_once, mut lost) = (0, 0, 0);
     for i in 0..200 {
         let a = i as f32 * 0.61;
         // A point on the back half, a ray arriving from inside, reflected there.
         let away = (Vec3::ZERO - eye.position).normalize();
         let n = (away + Vec3::new(a.cos(), (1.7 * a).sin(), 0.0) * 0.7).normalize();
-        let p = n * 1.2;
+        let p = n * GLASS_RADIUS;
         let incoming = (p - Vec3::new(0.3 * (2.3 * a).sin(), 0.3 * a.cos(), 0.0)).normalize();
         let dir = incoming - 2.0 * incoming.dot(n) * n;
-        let exact = gpu::prelude::ray_sphere(p, dir, Vec3::ZERO, 1.2).y;
+        let exact = gpu::prelude::ray_sphere(p, dir, Vec3::ZERO, GLASS_RADIUS).y;
         let Some(seg) = march::clip(&eye, p, dir, (0.0, 12.0), 2.0 * TOLERANCE) else {
             continue;
         };
-        let far = p + dir * exact;
-        let c = eye.view_proj * far.extend(1.0);
         // Away from the silhouette (the crossing projects within 0.87 of the disc's radius:
         // over a pixel inside it), where the ray can cross out of the disc between samples.
-        let facing = far.normalize().dot((eye.position - far).normalize());
-        if exact < 0.3 || facing.abs() < 0.5 || c.x.abs() > 0.95 * c.w || c.y.abs() > 0.95 * c.w {
+        let (facing, on_screen) = facing_and_on_screen(&eye, p + dir * exact);
+        if exact < 0.3 || facing.abs() < 0.5 || !on_screen {
             continue;
         }
         rays += 1;
@@ -438,13 +445,7 @@ fn a_ray_reflected_inside_stays_between_the_same_layers() {
             lost += 1;
             continue;
         };
-        let before = seg.t_at(seg.fraction(hit.step.max(1) - 1));
-        let slack = 0.15;
-        assert!(
-            before - slack <= exact && exact <= hit.t + slack,
-            "ray {i}: crossing {exact} not in [{before}, {}]",
-            hit.t
-        );
+        assert_first_sample_past(&seg, &hit, exact, i);
         let numbered = march::march_monotone(&ldi, &eye, &seg, 2, TOLERANCE);
         at_once += numbered.is_some_and(|h| h.t < exact * 0.5) as u32;
     }

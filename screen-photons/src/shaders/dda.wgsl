@@ -7,26 +7,32 @@
 @group(3) @binding(0) var<storage, read> photons: array<Photon>;
 @group(3) @binding(1) var<storage, read_write> hits: array<vec4f>;
 
-@compute @workgroup_size(64)
-fn dda_main(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
+const TEST_DDA: u32 = 0u;
+const TEST_LINES: u32 = 1u;
+
+// Marches photon i (if it still travels) with `test` and writes its hit.
+fn march_photon(i: u32, test: u32) {
     if (i >= arrayLength(&photons)) { return; }
     let p = photons[i];
     var h = no_hit();
     if (p.origin.w > 0.5) {
-        h = march_dda(LDI_SCENE, photon_segment(p), side_of(photon_is_inside(p)));
+        let s = photon_segment(p);
+        let side = side_of(photon_is_inside(p));
+        if (test == TEST_DDA) {
+            h = march_dda(LDI_SCENE, s, side);
+        } else {
+            h = march_tolerance(LDI_SCENE, s, side);
+        }
     }
     hits[i] = pack_hit(h);
 }
 
 @compute @workgroup_size(64)
+fn dda_main(@builtin(global_invocation_id) g: vec3u) {
+    march_photon(g.x, TEST_DDA);
+}
+
+@compute @workgroup_size(64)
 fn tolerance_main(@builtin(global_invocation_id) g: vec3u) {
-    let i = g.x;
-    if (i >= arrayLength(&photons)) { return; }
-    let p = photons[i];
-    var h = no_hit();
-    if (p.origin.w > 0.5) {
-        h = march_tolerance(LDI_SCENE, photon_segment(p), side_of(photon_is_inside(p)));
-    }
-    hits[i] = pack_hit(h);
+    march_photon(g.x, TEST_LINES);
 }
