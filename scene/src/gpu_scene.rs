@@ -167,11 +167,10 @@ pub struct GpuScene {
     light_buffer: wgpu::Buffer,
     info_buffer: Uniform<SceneInfoGpu>,
     raster_info_buffer: Uniform<SceneInfoGpu>,
-    shadow_face_views: Vec<wgpu::TextureView>,
+    /// The lights' shadow maps (every object a caster).
+    shadows: ShadowTextures,
     /// Per light: the fitted 2D shadow map's projection, for lights outside the scene.
     fitted: Vec<Option<FittedShadow>>,
-    fitted_views: Vec<wgpu::TextureView>,
-    shadow_depth_views: Vec<wgpu::TextureView>,
     raster_pipelines: Vec<(wgpu::TextureFormat, wgpu::RenderPipeline)>,
     shadow_pipeline: wgpu::RenderPipeline,
     time: Option<f32>,
@@ -179,8 +178,6 @@ pub struct GpuScene {
     /// Per object: its bounding sphere where the shadow maps last saw it (moving and deforming
     /// objects only; see [`GpuScene::set_time`]).
     shadow_spheres: Vec<Option<(Vec3, f32)>>,
-    /// The shadow cube maps (six layers per light).
-    shadow_maps: wgpu::Texture,
 }
 
 /// The camera bind groups of the views a scene was drawn from, by their contents: a view seen
@@ -311,60 +308,13 @@ impl GpuScene {
         let raster_info_buffer = Uniform::new(ctx, "scene info (specular as diffuse)", &info(1));
 
         let albedo_view = upload_textures(ctx, scene)?;
-        let shadow_layers = 6 * lights.len() as u32;
-        let shadow = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("shadow cube maps"),
-            size: wgpu::Extent3d {
-                width: shadow_size,
-                height: shadow_size,
-                depth_or_array_layers: shadow_layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let shadow_depth = gpu::depth_texture(ctx, shadow_size, shadow_size, 6, "shadow depth");
-        let shadow_face_views = (0..shadow_layers)
-            .map(|l| gpu::layer_view(&shadow, l))
-            .collect();
-        let shadow_depth_views = (0..6).map(|l| gpu::layer_view(&shadow_depth, l)).collect();
-        let shadow_cube_view = shadow.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::CubeArray),
-            ..Default::default()
-        });
-        // One 2D layer per light for lights outside the scene (1 texel when there are none).
-        let fitted_size = if fitted.iter().any(Option::is_some) {
-            shadow_size
-        } else {
-            1
-        };
-        let fitted_shadow = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("fitted shadow maps"),
-            size: wgpu::Extent3d {
-                width: fitted_size,
-                height: fitted_size,
-                depth_or_array_layers: lights.len() as u32,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let fitted_views = (0..lights.len() as u32)
-            .map(|l| gpu::layer_view(&fitted_shadow, l))
-            .collect();
-        let fitted_array_view = fitted_shadow.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-
+        let shadows = ShadowTextures::new(
+            ctx,
+            lights.len(),
+            fitted.iter().any(Option::is_some),
+            shadow_size,
+            "shadow maps",
+        );
         let camera_layout = camera_bind_group_layout(ctx);
         let scene_layout = scene_bind_group_layout(ctx);
         let samplers = &ctx.samplers;
@@ -378,10 +328,10 @@ impl GpuScene {
                     light_buffer.as_entire_binding(),
                     bind::view(&albedo_view),
                     bind::sampler_resource(&samplers.linear_repeat),
-                    bind::view(&shadow_cube_view),
+                    bind::view(&shadows.cube_view),
                     bind::sampler_resource(&samplers.nearest_clamp),
                     info.binding(),
-                    bind::view(&fitted_array_view),
+                    bind::view(&shadows.fitted_array_view),
                 ],
             )
         };
@@ -433,25 +383,30 @@ impl GpuScene {
             light_buffer,
             info_buffer,
             raster_info_buffer,
-            shadow_face_views,
-            shadow_depth_views,
+            shadows,
             fitted,
-            fitted_views,
             raster_pipelines,
             shadow_pipeline,
             time: None,
             cameras: Default::default(),
             shadow_spheres: vec![None; scene.objects.len()],
-            shadow_maps: shadow,
         })
     }
 
     /// The shadow cube maps' distances, layer by layer (six per light), read back: what a test
     /// compares.
     pub fn read_shadow_maps(&self, ctx: &Context) -> Result<Vec<Vec<u8>>, gpu::GpuError> {
-        (0..self.shadow_maps.depth_or_array_layers())
-            .map(|layer| gpu::read_texture_bytes(ctx, &self.shadow_maps, layer, 4))
+        let cubes = &self.shadows.cubes;
+        (0..cubes.depth_or_array_layers())
+            .map(|layer| gpu::read_texture_bytes(ctx, cubes, layer, 4))
             .collect()
+    }
+
+    /// The scene's own shadow maps (cube array, fitted 2D array): what `@group(1)` binds as
+    /// `shadow_maps` and `fitted_shadow_maps`, for a pass that reads them through
+    /// `light_visibility_in` beside other casters' maps ([`CasterShadowMaps`]).
+    pub fn shadow_views(&self) -> (&wgpu::TextureView, &wgpu::TextureView) {
+        (&self.shadows.cube_view, &self.shadows.fitted_array_view)
     }
 
     /// The scene bind group (`@group(1)`) for technique pipelines.
@@ -559,10 +514,22 @@ impl GpuScene {
     /// distances as before, so drawing it again would write what it holds. The fitted 2D map
     /// of a light outside the scene is one face, drawn again whenever anything moved.
     fn render_shadows(&self, frame: &mut Frame, moved: Option<&[(Vec3, f32)]>) {
+        self.render_shadow_faces(frame, &self.shadows, &ObjectFilter::All, moved);
+    }
+
+    /// Draws the casters `filter` selects into `maps` (laid out as the scene's own), every
+    /// face or those `moved` reaches (see [`Self::render_shadows`]).
+    fn render_shadow_faces(
+        &self,
+        frame: &mut Frame,
+        maps: &ShadowTextures,
+        filter: &ObjectFilter,
+        moved: Option<&[(Vec3, f32)]>,
+    ) {
         for (l, light) in self.scene.lights.iter().enumerate() {
             // A light outside the scene renders one 2D map fitted to it; others six cube faces.
             let faces: Vec<(usize, Mat4, &wgpu::TextureView)> = match &self.fitted[l] {
-                Some(f) => vec![(0, f.view_proj, &self.fitted_views[l])],
+                Some(f) => vec![(0, f.view_proj, &maps.fitted_views[l])],
                 None => (0..6)
                     .filter(|&face| {
                         moved.is_none_or(|spheres| {
@@ -578,7 +545,7 @@ impl GpuScene {
                             0.01,
                             2.0 * BACKGROUND_DISTANCE,
                         );
-                        (face, vp, &self.shadow_face_views[6 * l + face])
+                        (face, vp, &maps.face_views[6 * l + face])
                     })
                     .collect(),
             };
@@ -595,13 +562,13 @@ impl GpuScene {
                     frame.encoder,
                     "shadow face",
                     &[pass::color(view, Load::Clear(far))],
-                    Some(pass::depth(&self.shadow_depth_views[face], pass::CLEAR_FAR)),
+                    Some(pass::depth(&maps.depth_views[face], pass::CLEAR_FAR)),
                     writes,
                 );
                 pass.set_pipeline(&self.shadow_pipeline);
                 pass.set_bind_group(0, &camera, &[]);
                 pass.set_bind_group(1, &self.shadow_bind_group, &[]);
-                self.draw_objects(&mut pass, &ObjectFilter::All);
+                self.draw_objects(&mut pass, filter);
             }
         }
     }
@@ -1098,6 +1065,120 @@ fn upload_textures(ctx: &Context, scene: &Scene) -> Result<wgpu::TextureView, Sc
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     }))
+}
+
+/// Distance shadow maps for the scene's lights, laid out as the shared scene binds them: six
+/// cube-array layers per light (used by lights inside the scene) and one fitted 2D layer per
+/// light (lights outside it; 1 texel when no light is), `R32Float` distances from the light.
+struct ShadowTextures {
+    cubes: wgpu::Texture,
+    face_views: Vec<wgpu::TextureView>,
+    depth_views: Vec<wgpu::TextureView>,
+    cube_view: wgpu::TextureView,
+    fitted_views: Vec<wgpu::TextureView>,
+    fitted_array_view: wgpu::TextureView,
+}
+
+impl ShadowTextures {
+    fn new(ctx: &Context, lights: usize, any_fitted: bool, size: u32, label: &str) -> Self {
+        let device = &ctx.device;
+        let layers = 6 * lights.max(1) as u32;
+        let cubes = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let depth = gpu::depth_texture(ctx, size, size, 6, label);
+        let fitted_size = if any_fitted { size } else { 1 };
+        let fitted = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: fitted_size,
+                height: fitted_size,
+                depth_or_array_layers: lights.max(1) as u32,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        Self {
+            face_views: (0..layers).map(|l| gpu::layer_view(&cubes, l)).collect(),
+            depth_views: (0..6).map(|l| gpu::layer_view(&depth, l)).collect(),
+            cube_view: cubes.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::CubeArray),
+                ..Default::default()
+            }),
+            fitted_views: (0..lights.max(1) as u32)
+                .map(|l| gpu::layer_view(&fitted, l))
+                .collect(),
+            fitted_array_view: fitted.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            }),
+            cubes,
+        }
+    }
+}
+
+/// Shadow maps of a chosen set of casters, at the scene's shadow-map resolution and in its
+/// layout, for a technique that needs visibility other than the scene's: an engine's light,
+/// for one, that transparent surfaces do not shadow (`ObjectFilter::Except(glass)`). The
+/// technique draws them when it needs them ([`Self::render`], every face: its own time) and
+/// binds [`Self::cube_view`] and [`Self::fitted_view`] where `light_visibility_in` (scene.wgsl)
+/// reads them; the scene's own maps are [`GpuScene::shadow_views`].
+pub struct CasterShadowMaps {
+    maps: ShadowTextures,
+    filter: ObjectFilter,
+}
+
+impl CasterShadowMaps {
+    /// Maps for `scene`'s lights whose casters are the objects `filter` selects.
+    pub fn new(ctx: &Context, scene: &GpuScene, filter: ObjectFilter) -> Self {
+        let size = scene.shadows.cubes.width();
+        let any_fitted = scene.fitted.iter().any(Option::is_some);
+        let label = "caster shadow maps";
+        Self {
+            maps: ShadowTextures::new(ctx, scene.scene.lights.len(), any_fitted, size, label),
+            filter,
+        }
+    }
+
+    /// Draws every light's maps (all faces) with the scene at its current time.
+    pub fn render(&self, frame: &mut Frame, scene: &GpuScene) {
+        scene.render_shadow_faces(frame, &self.maps, &self.filter, None);
+    }
+
+    /// The cube maps' distances, layer by layer (six per light), read back (tests).
+    pub fn read(&self, ctx: &Context) -> Result<Vec<Vec<u8>>, gpu::GpuError> {
+        let cubes = &self.maps.cubes;
+        (0..cubes.depth_or_array_layers())
+            .map(|layer| gpu::read_texture_bytes(ctx, cubes, layer, 4))
+            .collect()
+    }
+
+    /// The cube maps, one cube per light (`texture_cube_array<f32>`).
+    pub fn cube_view(&self) -> &wgpu::TextureView {
+        &self.maps.cube_view
+    }
+
+    /// The fitted 2D maps, one layer per light (`texture_2d_array<f32>`).
+    pub fn fitted_view(&self) -> &wgpu::TextureView {
+        &self.maps.fitted_array_view
+    }
 }
 
 /// A 2D shadow map for a light outside the scene: a perspective view from the light that just

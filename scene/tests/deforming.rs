@@ -210,3 +210,48 @@ fn a_sphere_reaches_the_face_of_every_point_in_it() {
         .collect();
     assert_eq!(hits, vec![0]);
 }
+
+/// Shadow maps of chosen casters (`CasterShadowMaps`, what an engine's transparent surfaces
+/// that cast no shadow need): with every object a caster they hold the scene's own maps
+/// texel for texel; without the sphere of cornell-sphere no texel is nearer than the scene's
+/// (taking casters away can only open the view) and the sphere's texels are farther.
+#[test]
+fn caster_shadow_maps_hold_the_chosen_casters() {
+    let ctx = testkit::context();
+    let scene = scene::load("cornell-sphere").unwrap();
+    let sphere = (scene.objects.iter())
+        .position(|o| o.material.is_specular())
+        .expect("cornell-sphere has its sphere");
+    let mut gpu_scene = GpuScene::new(ctx, &scene).unwrap();
+    let mut timer = gpu::GpuTimer::new(ctx, 8);
+    let _lock = testkit::gpu_lock();
+    scene::runner::update_scene(ctx, &mut timer, &mut gpu_scene, 0.0).unwrap();
+    let own = gpu_scene.read_shadow_maps(ctx).unwrap();
+    let mut drawn = |filter| {
+        let maps = scene::CasterShadowMaps::new(ctx, &gpu_scene, filter);
+        scene::runner::record(ctx, &mut timer, "casters", |frame| {
+            maps.render(frame, &gpu_scene);
+            Ok(())
+        })
+        .unwrap();
+        maps.read(ctx).unwrap()
+    };
+    assert_eq!(drawn(scene::ObjectFilter::All), own);
+    let floats = |bytes: &[u8]| bytemuck::cast_slice::<u8, f32>(bytes).to_vec();
+    let (mut farther, mut nearer) = (0usize, 0usize);
+    for (a, b) in drawn(scene::ObjectFilter::Except(vec![sphere]))
+        .iter()
+        .zip(&own)
+    {
+        for (without, with) in floats(a).into_iter().zip(floats(b)) {
+            farther += (without > with * 1.001) as usize;
+            nearer += (without < with * 0.999) as usize;
+        }
+    }
+    println!("texels farther without the sphere: {farther}; nearer: {nearer}");
+    assert_eq!(nearer, 0);
+    assert!(
+        farther > 1000,
+        "the sphere's shadow is gone: {farther} texels"
+    );
+}

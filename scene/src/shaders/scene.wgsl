@@ -131,20 +131,32 @@ fn surface_albedo(object: u32, uv: vec2f) -> vec3f {
 // almost all its texels on empty space). p is lit when it is not farther than the stored
 // distance, with a bias of the texel's footprint at that distance, grown with the slope.
 fn light_visibility(i: u32, p: vec3f, n: vec3f) -> f32 {
+    return light_visibility_in(shadow_maps, fitted_shadow_maps, i, p, n);
+}
+
+// light_visibility against other maps of the same layout: those of a chosen set of casters
+// (scene::CasterShadowMaps), or the scene's own.
+fn light_visibility_in(
+    cube_maps: texture_cube_array<f32>,
+    fitted_maps: texture_2d_array<f32>,
+    i: u32,
+    p: vec3f,
+    n: vec3f,
+) -> f32 {
     let light = lights[i];
     let to_p = p - light.position.xyz;
     let d = length(to_p);
     var stored: f32;
     var texel_angle: f32;
     if (light.position.w < 0.5) {
-        stored = textureSampleLevel(shadow_maps, shadow_sampler, to_p, i32(i), 0.0).r;
+        stored = textureSampleLevel(cube_maps, shadow_sampler, to_p, i32(i), 0.0).r;
         texel_angle = 2.0 / scene_info.shadow_size;
     } else {
         let clip = light.shadow_view_proj * vec4f(p, 1.0);
         let ndc = clip.xy / clip.w;
         if (clip.w <= 0.0 || any(abs(ndc) > vec2f(1.0))) { return 1.0; }
         let uv = vec2f(0.5 * ndc.x + 0.5, 0.5 - 0.5 * ndc.y);
-        stored = textureSampleLevel(fitted_shadow_maps, shadow_sampler, uv, i32(i), 0.0).r;
+        stored = textureSampleLevel(fitted_maps, shadow_sampler, uv, i32(i), 0.0).r;
         texel_angle = 2.0 * light.shadow_params.x / scene_info.shadow_size;
     }
     let cos_l = clamp(dot(n, -to_p / d), 0.05, 1.0);
