@@ -37,8 +37,8 @@ use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
 use scene::{
-    DepthPeeler, Frame, GpuScene, ObjectFilter, Param, RasterTarget, SCENE_WGSL, Scene, Technique,
-    TechniqueError, TechniqueResult, View,
+    CasterShadowMaps, DepthPeeler, Frame, GpuScene, ObjectFilter, Param, RasterTarget, SCENE_WGSL,
+    Scene, Technique, TechniqueError, TechniqueResult, View,
 };
 
 /// The LDI functions (the twin of [`crate::march`]).
@@ -121,9 +121,25 @@ pub enum Refraction {
 pub enum Shafts {
     /// The paper's: photon beams drawn as lines (bands), blurred, blended.
     GodRays,
-    /// Froxel volumetric fog lit by the shadow maps and a caustic map (Wronski 2014,
-    /// Hillaire 2015).
+    /// The engine baseline: froxel volumetric fog lit by shadow maps in which transparent
+    /// surfaces cast no shadow, sampled with temporal jitter and reprojected history
+    /// (Wronski 2014, Hillaire 2015). No photon reaches it.
     Froxels,
+    /// A hybrid of ours, not an engine's: the froxels lit by the scene's shadow maps and by a
+    /// caustic map of where this technique's photons end.
+    FroxelsWithPhotons,
+}
+
+impl Shafts {
+    /// Whether the froxel grid draws the shafts.
+    pub fn froxels(self) -> bool {
+        matches!(self, Shafts::Froxels | Shafts::FroxelsWithPhotons)
+    }
+
+    /// Whether the shafts are drawn from the photons' beams (the march keeps them).
+    pub fn from_photons(self) -> bool {
+        matches!(self, Shafts::GodRays | Shafts::FroxelsWithPhotons)
+    }
 }
 
 /// The parameters of a variant (all declared, all sweepable).
@@ -154,8 +170,11 @@ pub struct Settings {
     pub froxel_size: u32,
     /// Depth slices of the froxel grid.
     pub slices: u32,
-    /// Side of the froxels' caustic map (texels).
+    /// Side of the hybrid froxels' caustic map (texels).
     pub caustic_map: u32,
+    /// Froxels: weight of this frame's jittered sample against the reprojected history
+    /// (Hillaire's exponential moving average); 1 keeps no history and does not jitter.
+    pub temporal_blend: f32,
 }
 
 impl Default for Settings {
@@ -173,6 +192,7 @@ impl Default for Settings {
             froxel_size: 8,
             slices: 64,
             caustic_map: 128,
+            temporal_blend: 0.1,
         }
     }
 }
@@ -264,7 +284,15 @@ impl Settings {
                 self.caustic_map as f64,
                 (8.0, 2048.0),
                 true,
-                "froxel fog: side of the caustic map (texels)",
+                "froxel-fog-photons: side of the caustic map (texels)",
+            ),
+            Param::new(
+                "temporal_blend",
+                self.temporal_blend as f64,
+                (0.01, 1.0),
+                false,
+                "froxel fog: weight of the frame's jittered sample against the reprojected \
+                 history (1: no history, no jitter)",
             ),
         ]
     }
@@ -283,6 +311,7 @@ impl Settings {
             "froxel_size" => self.froxel_size = value as u32,
             "slices" => self.slices = value as u32,
             "caustic_map" => self.caustic_map = value as u32,
+            "temporal_blend" => self.temporal_blend = value as f32,
             _ => unreachable!("checked against params()"),
         }
     }
@@ -303,7 +332,8 @@ pub struct Variant {
 /// The variants: `lines`, `dda`, `sprites`, `shader` (caustics; the specular surfaces traced by
 /// the DDA), `refraction` and `refraction-dda` (refraction tracing alone), `shadows` (screen-space
 /// shadow rays instead of shadow maps, no caustics), `god-rays` and `froxel-fog` (the `dda`
-/// caustics plus light shafts, the paper's and the engines').
+/// caustics plus light shafts, the paper's and the engines'), `froxel-fog-photons` (the
+/// froxels fed the photons too: a hybrid of ours, not representative).
 pub fn variants() -> Vec<Variant> {
     use March::*;
     // The caustic variants trace the specular surfaces with the DDA: the paper's tolerance
@@ -348,6 +378,7 @@ pub fn variants() -> Vec<Variant> {
         },
         shafts("god-rays", Shafts::GodRays),
         shafts("froxel-fog", Shafts::Froxels),
+        shafts("froxel-fog-photons", Shafts::FroxelsWithPhotons),
     ]
 }
 
@@ -440,6 +471,7 @@ impl Technique for ScreenPhotons {
     /// hits): it is there for the speed comparison of the two, not for the default table.
     fn representative(&self) -> bool {
         !matches!(self.variant.caustics, Some((March::Shader, _)))
+            && self.variant.shafts != Some(Shafts::FroxelsWithPhotons)
     }
 
     fn description(&self) -> String {
@@ -463,9 +495,16 @@ impl Technique for ScreenPhotons {
             }
             Some(Shafts::Froxels) => {
                 return format!(
-                    "engine baseline: froxel volumetric fog lit by the shadow maps and a caustic \
-                     map of where the photons end, integrated front to back (Wronski 2014, \
-                     Hillaire 2015); caustics as `dda`; {refraction}"
+                    "engine baseline: froxel volumetric fog lit by shadow maps in which \
+                     transparent surfaces cast no shadow, jittered and reprojected frame to \
+                     frame, integrated front to back (Wronski 2014, Hillaire 2015), no photons \
+                     in the fog; caustics on surfaces as `dda`; {refraction}"
+                );
+            }
+            Some(Shafts::FroxelsWithPhotons) => {
+                return format!(
+                    "hybrid (ours): the froxel fog lit by the scene's shadow maps and a caustic \
+                     map of where the DDA's photons end; caustics as `dda`; {refraction}"
                 );
             }
             None => {}
@@ -597,13 +636,78 @@ struct MediaTargets {
     inscatter: wgpu::TextureView,
     /// The blur's intermediate (god rays).
     blurred: wgpu::TextureView,
-    /// `photons * rounds` beams (god rays, froxels), or one unused beam.
+    /// `photons * rounds` beams (god rays, the hybrid froxels), or one unused beam.
     beams: wgpu::Buffer,
-    /// Froxels: the in-scattering grid and its integral, and the caustic map (flux,
+    /// Froxels: the in-scattering grid of even frames, its integral, the grid of odd frames
+    /// (each frame's history is the other's grid), and the hybrid's caustic map (flux,
     /// direction); 1-texel stand-ins for the other variants.
-    froxels: [wgpu::TextureView; 2],
+    froxels: [wgpu::TextureView; 3],
     froxel_grid: [u32; 3],
     caustic_maps: [wgpu::TextureView; 2],
+    /// Froxels: frames drawn so far (the jitter sequence and the grids' parity) and the last
+    /// frame's view, which its grid is reprojected from (`None` before the first frame).
+    froxel_history: std::cell::Cell<(u32, Option<FroxelView>)>,
+}
+
+/// The view a froxel grid was drawn from: what reprojecting it needs.
+#[derive(Clone, Copy, Debug)]
+struct FroxelView {
+    view_proj: Mat4,
+    eye: glam::Vec3,
+    /// The slices' near and far distances.
+    near: f32,
+    far: f32,
+}
+
+/// A froxel frame's temporal terms: where in its froxel each sample is taken, how much of it
+/// enters the running mean, and the view the history was drawn from.
+#[derive(Clone, Copy, Debug)]
+struct FroxelTemporal {
+    /// Position of the sample in its froxel: across, down, in depth (0.5: the centre).
+    jitter: glam::Vec3,
+    /// Weight of this frame's sample (1: the history is not read).
+    blend: f32,
+    previous: Option<FroxelView>,
+}
+
+impl FroxelTemporal {
+    /// The centre, no history (a pass that does not light the grid).
+    const NONE: Self = Self {
+        jitter: glam::Vec3::splat(0.5),
+        blend: 1.0,
+        previous: None,
+    };
+
+    /// Frame `index`'s terms (frames counted from the first of this grid): with a history
+    /// (`blend` < 1), the sample moves through its froxel along the Halton (3, 5, 2)
+    /// sequence, Wronski's and Hillaire's jitter, and the grid is the running mean of what
+    /// each froxel saw, which tends to its average over the froxel: the plain mean of the
+    /// frames so far while they are fewer than `1 / blend`, an exponential moving average of
+    /// weight `blend` after (a young history is not weighted as a full one); without, the
+    /// centre every frame.
+    fn of_frame(index: u32, previous: Option<FroxelView>, blend: f32) -> Self {
+        if blend >= 1.0 {
+            return Self::NONE;
+        }
+        // Index 0 of the sequence is 0: start at 1 so that no frame samples a corner.
+        let i = index + 1;
+        Self {
+            jitter: glam::Vec3::new(halton(i, 3), halton(i, 5), halton(i, 2)),
+            blend: blend.max(1.0 / i as f32),
+            previous,
+        }
+    }
+}
+
+/// Element `index` of the Halton sequence of `base` (the radical inverse), in [0, 1).
+fn halton(mut index: u32, base: u32) -> f32 {
+    let (mut result, mut fraction) = (0.0, 1.0 / base as f32);
+    while index > 0 {
+        result += (index % base) as f32 * fraction;
+        index /= base;
+        fraction /= base as f32;
+    }
+    result
 }
 
 struct PhotonBuffers {
@@ -639,12 +743,14 @@ impl Sized {
         let mut bytes = ldis + pixels * 16 * (1 + shadows) + photons * per_photon + rows;
         if medium {
             bytes += 2 * pixels * 16;
-            if variant.shafts.is_some() {
+            if variant.shafts.is_some_and(Shafts::from_photons) {
                 bytes += photons * (settings.bounces as u64 + 1) * 48;
             }
-            if variant.shafts == Some(Shafts::Froxels) {
+            if variant.shafts.is_some_and(Shafts::froxels) {
                 let [x, y, z] = froxel_grid(settings, (width, height));
-                bytes += 2 * (x * y * z) as u64 * 16;
+                bytes += 3 * (x * y * z) as u64 * 16;
+            }
+            if variant.shafts == Some(Shafts::FroxelsWithPhotons) {
                 bytes += 2 * (settings.caustic_map as u64).pow(2) * 16;
             }
         }
@@ -726,7 +832,7 @@ impl Sized {
                 .create_view(&Default::default())
         };
         let beam_bytes = count as u64 * (settings.bounces as u64 + 1) * 48;
-        if medium && variant.shafts.is_some() && beam_bytes > max_binding {
+        if medium && variant.shafts.is_some_and(Shafts::from_photons) && beam_bytes > max_binding {
             return Err(TechniqueError::OverBudget(format!(
                 "the photon beams of {}^2 photons and {} bounces ({} MB) are larger than the \
                  adapter's largest storage binding ({} MB): lower `photons` or `bounces`",
@@ -801,12 +907,12 @@ impl MediaTargets {
             )
             .create_view(&Default::default())
         };
-        let beams = if variant.shafts.is_some() {
+        let beams = if variant.shafts.is_some_and(Shafts::from_photons) {
             photons as u64 * (settings.bounces as u64 + 1)
         } else {
             1
         };
-        let froxels = variant.shafts == Some(Shafts::Froxels);
+        let froxels = variant.shafts.is_some_and(Shafts::froxels);
         let grid = if froxels {
             froxel_grid(settings, (width, height))
         } else {
@@ -831,7 +937,11 @@ impl MediaTargets {
                 })
                 .create_view(&Default::default())
         };
-        let map = if froxels { settings.caustic_map } else { 1 };
+        let map = if variant.shafts == Some(Shafts::FroxelsWithPhotons) {
+            settings.caustic_map
+        } else {
+            1
+        };
         Self {
             inscatter: texture("in-scattering", (width, height)),
             blurred: texture("in-scattering blur", (width, height)),
@@ -841,8 +951,13 @@ impl MediaTargets {
                 usage: wgpu::BufferUsages::STORAGE,
                 mapped_at_creation: false,
             }),
-            froxels: [volume("froxel scattering"), volume("froxel integral")],
+            froxels: [
+                volume("froxel scattering (even frames)"),
+                volume("froxel integral"),
+                volume("froxel scattering (odd frames)"),
+            ],
             froxel_grid: grid,
+            froxel_history: Default::default(),
             caustic_maps: [
                 texture("caustic map flux", (map, map)),
                 texture("caustic map direction", (map, map)),
@@ -922,6 +1037,10 @@ struct FroxelParamsGpu {
     axis: [f32; 4],
     grid: [u32; 4],
     slices: [f32; 4],
+    prev_view_proj: [[f32; 4]; 4],
+    prev_eye: [f32; 4],
+    prev_slices: [f32; 4],
+    temporal: [f32; 4],
 }
 
 #[repr(C)]
@@ -1060,10 +1179,18 @@ struct MediumPasses {
     froxel_scatter: wgpu::ComputePipeline,
     froxel_integrate: wgpu::ComputePipeline,
     froxel_lookup: wgpu::RenderPipeline,
+    /// The engine froxels' light visibility: shadow maps in which transparent surfaces (glass,
+    /// water) cast no shadow, as engines draw them (`froxel-fog` only).
+    engine_shadows: Option<CasterShadowMaps>,
 }
 
 impl MediumPasses {
-    fn new(ctx: &Context, scene: &GpuScene, ldi_layout: &wgpu::BindGroupLayout) -> Self {
+    fn new(
+        ctx: &Context,
+        scene: &GpuScene,
+        ldi_layout: &wgpu::BindGroupLayout,
+        variant: &Variant,
+    ) -> Self {
         use wgpu::ShaderStages as S;
         let map = bind::texture_2d_unfilterable();
         let shafts_layout = bind::layout(
@@ -1091,8 +1218,23 @@ impl MediumPasses {
                         view_dimension: wgpu::TextureViewDimension::D3,
                     },
                 ),
+                (all, bind::texture(wgpu::TextureViewDimension::D3, false)),
+                (
+                    all,
+                    bind::texture(wgpu::TextureViewDimension::CubeArray, false),
+                ),
+                (
+                    all,
+                    bind::texture(wgpu::TextureViewDimension::D2Array, false),
+                ),
             ],
         );
+        let transparent: Vec<usize> = (scene.scene.objects.iter().enumerate())
+            .filter(|(_, o)| matches!(o.material, scene::Material::Glass { .. }))
+            .map(|(i, _)| i)
+            .collect();
+        let engine_shadows = (variant.shafts == Some(Shafts::Froxels))
+            .then(|| CasterShadowMaps::new(ctx, scene, ObjectFilter::Except(transparent)));
         let with =
             |own: &wgpu::BindGroupLayout| scene.pipeline_layout_with(ctx, &[ldi_layout, own]);
         let fullscreen = gpu::fullscreen::FULLSCREEN_VS_WGSL;
@@ -1179,6 +1321,7 @@ impl MediumPasses {
             shafts_layout,
             composite_layout,
             froxel_layout,
+            engine_shadows,
         }
     }
 }
@@ -1278,14 +1421,16 @@ impl MediumPasses {
         }
     }
 
-    /// The froxels' uniform: the caustic map's light view (the first light's view of the
-    /// casters, as its transfer map), the grid and its slices.
+    /// The froxels' uniform: the hybrid's caustic map's light view (the first light's view of
+    /// the casters, as its transfer map), the grid and its slices, and the temporal terms:
+    /// this frame's jitter, the history's weight and the last frame's view (`previous`).
     fn froxel_params(
         &self,
         targets: &MediaTargets,
         scene: &GpuScene,
         view: &View,
         settings: &Settings,
+        temporal: FroxelTemporal,
     ) -> TechniqueResult<FroxelParamsGpu> {
         let medium = scene
             .scene
@@ -1293,8 +1438,9 @@ impl MediumPasses {
             .as_ref()
             .expect("a medium: checked by the caller");
         let slices = crate::shafts::Slices::of_medium(medium, view.camera.eye, settings.slices);
+        let photons = self.engine_shadows.is_none();
         let (light_view_proj, light, axis) = match scene.scene.lights.first() {
-            Some(light) => {
+            Some(light) if photons => {
                 let (centre, radius) = light_outside_casters(&scene.scene, light, scene.time())?;
                 let lv = scene::lightmap::LightView::of_sphere(
                     light.position,
@@ -1308,9 +1454,10 @@ impl MediumPasses {
                     lv.axis.extend(1.0),
                 )
             }
-            None => (Mat4::IDENTITY, glam::Vec4::ZERO, glam::Vec4::ZERO),
+            _ => (Mat4::IDENTITY, glam::Vec4::ZERO, glam::Vec4::ZERO),
         };
         let [x, y, z] = targets.froxel_grid;
+        let previous = temporal.previous;
         Ok(FroxelParamsGpu {
             light_view_proj: light_view_proj.to_cols_array_2d(),
             light: light.to_array(),
@@ -1322,17 +1469,37 @@ impl MediumPasses {
                 view.width as f32,
                 view.height as f32,
             ],
+            prev_view_proj: previous
+                .map_or(Mat4::IDENTITY, |p| p.view_proj)
+                .to_cols_array_2d(),
+            prev_eye: previous
+                .map_or(glam::Vec4::ZERO, |p| p.eye.extend(1.0))
+                .to_array(),
+            prev_slices: previous.map_or([0.0; 4], |p| [p.near, p.far, 0.0, 0.0]),
+            temporal: [
+                temporal.jitter.x,
+                temporal.jitter.y,
+                temporal.jitter.z,
+                temporal.blend,
+            ],
         })
     }
 
+    /// The froxels' bind group: `(read, write, history)` index [`MediaTargets::froxels`].
     fn froxel_group(
         &self,
         ctx: &Context,
         params: &Uniform<FroxelParamsGpu>,
         targets: &MediaTargets,
+        scene: &GpuScene,
         maps: [&wgpu::TextureView; 2],
-        (read, write): (usize, usize),
+        (read, write, history): (usize, usize, usize),
     ) -> wgpu::BindGroup {
+        // The engine's maps (transparent surfaces cast no shadow), else the scene's own.
+        let (cubes, fitted) = match &self.engine_shadows {
+            Some(maps) => (maps.cube_view(), maps.fitted_view()),
+            None => scene.shadow_views(),
+        };
         bind::group(
             ctx,
             "froxels",
@@ -1344,6 +1511,9 @@ impl MediumPasses {
                 bind::view(maps[1]),
                 bind::view(&targets.froxels[read]),
                 bind::view(&targets.froxels[write]),
+                bind::view(&targets.froxels[history]),
+                bind::view(cubes),
+                bind::view(fitted),
             ],
         )
     }
@@ -1368,14 +1538,15 @@ impl MediumPasses {
         let params = Uniform::new(
             ctx,
             "froxel params",
-            &self.froxel_params(targets, scene, &view, settings)?,
+            &self.froxel_params(targets, scene, &view, settings, FroxelTemporal::NONE)?,
         );
         let group = self.froxel_group(
             ctx,
             &params,
             targets,
+            scene,
             [&targets.inscatter, &targets.blurred],
-            (1, 0),
+            (1, 0, 2),
         );
         let mut pass = pass::begin(
             frame.encoder,
@@ -1393,7 +1564,8 @@ impl MediumPasses {
         Ok(())
     }
 
-    /// Froxels: light the grid, integrate it front to back, look it up per pixel into the
+    /// Froxels: light the grid (the engine's visibility drawn first), blend it with the last
+    /// frame's grid reprojected, integrate it front to back, look it up per pixel into the
     /// in-scattering buffer.
     fn froxels(
         &self,
@@ -1405,23 +1577,45 @@ impl MediumPasses {
         settings: &Settings,
     ) -> TechniqueResult<()> {
         let ctx = frame.gpu;
-        let params = self.froxel_params(targets, scene, view, settings)?;
+        if let Some(maps) = &self.engine_shadows {
+            maps.render(frame, scene);
+        }
+        let (index, previous) = targets.froxel_history.get();
+        let temporal = FroxelTemporal::of_frame(index, previous, settings.temporal_blend);
+        let params = self.froxel_params(targets, scene, view, settings, temporal)?;
+        let medium = scene
+            .scene
+            .medium
+            .as_ref()
+            .expect("checked by froxel_params");
+        let slices = crate::shafts::Slices::of_medium(medium, view.camera.eye, settings.slices);
+        targets.froxel_history.set((
+            index + 1,
+            Some(FroxelView {
+                view_proj: view.camera.view_proj(view.width, view.height),
+                eye: view.camera.eye,
+                near: slices.near,
+                far: slices.far,
+            }),
+        ));
         let params = Uniform::new(ctx, "froxel params", &params);
         let maps = [&targets.caustic_maps[0], &targets.caustic_maps[1]];
+        // This frame's grid and the last frame's (its history) alternate between 0 and 2.
+        let (grid, history) = if index % 2 == 0 { (0, 2) } else { (2, 0) };
         let [x, y, z] = targets.froxel_grid;
-        for (pipeline, (read, write), workgroups) in [
+        for (pipeline, bindings, workgroups) in [
             (
                 &self.froxel_scatter,
-                (1, 0),
+                (1, grid, history),
                 [x.div_ceil(4), y.div_ceil(4), z.div_ceil(4)],
             ),
             (
                 &self.froxel_integrate,
-                (0, 1),
+                (grid, 1, history),
                 [x.div_ceil(8), y.div_ceil(8), 1],
             ),
         ] {
-            let group = self.froxel_group(ctx, &params, targets, maps, (read, write));
+            let group = self.froxel_group(ctx, &params, targets, scene, maps, bindings);
             let mut pass = frame
                 .encoder
                 .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
@@ -1432,7 +1626,7 @@ impl MediumPasses {
             pass.set_bind_group(3, &group, &[]);
             pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
         }
-        let group = self.froxel_group(ctx, &params, targets, maps, (1, 0));
+        let group = self.froxel_group(ctx, &params, targets, scene, maps, (1, grid, history));
         let mut pass = pass::begin(
             frame.encoder,
             "froxel lookup",
@@ -1654,7 +1848,7 @@ impl Passes {
                 .scene
                 .medium
                 .is_some()
-                .then(|| MediumPasses::new(ctx, scene, &ldi_layout)),
+                .then(|| MediumPasses::new(ctx, scene, &ldi_layout, variant)),
             shadow_mask: shadows.then(|| {
                 compute_pipeline(
                     ctx,
@@ -1846,7 +2040,7 @@ impl Passes {
                 None,
             );
         }
-        let keep_beams = media.is_some() && variant.shafts.is_some();
+        let keep_beams = media.is_some() && variant.shafts.is_some_and(Shafts::from_photons);
         if let Some((march, splat)) = variant.caustics {
             pass::begin(
                 frame.encoder,
@@ -1911,7 +2105,7 @@ impl Passes {
                         Some(Shafts::GodRays) => {
                             passes.draw_bands(frame, &groups, targets, view, settings)
                         }
-                        Some(Shafts::Froxels) if light_index == 0 => {
+                        Some(Shafts::FroxelsWithPhotons) if light_index == 0 => {
                             passes.draw_caustic_map(frame, &groups, targets, scene, settings)?
                         }
                         _ => {}
@@ -1975,7 +2169,7 @@ impl Passes {
             frame.timer.begin(frame.encoder, "shafts");
             match variant.shafts {
                 Some(Shafts::GodRays) => passes.blur(frame, &groups, targets, view, settings),
-                Some(Shafts::Froxels) => {
+                Some(Shafts::Froxels | Shafts::FroxelsWithPhotons) => {
                     passes.froxels(frame, &groups, targets, scene, view, settings)?
                 }
                 None => {}

@@ -1,9 +1,12 @@
 // ---------------------------------------------------------------------------------------------
 // Froxel volumetric fog (Wronski 2014, Hillaire 2015), the engine counterpart of god rays: a
-// grid of `froxel_size`-pixel tiles by exponential depth slices. Light reaches a froxel
-// straight from the lights (the scene's shadow maps) or through the specular surfaces, read
-// from a caustic map: where the photons landed, seen from the first light (flux and mean
-// direction per texel), what an engine projects from the light as a caustics texture. The
+// grid of `froxel_size`-pixel tiles by exponential depth slices. In the engine baseline
+// (`froxel-fog`) light reaches a froxel straight from the lights through shadow maps in which
+// transparent surfaces cast no shadow, as engines draw them; each frame samples every froxel
+// at a jittered point (Halton) and blends it with the last frame's grid reprojected to it
+// (an exponential moving average). The hybrid (`froxel-fog-photons`) uses the scene's
+// shadow maps and adds the light through the specular surfaces from a caustic map: where
+// the photons landed, seen from the first light (flux and mean direction per texel). The
 // grid is integrated front to back per tile and looked up per pixel at its surface's
 // distance. `src/shafts.rs` (`Slices`, `integrate_tile`) is the CPU model of the slicing and
 // the integration, unit-tested there; this pass is checked as a whole by the shafts' energy
@@ -21,6 +24,14 @@ struct FroxelParams {
     grid: vec4u,
     // near, far of the slices; image width, height.
     slices: vec4f,
+    // The last frame's view (world to clip), eye (w: 1 when there is a last frame) and
+    // slices (near, far): where this frame's froxels were in its grid.
+    prev_view_proj: mat4x4f,
+    prev_eye: vec4f,
+    prev_slices: vec4f,
+    // xyz: the sample's position in its froxel (across, down, depth; 0.5 the centre);
+    // w: its weight against the history (1: no history).
+    temporal: vec4f,
 };
 
 @group(3) @binding(0) var<uniform> fog: FroxelParams;
@@ -29,6 +40,11 @@ struct FroxelParams {
 @group(3) @binding(3) var caustic_dir: texture_2d<f32>;
 @group(3) @binding(4) var froxels_in: texture_3d<f32>;
 @group(3) @binding(5) var froxels_out: texture_storage_3d<rgba32float, write>;
+// The last frame's in-scattering grid.
+@group(3) @binding(6) var froxels_history: texture_3d<f32>;
+// The lights' visibility: the engine's shadow maps, or the scene's own (the hybrid).
+@group(3) @binding(7) var fog_cube_shadows: texture_cube_array<f32>;
+@group(3) @binding(8) var fog_fitted_shadows: texture_2d_array<f32>;
 
 fn slice_boundary(k: f32) -> f32 {
     return fog.slices.x * pow(fog.slices.y / fog.slices.x, k / f32(fog.grid.z));
@@ -117,7 +133,7 @@ fn froxel_inscatter(p: vec3f, view: vec3f) -> vec3f {
         let to_l = lights[i].position.xyz - p;
         let d = length(to_l);
         let l = to_l / d;
-        let v = light_visibility(i, p, l);
+        let v = light_visibility_in(fog_cube_shadows, fog_fitted_shadows, i, p, l);
         if (v <= 0.0) { continue; }
         sum += lights[i].intensity.rgb / (d * d) * v * henyey_greenstein(dot(-l, -view), g)
             * medium_transmittance(m, p, l, d);
@@ -149,17 +165,53 @@ fn froxel_inscatter(p: vec3f, view: vec3f) -> vec3f {
 @compute @workgroup_size(4, 4, 4)
 fn froxel_scatter_main(@builtin(global_invocation_id) g: vec3u) {
     if (any(g >= fog.grid.xyz)) { return; }
-    let dir = tile_ray(g.xy);
-    // The centre of the slice's part inside the medium (the integration credits that part
-    // alone), else of the slice.
+    let jitter = fog.temporal.xyz;
+    let size = fog.slices.zw;
+    let dir = view_ray(min((vec2f(g.xy) + jitter.xy) * f32(fog.grid.w), size - 0.5));
+    // A point of the slice's part inside the medium (the integration credits that part
+    // alone), else of the slice: its centre, or the jittered point of this frame.
     let whole = medium_clip(scene_medium(), ldi.eye.xyz, dir, 1e30);
     let d0 = slice_boundary(f32(g.z));
     let d1 = slice_boundary(f32(g.z) + 1.0);
     let a = max(d0, whole.x);
     let b = min(d1, whole.y);
-    let d = select(0.5 * (d0 + d1), 0.5 * (a + b), b > a);
-    let p = ldi.eye.xyz + dir * d;
-    textureStore(froxels_out, g, vec4f(froxel_inscatter(p, dir), 1.0));
+    let inside = b > a;
+    let d = mix(select(d0, a, inside), select(d1, b, inside), jitter.z);
+    var s = froxel_inscatter(ldi.eye.xyz + dir * d, dir);
+    let blend = fog.temporal.w;
+    if (blend < 1.0 && fog.prev_eye.w > 0.5) {
+        let centre = ldi.eye.xyz + tile_ray(g.xy) * 0.5 * (d0 + d1);
+        let h = history_at(centre);
+        if (h.w > 0.0) {
+            s = mix(h.rgb, s, blend);
+        }
+    }
+    textureStore(froxels_out, g, vec4f(s, 1.0));
+}
+
+// The last frame's grid at world point p (trilinear; w = 0 where p was outside it).
+fn history_at(p: vec3f) -> vec4f {
+    let c = fog.prev_view_proj * vec4f(p, 1.0);
+    if (c.w <= 0.0) { return vec4f(0.0); }
+    let pixel = vec2f(0.5 + 0.5 * c.x / c.w, 0.5 - 0.5 * c.y / c.w) * fog.slices.zw;
+    let near = fog.prev_slices.x;
+    let far = fog.prev_slices.y;
+    let d = distance(p, fog.prev_eye.xyz);
+    let k = log(max(d, near) / near) / log(far / near) * f32(fog.grid.z);
+    // Froxel coordinates with cell centres at integers.
+    let q = vec3f(pixel / f32(fog.grid.w), k) - 0.5;
+    let top = vec3f(fog.grid.xyz) - 0.5;
+    if (any(q < vec3f(-0.5)) || any(q > top) || d < near) { return vec4f(0.0); }
+    let i = floor(q);
+    let f = q - i;
+    var sum = vec3f(0.0);
+    for (var corner = 0u; corner < 8u; corner++) {
+        let o = vec3f(f32(corner & 1u), f32((corner >> 1u) & 1u), f32(corner >> 2u));
+        let t = clamp(vec3i(i + o), vec3i(0), vec3i(fog.grid.xyz) - 1);
+        let w = mix(1.0 - f, f, o);
+        sum += w.x * w.y * w.z * textureLoad(froxels_history, vec3u(t), 0).rgb;
+    }
+    return vec4f(sum, 1.0);
 }
 
 // Front to back over one tile's slices: slice k stores what is scattered toward the eye from
