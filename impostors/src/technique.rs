@@ -74,8 +74,9 @@ pub enum Probe {
     /// At the object's centre, re-captured as the object moves (`regen_threshold`): the
     /// impostor's own map, so that only the lookup differs from `Hit()`.
     ObjectCentre,
-    /// At the centre of the proxy box (the room), captured once in the first frame and never
-    /// again, as an engine bakes its reflection probes; the object is left out of its own map.
+    /// Where an artist puts the probe (`scene::probe_centre`: the centre of the specular
+    /// objects' bounds, inside the room), captured once in the first frame and never again,
+    /// as an engine bakes its reflection probes; the object is left out of its own map.
     RoomCentre,
 }
 
@@ -202,7 +203,7 @@ impl Impostor {
         ))
     }
 
-    /// The map is captured once at the room's centre (no regeneration parameter).
+    /// The map is captured once where the probe stands (no regeneration parameter).
     fn room_probe(&self) -> bool {
         self.settings.lookup == Lookup::BoxProjected && self.settings.probe == Probe::RoomCentre
     }
@@ -268,9 +269,9 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
     )));
     v.push(Box::new(Impostor::new(
         "impostors/box-projected",
-        "engine baseline as shipped: a reflection probe at the room's centre, captured once, \
-         looked up by parallax correction against the room's bounds (Lagarde and Zanuttini \
-         2012); one interface like the localized variants",
+        "engine baseline as shipped: a reflection probe among the specular objects, captured \
+         once, looked up by parallax correction against the room's bounds (Lagarde and \
+         Zanuttini 2012); one interface like the localized variants",
         Settings {
             lookup: Lookup::BoxProjected,
             probe: Probe::RoomCentre,
@@ -612,7 +613,7 @@ impl Technique for Impostor {
                 regenerations: 0,
             });
         }
-        let proxy = proxy_box(&scene.scene);
+        let proxy = scene::probe_proxy_box(&scene.scene);
         self.state = Some(State {
             caustic,
             layout,
@@ -661,8 +662,8 @@ impl Technique for Impostor {
             frame.timer.begin(frame.encoder, "regenerate");
             for &i in &stale {
                 let m = &mut state.maps[i];
-                let reference = match state.proxy {
-                    Some((lo, hi)) if room_probe => (lo + hi) * 0.5,
+                let reference = match (state.proxy, scene::probe_centre(&scene.scene)) {
+                    (Some(_), Some(probe)) if room_probe => probe,
                     _ => scene.scene.objects[m.object].center_at(time),
                 };
                 // Without the object itself (`render_environment` from another point: an
@@ -838,23 +839,6 @@ fn copy_distances(frame: &mut Frame, pipeline: &wgpu::RenderPipeline, split: &Sp
         pass.set_bind_group(0, &split.copy_groups[face], &[]);
         gpu::fullscreen::draw(&mut pass);
     }
-}
-
-/// The proxy box of the box-projected lookup: the world bounds of the scene's non-specular
-/// objects at time 0 (in the Cornell scenes, the room). Engines place this box by hand around
-/// a probe; the room's bounds are what an artist would draw there. `None` for a scene with no
-/// diffuse object: the box-projected variants then look the map up by direction.
-pub fn proxy_box(scene: &Scene) -> Option<(Vec3, Vec3)> {
-    let (lo, hi) = scene
-        .objects
-        .iter()
-        .filter(|o| !o.material.is_specular())
-        .map(|o| scene::world_bounds(std::slice::from_ref(o)))
-        .fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
-        );
-    lo.cmple(hi).all().then_some((lo, hi))
 }
 
 /// Renders `object`'s own surface from `center` into `cube`: outward normal and distance.

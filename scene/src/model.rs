@@ -877,6 +877,37 @@ impl Scene {
     }
 }
 
+/// The proxy box of a box-projected (parallax-corrected) reflection probe: the world bounds
+/// of the scene's non-specular objects at time 0 (in the Cornell scenes, the room). Engines
+/// place this box by hand around a probe; the room's bounds are what an artist would draw
+/// there. `None` for a scene with no diffuse object: a probe is then looked up by direction.
+/// `impostors/box-projected` and `image-space-refraction/thickness-proxy-probe` use it.
+pub fn probe_proxy_box(scene: &Scene) -> Option<(Vec3, Vec3)> {
+    let (lo, hi) = scene
+        .objects
+        .iter()
+        .filter(|o| !o.material.is_specular())
+        .map(|o| world_bounds(std::slice::from_ref(o)))
+        .fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+        );
+    lo.cmple(hi).all().then_some((lo, hi))
+}
+
+/// Where an engine's reflection probe serving the scene's specular objects is placed: the
+/// centre of their bounds (base meshes, time 0), where an artist puts the probe for them.
+/// The centre of the proxy box ([`probe_proxy_box`]) is not safe: in `chess` it lies inside
+/// the board, whose probe then sees the board's inside. `None` without specular objects.
+pub fn probe_centre(scene: &Scene) -> Option<Vec3> {
+    let specular: Vec<Object> = (scene.objects.iter())
+        .filter(|o| o.material.is_specular())
+        .cloned()
+        .collect();
+    let (lo, hi) = world_bounds(&specular);
+    lo.cmple(hi).all().then_some((lo + hi) * 0.5)
+}
+
 /// World-space bounds (min, max) of the objects' vertices under their transforms, without
 /// motion or deformation (the base meshes); empty bounds are (+inf, -inf).
 pub fn world_bounds(objects: &[Object]) -> (Vec3, Vec3) {
