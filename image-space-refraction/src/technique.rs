@@ -104,6 +104,13 @@ pub struct Settings {
     pub nearby: Option<Nearby>,
     /// Caustics (section 3; needs `nearby`: photons land on the rectangles).
     pub caustics: Option<CausticSettings>,
+    /// The engine's environment (`probe` 1): one reflection probe for every object, captured
+    /// once in the first frame where an artist would place it (`scene::probe_centre`) without
+    /// the specular objects, looked up box-projected against the scene's diffuse bounds (Lagarde and Zanuttini
+    /// 2012, `gpu::prelude::box_project`), instead of the paper's map from each object's
+    /// centre every frame. One map whatever the number of objects: a scene of many glass
+    /// objects (`chess`) renders. Without `nearby` only.
+    pub room_probe: bool,
 }
 
 /// Parameters of the rectangle impostors of nearby geometry (section 2.2).
@@ -151,6 +158,7 @@ impl Default for Settings {
             box_proxy: false,
             nearby: None,
             caustics: None,
+            room_probe: false,
         }
     }
 }
@@ -200,6 +208,10 @@ struct ParamsGpu {
     initial_step: f32,
     thickness: f32,
     _pad: f32,
+    /// The room probe's centre (w: 1 when the lookup is box-projected) and its proxy box.
+    probe: [f32; 4],
+    box_min: [f32; 4],
+    box_max: [f32; 4],
 }
 
 /// An image-space refraction variant.
@@ -226,12 +238,15 @@ struct State {
     normal_thickness: wgpu::Buffer,
     eye: Uniform<EyeGpu>,
     screen: Option<Screen>,
+    /// The room probe, with where it is captured, until its one capture (first frame).
+    probe_to_capture: Option<(std::rc::Rc<CubeTarget>, Vec3)>,
 }
 
 /// One specular object's environment map and parameters.
 struct ObjectMap {
     object: usize,
-    cube: CubeTarget,
+    /// Its environment map: its own, or the room probe every object shares.
+    cube: std::rc::Rc<CubeTarget>,
     params: Uniform<ParamsGpu>,
     /// The same with the one-interface variant: how the object is drawn into the rectangle
     /// textures of the recursive variant.
@@ -296,7 +311,30 @@ impl Refraction {
             initial_step: s.initial_step * radius,
             thickness: s.thickness * 2.0 * radius,
             _pad: 0.0,
+            probe: [0.0; 4],
+            box_min: [0.0; 4],
+            box_max: [0.0; 4],
         }
+        .with_probe(
+            s.room_probe
+                .then(|| {
+                    scene::probe_centre(&scene.scene).zip(scene::probe_proxy_box(&scene.scene))
+                })
+                .flatten(),
+        )
+    }
+}
+
+impl ParamsGpu {
+    /// The room probe's lookup: from where it was captured (`scene::probe_centre`),
+    /// box-projected against its proxy box.
+    fn with_probe(mut self, probe: Option<(Vec3, (Vec3, Vec3))>) -> Self {
+        if let Some((centre, (lo, hi))) = probe {
+            self.probe = centre.extend(1.0).to_array();
+            self.box_min = lo.extend(0.0).to_array();
+            self.box_max = hi.extend(0.0).to_array();
+        }
+        self
     }
 }
 
@@ -398,6 +436,16 @@ fn configured() -> Vec<Refraction> {
              model: one bend, a sphere's chord, the scene colour buffer)",
             with(Variant::ThicknessProxy, false),
         )),
+        (Refraction::new(
+            &id("thickness-proxy-probe"),
+            "engine baseline as shipped: thickness-proxy with the room's reflection probe (one \
+             box-projected probe captured once, no per-object maps): any number of glass \
+             objects",
+            Settings {
+                room_probe: true,
+                ..with(Variant::ThicknessProxy, false)
+            },
+        )),
     ]
 }
 
@@ -471,6 +519,16 @@ impl Technique for Refraction {
                 ),
             ]),
             _ => {}
+        }
+        if self.settings.nearby.is_none() {
+            params.push(Param::new(
+                "probe",
+                f64::from(u8::from(self.settings.room_probe)),
+                (0.0, 1.0),
+                true,
+                "1: one room probe for every object, captured once, box-projected (the \
+                 engine's); 0: the paper's map from each object's centre every frame",
+            ));
         }
         if self.settings.caustics.is_some() {
             let d = CausticSettings::default();
@@ -554,6 +612,7 @@ impl Technique for Refraction {
             "back_first" => s.back_first = value != 0.0,
             "thickness" => s.thickness = value as f32,
             "proxy" => s.box_proxy = value != 0.0,
+            "probe" => s.room_probe = value != 0.0,
             "photon_buffer" | "caustic_resolution" | "filter_k" | "filter_s" => {
                 let c = s.caustics.as_mut().expect("declared only with caustics");
                 match name {
@@ -592,7 +651,12 @@ impl Technique for Refraction {
             .iter()
             .filter(|o| o.material.is_specular())
             .count();
-        (1..=MAX_SPECULAR_OBJECTS).contains(&specular)
+        // One probe serves any number of objects; per-object maps are budgeted.
+        let most = match self.settings.room_probe {
+            true => usize::MAX,
+            false => MAX_SPECULAR_OBJECTS,
+        };
+        (1..=most).contains(&specular)
     }
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
@@ -608,12 +672,29 @@ impl Technique for Refraction {
             .filter(|&i| scene.scene.objects[i].material.is_specular())
             .collect();
         let resolution = self.settings.env_resolution;
+        let room_probe = self.settings.room_probe;
+        if room_probe && self.settings.nearby.is_some() {
+            return Err(TechniqueError::Unsupported(format!(
+                "{}: the room probe replaces the environment maps of the variants without \
+                 nearby geometry; set Settings::nearby to None",
+                self.id
+            )));
+        }
         check_map_budget(
             &self.id,
-            specular.len(),
+            if room_probe { 1 } else { specular.len() },
             CubeTarget::bytes(resolution, ENV_FORMAT),
             "resolution",
         )?;
+        let new_map = || -> TechniqueResult<std::rc::Rc<CubeTarget>> {
+            Ok(std::rc::Rc::new(CubeTarget::new(
+                ctx,
+                resolution,
+                ENV_FORMAT,
+                "environment map",
+            )?))
+        };
+        let probe = if room_probe { Some(new_map()?) } else { None };
         let layout = group_layout(ctx);
         let nearby_layout = rectangles::group_layout(ctx);
         let made = match self.settings.nearby {
@@ -661,7 +742,10 @@ impl Technique for Refraction {
                 } else {
                     None
                 },
-                cube: CubeTarget::new(ctx, resolution, ENV_FORMAT, "environment map")?,
+                cube: match &probe {
+                    Some(shared) => shared.clone(),
+                    None => new_map()?,
+                },
                 params: Uniform::new(ctx, "refract params", &params),
                 impostor_params: Uniform::new(ctx, "impostor params", &one_interface),
             });
@@ -701,6 +785,10 @@ impl Technique for Refraction {
             normal_thickness,
             eye,
             screen: None,
+            probe_to_capture: probe.map(|cube| {
+                let centre = scene::probe_centre(&scene.scene).unwrap_or_default();
+                (cube, centre)
+            }),
         });
         Ok(())
     }
@@ -747,6 +835,7 @@ impl Technique for Refraction {
         if let Some(rects) = state.rectangles.as_mut() {
             rects.place(ctx, scene);
         }
+        let probe_to_capture = state.probe_to_capture.take();
         let state = &*state;
 
         // The environment: everything but the object itself and its rectangles.
@@ -756,7 +845,22 @@ impl Technique for Refraction {
             .map(|r| r.objects())
             .unwrap_or_default();
         frame.timer.begin(frame.encoder, "regenerate");
-        for map in &state.maps {
+        if let Some((probe, centre)) = probe_to_capture {
+            // The engine's baked probe: the scene without its specular objects, once.
+            let specular = state.maps.iter().map(|m| m.object).collect();
+            scene.raster_cube(
+                frame,
+                &probe,
+                centre,
+                &ObjectFilter::Except(specular),
+                false,
+            );
+        }
+        let per_object = match self.settings.room_probe {
+            true => &[][..],
+            false => &state.maps[..],
+        };
+        for map in per_object {
             let centre = scene.scene.objects[map.object].center_at(scene.time());
             let mut left_out = in_rectangles.clone();
             left_out.push(map.object);

@@ -31,6 +31,11 @@ struct RefractParams {
     // The thickness proxy's sphere diameter or slab thickness (m).
     thickness: f32,
     _pad: f32,
+    // The room probe's centre (w = 1: the environment map is that probe, looked up
+    // box-projected against box_min..box_max).
+    probe: vec4f,
+    box_min: vec4f,
+    box_max: vec4f,
 };
 
 @group(2) @binding(0) var env_map: texture_cube<f32>;
