@@ -21,6 +21,13 @@
 //!
 //! There is no room: the environment is the sky (the background radiance), the floor and the
 //! backdrop wall.
+//!
+//! Options for the paper's other settings ([`HuQin`]): `environment=distant` takes the nearby
+//! meshes, the floor and the wall away and puts the refractor in the middle of a checkered
+//! hall 60 m across (the paper's section-2.1 setting: an environment map of a distant
+//! scene, where the map from the object's centre is nearly exact); `lights=2` adds a second
+//! light on the right (figure 27: caustics from two lights); `metal=1` makes the refractor
+//! polished gold (figure 26: reflective caustics).
 
 use super::assets::bunny_mesh;
 use super::textures::checker_texture;
@@ -46,11 +53,45 @@ const BUNNY_HEIGHT: f32 = 0.55;
 /// Length of the camera path (and of the morph's cycle), seconds.
 const DURATION: f32 = 2.0;
 
-/// `hu-qin` with the refractor `refractor` (one of [`REFRACTOR_HELP`]) of index `ior` (in
-/// [`Material::IOR_RANGE`]); with `gold_sphere` the small sphere beside it is gold instead of
-/// blue diffuse: a reflector that the refractor sees and that sees the refractor (recursive
-/// reflections and refractions, the paper's figure 1b and 24g).
-pub fn hu_qin(refractor: &str, ior: f32, gold_sphere: bool) -> Result<Scene, SceneError> {
+/// The options of `hu-qin`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HuQin {
+    /// The refractor, one of [`REFRACTOR_HELP`].
+    pub refractor: String,
+    /// Its index of refraction (in [`Material::IOR_RANGE`]).
+    pub ior: f32,
+    /// The small sphere beside the refractor gold instead of blue diffuse: a reflector that
+    /// the refractor sees and that sees the refractor (recursive reflections and refractions,
+    /// the paper's figure 1b and 24g).
+    pub gold_sphere: bool,
+    /// No nearby geometry: the refractor alone in a checkered hall 60 m across (section 2.1's
+    /// distant environment).
+    pub distant: bool,
+    /// Lights: 1, or 2 (a second light on the right, figure 27).
+    pub lights: u32,
+    /// The refractor polished gold instead of glass (reflective caustics, figure 26).
+    pub metal: bool,
+}
+
+impl Default for HuQin {
+    fn default() -> Self {
+        Self {
+            refractor: "sphere".into(),
+            ior: 1.15,
+            gold_sphere: false,
+            distant: false,
+            lights: 1,
+            metal: false,
+        }
+    }
+}
+
+/// Half the side of the `environment=distant` hall, metres.
+const HALL_HALF: f32 = 30.0;
+
+/// `hu-qin` with the options `o`.
+pub fn hu_qin(o: &HuQin) -> Result<Scene, SceneError> {
+    let (refractor, ior, gold_sphere) = (o.refractor.as_str(), o.ior, o.gold_sphere);
     if !Material::IOR_RANGE.contains(&ior) {
         let r = Material::IOR_RANGE;
         return Err(SceneError::BadParam(format!(
@@ -81,13 +122,17 @@ pub fn hu_qin(refractor: &str, ior: f32, gold_sphere: bool) -> Result<Scene, Sce
         }
     };
     let (lo, hi) = mesh.bounds();
+    let (material, role) = match o.metal {
+        true => (Material::gold(), Roles::REFLECTOR),
+        false => (Material::glass(ior), Roles::REFRACTOR),
+    };
     let mut glass = Object::new(
         refractor,
         mesh,
-        Material::glass(ior),
+        material,
         Mat4::from_translation(REFRACTOR_CENTRE - (lo + hi) * 0.5),
     )
-    .with_roles(Roles::REFRACTOR | Roles::CAUSTIC_CASTER);
+    .with_roles(role | Roles::CAUSTIC_CASTER);
     glass.morph = morph;
 
     // Floor y = 0 from z = -1.4 to 2.6; checker wall at z = -1.4 facing +z, 6 x 3 m, the
@@ -181,6 +226,11 @@ pub fn hu_qin(refractor: &str, ior: f32, gold_sphere: bool) -> Result<Scene, Sce
         Material::diffuse(0.8, 0.68, 0.15),
     ));
     objects.push(glass);
+    if o.distant {
+        // Only the refractor stays, in the middle of the hall.
+        objects.retain(|obj| obj.material.is_specular());
+        objects.extend(distant_hall());
+    }
 
     // Camera: looks at the refractor from about 1.75 m, somewhat from above, so that the
     // refractor fills about half the image height and the nearby meshes show beside and
@@ -206,11 +256,7 @@ pub fn hu_qin(refractor: &str, ior: f32, gold_sphere: bool) -> Result<Scene, Sce
         )],
         // Left of, above and in front of the refractor: its caustic falls on the floor to its
         // right and a little behind it, in view.
-        lights: vec![PointLight {
-            name: "key light".into(),
-            position: Vec3::new(-1.2, 1.8, 0.5),
-            intensity: Vec3::splat(14.0),
-        }],
+        lights: lights(o)?,
         camera,
         camera_path: CameraPath {
             keys: vec![
@@ -223,6 +269,106 @@ pub fn hu_qin(refractor: &str, ior: f32, gold_sphere: bool) -> Result<Scene, Sce
         medium: None,
         background: Vec3::new(0.25, 0.3, 0.4),
     })
+}
+
+/// The lights: the key light left of, above and in front of the refractor (its caustic falls
+/// on the floor to its right and a little behind it, in view), and with `lights=2` a second,
+/// dimmer one on the right. In the distant hall both are brightened to light walls 30 m away
+/// as the near scene's light lights its floor.
+fn lights(o: &HuQin) -> Result<Vec<PointLight>, SceneError> {
+    if !(1..=2).contains(&o.lights) {
+        return Err(SceneError::BadParam(format!(
+            "lights={} is not 1 or 2",
+            o.lights
+        )));
+    }
+    let gain = if o.distant { 400.0 } else { 1.0 };
+    let mut lights = vec![PointLight {
+        name: "key light".into(),
+        position: Vec3::new(-1.2, 1.8, 0.5),
+        intensity: Vec3::splat(14.0 * gain),
+    }];
+    if o.lights == 2 {
+        lights.push(PointLight {
+            name: "fill light".into(),
+            position: Vec3::new(1.4, 1.5, 0.9),
+            intensity: Vec3::splat(9.0 * gain),
+        });
+    }
+    Ok(lights)
+}
+
+/// The `environment=distant` hall: floor, ceiling and four walls of a cube 60 m across
+/// centred under the refractor (floor 15 m below it), each facing in and checkered with the
+/// wall's texture (2.5 m cells).
+fn distant_hall() -> Vec<Object> {
+    let h = HALL_HALF;
+    let (lo, hi) = (Vec3::new(-h, -15.0, -h), Vec3::new(h, 2.0 * h - 15.0, h));
+    let checker = Material::Diffuse {
+        albedo: Vec3::ONE,
+        texture: Some(0),
+    };
+    let tint = |r, g, b| Material::Diffuse {
+        albedo: Vec3::new(r, g, b),
+        texture: Some(0),
+    };
+    let size = 2.0 * h;
+    // (name, corner, u edge, v edge, material): each quad's normal is u x v, facing in.
+    let faces = [
+        (
+            "hall floor",
+            Vec3::new(lo.x, lo.y, hi.z),
+            Vec3::X,
+            Vec3::NEG_Z,
+            checker.clone(),
+        ),
+        (
+            "hall ceiling",
+            Vec3::new(lo.x, hi.y, lo.z),
+            Vec3::X,
+            Vec3::Z,
+            tint(0.8, 0.85, 1.0),
+        ),
+        (
+            "hall back",
+            Vec3::new(lo.x, lo.y, lo.z),
+            Vec3::X,
+            Vec3::Y,
+            checker.clone(),
+        ),
+        (
+            "hall front",
+            Vec3::new(hi.x, lo.y, hi.z),
+            Vec3::NEG_X,
+            Vec3::Y,
+            tint(1.0, 0.9, 0.8),
+        ),
+        (
+            "hall left",
+            Vec3::new(lo.x, lo.y, hi.z),
+            Vec3::NEG_Z,
+            Vec3::Y,
+            tint(1.0, 0.75, 0.7),
+        ),
+        (
+            "hall right",
+            Vec3::new(hi.x, lo.y, lo.z),
+            Vec3::Z,
+            Vec3::Y,
+            tint(0.7, 0.9, 0.75),
+        ),
+    ];
+    faces
+        .into_iter()
+        .map(|(name, corner, u, v, material)| {
+            Object::new(
+                name,
+                quad(corner, u * size, v * size, Vec2::splat(3.0)),
+                material,
+                Mat4::IDENTITY,
+            )
+        })
+        .collect()
 }
 
 /// The morph target of `sphere` (a [`uv_sphere`] about the origin): every vertex scaled
@@ -314,10 +460,69 @@ mod tests {
             .unwrap()
     }
 
+    /// The paper's other settings: the distant hall keeps only the refractor, encloses the
+    /// camera path and the light, and is far (every wall at least 14 m from the refractor);
+    /// `lights=2` adds a light; `metal=1` makes the refractor gold and still a caustic caster.
+    #[test]
+    fn distant_hall_two_lights_and_metal_are_what_they_say() {
+        let distant = hu_qin(&HuQin {
+            distant: true,
+            ..Default::default()
+        })
+        .unwrap();
+        distant.validate().unwrap();
+        assert_eq!(distant.specular_objects().len(), 1);
+        let centre = refractor(&distant).center_at(0.0);
+        let walls: Vec<&Object> = distant
+            .objects
+            .iter()
+            .filter(|o| o.name.starts_with("hall"))
+            .collect();
+        assert_eq!((walls.len(), distant.objects.len()), (6, 7));
+        let (lo, hi) = crate::world_bounds(&distant.objects);
+        let inside = |p: Vec3| p.cmpgt(lo).all() && p.cmplt(hi).all();
+        assert!(distant.lights.iter().all(|l| inside(l.position)));
+        assert!(distant.camera_path.keys.iter().all(|(_, c)| inside(c.eye)));
+        for wall in walls {
+            let (a, b) = wall.bounds_at(0.0);
+            let nearest = centre.clamp(a, b).distance(centre);
+            assert!(nearest >= 14.0, "{} is {nearest} m away", wall.name);
+        }
+        let two = hu_qin(&HuQin {
+            lights: 2,
+            ..Default::default()
+        })
+        .unwrap();
+        assert_eq!(two.lights.len(), 2);
+        assert!(
+            hu_qin(&HuQin {
+                lights: 3,
+                ..Default::default()
+            })
+            .is_err()
+        );
+        let metal = hu_qin(&HuQin {
+            metal: true,
+            ..Default::default()
+        })
+        .unwrap();
+        let gold = refractor(&metal);
+        assert_eq!(gold.material, Material::gold());
+        assert!(
+            gold.roles
+                .contains(Roles::REFLECTOR | Roles::CAUSTIC_CASTER)
+        );
+        assert!(crate::emission::caustic_casters(&metal).len() == 1);
+    }
+
     #[test]
     fn every_refractor_is_valid_sized_and_placed() {
         for name in ["sphere", "teapot", "bunny", "morph"] {
-            let scene = hu_qin(name, 1.15, false).unwrap();
+            let scene = hu_qin(&HuQin {
+                refractor: name.into(),
+                ..Default::default()
+            })
+            .unwrap();
             scene.validate().unwrap();
             assert_eq!(scene.specular_objects().len(), 1, "{name}");
             let glass = refractor(&scene);
@@ -354,10 +559,16 @@ mod tests {
             }
         }
         assert!(matches!(
-            hu_qin("cube", 1.15, false),
+            hu_qin(&HuQin { refractor: "cube".into(), ..Default::default() }),
             Err(SceneError::BadParam(m)) if m.contains("sphere, teapot, bunny, morph")
         ));
-        assert!(hu_qin("sphere", 5.0, false).is_err());
+        assert!(
+            hu_qin(&HuQin {
+                ior: 5.0,
+                ..Default::default()
+            })
+            .is_err()
+        );
     }
 
     /// The teapot is closed with outward normals: every edge (by position) is used once in
@@ -396,7 +607,11 @@ mod tests {
 
     #[test]
     fn the_morphing_refractor_deforms_along_the_path() {
-        let scene = hu_qin("morph", 1.15, false).unwrap();
+        let scene = hu_qin(&HuQin {
+            refractor: "morph".into(),
+            ..Default::default()
+        })
+        .unwrap();
         let glass = refractor(&scene);
         assert!(glass.is_deforming());
         let morph = glass.morph.as_ref().unwrap();

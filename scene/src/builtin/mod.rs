@@ -316,14 +316,44 @@ fn registry() -> Vec<Builtin> {
                         "1: the small sphere beside the refractor is gold (recursive \
                          reflections and refractions)",
                     ),
+                    word(
+                        "environment",
+                        "near",
+                        "near: nearby meshes, a floor and a wall; distant: the refractor alone \
+                         in a checkered hall 60 m across (section 2.1's distant environment)",
+                    ),
+                    integer(
+                        "lights",
+                        "1",
+                        (1.0, 2.0),
+                        "2: a second light on the right (figure 27)",
+                    ),
+                    integer(
+                        "metal",
+                        "0",
+                        (0.0, 1.0),
+                        "1: the refractor is polished gold (reflective caustics, figure 26)",
+                    ),
                 ],
             },
             build: |a| {
-                hu_qin::hu_qin(
-                    &a.get("refractor"),
-                    a.num("ior")?,
-                    a.num("gold_sphere")? != 0.0,
-                )
+                let distant = match a.get("environment").as_str() {
+                    "near" => false,
+                    "distant" => true,
+                    other => {
+                        return Err(SceneError::BadParam(format!(
+                            "environment={other} is not near or distant"
+                        )));
+                    }
+                };
+                hu_qin::hu_qin(&hu_qin::HuQin {
+                    refractor: a.get("refractor"),
+                    ior: a.num("ior")?,
+                    gold_sphere: a.num("gold_sphere")? != 0.0,
+                    distant,
+                    lights: a.num("lights")? as u32,
+                    metal: a.num("metal")? != 0.0,
+                })
             },
         },
     ]
