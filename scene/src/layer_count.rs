@@ -52,12 +52,19 @@ fn count_fs(in: SceneVertexOut) {
 "#;
 
 const REDUCE_WGSL: &str = r#"
-// The texture reduce-max of the paper, as one atomic maximum per covered pixel.
+// The texture reduce-max of the paper, as one atomic maximum per covered pixel. The
+// invocations stride over the pixels: a dispatch has at most 65 535 workgroups, fewer than
+// 4K images have groups of 64 pixels.
 @compute @workgroup_size(64)
-fn max_main(@builtin(global_invocation_id) id: vec3u) {
-    if (id.x >= count_params.width * count_params.height) { return; }
-    let c = atomicLoad(&counts[id.x]);
-    if (c > 0u) { atomicMax(&complexity[0], c); }
+fn max_main(
+    @builtin(global_invocation_id) id: vec3u,
+    @builtin(num_workgroups) groups: vec3u,
+) {
+    let pixels = count_params.width * count_params.height;
+    for (var i = id.x; i < pixels; i += groups.x * 64u) {
+        let c = atomicLoad(&counts[i]);
+        if (c > 0u) { atomicMax(&complexity[0], c); }
+    }
 }
 
 // Draw i of layer l (arguments at (l * draws + i) * 5): one instance below the maximum.
@@ -68,6 +75,10 @@ fn args_main(@builtin(global_invocation_id) id: vec3u) {
     args[id.x * 5u + 1u] = select(0u, 1u, layer < atomicLoad(&complexity[0]));
 }
 "#;
+
+/// Most workgroups the reduce-max dispatches (the WebGPU limit per dimension); its
+/// invocations stride over the pixels beyond.
+const MAX_GROUPS: u32 = 65_535;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -246,7 +257,8 @@ impl LayerCounter {
         });
         pass.set_bind_group(0, &self.group, &[]);
         pass.set_pipeline(&self.max_pipeline);
-        pass.dispatch_workgroups((self.width * self.height).div_ceil(64), 1, 1);
+        let groups = (self.width * self.height).div_ceil(64);
+        pass.dispatch_workgroups(groups.min(MAX_GROUPS), 1, 1);
         pass.set_pipeline(&self.args_pipeline);
         pass.dispatch_workgroups((self.layers * self.draws).div_ceil(64).max(1), 1, 1);
     }

@@ -704,3 +704,39 @@ fn counted_peels_match_full_peels() {
         }
     }
 }
+
+/// The reduce-max reaches every pixel of an image larger than one dispatch of 65 535 groups
+/// of 64 covers (4 194 240 pixels): two spheres seen at the bottom of a 2300 x 2300 view
+/// (rows past 2000, pixels past 4.6 million) count their four surfaces. A dispatch capped
+/// without the stride would find nothing there (0).
+#[test]
+fn the_count_reaches_pixels_past_one_dispatch() {
+    let ctx = testkit::context();
+    if !scene::layer_count::LayerCounter::available(ctx) {
+        println!("not run: the adapter lacks INDIRECT_FIRST_INSTANCE");
+        return;
+    }
+    let _lock = testkit::gpu_lock();
+    let (scene, near, _) = two_spheres();
+    let gpu_scene = GpuScene::new(ctx, &scene).expect("scene uploads");
+    let size = 2300;
+    let counter =
+        scene::layer_count::LayerCounter::new(ctx, &gpu_scene, size, size, 6).expect("counter");
+    let camera = Camera::behind(near.center, 3.0);
+    // Moved down in clip space: the spheres' centre projects 92% of the way down the image.
+    let down = Mat4::from_translation(Vec3::new(0.0, -0.84, 0.0));
+    let group = gpu_scene.camera_bind_group(ctx, down * camera.view_proj, camera.eye);
+    let depth = gpu::depth_texture(ctx, size, size, 1, "count depth");
+    let depth_view = depth.create_view(&Default::default());
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    counter.count(
+        &mut encoder,
+        &gpu_scene,
+        &ObjectFilter::All,
+        &group,
+        &depth_view,
+        None,
+    );
+    ctx.queue.submit([encoder.finish()]);
+    assert_eq!(counter.complexity(ctx).unwrap(), 4);
+}
