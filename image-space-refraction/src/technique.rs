@@ -38,7 +38,8 @@ const NEARBY_WGSL: &str = concat!(
     include_str!("shaders/photon.wgsl")
 );
 
-/// Most specular objects of a scene the technique renders. The paper's scenes have one
+/// Most specular objects of a scene the technique renders with a map per object (the room
+/// probe, `Settings::room_probe`, serves any number). The paper's scenes have one
 /// refractor and a reflector or two; each specular object here costs an environment map, a
 /// rectangle texture for every nearby object and (with caustics) a photon buffer per light,
 /// every frame: `chess`'s 33 pieces would draw over a thousand rectangle textures a frame.
@@ -240,6 +241,8 @@ struct State {
     screen: Option<Screen>,
     /// The room probe, with where it is captured, until its one capture (first frame).
     probe_to_capture: Option<(std::rc::Rc<CubeTarget>, Vec3)>,
+    /// The room probe's centre and proxy box (`Settings::room_probe` at `prepare`).
+    room_probe: Option<RoomProbe>,
 }
 
 /// One specular object's environment map and parameters.
@@ -297,7 +300,8 @@ impl Refraction {
         self.state.as_ref()?.rectangles.as_ref()
     }
 
-    fn params_gpu(&self, scene: &GpuScene, object: usize) -> ParamsGpu {
+    /// `probe`: the room probe's centre and proxy box, made at `prepare` (room probe only).
+    fn params_gpu(&self, scene: &GpuScene, object: usize, probe: Option<RoomProbe>) -> ParamsGpu {
         let o = &scene.scene.objects[object];
         let time = scene.time();
         let radius = o.bounding_radius_at(time);
@@ -315,20 +319,17 @@ impl Refraction {
             box_min: [0.0; 4],
             box_max: [0.0; 4],
         }
-        .with_probe(
-            s.room_probe
-                .then(|| {
-                    scene::probe_centre(&scene.scene).zip(scene::probe_proxy_box(&scene.scene))
-                })
-                .flatten(),
-        )
+        .with_probe(probe)
     }
 }
+
+/// Where the room probe is captured and the proxy box it is projected against.
+type RoomProbe = (Vec3, (Vec3, Vec3));
 
 impl ParamsGpu {
     /// The room probe's lookup: from where it was captured (`scene::probe_centre`),
     /// box-projected against its proxy box.
-    fn with_probe(mut self, probe: Option<(Vec3, (Vec3, Vec3))>) -> Self {
+    fn with_probe(mut self, probe: Option<RoomProbe>) -> Self {
         if let Some((centre, (lo, hi))) = probe {
             self.probe = centre.extend(1.0).to_array();
             self.box_min = lo.extend(0.0).to_array();
@@ -636,6 +637,8 @@ impl Technique for Refraction {
             }
             _ => unreachable!("check_param accepted only declared names"),
         }
+        // Maps, buffers and the probe follow the settings: prepare() makes them again.
+        self.state = None;
         Ok(())
     }
     fn required_features(&self) -> wgpu::Features {
@@ -695,6 +698,10 @@ impl Technique for Refraction {
             )?))
         };
         let probe = if room_probe { Some(new_map()?) } else { None };
+        // Where the probe stands and what it is projected against, once.
+        let room_probe = room_probe
+            .then(|| scene::probe_centre(&scene.scene).zip(scene::probe_proxy_box(&scene.scene)))
+            .flatten();
         let layout = group_layout(ctx);
         let nearby_layout = rectangles::group_layout(ctx);
         let made = match self.settings.nearby {
@@ -724,7 +731,7 @@ impl Technique for Refraction {
         };
         let mut maps = Vec::new();
         for &object in &specular {
-            let params = self.params_gpu(scene, object);
+            let params = self.params_gpu(scene, object, room_probe);
             let one_interface = ParamsGpu {
                 variant: Variant::OneInterface.wgsl_id(),
                 ..params
@@ -786,9 +793,10 @@ impl Technique for Refraction {
             eye,
             screen: None,
             probe_to_capture: probe.map(|cube| {
-                let centre = scene::probe_centre(&scene.scene).unwrap_or_default();
+                let centre = room_probe.map_or(Vec3::ZERO, |(centre, _)| centre);
                 (cube, centre)
             }),
+            room_probe,
         });
         Ok(())
     }
@@ -803,7 +811,7 @@ impl Technique for Refraction {
             Some(state) => state
                 .maps
                 .iter()
-                .map(|m| self.params_gpu(scene, m.object))
+                .map(|m| self.params_gpu(scene, m.object, state.room_probe))
                 .collect(),
             None => return Err(not_prepared(self)),
         };
@@ -856,7 +864,8 @@ impl Technique for Refraction {
                 false,
             );
         }
-        let per_object = match self.settings.room_probe {
+        // What `prepare` built decides, not the settings since.
+        let per_object = match state.room_probe.is_some() {
             true => &[][..],
             false => &state.maps[..],
         };

@@ -540,10 +540,15 @@ fn box_projection_equals_hit_in_a_box_room_and_loses_in_a_concave_one() {
                     );
                 }
             } else {
-                assert!(
-                    room >= boxed,
-                    "{spec} t {t}: the room probe {room} should lose to the object's map {boxed}"
-                );
+                // At t = 0 and 2 the object stands where the probe was captured: the two maps
+                // are the same; at t = 1 it has moved and the probe must lose.
+                if t == 1.0 {
+                    assert!(
+                        room > boxed,
+                        "{spec} t {t}: the room probe {room} should lose to the object's map \
+                         {boxed}"
+                    );
+                }
                 let margin = if t == 1.0 { 0.005 } else { 0.0 };
                 assert!(
                     boxed > hit + margin,

@@ -53,7 +53,7 @@ fn regeneration_follows_the_threshold() {
 }
 
 /// The engine's probe (`Probe::RoomCentre`, as `impostors/box-projected`) is captured once at
-/// the room's centre, however far the object moves; the impostor's own map (`ObjectCentre`)
+/// `scene::probe_centre`, however far the object moves; the impostor's own map (`ObjectCentre`)
 /// follows the object every frame.
 #[test]
 fn room_probe_is_captured_once() {

@@ -396,10 +396,7 @@ impl GpuScene {
     /// The shadow cube maps' distances, layer by layer (six per light), read back: what a test
     /// compares.
     pub fn read_shadow_maps(&self, ctx: &Context) -> Result<Vec<Vec<u8>>, gpu::GpuError> {
-        let cubes = &self.shadows.cubes;
-        (0..cubes.depth_or_array_layers())
-            .map(|layer| gpu::read_texture_bytes(ctx, cubes, layer, 4))
-            .collect()
+        self.shadows.read(ctx)
     }
 
     /// The scene's own shadow maps (cube array, fitted 2D array): what `@group(1)` binds as
@@ -1080,6 +1077,13 @@ struct ShadowTextures {
 }
 
 impl ShadowTextures {
+    /// The cube maps' distances, layer by layer (six per light), read back.
+    fn read(&self, ctx: &Context) -> Result<Vec<Vec<u8>>, gpu::GpuError> {
+        (0..self.cubes.depth_or_array_layers())
+            .map(|layer| gpu::read_texture_bytes(ctx, &self.cubes, layer, 4))
+            .collect()
+    }
+
     fn new(ctx: &Context, lights: usize, any_fitted: bool, size: u32, label: &str) -> Self {
         let device = &ctx.device;
         let layers = 6 * lights.max(1) as u32;
@@ -1164,10 +1168,7 @@ impl CasterShadowMaps {
 
     /// The cube maps' distances, layer by layer (six per light), read back (tests).
     pub fn read(&self, ctx: &Context) -> Result<Vec<Vec<u8>>, gpu::GpuError> {
-        let cubes = &self.maps.cubes;
-        (0..cubes.depth_or_array_layers())
-            .map(|layer| gpu::read_texture_bytes(ctx, cubes, layer, 4))
-            .collect()
+        self.maps.read(ctx)
     }
 
     /// The cube maps, one cube per light (`texture_cube_array<f32>`).

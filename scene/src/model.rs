@@ -883,15 +883,8 @@ impl Scene {
 /// there. `None` for a scene with no diffuse object: a probe is then looked up by direction.
 /// `impostors/box-projected` and `image-space-refraction/thickness-proxy-probe` use it.
 pub fn probe_proxy_box(scene: &Scene) -> Option<(Vec3, Vec3)> {
-    let (lo, hi) = scene
-        .objects
-        .iter()
-        .filter(|o| !o.material.is_specular())
-        .map(|o| world_bounds(std::slice::from_ref(o)))
-        .fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
-        );
+    let diffuse = scene.objects.iter().filter(|o| !o.material.is_specular());
+    let (lo, hi) = bounds_of(diffuse);
     lo.cmple(hi).all().then_some((lo, hi))
 }
 
@@ -900,19 +893,19 @@ pub fn probe_proxy_box(scene: &Scene) -> Option<(Vec3, Vec3)> {
 /// The centre of the proxy box ([`probe_proxy_box`]) is not safe: in `chess` it lies inside
 /// the board, whose probe then sees the board's inside. `None` without specular objects.
 pub fn probe_centre(scene: &Scene) -> Option<Vec3> {
-    let specular: Vec<Object> = (scene.objects.iter())
-        .filter(|o| o.material.is_specular())
-        .cloned()
-        .collect();
-    let (lo, hi) = world_bounds(&specular);
+    let (lo, hi) = bounds_of(scene.objects.iter().filter(|o| o.material.is_specular()));
     lo.cmple(hi).all().then_some((lo + hi) * 0.5)
 }
 
 /// World-space bounds (min, max) of the objects' vertices under their transforms, without
 /// motion or deformation (the base meshes); empty bounds are (+inf, -inf).
 pub fn world_bounds(objects: &[Object]) -> (Vec3, Vec3) {
+    bounds_of(objects.iter())
+}
+
+/// [`world_bounds`] of any objects, borrowed.
+fn bounds_of<'a>(objects: impl Iterator<Item = &'a Object>) -> (Vec3, Vec3) {
     objects
-        .iter()
         .flat_map(|o| {
             o.mesh
                 .positions

@@ -706,9 +706,9 @@ fn counted_peels_match_full_peels() {
 }
 
 /// The reduce-max reaches every pixel of an image larger than one dispatch of 65 535 groups
-/// of 64 covers (4 194 240 pixels): two spheres seen at the bottom of a 2300 x 2300 view
-/// (rows past 2000, pixels past 4.6 million) count their four surfaces. A dispatch capped
-/// without the stride would find nothing there (0).
+/// of 64 covers (4 194 240 pixels, the first 1823 rows here): two spheres seen near the
+/// bottom of a 2300 x 2300 view count their four surfaces. A dispatch capped without the
+/// stride counts 2 (tried: the far sphere's rim reaches into the rows it covers).
 #[test]
 fn the_count_reaches_pixels_past_one_dispatch() {
     let ctx = testkit::context();

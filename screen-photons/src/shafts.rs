@@ -22,7 +22,8 @@
 //! **Froxel fog** (Wronski 2014, Hillaire 2015). A grid of `froxel_size`-pixel tiles by
 //! `slices` exponential depth slices: slice `k` spans the distances `[d_k, d_{k+1}]` along the
 //! tile's centre ray, `d_k = near (far / near)^(k / slices)`. Each froxel holds the in-scattered
-//! radiance per metre at its centre; the integration walks each tile's slices front to back and
+//! radiance per metre at its centre (on the GPU, with a history, the running mean over jittered
+//! points of it); the integration walks each tile's slices front to back and
 //! stores at slice `k` the radiance scattered toward the eye between `near` and `d_{k+1}`,
 //! each slice integrated in closed form (Hillaire's energy-conserving `S (1 - T) / sigma_t`)
 //! over its part inside the medium's box, attenuated by the exact transmittance from the eye.

@@ -26,8 +26,10 @@
 //!    refraction tracing (section 4, `specular.wgsl`).
 //! 6. *Shafts* ("shafts" span, a scene with a scattering medium only): `god-rays` draws the
 //!    march's photon beams as bands into an in-scattering buffer and blurs it (section 3.2,
-//!    `shafts.wgsl`); `froxel-fog` lights a froxel grid from the shadow maps and a caustic map
-//!    of where the photons end, integrates it and looks it up per pixel (`froxels.wgsl`).
+//!    `shafts.wgsl`); `froxel-fog` lights a froxel grid from shadow maps in which transparent
+//!    surfaces cast no shadow (no photons; `froxel-fog-photons` adds a caustic map of where
+//!    the photons end), blends it with the last frame's grid reprojected, integrates it and
+//!    looks it up per pixel (`froxels.wgsl`).
 //!    Then every variant multiplies its image by the medium's transmittance to each pixel's
 //!    first surface and adds the in-scattering (`composite.wgsl`); photons lose the medium's
 //!    transmittance along every march segment (`resolve.wgsl`).

@@ -227,8 +227,9 @@ pub fn hu_qin(o: &HuQin) -> Result<Scene, SceneError> {
     ));
     objects.push(glass);
     if o.distant {
-        // Only the refractor stays, in the middle of the hall.
-        objects.retain(|obj| obj.material.is_specular());
+        // Only the refractor stays (the caustic caster; not the gold sphere), in the middle of
+        // the hall.
+        objects.retain(|obj| obj.roles.contains(Roles::CAUSTIC_CASTER));
         objects.extend(distant_hall());
     }
 

@@ -180,7 +180,8 @@ fn froxel_scatter_main(@builtin(global_invocation_id) g: vec3u) {
     var s = froxel_inscatter(ldi.eye.xyz + dir * d, dir);
     let blend = fog.temporal.w;
     if (blend < 1.0 && fog.prev_eye.w > 0.5) {
-        let centre = ldi.eye.xyz + tile_ray(g.xy) * 0.5 * (d0 + d1);
+        // The froxel's centre in slice space (the slices are exponential, as history_at reads).
+        let centre = ldi.eye.xyz + tile_ray(g.xy) * slice_boundary(f32(g.z) + 0.5);
         let h = history_at(centre);
         if (h.w > 0.0) {
             s = mix(h.rgb, s, blend);
