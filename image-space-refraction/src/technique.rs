@@ -107,9 +107,9 @@ pub struct Settings {
     pub caustics: Option<CausticSettings>,
     /// The engine's environment (`probe` 1): one reflection probe for every object, captured
     /// once in the first frame where an artist would place it (`scene::probe_centre`) without
-    /// the specular objects, looked up box-projected against the scene's diffuse bounds (Lagarde and Zanuttini
-    /// 2012, `gpu::prelude::box_project`), instead of the paper's map from each object's
-    /// centre every frame. One map whatever the number of objects: a scene of many glass
+    /// the specular objects, looked up box-projected against the scene's diffuse bounds
+    /// (Lagarde and Zanuttini 2012, `gpu::prelude::box_project`), instead of the paper's map
+    /// from each object's centre every frame. One map whatever the number of objects: a scene of many glass
     /// objects (`chess`) renders. Without `nearby` only.
     pub room_probe: bool,
 }

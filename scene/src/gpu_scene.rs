@@ -1085,40 +1085,23 @@ impl ShadowTextures {
     }
 
     fn new(ctx: &Context, lights: usize, any_fitted: bool, size: u32, label: &str) -> Self {
-        let device = &ctx.device;
         let layers = 6 * lights.max(1) as u32;
-        let cubes = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: size,
-                height: size,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let cubes = gpu::render_texture(
+            ctx,
+            label,
+            (size, size, layers),
+            SHADOW_FORMAT,
+            wgpu::TextureUsages::COPY_SRC,
+        );
         let depth = gpu::depth_texture(ctx, size, size, 6, label);
         let fitted_size = if any_fitted { size } else { 1 };
-        let fitted = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: fitted_size,
-                height: fitted_size,
-                depth_or_array_layers: lights.max(1) as u32,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
+        let fitted = gpu::render_texture(
+            ctx,
+            label,
+            (fitted_size, fitted_size, lights.max(1) as u32),
+            SHADOW_FORMAT,
+            wgpu::TextureUsages::empty(),
+        );
         Self {
             face_views: (0..layers).map(|l| gpu::layer_view(&cubes, l)).collect(),
             depth_views: (0..6).map(|l| gpu::layer_view(&depth, l)).collect(),

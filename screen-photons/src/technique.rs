@@ -1585,19 +1585,14 @@ impl MediumPasses {
         let (index, previous) = targets.froxel_history.get();
         let temporal = FroxelTemporal::of_frame(index, previous, settings.temporal_blend);
         let params = self.froxel_params(targets, scene, view, settings, temporal)?;
-        let medium = scene
-            .scene
-            .medium
-            .as_ref()
-            .expect("checked by froxel_params");
-        let slices = crate::shafts::Slices::of_medium(medium, view.camera.eye, settings.slices);
         targets.froxel_history.set((
             index + 1,
             Some(FroxelView {
                 view_proj: view.camera.view_proj(view.width, view.height),
                 eye: view.camera.eye,
-                near: slices.near,
-                far: slices.far,
+                // This frame's slices, as the uniform holds them (near, far).
+                near: params.slices[0],
+                far: params.slices[1],
             }),
         ));
         let params = Uniform::new(ctx, "froxel params", &params);
