@@ -89,6 +89,10 @@ pub struct CausticSettings {
     /// Filter scale s (`filter_s`): 1 keeps the photons' power (the paper's 0.01 is for its
     /// unnormalized filter and arbitrary units).
     pub scale: f32,
+    /// Each photon leaves from a random point of its photon-buffer pixel instead of the pixel
+    /// centre (`photon_jitter`; stratified jittered emission, `jittered_emission` in
+    /// scene.wgsl).
+    pub jitter: bool,
 }
 
 impl Default for CausticSettings {
@@ -98,6 +102,7 @@ impl Default for CausticSettings {
             resolution: 256,
             k: 2,
             scale: 1.0,
+            jitter: false,
         }
     }
 }

@@ -19,6 +19,7 @@ use glam::{Mat4, Vec3};
 use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
+use scene::emission::{PHOTON_JITTER_HELP, PHOTON_JITTER_PARAM};
 use scene::technique::{check_map_budget, check_param, not_prepared};
 use scene::{
     Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
@@ -208,7 +209,7 @@ struct ParamsGpu {
     tolerance: f32,
     initial_step: f32,
     thickness: f32,
-    _pad: f32,
+    photon_jitter: u32,
     /// The room probe's centre (w: 1 when the lookup is box-projected) and its proxy box.
     probe: [f32; 4],
     box_min: [f32; 4],
@@ -314,7 +315,7 @@ impl Refraction {
             tolerance: s.tolerance,
             initial_step: s.initial_step * radius,
             thickness: s.thickness * 2.0 * radius,
-            _pad: 0.0,
+            photon_jitter: s.caustics.as_ref().is_some_and(|c| c.jitter) as u32,
             probe: [0.0; 4],
             box_min: [0.0; 4],
             box_max: [0.0; 4],
@@ -556,6 +557,13 @@ impl Technique for Refraction {
                     "the caustic filter's half size k (section 3.2; the paper's default 2)",
                 ),
                 Param::new(
+                    PHOTON_JITTER_PARAM,
+                    d.jitter as u32 as f64,
+                    (0.0, 1.0),
+                    true,
+                    PHOTON_JITTER_HELP,
+                ),
+                Param::new(
                     "filter_s",
                     d.scale as f64,
                     (0.0, 100.0),
@@ -614,12 +622,14 @@ impl Technique for Refraction {
             "thickness" => s.thickness = value as f32,
             "proxy" => s.box_proxy = value != 0.0,
             "probe" => s.room_probe = value != 0.0,
-            "photon_buffer" | "caustic_resolution" | "filter_k" | "filter_s" => {
+            "photon_buffer" | "caustic_resolution" | "filter_k" | "filter_s"
+            | PHOTON_JITTER_PARAM => {
                 let c = s.caustics.as_mut().expect("declared only with caustics");
                 match name {
                     "photon_buffer" => c.photon_size = value as u32,
                     "caustic_resolution" => c.resolution = value as u32,
                     "filter_k" => c.k = value as u32,
+                    PHOTON_JITTER_PARAM => c.jitter = value != 0.0,
                     _ => c.scale = value as f32,
                 }
             }

@@ -315,6 +315,7 @@ fn caustic_compute_matches_its_twins() {
             resolution,
             k,
             scale,
+            ..CausticSettings::default()
         };
         let accumulator = Accumulator::new(ctx, settings, layers);
         let unit = 1e-5f32;

@@ -70,6 +70,13 @@ pub struct CausticSettings {
     /// default: the reference has no caustics seen through specular chains, so turning it
     /// on adds error there (README.md, "Caustics").
     pub in_lookup: bool,
+    /// Each photon leaves from a random point of its caustic-map pixel instead of the pixel
+    /// centre (stratified jittered emission, `jittered_emission` in scene.wgsl): a regular
+    /// lattice of photons shows as moire rings where the caustic spreads; jittered, as noise.
+    pub jitter: bool,
+    /// Light-map path: each photon's Gaussian widened to its lattice cell's footprint on the
+    /// atlas (`scene::lightmap::Footprint`).
+    pub footprint: bool,
 }
 
 impl CausticSettings {
@@ -83,6 +90,8 @@ impl CausticSettings {
             lightmap_resolution: 1024,
             splat_radius: 3.0,
             in_lookup: false,
+            jitter: false,
+            footprint: true,
         }
     }
 }
@@ -112,7 +121,9 @@ struct CausticGpu {
     scale: f32,
     size: u32,
     in_lookup: u32,
-    lightmap: [f32; 4],
+    lightmap: f32,
+    jitter: u32,
+    _pad: [u32; 2],
 }
 
 /// The uniform block `SplatParams` of splat.wgsl.
@@ -433,7 +444,9 @@ impl Caustics {
             scale,
             size: self.settings.resolution,
             in_lookup: self.settings.in_lookup as u32,
-            lightmap: [self.light_map.width() as f32, 0.0, 0.0, 0.0],
+            lightmap: self.light_map.width() as f32,
+            jitter: self.settings.jitter as u32,
+            _pad: [0; 2],
         }
     }
 
@@ -678,6 +691,8 @@ impl Caustics {
                 power,
                 &self.charts,
                 size,
+                // One lattice per caustic map.
+                if self.settings.footprint { size } else { 0 },
                 self.settings.splat_radius,
             ),
         }

@@ -20,6 +20,9 @@ use gpu::distance_map::{HIT_WGSL, Method};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Target, bind};
+use scene::emission::{
+    PHOTON_FOOTPRINT_HELP, PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_HELP, PHOTON_JITTER_PARAM,
+};
 use scene::technique::check_param;
 use scene::{
     Frame, GpuScene, Material, ObjectFilter, Param, RasterTarget, Scene, Technique,
@@ -424,6 +427,14 @@ impl Technique for Impostor {
                 "1: reflections and refractions show the caustics (paper fig. 11; the reference \
                  has none there)",
             ));
+            p.push(param(
+                PHOTON_JITTER_PARAM,
+                c.jitter as u32 as f64,
+                0.0,
+                1.0,
+                true,
+                PHOTON_JITTER_HELP,
+            ));
             match c.path {
                 CausticPath::Grid => p.push(param(
                     "caustic_grid",
@@ -449,6 +460,14 @@ impl Technique for Impostor {
                         64.0,
                         false,
                         "radius of a photon's Gaussian quad in light-map texels (sigma = R / 2)",
+                    ));
+                    p.push(param(
+                        PHOTON_FOOTPRINT_PARAM,
+                        c.footprint as u32 as f64,
+                        0.0,
+                        1.0,
+                        true,
+                        PHOTON_FOOTPRINT_HELP,
                     ));
                 }
             }
@@ -482,9 +501,11 @@ impl Technique for Impostor {
                 match name {
                     "caustic_resolution" => c.resolution = value as u32,
                     "caustics_in_lookup" => c.in_lookup = value != 0.0,
+                    PHOTON_JITTER_PARAM => c.jitter = value != 0.0,
                     "caustic_grid" => c.grid = value as u32,
                     "lightmap_resolution" => c.lightmap_resolution = value as u32,
                     "splat_radius" => c.splat_radius = value as f32,
+                    PHOTON_FOOTPRINT_PARAM => c.footprint = value != 0.0,
                     _ => unreachable!("check_param accepted an undeclared parameter"),
                 }
             }

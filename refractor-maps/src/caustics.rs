@@ -27,6 +27,9 @@ use glam::Vec3;
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Uniform, bind};
+use scene::emission::{
+    PHOTON_FOOTPRINT_HELP, PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_HELP, PHOTON_JITTER_PARAM,
+};
 use scene::lightmap::{ChartAtlas, ChartGpu, QuadSplatter};
 use scene::{Frame, GpuScene, Material, ObjectFilter, Param, Scene, TechniqueError};
 
@@ -52,6 +55,12 @@ pub struct CausticSettings {
     /// Static pieces' light map made once and the moving piece's every frame (section 7), or
     /// every piece's photons every frame.
     pub separated: bool,
+    /// Each photon leaves from a random point of its photon-map pixel instead of the pixel
+    /// centre (stratified jittered emission, `jittered_emission` in scene.wgsl).
+    pub jitter: bool,
+    /// Each photon's Gaussian widened to its lattice cell's footprint on the light map
+    /// (`scene::lightmap::Footprint`).
+    pub footprint: bool,
 }
 
 impl Default for CausticSettings {
@@ -61,6 +70,8 @@ impl Default for CausticSettings {
             lightmap_resolution: 512,
             splat_radius: 3.0,
             separated: true,
+            jitter: false,
+            footprint: true,
         }
     }
 }
@@ -91,6 +102,20 @@ impl CausticSettings {
                 "radius of a photon's Gaussian splat in light-map texels",
             ),
             Param::new(
+                PHOTON_FOOTPRINT_PARAM,
+                self.footprint as u32 as f64,
+                (0.0, 1.0),
+                true,
+                PHOTON_FOOTPRINT_HELP,
+            ),
+            Param::new(
+                PHOTON_JITTER_PARAM,
+                self.jitter as u32 as f64,
+                (0.0, 1.0),
+                true,
+                PHOTON_JITTER_HELP,
+            ),
+            Param::new(
                 "caustics_separated",
                 self.separated as u32 as f64,
                 (0.0, 1.0),
@@ -108,6 +133,8 @@ impl CausticSettings {
             "lightmap_resolution" => self.lightmap_resolution = value as u32,
             "splat_radius" => self.splat_radius = value as f32,
             "caustics_separated" => self.separated = value != 0.0,
+            PHOTON_JITTER_PARAM => self.jitter = value != 0.0,
+            PHOTON_FOOTPRINT_PARAM => self.footprint = value != 0.0,
             _ => return false,
         }
         true
@@ -177,6 +204,8 @@ struct PhotonParamsGpu {
     tile: u32,
     tiles_per_row: u32,
     chart_index: u32,
+    jitter: u32,
+    _pad: [u32; 3],
 }
 
 /// `struct PhotonTile` of photons.wgsl.
@@ -526,6 +555,8 @@ impl Caustics {
                 tile: size,
                 tiles_per_row: map.tiles_per_row,
                 chart_index: 0,
+                jitter: self.settings.jitter as u32,
+                _pad: [0; 3],
             },
         );
         let tile_buffer = scene::multi_object::storage(ctx, "photon tiles", &tiles);
@@ -570,6 +601,12 @@ impl Caustics {
             &map.power,
             &self.charts,
             map.side(self.settings.photons),
+            // One lattice per tile: a piece seen from a light.
+            if self.settings.footprint {
+                self.settings.photons
+            } else {
+                0
+            },
             self.settings.splat_radius,
         );
     }

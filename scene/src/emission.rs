@@ -31,6 +31,25 @@ pub fn photons_for_image(width: u32, height: u32) -> u64 {
     (PHOTONS_PER_PIXEL * width as u64 * height as u64).max(MIN_PHOTONS)
 }
 
+/// The parameter by which every family that emits photons from a light-view raster (one
+/// photon per pixel) chooses where in its pixel a photon leaves: `jittered_emission` in
+/// scene.wgsl (README.md, "Jittered emission").
+pub const PHOTON_JITTER_PARAM: &str = "photon_jitter";
+/// [`PHOTON_JITTER_PARAM`]'s help line.
+pub const PHOTON_JITTER_HELP: &str = "1: each photon leaves from a random point of its pixel \
+     (stratified jittered emission: noise, not moire rings); 0: from the pixel centre";
+
+/// The parameter by which a family that splats photons chooses each photon's kernel: widened
+/// to the footprint of its lattice cell on the receiver (`lightmap::Footprint` for light maps)
+/// or the fixed splat radius. Footprints measure the cell from the landing points of the
+/// photon's lattice neighbours, so they need the lattice: they and [`PHOTON_JITTER_PARAM`] do
+/// not mix well (the jitter makes the measured cells noisy).
+pub const PHOTON_FOOTPRINT_PARAM: &str = "photon_footprint";
+/// [`PHOTON_FOOTPRINT_PARAM`]'s help line.
+pub const PHOTON_FOOTPRINT_HELP: &str = "1: each photon's splat widened to the footprint of its \
+     lattice cell on the receiver (photon differentials by finite differences); 0: the fixed \
+     splat radius";
+
 /// The objects photons are aimed at: caustic casters by role, and every specular object.
 pub fn caustic_casters(scene: &Scene) -> Vec<usize> {
     (0..scene.objects.len())

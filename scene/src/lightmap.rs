@@ -230,16 +230,85 @@ impl ChartGpu {
 struct SplatQuadGpu {
     atlas: [f32; 4],
     size: u32,
-    _pad: [u32; 3],
+    tile: u32,
+    _pad: [u32; 2],
 }
 
-/// Gaussian of a photon's quad: sigma = R / 2, cut at the disc of radius R; `(1 / (2
-/// sigma^2), 1 / integral over the disc)` in texel units, so a photon adds its whole power.
-pub fn splat_gaussian(radius: f32) -> (f32, f32) {
-    let sigma = 0.5 * radius;
-    let k = 1.0 / (2.0 * sigma * sigma);
-    let integral = std::f32::consts::PI / k * (1.0 - (-radius * radius * k).exp());
-    (k, 1.0 / integral)
+/// A lattice cell's width in standard deviations of its photon's footprint
+/// (`FOOTPRINT_CELL_SIGMA` in splat_quads.wgsl).
+pub const FOOTPRINT_CELL_SIGMA: f32 = 0.6;
+/// The largest half extent of a footprint's quad in texels (`MAX_FOOTPRINT`).
+pub const MAX_FOOTPRINT: f32 = 64.0;
+/// Squared Mahalanobis distances at which the fixed quad (its disc R = 2 sigma0) and a
+/// footprint much larger than it (three standard deviations) are cut (`FIXED_CUT2`,
+/// `FOOTPRINT_CUT2`).
+const FIXED_CUT2: f32 = 4.0;
+const FOOTPRINT_CUT2: f32 = 9.0;
+
+/// A photon's Gaussian on the atlas, in texels: the twin of `footprint_covariance` and of the
+/// weights `splat_quad_fs` adds (splat_quads.wgsl, which derives it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    /// Covariance (xx, xy, yy).
+    pub covariance: [f32; 3],
+    /// Squared Mahalanobis distance of the cut.
+    pub cut2: f32,
+}
+
+impl Footprint {
+    /// The paper's fixed quad of radius `radius`: sigma = R / 2, cut at R.
+    pub fn fixed(radius: f32) -> Self {
+        Self::new(radius, Vec2::ZERO, Vec2::ZERO, FIXED_CUT2)
+    }
+
+    /// The fixed Gaussian widened by the photon's lattice cell with edges `ex`, `ey` on the
+    /// atlas (zero where a neighbour is missing), cut between the fixed quad's two standard
+    /// deviations (no cell) and three (a cell much larger than the quad): `footprint_cut2`.
+    pub fn of_cell(radius: f32, ex: Vec2, ey: Vec2) -> Self {
+        let s0 = 0.25 * radius * radius;
+        let cell = FOOTPRINT_CELL_SIGMA.powi(2) * ex.length_squared().max(ey.length_squared());
+        let cut2 = FIXED_CUT2 + (FOOTPRINT_CUT2 - FIXED_CUT2) * cell / (s0 + cell);
+        Self::new(radius, ex, ey, cut2)
+    }
+
+    /// Covariance `sigma0^2 I + c^2 (ex ex^T + ey ey^T)`, shrunk so that the quad's half
+    /// extents stay within [`MAX_FOOTPRINT`].
+    fn new(radius: f32, ex: Vec2, ey: Vec2, cut2: f32) -> Self {
+        let s0 = 0.25 * radius * radius;
+        let c2 = FOOTPRINT_CELL_SIGMA * FOOTPRINT_CELL_SIGMA;
+        let mut cov = [
+            s0 + c2 * (ex.x * ex.x + ey.x * ey.x),
+            c2 * (ex.x * ex.y + ey.x * ey.y),
+            s0 + c2 * (ex.y * ex.y + ey.y * ey.y),
+        ];
+        let half_extent = (cut2 * cov[0].max(cov[2])).sqrt();
+        if half_extent > MAX_FOOTPRINT {
+            let shrink = (MAX_FOOTPRINT / half_extent).powi(2);
+            cov = cov.map(|c| c * shrink);
+        }
+        Self {
+            covariance: cov,
+            cut2,
+        }
+    }
+
+    /// Half extents of the photon's quad (texels).
+    pub fn half_extents(&self) -> Vec2 {
+        Vec2::new(self.covariance[0], self.covariance[2]).map(|v| (self.cut2 * v).sqrt())
+    }
+
+    /// The weight the photon adds at offset `d` (texels) from its landing point: 0 beyond the
+    /// cut; the weights integrate to 1 over the plane.
+    pub fn weight(&self, d: Vec2) -> f32 {
+        let [xx, xy, yy] = self.covariance;
+        let det = xx * yy - xy * xy;
+        let q = (yy * d.x * d.x - 2.0 * xy * d.x * d.y + xx * d.y * d.y) / det;
+        if q > self.cut2 {
+            return 0.0;
+        }
+        let norm = 2.0 * std::f32::consts::PI * det.sqrt() * (1.0 - (-0.5 * self.cut2).exp());
+        (-0.5 * q).exp() / norm
+    }
 }
 
 /// The paper's light-map splatting: one quad per photon-map texel, centred at the photon's
@@ -320,10 +389,12 @@ impl QuadSplatter {
     }
 
     /// Adds every photon of the `size` x `size` photon map (`address`, `power`) into `atlas`
-    /// (side `atlas_side` texels) as a Gaussian quad of radius `radius` texels, clipped to
-    /// the photon's own chart (`charts` holds the [`ChartGpu`]s). `slot` names the photon
-    /// map: its bind group is made the first time and kept (the same slot must always come
-    /// with the same `address`, `power` and `charts`).
+    /// (side `atlas_side` texels) as a Gaussian quad, clipped to the photon's own chart
+    /// (`charts` holds the [`ChartGpu`]s): of radius `radius` texels, or, with `tile` > 0, that
+    /// Gaussian widened to the photon's [`Footprint`], its lattice cell measured among the
+    /// neighbours in its own `tile` x `tile` block of the map (one lattice per caster and
+    /// light). `slot` names the photon map: its bind group is made the first time and kept (the
+    /// same slot must always come with the same `address`, `power` and `charts`).
     #[allow(clippy::too_many_arguments)]
     pub fn splat(
         &self,
@@ -335,14 +406,15 @@ impl QuadSplatter {
         power: &wgpu::TextureView,
         charts: &wgpu::Buffer,
         size: u32,
+        tile: u32,
         radius: f32,
     ) {
         let ctx = frame.gpu;
-        let (k, norm) = splat_gaussian(radius);
         let params = SplatQuadGpu {
-            atlas: [atlas_side as f32, radius, k, norm],
+            atlas: [atlas_side as f32, radius, 0.0, 0.0],
             size,
-            _pad: [0; 3],
+            tile,
+            _pad: [0; 2],
         };
         let group = self.groups.get(ctx, slot, &params, |uniform| {
             bind::group(
@@ -427,6 +499,87 @@ mod tests {
         let scene = crate::load(name).unwrap();
         let atlas = ChartAtlas::new(&scene, 1024);
         (scene, atlas)
+    }
+
+    /// Sum at `at` of footprints of photons landing on the lattice `origin + i ex + j ey`.
+    fn lattice_sum(ex: Vec2, ey: Vec2, at: Vec2, footprint: &Footprint) -> f32 {
+        let mut total = 0.0;
+        for j in -12..=12 {
+            for i in -12..=12 {
+                total += footprint.weight(at - (ex * i as f32 + ey * j as f32));
+            }
+        }
+        total
+    }
+
+    /// Ratio of the largest to the smallest lattice sum over one cell.
+    fn ripple(ex: Vec2, ey: Vec2, footprint: &Footprint) -> f32 {
+        let sums: Vec<f32> = (0..8)
+            .flat_map(|b| (0..8).map(move |a| (a as f32 / 8.0, b as f32 / 8.0)))
+            .map(|(a, b)| lattice_sum(ex, ey, ex * a + ey * b, footprint))
+            .collect();
+        let (lo, hi) = sums
+            .iter()
+            .fold((f32::MAX, 0.0f32), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+        hi / lo
+    }
+
+    #[test]
+    fn the_fixed_footprint_is_the_papers_quad() {
+        // sigma = R / 2, cut at R, normalised over the disc (the splat before footprints).
+        let r = 3.0f32;
+        let f = Footprint::fixed(r);
+        let k = 1.0 / (2.0 * (0.5 * r).powi(2));
+        let norm = 1.0 / (std::f32::consts::PI / k * (1.0 - (-r * r * k).exp()));
+        for d in [Vec2::ZERO, Vec2::new(1.0, 0.5), Vec2::new(0.0, 2.9)] {
+            let expected = (-d.length_squared() * k).exp() * norm;
+            assert!((f.weight(d) - expected).abs() < 1e-6 * expected.max(1.0));
+        }
+        assert_eq!(f.weight(Vec2::new(3.01, 0.0)), 0.0);
+        assert_eq!(f.half_extents(), Vec2::splat(r));
+    }
+
+    #[test]
+    fn footprints_integrate_to_one() {
+        for f in [
+            Footprint::fixed(3.0),
+            Footprint::of_cell(3.0, Vec2::new(9.0, 1.0), Vec2::new(-2.0, 4.0)),
+            Footprint::of_cell(3.0, Vec2::new(500.0, 0.0), Vec2::new(0.0, 2.0)),
+        ] {
+            let h = f.half_extents();
+            let step = 0.05;
+            let (nx, ny) = ((h.x / step) as i32 + 1, (h.y / step) as i32 + 1);
+            let mut sum = 0.0f64;
+            for j in -ny..=ny {
+                for i in -nx..=nx {
+                    sum += f.weight(Vec2::new(i as f32, j as f32) * step) as f64;
+                }
+            }
+            let integral = sum * (step * step) as f64;
+            assert!((integral - 1.0).abs() < 0.01, "{f:?}: {integral}");
+        }
+    }
+
+    #[test]
+    fn a_stretched_lattice_of_footprints_sums_to_nearly_flat() {
+        // Photons under a glass sphere: cells stretched radially 12 texels by 3, sheared.
+        let (ex, ey) = (Vec2::new(12.0, 2.0), Vec2::new(-1.0, 3.0));
+        let cell = Footprint::of_cell(3.0, ex, ey);
+        let flat = ripple(ex, ey, &cell);
+        assert!(flat < 1.03, "footprints ripple by {flat}");
+        // The light is one photon per cell area.
+        let level = lattice_sum(ex, ey, Vec2::ZERO, &cell) * ex.perp_dot(ey).abs();
+        assert!((level - 1.0).abs() < 0.03, "level {level}");
+        // The fixed quad, narrower than the cell, draws the lattice's rows: the rings.
+        let fixed = ripple(ex, ey, &Footprint::fixed(3.0));
+        assert!(fixed > 10.0, "fixed quads ripple by only {fixed}");
+    }
+
+    #[test]
+    fn a_cell_across_a_fold_is_capped() {
+        let f = Footprint::of_cell(3.0, Vec2::new(900.0, 0.0), Vec2::new(0.0, 2.0));
+        let h = f.half_extents();
+        assert!((h.max_element() - MAX_FOOTPRINT).abs() < 1e-3, "{h}");
     }
 
     #[test]

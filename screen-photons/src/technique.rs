@@ -38,6 +38,9 @@ use glam::{Mat4, Vec3};
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
+use scene::emission::{
+    PHOTON_FOOTPRINT_HELP, PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_HELP, PHOTON_JITTER_PARAM,
+};
 use scene::{
     CasterShadowMaps, DepthPeeler, Frame, GpuScene, ObjectFilter, Param, RasterTarget, SCENE_WGSL,
     Scene, Technique, TechniqueError, TechniqueResult, View,
@@ -177,6 +180,12 @@ pub struct Settings {
     /// Froxels: weight of this frame's jittered sample against the reprojected history
     /// (Hillaire's exponential moving average); 1 keeps no history and does not jitter.
     pub temporal_blend: f32,
+    /// Each photon leaves from a random point of its transfer-map pixel instead of the pixel
+    /// centre (stratified jittered emission, `jittered_emission` in scene.wgsl).
+    pub jitter: bool,
+    /// Oriented splats: each photon's cone stretched over the footprint of its lattice cell on
+    /// the receiver (`footprint_matrix` in splat_weight.wgsl).
+    pub footprint: bool,
 }
 
 impl Default for Settings {
@@ -195,6 +204,8 @@ impl Default for Settings {
             slices: 64,
             caustic_map: 128,
             temporal_blend: 0.1,
+            jitter: false,
+            footprint: true,
         }
     }
 }
@@ -296,6 +307,20 @@ impl Settings {
                 "froxel fog: weight of the frame's jittered sample against the reprojected \
                  history (1: no history, no jitter)",
             ),
+            Param::new(
+                PHOTON_FOOTPRINT_PARAM,
+                self.footprint as u32 as f64,
+                (0.0, 1.0),
+                true,
+                PHOTON_FOOTPRINT_HELP,
+            ),
+            Param::new(
+                PHOTON_JITTER_PARAM,
+                self.jitter as u32 as f64,
+                (0.0, 1.0),
+                true,
+                PHOTON_JITTER_HELP,
+            ),
         ]
     }
 
@@ -314,6 +339,8 @@ impl Settings {
             "slices" => self.slices = value as u32,
             "caustic_map" => self.caustic_map = value as u32,
             "temporal_blend" => self.temporal_blend = value as f32,
+            PHOTON_JITTER_PARAM => self.jitter = value != 0.0,
+            PHOTON_FOOTPRINT_PARAM => self.footprint = value != 0.0,
             _ => unreachable!("checked against params()"),
         }
     }
@@ -993,6 +1020,8 @@ struct TransferParamsGpu {
     light: [f32; 4],
     intensity: [f32; 4],
     axis: [f32; 4],
+    jitter: u32,
+    _pad: [u32; 3],
 }
 
 #[repr(C)]
@@ -1052,7 +1081,8 @@ struct SplatParamsGpu {
     forward: [f32; 4],
     size: [f32; 4],
     mode: u32,
-    _pad: [u32; 3],
+    lattice: u32,
+    _pad: [u32; 2],
 }
 
 /// The shader of one pass: the prelude, scene.wgsl, the LDI bindings and functions, the
@@ -2252,7 +2282,7 @@ impl Passes {
         let ctx = frame.gpu;
         let (centre, radius) = light_outside_casters(&scene.scene, light, scene.time())?;
         let grid = settings.photons;
-        let (view_proj, params, spacing) = light_view(light, centre, radius, grid);
+        let (view_proj, params, spacing) = light_view(light, centre, radius, grid, settings.jitter);
         let uniform = Uniform::new(ctx, "transfer params", &params);
         let group = bind::group(ctx, "transfer", &self.transfer_layout, &[uniform.binding()]);
         let camera = scene.camera_bind_group(ctx, view_proj, light.position);
@@ -2427,7 +2457,13 @@ impl Passes {
                     settings.tolerance.max(radius * 0.25),
                 ],
                 mode: (splat == Splat::Sprite) as u32,
-                _pad: [0; 3],
+                // Receiver i is the photon of transfer-map pixel i: one lattice per light.
+                lattice: if settings.footprint {
+                    settings.photons
+                } else {
+                    0
+                },
+                _pad: [0; 2],
             },
         );
         let group = bind::group(
@@ -2529,12 +2565,15 @@ fn light_view(
     centre: Vec3,
     radius: f32,
     grid: u32,
+    jitter: bool,
 ) -> (Mat4, TransferParamsGpu, f32) {
     let view = scene::lightmap::LightView::of_sphere(light.position, centre, radius, grid);
     let params = TransferParamsGpu {
         light: light.position.extend(1.0).to_array(),
         intensity: light.intensity.extend(0.0).to_array(),
         axis: view.axis.extend(view.pixel_area).to_array(),
+        jitter: jitter as u32,
+        _pad: [0; 3],
     };
     (view.view_proj, params, view.spacing())
 }

@@ -15,7 +15,14 @@ struct PhotonOut {
 };
 
 @fragment
-fn photon_fs(in: RefractorOut) -> PhotonOut {
+fn photon_fs(pixel_in: RefractorOut) -> PhotonOut {
+    // The photon leaves from a random point of its pixel (jittered_emission in scene.wgsl) or,
+    // with params.photon_jitter 0, from the pixel centre.
+    let jitter = emission_jitter(pixel_in.clip.xy, 0u) * f32(params.photon_jitter);
+    let point = jittered_point(pixel_in.world, pixel_in.normal, jitter);
+    var in = pixel_in;
+    in.world = point.world;
+    in.normal = point.normal;
     let light = camera.eye.xyz;
     let v = normalize(in.world - light);
     let e = specular_event(in.object, in.normal, in.world, light, v);

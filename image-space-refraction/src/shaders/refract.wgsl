@@ -30,7 +30,8 @@ struct RefractParams {
     initial_step: f32,
     // The thickness proxy's sphere diameter or slab thickness (m).
     thickness: f32,
-    _pad: f32,
+    // 1: each photon leaves from a random point of its photon-buffer pixel (photon.wgsl).
+    photon_jitter: u32,
     // The room probe's centre (w = 1: the environment map is that probe, looked up
     // box-projected against box_min..box_max).
     probe: vec4f,

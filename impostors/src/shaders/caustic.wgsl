@@ -32,8 +32,12 @@ struct CausticParams {
     scale: f32,
     size: u32,
     in_lookup: u32,
-    // Light-map atlas side in texels (x); y, z, w unused here (splat_quads.wgsl).
-    lightmap: vec4f,
+    // Light-map atlas side in texels; 1 when photons leave from a random point of their pixel
+    // (jittered_emission in scene.wgsl), 0 from its centre.
+    lightmap: f32,
+    jitter: u32,
+    _pad0: u32,
+    _pad1: u32,
 };
 
 @group(3) @binding(0) var<uniform> caustic: CausticParams;
@@ -52,6 +56,13 @@ struct Photon {
     power: vec3f,
     alive: bool,
 };
+
+// Where this caustic-map pixel's photon leaves the generator: the pixel centre or, jittered, a
+// random point of the pixel. Uniform control flow (derivatives).
+fn emitted_photon(in: SceneVertexOut) -> SceneVertexOut {
+    let jitter = emission_jitter(in.clip.xy, 0u) * f32(caustic.jitter);
+    return jittered_emission(in, jitter);
+}
 
 // The photon through this caustic-map pixel: refraction or reflection at the generator's
 // surface, Hit() in the environment impostor, and the flux the pixel carries.
@@ -127,7 +138,7 @@ fn caustic_map_fs(in: SceneVertexOut) -> PhotonTargets {
     var out: PhotonTargets;
     out.address = vec4f(0.0);
     out.power = vec4f(0.0);
-    let photon = trace_photon(in);
+    let photon = trace_photon(emitted_photon(in));
     if (!photon.alive) { return out; }
     out.address = vec4f(params.reference.xyz + photon.l * photon.distance, 1.0);
     out.power = vec4f(photon.power, 0.0);
@@ -151,7 +162,7 @@ fn caustic_uv_fs(in: SceneVertexOut) -> PhotonTargets {
     var out: PhotonTargets;
     out.address = vec4f(0.0);
     out.power = vec4f(0.0);
-    let photon = trace_photon(in);
+    let photon = trace_photon(emitted_photon(in));
     if (!photon.alive) { return out; }
     let t = receiver_texel(photon.l);
     let info = textureLoad(receiver_info, t.xy, t.z, 0);
@@ -197,7 +208,7 @@ fn lightmap_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
     let chart = fragment_chart(in.object, in.world, in.normal);
     if (chart.index < 0) { return vec4f(0.0); }
     let c = charts[chart.index];
-    let power = light_map_power(light_map, light_map_sampler, caustic.lightmap.x, c, chart.uv);
+    let power = light_map_power(light_map, light_map_sampler, caustic.lightmap, c, chart.uv);
     let irradiance = power / texel_area(c, in.object, chart.local_normal);
     return vec4f(surface_albedo(in.object, in.uv) / PI * irradiance, 0.0);
 }
@@ -265,7 +276,7 @@ fn caustic_radiance_lightmap(l: vec3f) -> vec3f {
     let c = charts[chart];
     let uv = chart_uv(c, world_to_local(u32(round(info.y)), p));
     let albedo = textureLoad(receiver_albedo, t.xy, t.z, 0).rgb;
-    let power = light_map_power(light_map, light_map_sampler, caustic.lightmap.x, c, uv);
+    let power = light_map_power(light_map, light_map_sampler, caustic.lightmap, c, uv);
     return albedo / PI * power * info.z;
 }
 

@@ -22,6 +22,11 @@ struct PhotonParams {
     tile: u32,
     tiles_per_row: u32,
     chart_index: u32,
+    // 1: each photon leaves from a random point of its pixel (jittered_emission), 0: centre.
+    jitter: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 struct PhotonTile {
@@ -94,7 +99,9 @@ struct PhotonTargets {
 };
 
 @fragment
-fn photon_fs(in: SceneVertexOut) -> PhotonTargets {
+fn photon_fs(pixel_in: SceneVertexOut) -> PhotonTargets {
+    let jitter = emission_jitter(pixel_in.clip.xy, 0u) * f32(photons.jitter);
+    let in = jittered_emission(pixel_in, jitter);
     var out: PhotonTargets;
     out.address = vec4f(0.0);
     out.power = vec4f(0.0);

@@ -96,6 +96,44 @@ fn scene_vs(v: SceneVertexIn, @builtin(instance_index) object: u32) -> SceneVert
     return out;
 }
 
+// Stratified jittered emission. A photon pass rasterizes the caustic casters from the light,
+// one photon per pixel; at pixel centres the photons leave on a regular lattice, and where a
+// caster spreads them (the caustic's rim under a glass sphere) the lattice shows as
+// concentric moire rings. This moves the fragment to a random point of its own pixel (one
+// stratum per pixel), `jitter` in [-0.5, 0.5)^2 pixels, on the surface's tangent plane: the
+// world position and the interpolated normal are extended to first order with their
+// screen-space derivatives. The photon keeps its pixel's flux (each stratum is one pixel),
+// so the estimate stays unbiased and the rings become noise. Call in uniform control flow.
+fn jittered_emission(in: SceneVertexOut, jitter: vec2f) -> SceneVertexOut {
+    let point = jittered_point(in.world, in.normal, jitter);
+    var out = in;
+    out.world = point.world;
+    out.normal = point.normal;
+    return out;
+}
+
+// jittered_emission for a pass with its own vertex output: the interpolated `world` and
+// `normal` moved by `jitter` pixels. Uniform control flow (derivatives).
+struct EmissionPoint {
+    world: vec3f,
+    normal: vec3f,
+};
+
+fn jittered_point(world: vec3f, normal: vec3f, jitter: vec2f) -> EmissionPoint {
+    let world_dx = dpdx(world);
+    let world_dy = dpdy(world);
+    let normal_dx = dpdx(normal);
+    let normal_dy = dpdy(normal);
+    return EmissionPoint(world + world_dx * jitter.x + world_dy * jitter.y,
+                         normal + normal_dx * jitter.x + normal_dy * jitter.y);
+}
+
+// This pixel's jitter for jittered_emission: white noise, fixed per pixel and `seed`.
+fn emission_jitter(pixel: vec2f, seed: u32) -> vec2f {
+    let key = pcg_hash(u32(pixel.x) ^ pcg_hash(u32(pixel.y) ^ pcg_hash(seed)));
+    return vec2f(hash_to_unit(key), hash_to_unit(key ^ 0x9e3779b9u)) - 0.5;
+}
+
 // The shading normal turned to face the viewer (surfaces are two-sided, as in the reference).
 // Simple form for technique shaders; the raster pass uses the geometric rule below.
 fn facing_normal(n: vec3f, p: vec3f, eye: vec3f) -> vec3f {

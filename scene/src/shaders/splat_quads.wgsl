@@ -5,13 +5,24 @@
 // shader weights the photon power with a Gaussian over the quad. After the gpu prelude +
 // chart.wgsl.
 
+// Photon footprints (photon differentials, Schjoth et al. 2007, in their finite-difference
+// form): the photons leave the light on a lattice (the photon map's texels), so each photon
+// stands for one lattice cell; where the caustic spreads, the cell lands on the atlas much
+// larger than a fixed quad, and stretched (under a glass sphere, radially), and a lattice of
+// fixed quads draws its rows as moire rings. With footprints on, a photon's Gaussian is its
+// cell's: covariance sigma0^2 I + c^2 (ex ex^T + ey ey^T), ex and ey the cell's edges on the
+// atlas measured from the landing points of its lattice neighbours (the neighbours that landed
+// in the same chart and the same lattice tile). lightmap.rs's `footprint_gaussian` is the twin.
+
 struct SplatQuadParams {
-    // Atlas side L (texels), quad radius R (texels), 1 / (2 sigma^2) (per texel^2), and the
-    // Gaussian's normalisation 1 / sum of its weights over the disc of radius R.
+    // Atlas side L (texels), quad radius R (texels): the fixed Gaussian has sigma0 = R / 2,
+    // cut at R; z, w unused.
     atlas: vec4f,
     // Caustic map size C (photons per side).
     size: u32,
-    _pad0: u32,
+    // Side of a lattice tile (photons): neighbours across a tile's edge belong to another
+    // lattice (another caster's or light's tile); 0: no footprints, the fixed Gaussian.
+    tile: u32,
     _pad1: u32,
     _pad2: u32,
 };
@@ -28,7 +39,80 @@ struct QuadOut {
     @location(1) @interpolate(flat) power: vec3f,
     // The chart's rectangle in atlas texels: the splat stays inside its own chart.
     @location(2) @interpolate(flat) rect: vec4f,
+    // The footprint's inverse covariance (xx, xy, yy) and its normalisation.
+    @location(3) @interpolate(flat) gauss: vec4f,
+    // Its cut (squared Mahalanobis distance).
+    @location(4) @interpolate(flat) cut2: f32,
 };
+
+// A lattice cell's width in standard deviations: c in the covariance above. Cut at three
+// standard deviations, a lattice of such Gaussians sums to within 2 % of flat (lightmap.rs's
+// tests; cut at two, as the fixed quad is, the sum ripples by 16 %).
+const FOOTPRINT_CELL_SIGMA: f32 = 0.6;
+// The largest half extent of a footprint's quad (texels): a cell measured across a fold or a
+// silhouette can be arbitrarily large; its Gaussian is shrunk to fit.
+const MAX_FOOTPRINT: f32 = 64.0;
+// Squared Mahalanobis distance at which a Gaussian is cut, normalised over what remains
+// (1 - exp(-cut2 / 2) of a whole Gaussian): the fixed quad's disc R = 2 sigma0; a footprint
+// goes from there to three standard deviations as its cell outgrows the fixed quad
+// (footprint_cut2), so that the focus of a caustic, where cells are small, keeps the paper's
+// quad.
+const FIXED_CUT2: f32 = 4.0;
+const FOOTPRINT_CUT2: f32 = 9.0;
+
+// The landing point (atlas texels) of the photon at lattice texel `at` if it landed in `chart`
+// within the same tile as `origin`; z = 0 where it did not.
+fn lattice_neighbour(origin: vec2i, at: vec2i, chart: f32) -> vec3f {
+    let tile = i32(quads.tile);
+    if (any(at < vec2i(0)) || any(at >= vec2i(i32(quads.size))) || any(at / tile != origin / tile)) {
+        return vec3f(0.0);
+    }
+    let a = textureLoad(photon_address, at, 0);
+    let same = a.w >= 0.5 && round(a.z) == round(chart);
+    return select(vec3f(0.0), vec3f(a.xy * quads.atlas.x, 1.0), same);
+}
+
+// One edge of the photon's lattice cell on the atlas along lattice axis `axis`: the shorter of
+// the differences to its two neighbours (the longer may span a fold or a silhouette), or the
+// one that exists; zero where neither landed.
+fn lattice_edge(texel: vec2i, axis: vec2i, centre: vec2f, chart: f32) -> vec2f {
+    let ahead = lattice_neighbour(texel, texel + axis, chart);
+    let behind = lattice_neighbour(texel, texel - axis, chart);
+    let forward = ahead.xy - centre;
+    let backward = centre - behind.xy;
+    if (ahead.z > 0.0 && behind.z > 0.0) {
+        return select(backward, forward, dot(forward, forward) <= dot(backward, backward));
+    }
+    if (ahead.z > 0.0) { return forward; }
+    if (behind.z > 0.0) { return backward; }
+    return vec2f(0.0);
+}
+
+// A footprint's cut: FIXED_CUT2 plus the cell's share of the Gaussian's largest variance
+// (0 for no cell, towards 1 for cells much larger than the fixed quad) of the way to
+// FOOTPRINT_CUT2.
+fn footprint_cut2(radius: f32, ex: vec2f, ey: vec2f) -> f32 {
+    let s0 = 0.25 * radius * radius;
+    let cell = FOOTPRINT_CELL_SIGMA * FOOTPRINT_CELL_SIGMA * max(dot(ex, ex), dot(ey, ey));
+    return FIXED_CUT2 + (FOOTPRINT_CUT2 - FIXED_CUT2) * cell / (s0 + cell);
+}
+
+// The covariance (xx, xy, yy) of a photon's Gaussian: the fixed sigma0 = R / 2 widened by its
+// cell (edges ex, ey; zero for none), shrunk so that its quad's half extents (sqrt(cut2)
+// sigma) stay within MAX_FOOTPRINT.
+fn footprint_covariance(radius: f32, ex: vec2f, ey: vec2f, cut2: f32) -> vec3f {
+    let s0 = 0.25 * radius * radius;
+    let c2 = FOOTPRINT_CELL_SIGMA * FOOTPRINT_CELL_SIGMA;
+    var cov = vec3f(s0 + c2 * (ex.x * ex.x + ey.x * ey.x),
+                    c2 * (ex.x * ex.y + ey.x * ey.y),
+                    s0 + c2 * (ex.y * ex.y + ey.y * ey.y));
+    let half_extent = sqrt(cut2 * max(cov.x, cov.z));
+    if (half_extent > MAX_FOOTPRINT) {
+        let shrink = MAX_FOOTPRINT / half_extent;
+        cov *= shrink * shrink;
+    }
+    return cov;
+}
 
 const QUAD_CORNERS = array<vec2f, 6>(
     vec2f(-1.0, -1.0), vec2f(1.0, -1.0), vec2f(1.0, 1.0),
@@ -45,14 +129,29 @@ fn splat_quad_vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) ph
     out.offset = vec2f(0.0);
     out.power = vec3f(0.0);
     out.rect = vec4f(0.0);
+    out.gauss = vec4f(0.0);
+    out.cut2 = 0.0;
     if (address.w < 0.5) { return out; }
     let size = quads.atlas.x;
-    let radius = quads.atlas.y;
-    let corner = QUAD_CORNERS[vertex];
     let centre = address.xy * size;
-    let p = (centre + corner * radius) / size;
+    var ex = vec2f(0.0);
+    var ey = vec2f(0.0);
+    var cut2 = FIXED_CUT2;
+    if (quads.tile > 0u) {
+        ex = lattice_edge(texel, vec2i(1, 0), centre, address.z);
+        ey = lattice_edge(texel, vec2i(0, 1), centre, address.z);
+        cut2 = footprint_cut2(quads.atlas.y, ex, ey);
+    }
+    let cov = footprint_covariance(quads.atlas.y, ex, ey, cut2);
+    let det = cov.x * cov.z - cov.y * cov.y;
+    out.gauss = vec4f(vec3f(cov.z, -cov.y, cov.x) / det,
+                      1.0 / (2.0 * PI * sqrt(det) * (1.0 - exp(-0.5 * cut2))));
+    out.cut2 = cut2;
+    let half_extent = sqrt(cut2 * cov.xz);
+    let offset = QUAD_CORNERS[vertex] * half_extent;
+    let p = (centre + offset) / size;
     out.clip = vec4f(2.0 * p.x - 1.0, 1.0 - 2.0 * p.y, 0.0, 1.0);
-    out.offset = corner * radius;
+    out.offset = offset;
     out.power = textureLoad(photon_power, texel, 0).rgb;
     out.rect = splat_charts[i32(round(address.z))].rect * size;
     return out;
@@ -60,12 +159,11 @@ fn splat_quad_vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) ph
 
 @fragment
 fn splat_quad_fs(in: QuadOut) -> @location(0) vec4f {
-    let r2 = dot(in.offset, in.offset);
-    let radius = quads.atlas.y;
+    let d = in.offset;
+    let q = in.gauss.x * d.x * d.x + 2.0 * in.gauss.y * d.x * d.y + in.gauss.z * d.y * d.y;
     let texel = in.clip.xy;
-    if (r2 > radius * radius || any(texel < in.rect.xy) || any(texel > in.rect.zw)) {
+    if (q > in.cut2 || any(texel < in.rect.xy) || any(texel > in.rect.zw)) {
         discard;
     }
-    let w = exp(-r2 * quads.atlas.z) * quads.atlas.w;
-    return vec4f(in.power * w, 0.0);
+    return vec4f(in.power * exp(-0.5 * q) * in.gauss.w, 0.0);
 }

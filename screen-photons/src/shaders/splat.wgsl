@@ -19,7 +19,9 @@ struct SplatParams {
     size: vec4f,
     // 0: oriented (tangent plane), 1: screen-aligned sprite.
     mode: u32,
-    _pad0: u32,
+    // Oriented splats: the photon lattice's width (receiver i is lattice point (i % lattice,
+    // i / lattice)), each splat the footprint of its cell (splat_weight.wgsl); 0: radius s.
+    lattice: u32,
     _pad1: u32,
     _pad2: u32,
 };
@@ -30,7 +32,41 @@ struct SplatParams {
 struct SplatOut {
     @builtin(position) position: vec4f,
     @location(0) @interpolate(flat) receiver: u32,
+    // The footprint's radius matrix (footprint_matrix); zero: the cone of radius s.
+    @location(1) @interpolate(flat) footprint: vec3f,
 };
+
+// The receiver point of lattice neighbour j of receiver i (centre c, normal n) as an offset in
+// the tangent basis (t, b); z = 0 where j is off the lattice's row or grid, has no point, or
+// lies on another surface (a normal turned away, or off the tangent plane).
+fn lattice_neighbour(i: u32, j: i32, same_row: bool, c: vec3f, n: vec3f, t: vec3f, b: vec3f) -> vec3f {
+    let count = i32(arrayLength(&receivers));
+    let lattice = splat.lattice;
+    if (j < 0 || j >= count || (same_row && u32(j) / lattice != i / lattice)) {
+        return vec3f(0.0);
+    }
+    let r = receivers[j];
+    let e = r.position.xyz - c;
+    let on_surface = r.position.w >= 0.5 && dot(r.normal.xyz, n) > 0.9
+        && abs(dot(e, n)) <= 0.25 * length(e);
+    return select(vec3f(0.0), vec3f(dot(e, t), dot(e, b), 1.0), on_surface);
+}
+
+// One edge of receiver i's lattice cell along `step` (1: the row, lattice: the column), in
+// the tangent basis: the shorter difference to its two neighbours (the longer may span a fold),
+// or the one that exists; zero where neither does.
+fn lattice_edge(i: u32, step: i32, c: vec3f, n: vec3f, t: vec3f, b: vec3f) -> vec2f {
+    let same_row = step == 1;
+    let ahead = lattice_neighbour(i, i32(i) + step, same_row, c, n, t, b);
+    let behind = lattice_neighbour(i, i32(i) - step, same_row, c, n, t, b);
+    let backward = -behind.xy;
+    if (ahead.z > 0.0 && behind.z > 0.0) {
+        return select(backward, ahead.xy, dot(ahead.xy, ahead.xy) <= dot(backward, backward));
+    }
+    if (ahead.z > 0.0) { return ahead.xy; }
+    if (behind.z > 0.0) { return backward; }
+    return vec2f(0.0);
+}
 
 const SPLAT_CORNERS = array<vec2f, 6>(
     vec2f(-1.0, -1.0), vec2f(1.0, -1.0), vec2f(1.0, 1.0),
@@ -42,11 +78,22 @@ fn splat_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> S
     var out: SplatOut;
     out.receiver = i;
     out.position = vec4f(-2.0, -2.0, 0.5, 1.0);
+    out.footprint = vec3f(0.0);
     let r = receivers[i];
     if (r.position.w < 0.5) { return out; }
     let c = r.position.xyz;
     let eye = camera.eye.xyz;
-    let s = splat.size.z;
+    var s = splat.size.z;
+    if (splat.lattice > 0u && splat.mode == 0u) {
+        let n = normalize(r.normal.xyz);
+        let t = footprint_tangent(n);
+        let b = cross(n, t);
+        let ex = lattice_edge(i, 1, c, n, t, b);
+        let ey = lattice_edge(i, i32(splat.lattice), c, n, t, b);
+        out.footprint = footprint_matrix(s, ex, ey);
+        // The sphere that holds the footprint.
+        s = sqrt(max(out.footprint.x, out.footprint.z));
+    }
     let z = dot(c - eye, splat.forward.xyz);
     if (z <= s * 1.01) { return out; }
     // The footprint of the sphere of radius s about C holds every point of either plane. On
@@ -72,7 +119,15 @@ fn splat_fs(in: SplatOut) -> @location(0) vec4f {
     let visible_distance = textureLoad(ldi_layers, px, 0, 0).w;
     let sprite = splat.mode == 1u;
     let n = select(r.normal.xyz, normalize(eye - c), sprite);
-    let w = splat_weight(eye, view, c, n, splat.size.z);
+    var w = splat_weight(eye, view, c, n, splat.size.z);
+    if (in.footprint.x > 0.0) {
+        // The footprint on the tangent plane, where the view ray meets it.
+        let normal = normalize(n);
+        let t = footprint_tangent(normal);
+        let along = w.y * view + eye - c;
+        let u = vec2f(dot(along, t), dot(along, cross(normal, t)));
+        w = vec2f(select(0.0, footprint_kernel(u, in.footprint), w.y > 0.0), w.y);
+    }
     let tolerance = splat.size.w;
     let oriented_visible = abs(w.y - visible_distance) < tolerance;
     let sprite_visible = distance(c, eye) <= visible_distance + tolerance;

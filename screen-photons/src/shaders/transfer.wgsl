@@ -20,6 +20,12 @@ struct TransferParams {
     // xyz: unit axis of the light's view; w: area of one pixel on its image plane at unit
     // distance, (2 tan(fov / 2) / grid)^2.
     axis: vec4f,
+    // 1: each photon leaves from a random point of its pixel (jittered_emission in
+    // scene.wgsl); 0: from the pixel centre.
+    jitter: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 @group(2) @binding(0) var<uniform> transfer: TransferParams;
@@ -30,7 +36,8 @@ struct TransferTargets {
 };
 
 @fragment
-fn transfer_fs(in: SceneVertexOut) -> TransferTargets {
+fn transfer_fs(pixel_in: SceneVertexOut) -> TransferTargets {
+    let in = jittered_emission(pixel_in, emission_jitter(pixel_in.clip.xy, 0u) * f32(transfer.jitter));
     let light = transfer.light.xyz;
     let dir = normalize(in.world - light);
     let e = specular_event(in.object, in.normal, in.world, light, dir);
