@@ -12,7 +12,7 @@
 // fixed quads draws its rows as moire rings. With footprints on, a photon's Gaussian is its
 // cell's: covariance sigma0^2 I + c^2 (ex ex^T + ey ey^T), ex and ey the cell's edges on the
 // atlas measured from the landing points of its lattice neighbours (the neighbours that landed
-// in the same chart and the same lattice tile). lightmap.rs's `footprint_gaussian` is the twin.
+// in the same chart and the same lattice tile). lightmap.rs's `Footprint` is the twin.
 
 struct SplatQuadParams {
     // Atlas side L (texels), quad radius R (texels): the fixed Gaussian has sigma0 = R / 2,
@@ -46,7 +46,7 @@ struct QuadOut {
 };
 
 // A lattice cell's width in standard deviations: c in the covariance above. Cut at three
-// standard deviations, a lattice of such Gaussians sums to within 2 % of flat (lightmap.rs's
+// standard deviations, a lattice of such Gaussians sums to within 3 % of flat (lightmap.rs's
 // tests; cut at two, as the fixed quad is, the sum ripples by 16 %).
 const FOOTPRINT_CELL_SIGMA: f32 = 0.6;
 // The largest half extent of a footprint's quad (texels): a cell measured across a fold or a

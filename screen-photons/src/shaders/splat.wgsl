@@ -91,8 +91,8 @@ fn splat_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> S
         let ex = lattice_edge(i, 1, c, n, t, b);
         let ey = lattice_edge(i, i32(splat.lattice), c, n, t, b);
         out.footprint = footprint_matrix(s, ex, ey);
-        // The sphere that holds the footprint.
-        s = sqrt(max(out.footprint.x, out.footprint.z));
+        // The sphere that holds the footprint: its ellipse's semi-major axis.
+        s = footprint_reach(out.footprint);
     }
     let z = dot(c - eye, splat.forward.xyz);
     if (z <= s * 1.01) { return out; }

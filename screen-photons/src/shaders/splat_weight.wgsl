@@ -32,13 +32,21 @@ const FOOTPRINT_CELLS: f32 = 2.0;
 // arbitrarily large; its cone is shrunk to fit.
 const MAX_FOOTPRINT_SPLATS: f32 = 8.0;
 
-// M (xx, xy, yy) for splat radius s and cell edges ex, ey in the tangent basis.
+// The footprint's reach: its ellipse's semi-major axis, sqrt of M's larger eigenvalue.
+fn footprint_reach(m: vec3f) -> f32 {
+    let half_trace = 0.5 * (m.x + m.z);
+    let half_gap = 0.5 * (m.x - m.z);
+    return sqrt(half_trace + sqrt(half_gap * half_gap + m.y * m.y));
+}
+
+// M (xx, xy, yy) for splat radius s and cell edges ex, ey in the tangent basis, its reach at
+// most MAX_FOOTPRINT_SPLATS s.
 fn footprint_matrix(s: f32, ex: vec2f, ey: vec2f) -> vec3f {
     let c2 = FOOTPRINT_CELLS * FOOTPRINT_CELLS;
     var m = vec3f(s * s + c2 * (ex.x * ex.x + ey.x * ey.x),
                   c2 * (ex.x * ex.y + ey.x * ey.y),
                   s * s + c2 * (ex.y * ex.y + ey.y * ey.y));
-    let reach = sqrt(max(m.x, m.z));
+    let reach = footprint_reach(m);
     let most = MAX_FOOTPRINT_SPLATS * s;
     if (reach > most) {
         m *= (most / reach) * (most / reach);
