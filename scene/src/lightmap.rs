@@ -30,6 +30,9 @@ pub const CHART_WGSL: &str = include_str!("shaders/chart.wgsl");
 /// `SCENE_WGSL` and [`CHART_WGSL`]; no bindings).
 pub const RECEIVER_WGSL: &str = include_str!("shaders/receiver.wgsl");
 const SPLAT_QUADS_WGSL: &str = include_str!("shaders/splat_quads.wgsl");
+/// `footprint_covariance` and `footprint_cut2` in WGSL, the twin of [`Footprint`] (no
+/// bindings; splat_quads.wgsl includes it).
+pub const FOOTPRINT_WGSL: &str = include_str!("shaders/footprint.wgsl");
 
 /// No chart for this (object, axis): `chart_of` entry.
 pub const NO_CHART: i32 = -1;
@@ -340,7 +343,7 @@ impl QuadSplatter {
                 (vert | wgpu::ShaderStages::FRAGMENT, bind::uniform()),
             ],
         );
-        let source = format!("{CHART_WGSL}\n{SPLAT_QUADS_WGSL}");
+        let source = format!("{CHART_WGSL}\n{FOOTPRINT_WGSL}\n{SPLAT_QUADS_WGSL}");
         let module = gpu::shader_with_prelude(ctx, "light-map splat quads", &source);
         // Adds rgb; alpha is unused.
         let add = wgpu::BlendState {

@@ -317,6 +317,60 @@ fn the_wgsl_splat_weight_matches_the_twin() {
     assert!(nonzero > 50, "only {nonzero} cases inside a splat");
 }
 
+/// The footprint functions of splat_weight.wgsl (`footprint_matrix`, `footprint_reach`,
+/// `footprint_kernel`, `footprint_tangent`) against their twins in `splat.rs`, on cells of
+/// every size and tilt, capped ones included.
+#[test]
+fn the_wgsl_footprints_match_the_twins() {
+    use glam::Vec2;
+    use screen_photons::splat;
+    let _lock = testkit::gpu_lock();
+    let ctx = testkit::context();
+    let source = format!(
+        "{}\n{}\n{}{}",
+        gpu::prelude::PRELUDE_WGSL,
+        screen_photons::splat::WEIGHT_WGSL,
+        kernel_header("array<vec4f, 2>", "vec4f"),
+        kernel_entry(
+            "footprint_kernel_test",
+            "let c = inputs[i]; let m = footprint_matrix(c[0].x, c[0].yz, vec2f(c[0].w, c[1].x)); \
+             let t = footprint_tangent(normalize(vec3f(c[1].w, 0.7, -0.4))); \
+             outputs[2u * i] = vec4f(m, footprint_reach(m)); \
+             outputs[2u * i + 1u] = vec4f(footprint_kernel(c[1].yz, m), t);"
+        )
+    );
+    let mut cases = Vec::new();
+    for i in 0..256 {
+        let f = i as f32 * 0.61;
+        let s = 0.01 + 0.05 * (f * 0.3).sin().abs();
+        // Cells from none to far past the cap, at every angle.
+        let scale = [0.0, 0.01, 0.1, 1.0][i % 4];
+        let ex = Vec2::new(f.cos(), f.sin()) * scale;
+        let ey = Vec2::new(-(f * 1.7).sin(), (f * 1.3).cos()) * scale * 0.3;
+        let u = Vec2::new((f * 2.3).sin(), (f * 0.9).cos()) * 0.1;
+        cases.push([[s, ex.x, ex.y, ey.x], [ey.y, u.x, u.y, (f * 1.1).sin()]]);
+    }
+    let got: Vec<[f32; 4]> =
+        run_kernel(ctx, &source, "footprint_kernel_test", &cases, 2).expect("kernel");
+    let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * a.abs().max(b.abs()).max(1e-3);
+    let mut inside = 0;
+    for (case, got) in cases.iter().zip(got.chunks_exact(2)) {
+        let [c0, c1] = case;
+        let m = splat::footprint_matrix(c0[0], Vec2::new(c0[1], c0[2]), Vec2::new(c0[3], c1[0]));
+        let reach = splat::footprint_reach(m);
+        let k = splat::footprint_kernel(Vec2::new(c1[1], c1[2]), m);
+        let t = splat::footprint_tangent(Vec3::new(c1[3], 0.7, -0.4).normalize());
+        inside += (k > 0.0) as usize;
+        let want = [m[0], m[1], m[2], reach, k, t.x, t.y, t.z];
+        let got = [got[0], got[1]].concat();
+        assert!(
+            want.iter().zip(&got).all(|(w, g)| close(*w, *g)),
+            "{case:?}: gpu {got:?}, twin {want:?}"
+        );
+    }
+    assert!(inside > 50, "only {inside} offsets inside a footprint");
+}
+
 /// The technique's own marchers, in place: the paper's line marcher (lines drawn into rows,
 /// the row reduction), its single-shader alternative and the compute DDA, run by
 /// `screen-photons/lines`, `/shader` and `/dda` on a real frame (`bounces = 0`: the hit buffer holds the first hits of the transfer map's photons),
