@@ -19,7 +19,7 @@ use glam::{Mat4, Vec3};
 use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
-use scene::emission::{PHOTON_JITTER_HELP, PHOTON_JITTER_PARAM};
+use scene::emission::{PHOTON_JITTER_PARAM, jitter_param};
 use scene::technique::{check_map_budget, check_param, not_prepared};
 use scene::{
     Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
@@ -556,13 +556,7 @@ impl Technique for Refraction {
                     true,
                     "the caustic filter's half size k (section 3.2; the paper's default 2)",
                 ),
-                Param::new(
-                    PHOTON_JITTER_PARAM,
-                    d.jitter as u32 as f64,
-                    (0.0, 1.0),
-                    true,
-                    PHOTON_JITTER_HELP,
-                ),
+                jitter_param(d.jitter),
                 Param::new(
                     "filter_s",
                     d.scale as f64,

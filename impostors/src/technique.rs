@@ -20,9 +20,7 @@ use gpu::distance_map::{HIT_WGSL, Method};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Target, bind};
-use scene::emission::{
-    PHOTON_FOOTPRINT_HELP, PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_HELP, PHOTON_JITTER_PARAM,
-};
+use scene::emission::{PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_PARAM, footprint_param, jitter_param};
 use scene::technique::check_param;
 use scene::{
     Frame, GpuScene, Material, ObjectFilter, Param, RasterTarget, Scene, Technique,
@@ -427,14 +425,7 @@ impl Technique for Impostor {
                 "1: reflections and refractions show the caustics (paper fig. 11; the reference \
                  has none there)",
             ));
-            p.push(param(
-                PHOTON_JITTER_PARAM,
-                c.jitter as u32 as f64,
-                0.0,
-                1.0,
-                true,
-                PHOTON_JITTER_HELP,
-            ));
+            p.push(jitter_param(c.jitter));
             match c.path {
                 CausticPath::Grid => p.push(param(
                     "caustic_grid",
@@ -461,14 +452,7 @@ impl Technique for Impostor {
                         false,
                         "radius of a photon's Gaussian quad in light-map texels (sigma = R / 2)",
                     ));
-                    p.push(param(
-                        PHOTON_FOOTPRINT_PARAM,
-                        c.footprint as u32 as f64,
-                        0.0,
-                        1.0,
-                        true,
-                        PHOTON_FOOTPRINT_HELP,
-                    ));
+                    p.push(footprint_param(c.footprint));
                 }
             }
         }

@@ -27,9 +27,7 @@ use glam::Vec3;
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Uniform, bind};
-use scene::emission::{
-    PHOTON_FOOTPRINT_HELP, PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_HELP, PHOTON_JITTER_PARAM,
-};
+use scene::emission::{PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_PARAM, footprint_param, jitter_param};
 use scene::lightmap::{ChartAtlas, ChartGpu, QuadSplatter};
 use scene::{Frame, GpuScene, Material, ObjectFilter, Param, Scene, TechniqueError};
 
@@ -101,20 +99,8 @@ impl CausticSettings {
                 false,
                 "radius of a photon's Gaussian splat in light-map texels",
             ),
-            Param::new(
-                PHOTON_FOOTPRINT_PARAM,
-                self.footprint as u32 as f64,
-                (0.0, 1.0),
-                true,
-                PHOTON_FOOTPRINT_HELP,
-            ),
-            Param::new(
-                PHOTON_JITTER_PARAM,
-                self.jitter as u32 as f64,
-                (0.0, 1.0),
-                true,
-                PHOTON_JITTER_HELP,
-            ),
+            footprint_param(self.footprint),
+            jitter_param(self.jitter),
             Param::new(
                 "caustics_separated",
                 self.separated as u32 as f64,

@@ -14,7 +14,7 @@
 //! photon drawn in direction `w` carries `Phi = I / sum_{j : w in cone j} (N_j / Omega_j)`
 //! (Veach's balance heuristic, one-sample form): `I Omega_j / N_j` where cones do not overlap.
 
-use crate::{Roles, Scene};
+use crate::{Param, Roles, Scene};
 use glam::Vec3;
 use std::f32::consts::PI;
 
@@ -36,7 +36,7 @@ pub fn photons_for_image(width: u32, height: u32) -> u64 {
 /// scene.wgsl (README.md, "Jittered emission").
 pub const PHOTON_JITTER_PARAM: &str = "photon_jitter";
 /// [`PHOTON_JITTER_PARAM`]'s help line.
-pub const PHOTON_JITTER_HELP: &str = "1: each photon leaves from a random point of its pixel \
+const PHOTON_JITTER_HELP: &str = "1: each photon leaves from a random point of its pixel \
      (stratified jittered emission: noise, not moire rings); 0: from the pixel centre";
 
 /// The parameter by which a family that splats photons chooses each photon's kernel: widened
@@ -46,9 +46,31 @@ pub const PHOTON_JITTER_HELP: &str = "1: each photon leaves from a random point 
 /// not mix well (the jitter makes the measured cells noisy).
 pub const PHOTON_FOOTPRINT_PARAM: &str = "photon_footprint";
 /// [`PHOTON_FOOTPRINT_PARAM`]'s help line.
-pub const PHOTON_FOOTPRINT_HELP: &str = "1: each photon's splat widened to the footprint of its \
+const PHOTON_FOOTPRINT_HELP: &str = "1: each photon's splat widened to the footprint of its \
      lattice cell on the receiver (photon differentials by finite differences); 0: the fixed \
      splat radius";
+
+/// The declared [`PHOTON_JITTER_PARAM`] at its current `value`.
+pub fn jitter_param(value: bool) -> Param {
+    Param::new(
+        PHOTON_JITTER_PARAM,
+        f64::from(u8::from(value)),
+        (0.0, 1.0),
+        true,
+        PHOTON_JITTER_HELP,
+    )
+}
+
+/// The declared [`PHOTON_FOOTPRINT_PARAM`] at its current `value`.
+pub fn footprint_param(value: bool) -> Param {
+    Param::new(
+        PHOTON_FOOTPRINT_PARAM,
+        f64::from(u8::from(value)),
+        (0.0, 1.0),
+        true,
+        PHOTON_FOOTPRINT_HELP,
+    )
+}
 
 /// The objects photons are aimed at: caustic casters by role, and every specular object.
 pub fn caustic_casters(scene: &Scene) -> Vec<usize> {

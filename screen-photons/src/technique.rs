@@ -38,9 +38,7 @@ use glam::{Mat4, Vec3};
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
-use scene::emission::{
-    PHOTON_FOOTPRINT_HELP, PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_HELP, PHOTON_JITTER_PARAM,
-};
+use scene::emission::{PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_PARAM, footprint_param, jitter_param};
 use scene::{
     CasterShadowMaps, DepthPeeler, Frame, GpuScene, ObjectFilter, Param, RasterTarget, SCENE_WGSL,
     Scene, Technique, TechniqueError, TechniqueResult, View,
@@ -307,20 +305,8 @@ impl Settings {
                 "froxel fog: weight of the frame's jittered sample against the reprojected \
                  history (1: no history, no jitter)",
             ),
-            Param::new(
-                PHOTON_FOOTPRINT_PARAM,
-                self.footprint as u32 as f64,
-                (0.0, 1.0),
-                true,
-                PHOTON_FOOTPRINT_HELP,
-            ),
-            Param::new(
-                PHOTON_JITTER_PARAM,
-                self.jitter as u32 as f64,
-                (0.0, 1.0),
-                true,
-                PHOTON_JITTER_HELP,
-            ),
+            footprint_param(self.footprint),
+            jitter_param(self.jitter),
         ]
     }
 

@@ -46,22 +46,19 @@ struct Emission {
     footprint: bool,
 }
 
-const LATTICE: Emission = Emission {
-    jitter: false,
-    footprint: false,
-};
-const JITTERED: Emission = Emission {
-    jitter: true,
-    footprint: false,
-};
-const FOOTPRINTS: Emission = Emission {
-    jitter: false,
-    footprint: true,
-};
-const BOTH: Emission = Emission {
-    jitter: true,
-    footprint: true,
-};
+/// The four ways the table compares, in its column order: lattice, jittered, footprints, both.
+const EMISSIONS: [Emission; 4] = [
+    Emission::new(false, false),
+    Emission::new(true, false),
+    Emission::new(false, true),
+    Emission::new(true, true),
+];
+
+impl Emission {
+    const fn new(jitter: bool, footprint: bool) -> Self {
+        Self { jitter, footprint }
+    }
+}
 
 fn technique(id: &str, emission: Emission) -> Option<Box<dyn Technique>> {
     let mut t = harness::registry()
@@ -139,7 +136,7 @@ fn footprints_and_jitter_remove_the_lattice_rings() {
         let mut images = vec![&with];
         let mut renders = Vec::new();
         let mut row = Vec::new();
-        for emission in [LATTICE, JITTERED, FOOTPRINTS, BOTH] {
+        for emission in EMISSIONS {
             let Some(mut t) = technique(id, emission) else {
                 row.push(None);
                 continue;
