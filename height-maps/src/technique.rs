@@ -24,6 +24,9 @@ use scene::{
 };
 
 const BILLBOARD_WGSL: &str = include_str!("shaders/billboard.wgsl");
+/// The billboard's proxy box (36 vertices per piece, turned to face the eye), after the
+/// height search.
+pub(crate) const BILLBOARD_BOX_WGSL: &str = include_str!("shaders/billboard_box.wgsl");
 
 /// What the refracted ray does after the first surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -277,11 +280,8 @@ impl Technique for HeightMaps {
             "resolution",
         )?;
         let source = format!(
-            "{}\n{}\n{}\n{}",
+            "{}\n{HIT_WGSL}\n{HEIGHT_SEARCH_WGSL}\n{BILLBOARD_BOX_WGSL}\n{BILLBOARD_WGSL}",
             scene::SCENE_WGSL,
-            HIT_WGSL,
-            HEIGHT_SEARCH_WGSL,
-            BILLBOARD_WGSL
         );
         let module = gpu::shader_with_prelude(ctx, &self.id, &source);
         let layout = bind::layout(
@@ -296,7 +296,14 @@ impl Technique for HeightMaps {
                 bind::sampler(),
             ],
         );
-        let pipeline = billboard_pipeline(ctx, scene, &layout, &module, &self.id);
+        let pipeline = scene::proxy_pipeline(
+            ctx,
+            &self.id,
+            &scene.pipeline_layout_with(ctx, &[&layout]),
+            &module,
+            ("billboard_vs", "billboard_fs"),
+            gpu::HDR_FORMAT,
+        );
         let maps = render_height_maps(frame, scene, &kinds.representative, s.resolution)?;
         let maps_view = maps.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -423,40 +430,4 @@ fn frame_group(
             bind::sampler_resource(&ctx.samplers.linear_clamp),
         ],
     )
-}
-
-/// The billboards' pipeline: 36 vertices of a box per instance (piece), no vertex buffer, the
-/// fragment's own depth.
-fn billboard_pipeline(
-    ctx: &Context,
-    scene: &GpuScene,
-    layout: &wgpu::BindGroupLayout,
-    module: &wgpu::ShaderModule,
-    label: &str,
-) -> wgpu::RenderPipeline {
-    ctx.device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(&scene.pipeline_layout_with(ctx, &[layout])),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("billboard_vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some("billboard_fs"),
-                compilation_options: Default::default(),
-                targets: &[pass::color_target(gpu::HDR_FORMAT, None)],
-            }),
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(pass::depth_state(true, wgpu::CompareFunction::Less)),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: ctx.pipeline_cache(),
-        })
 }

@@ -208,6 +208,19 @@ impl ObjectSearch for DistanceSearch {
     }
 }
 
+/// Fails when `kinds` has more kinds than the [`DistanceSearch`] has map bindings
+/// ([`MAX_KINDS`]).
+pub(crate) fn check_kinds(id: &str, kinds: &Kinds) -> TechniqueResult<()> {
+    if kinds.representative.len() <= MAX_KINDS {
+        return Ok(());
+    }
+    Err(TechniqueError::Unsupported(format!(
+        "{id} keeps one refractor map per kind of specular object (same mesh and scale), each a \
+         texture binding, and has {MAX_KINDS} map slots; this scene has {} kinds",
+        kinds.representative.len()
+    )))
+}
+
 impl RefractorMaps {
     /// A variant named `id` (`refractor-maps/<variant>`); [`variants`] lists the configured
     /// ones.
@@ -407,14 +420,7 @@ impl Technique for RefractorMaps {
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         let kinds = Kinds::of(&scene.scene);
-        if kinds.representative.len() > MAX_KINDS {
-            return Err(TechniqueError::Unsupported(format!(
-                "{} keeps one refractor map per kind of specular object (same mesh and scale), \
-                 each a texture binding, and has {MAX_KINDS} map slots; this scene has {} kinds",
-                self.id,
-                kinds.representative.len()
-            )));
-        }
+        check_kinds(&self.id, &kinds)?;
         let res = self.settings.maps.resolution;
         scene::technique::check_map_budget(
             &self.id,

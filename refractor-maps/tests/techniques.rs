@@ -5,7 +5,7 @@
 
 use refractor_maps::{EnvSettings, EnvironmentMaps, Search, Settings};
 use scene::{Scene, Technique};
-use testkit::{Shot, gpu_lock, render_shots};
+use testkit::{Shot, gpu_lock, max_difference, relative_difference, render_shots};
 
 const SIZE: u32 = 32;
 
@@ -13,14 +13,6 @@ fn small(t: &mut dyn Technique) {
     for (name, value) in [("resolution", 32.0), ("env_resolution", 16.0)] {
         t.set_param(name, value).unwrap();
     }
-}
-
-fn max_difference(a: &gpu::HdrImage, b: &gpu::HdrImage) -> f32 {
-    a.pixels
-        .iter()
-        .zip(&b.pixels)
-        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
-        .fold(0.0, f32::max)
 }
 
 #[test]
@@ -68,11 +60,13 @@ fn small_environment_maps(settings: EnvSettings) -> EnvironmentMaps {
     t
 }
 
-/// The last image of `shots` by the separated variant, then by full update (small maps).
-fn separated_and_full_update(scene: &Scene, shots: &[Shot]) -> [gpu::HdrImage; 2] {
-    [true, false].map(|separated| {
+/// The last image of `shots` by separated, by full update and by separated with the static
+/// pieces not searching for the moving one (`find_mover` off), with small maps.
+fn three_ways(scene: &Scene, shots: &[Shot]) -> [gpu::HdrImage; 3] {
+    [(true, true), (false, true), (true, false)].map(|(separated, find_mover)| {
         let mut t = small_environment_maps(EnvSettings {
             separated,
+            find_mover,
             ..EnvSettings::default()
         });
         render_shots(&mut t, scene, shots)
@@ -84,8 +78,8 @@ fn separated_and_full_update_agree_when_nothing_moves() {
     let _lock = gpu_lock();
     let scene = still_chess();
     let shots: Vec<_> = [0.0, 1.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
-    let images = separated_and_full_update(&scene, &shots);
-    let diff = max_difference(&images[0], &images[1]);
+    let [separated, full_update, _] = three_ways(&scene, &shots);
+    let diff = max_difference(&separated, &full_update);
     assert!(diff < 1e-4, "separated and full update differ by {diff}");
 }
 
@@ -98,24 +92,38 @@ fn separated_stays_close_to_full_update_with_a_moving_mirror() {
     let _lock = gpu_lock();
     let scene = scene::load("chess:material=mirror-mover").unwrap();
     let shots: Vec<_> = [0.0, 2.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
-    let images = separated_and_full_update(&scene, &shots);
-    let (a, b) = (&images[0], &images[1]);
-    let total: f32 = b.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum();
-    let diff: f32 = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).abs()).sum::<f32>())
-        .sum();
-    println!("mean difference {:.5} of mean radiance", diff / total);
+    let [separated, full_update, _] = three_ways(&scene, &shots);
+    let difference = relative_difference(&separated, &full_update);
+    println!("mean difference {difference:.5} of mean radiance");
     assert!(
-        diff / total < 0.01,
-        "separated strays from full update: {}",
-        diff / total
+        difference < 0.01,
+        "separated strays from full update: {difference}"
     );
     assert!(
-        diff > 0.0,
+        difference > 0.0,
         "the moving mirror changes nothing: the mover path is not exercised"
+    );
+}
+
+/// Close behind the moving mirror pawn, where its glass neighbours show it: the search from
+/// outside in its refractor map changes their pixels and brings separated closer to full
+/// update, which has the pawn in every impostor, than the static impostors alone.
+#[test]
+fn the_static_pieces_find_the_moving_one_from_outside() {
+    let _lock = gpu_lock();
+    let (scene, shot) = testkit::mover_close_up(64);
+    let [separated, full_update, without_search] = three_ways(&scene, &[shot]);
+    let with = relative_difference(&separated, &full_update);
+    let without = relative_difference(&without_search, &full_update);
+    let changed = testkit::pixels_differing(&separated, &without_search, 0.01);
+    println!(
+        "from full update: {with:.4} with the search, {without:.4} without; it changes \
+         {changed} pixels"
+    );
+    assert!(changed >= 20, "the search changes {changed} pixels");
+    assert!(
+        with < 0.8 * without,
+        "the search does not bring separated closer to full update: {with} against {without}"
     );
 }
 

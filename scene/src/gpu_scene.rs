@@ -896,6 +896,45 @@ pub fn scene_pipeline_entries(
         })
 }
 
+/// A pipeline that draws no vertex buffer: the vertex entry makes each vertex from its vertex
+/// and instance indices (a proxy of an object, such as a height map's billboard box, one
+/// instance per object), the fragment entry may write its own depth. One colour target of
+/// `format`, depth written and tested with `Less`, no culling.
+pub fn proxy_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    (vertex_entry, fragment_entry): (&str, &str),
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    ctx.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(vertex_entry),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fragment_entry),
+                compilation_options: Default::default(),
+                targets: &[pass::color_target(format, None)],
+            }),
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(pass::depth_state(true, wgpu::CompareFunction::Less)),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: ctx.pipeline_cache(),
+        })
+}
+
 fn pipeline_layout(
     ctx: &Context,
     camera: &wgpu::BindGroupLayout,

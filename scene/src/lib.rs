@@ -27,7 +27,7 @@ pub use depth_peel::DepthPeeler;
 pub use gpu_scene::{
     BACKGROUND_DISTANCE, CasterShadowMaps, CubeFace, DrawRange, GpuScene, MIN_SHADOW_MAP_SIZE,
     ObjectFilter, RASTER_WGSL, RasterTarget, SCENE_WGSL, SHADOW_BUDGET_BYTES, SHADOW_MAP_SIZE,
-    albedo_array_extent, begin_scene_pass, scene_pipeline, scene_pipeline_entries,
+    albedo_array_extent, begin_scene_pass, proxy_pipeline, scene_pipeline, scene_pipeline_entries,
     scene_pipeline_with, shadow_map_size, sphere_meets_cube_face,
 };
 pub use kinds::Kinds;

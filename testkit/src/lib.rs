@@ -223,3 +223,53 @@ pub fn strip(images: &[&HdrImage], scale: u32) -> HdrImage {
     }
     strip
 }
+
+/// The largest difference of one colour channel between two images of one size.
+pub fn max_difference(a: &HdrImage, b: &HdrImage) -> f32 {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0, f32::max)
+}
+
+/// The summed absolute colour difference of `a` from `b`, over `b`'s summed radiance: how far
+/// one image strays from another as a share of its light.
+pub fn relative_difference(a: &HdrImage, b: &HdrImage) -> f32 {
+    let total: f32 = b.pixels.iter().map(|p| p[0] + p[1] + p[2]).sum();
+    let diff: f32 = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).abs()).sum::<f32>())
+        .sum();
+    diff / total.max(f32::MIN_POSITIVE)
+}
+
+/// The paper's figure-9 scene (`chess:material=mirror-mover`) seen from close behind the
+/// moving mirror pawn at time 0, while it still stands between its glass neighbours: a shot in
+/// which the static pieces' reflections and refractions show the moving piece (from the
+/// default camera it covers a few pixels of them).
+pub fn mover_close_up(size: u32) -> (Scene, Shot) {
+    let mut scene = scene::load("chess:material=mirror-mover").expect("built-in scene");
+    let mover = scene
+        .objects
+        .iter()
+        .find(|o| !o.motion.is_static())
+        .expect("the moving pawn")
+        .center_at(0.0);
+    scene.camera.eye = mover + glam::Vec3::new(0.1, 0.2, 0.45);
+    scene.camera.target = mover;
+    scene.camera_path = Default::default();
+    let shot = Shot::default_camera(&scene, 0.0, size);
+    (scene, shot)
+}
+
+/// Pixels of `a` with a colour channel more than `threshold` from `b`'s.
+pub fn pixels_differing(a: &HdrImage, b: &HdrImage, threshold: f32) -> usize {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| (0..3).any(|c| (p[c] - q[c]).abs() > threshold))
+        .count()
+}

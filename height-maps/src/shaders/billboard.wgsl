@@ -1,6 +1,6 @@
 // ---------------------------------------------------------------------------------------------
 // Refractor height maps on camera-facing billboards (Dancsik and Minarik, section 6), after
-// the gpu prelude + scene.wgsl + hit.wgsl + height_search.wgsl.
+// the gpu prelude + scene.wgsl + hit.wgsl + height_search.wgsl + billboard_box.wgsl.
 //
 // Each piece is drawn as the bounding box of its proxy, turned about the vertical axis to face
 // the eye. A fragment casts the eye ray into the box and searches the kind's height map from
@@ -68,18 +68,6 @@ fn environment(o: vec3f, d: vec3f) -> vec3f {
     return textureSampleLevel(env_map, env_sampler, l, 0.0).rgb;
 }
 
-// The 36 corners of a box's 12 triangles, as (corner bits, face): bit 0 = x max, 1 = y max,
-// 2 = z max; faces -x, +x, -y, +y, -z, +z.
-const BOX_CORNERS = array<u32, 36>(
-    0u, 2u, 6u, 0u, 6u, 4u,   1u, 5u, 7u, 1u, 7u, 3u,
-    0u, 4u, 5u, 0u, 5u, 1u,   2u, 3u, 7u, 2u, 7u, 6u,
-    0u, 1u, 3u, 0u, 3u, 2u,   4u, 6u, 7u, 4u, 7u, 5u,
-);
-const BOX_NORMALS = array<vec3f, 6>(
-    vec3f(-1.0, 0.0, 0.0), vec3f(1.0, 0.0, 0.0), vec3f(0.0, -1.0, 0.0),
-    vec3f(0.0, 1.0, 0.0), vec3f(0.0, 0.0, -1.0), vec3f(0.0, 0.0, 1.0),
-);
-
 struct BillboardOut {
     @builtin(position) clip: vec4f,
     @location(0) world: vec3f,
@@ -90,17 +78,13 @@ struct BillboardOut {
 
 @vertex
 fn billboard_vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) piece: u32) -> BillboardOut {
-    let hb = piece_bounds(piece);
-    let b = billboard_facing(pieces[piece].centre.xyz, camera.eye.xyz);
-    let corner = BOX_CORNERS[vertex];
-    let lo = height_box_min(hb);
-    let hi = height_box_max(hb);
-    let q = select(lo, hi, vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u));
+    let v = billboard_box_vertex(vertex, pieces[piece].centre.xyz, piece_bounds(piece),
+                                 camera.eye.xyz);
     var out: BillboardOut;
-    out.world = b.centre + dir_to_world(b, q);
+    out.world = v.world;
     out.clip = camera.view_proj * vec4f(out.world, 1.0);
     out.piece = piece;
-    out.face_normal = dir_to_world(b, BOX_NORMALS[vertex / 6u]);
+    out.face_normal = v.face_normal;
     return out;
 }
 
@@ -144,7 +128,7 @@ struct BillboardTargets {
 fn billboard_fs(in: BillboardOut) -> BillboardTargets {
     let eye = camera.eye.xyz;
     // Only the faces toward the eye search (each pixel of the box once).
-    if (dot(in.face_normal, in.world - eye) >= 0.0) { discard; }
+    if (!faces_eye(in.face_normal, in.world, eye)) { discard; }
     let p = in.piece;
     let dir = normalize(in.world - eye);
     let b = billboard_facing(pieces[p].centre.xyz, eye);
@@ -168,7 +152,6 @@ fn billboard_fs(in: BillboardOut) -> BillboardTargets {
     }
     var out: BillboardTargets;
     out.color = vec4f(specular_shade(e, reflected, refracted), distance(point, eye));
-    let clip = camera.view_proj * vec4f(point, 1.0);
-    out.depth = clamp(clip.z / clip.w, 0.0, 1.0);
+    out.depth = frag_depth_of(camera.view_proj, point);
     return out;
 }

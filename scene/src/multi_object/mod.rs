@@ -12,10 +12,20 @@
 //!   outside, the normal there, and the exit of a ray from inside. `refractor-maps` implements
 //!   it with refractor distance maps, `height-maps` with refractor height maps; neither crate
 //!   depends on the other, both on this one.
+//! - [`PieceImpostors`]: section 5's per-piece environment impostors (full update, or the
+//!   moving piece separated from the static ones), shading the pieces through the same
+//!   [`ObjectSearch`], each piece's first hit rasterized from its mesh or found by a proxy
+//!   ([`PieceSurface`]: height maps' billboards).
 
+mod environment;
 pub mod grid;
 pub mod pieces;
 mod tracer;
+
+pub use environment::{
+    ENVIRONMENT_PIECES_WGSL, IMPOSTOR_FORMAT, ImpostorSettings, MAX_ENV_DEPTH, PieceImpostors,
+    PieceSurface,
+};
 
 pub use tracer::{
     EnvironmentImpostor, GRID_SEARCH_WGSL, MAX_DEPTH, ObjectSearch, SEARCH_FIRST_BINDING, Search,

@@ -1,6 +1,7 @@
 // ---------------------------------------------------------------------------------------------
-// The piece table both refractor-map shaders read (Rust: scene/src/multi_object/pieces.rs
-// `PieceGpu`). The including shader declares `pieces: array<Piece>` at its own binding.
+// The piece table the many-object shaders read (Rust: scene/src/multi_object/pieces.rs
+// `PieceGpu`), and the answer of a per-object search from inside (`Chord`). The including
+// shader declares `pieces: array<Piece>` at its own binding.
 // ---------------------------------------------------------------------------------------------
 
 struct Piece {
@@ -34,3 +35,10 @@ fn piece_kind(p: u32) -> u32 {
 fn piece_object(p: u32) -> u32 {
     return u32(pieces[p].box_min.w);
 }
+
+// Where a ray inside a piece leaves it (an ObjectSearch's chord()).
+struct Chord {
+    exit_point: vec3f,
+    // Outward unit normal, turned to agree with the leaving ray.
+    normal: vec3f,
+};

@@ -59,13 +59,6 @@ const STACK_SIZE: u32 = 10u;
 // Ray origins are pushed off the surface they start on by this much (metres).
 const SURFACE_OFFSET: f32 = 1e-4;
 
-// Where a ray inside a piece leaves it (the search's chord()).
-struct Chord {
-    exit_point: vec3f,
-    // Outward unit normal, turned to agree with the leaving ray.
-    normal: vec3f,
-};
-
 // Radiance of the diffuse environment arriving at `o` from direction `d`.
 fn environment(o: vec3f, d: vec3f) -> vec3f {
     var l = hit(o - tracer.env_reference.xyz, d, env_map, env_sampler, 3u, HIT_FALSE_POSITION,

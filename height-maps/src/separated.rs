@@ -1,0 +1,219 @@
+//! `height-maps/separated` and `height-maps/full-update`: the paper's own use of refractor
+//! height maps (section 6: "in the algorithm described in 5.2, the refractor distance map can
+//! be replaced by the refractor height map. Search can be executed from an outer point and the
+//! calculation of multiple refractions is possible as well").
+//!
+//! The per-piece environment impostors, their rounds and the separation of the moving piece
+//! are `scene`'s [`PieceImpostors`], the driver `refractor-maps/{full-update,separated}` runs on
+//! distance maps; here every search is the height map's ([`HeightSearch`]: the exit from
+//! inside, the moving piece from outside) and every piece is its billboard
+//! ([`PieceSurface::Proxy`], `shaders/separated_billboard.wgsl`): the billboard turned to the
+//! eye, or to the impostor's centre while the impostors are built, decides visibility, as in
+//! `height-maps/single` and `double-refraction`, where `height-maps/in-chess` rasterizes each
+//! piece's mesh for the first hit.
+
+use crate::in_chess::HeightSearch;
+use crate::map::render_height_maps;
+use crate::technique::{BILLBOARD_BOX_WGSL, MapSettings, unsupported};
+use gpu::Target;
+use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
+use scene::technique::check_param;
+use scene::{
+    Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
+};
+
+const SEPARATED_BILLBOARD_WGSL: &str = include_str!("shaders/separated_billboard.wgsl");
+
+/// Parameters of a [`HeightMapsSeparated`] variant.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeparatedSettings {
+    /// Static pieces' impostors built once without the moving piece (section 5.2), or every
+    /// impostor rebuilt every frame.
+    pub separated: bool,
+    /// Rounds of drawing the pieces into the impostors (section 5.1's DEPTH).
+    pub env_depth: u32,
+    /// Metres the moving piece travels before the impostors are updated again (0: every
+    /// frame).
+    pub rebuild_threshold: f32,
+    /// Separated: whether the static pieces find the moving one from outside (see
+    /// [`ImpostorSettings::find_mover`]).
+    pub find_mover: bool,
+    /// The height maps and their searches (`env_resolution`: each piece's impostor).
+    pub maps: MapSettings,
+}
+
+impl Default for SeparatedSettings {
+    /// The impostors of `refractor-maps/separated` (so the two compare map for map), the
+    /// height maps of the other variants.
+    fn default() -> Self {
+        let s = ImpostorSettings::separated();
+        Self {
+            separated: s.separated,
+            env_depth: s.env_depth,
+            rebuild_threshold: s.rebuild_threshold,
+            find_mover: s.find_mover,
+            maps: MapSettings {
+                env_resolution: s.env_resolution,
+                env_iterations: s.env_iterations,
+                ..MapSettings::default()
+            },
+        }
+    }
+}
+
+impl SeparatedSettings {
+    /// The impostors' part of these settings.
+    fn impostors(&self) -> ImpostorSettings {
+        ImpostorSettings {
+            separated: self.separated,
+            env_depth: self.env_depth,
+            rebuild_threshold: self.rebuild_threshold,
+            find_mover: self.find_mover,
+            env_resolution: self.maps.env_resolution,
+            env_iterations: self.maps.env_iterations,
+        }
+    }
+}
+
+/// A section-5 variant on refractor height maps: per-piece environment impostors, fully
+/// updated or separated, the pieces drawn as billboards.
+pub struct HeightMapsSeparated {
+    id: String,
+    description: String,
+    representative: bool,
+    /// The variant's parameters.
+    pub settings: SeparatedSettings,
+    state: Option<(PieceImpostors, HeightSearch)>,
+}
+
+impl HeightMapsSeparated {
+    /// A variant named `id` (`height-maps/<variant>`).
+    pub fn new(
+        id: &str,
+        description: &str,
+        representative: bool,
+        settings: SeparatedSettings,
+    ) -> Self {
+        Self {
+            id: id.into(),
+            description: description.into(),
+            representative,
+            settings,
+            state: None,
+        }
+    }
+
+    /// Impostor rebuilds (one per impostor per round) since `prepare` (for tests).
+    pub fn rebuilds(&self) -> u32 {
+        self.state.as_ref().map_or(0, |(i, _)| i.rebuilds())
+    }
+}
+
+/// The section-5 variants on height maps.
+pub fn variants() -> Vec<Box<dyn Technique>> {
+    let s = SeparatedSettings::default();
+    vec![
+        Box::new(HeightMapsSeparated::new(
+            "height-maps/separated",
+            "the paper's section 5.2 with height maps (section 6): static pieces' impostors built \
+             once, the moving piece's each frame and found from outside in its height map; every \
+             piece a billboard that decides its own visibility",
+            true,
+            s.clone(),
+        )),
+        Box::new(HeightMapsSeparated::new(
+            "height-maps/full-update",
+            "as separated, every impostor rebuilt every frame (section 5.1)",
+            false,
+            SeparatedSettings {
+                separated: false,
+                ..s
+            },
+        )),
+    ]
+}
+
+impl Technique for HeightMapsSeparated {
+    fn id(&self) -> String {
+        self.id.clone()
+    }
+    fn description(&self) -> String {
+        self.description.clone()
+    }
+    fn representative(&self) -> bool {
+        self.representative
+    }
+    fn params(&self) -> Vec<Param> {
+        let s = &self.settings;
+        let mut p = s.impostors().params();
+        p.extend(s.maps.params().into_iter().map(|mut param| {
+            if param.name == "env_resolution" {
+                param.help = "cube face size of each piece's environment impostor (texels)";
+            }
+            param
+        }));
+        p
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
+        check_param(&self.id, &self.params(), name, value)?;
+        let s = &mut self.settings;
+        let mut impostors = s.impostors();
+        if impostors.set(name, value) {
+            s.env_depth = impostors.env_depth;
+            s.rebuild_threshold = impostors.rebuild_threshold;
+            s.find_mover = impostors.find_mover;
+        } else if !s.maps.set(name, value) {
+            unreachable!("check_param accepted an undeclared parameter");
+        }
+        self.state = None;
+        Ok(())
+    }
+    fn supports(&self, scene: &Scene) -> bool {
+        unsupported(&self.id, scene).is_none()
+    }
+    fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        if let Some(why) = unsupported(&self.id, &scene.scene) {
+            return Err(TechniqueError::Unsupported(why));
+        }
+        let kinds = Kinds::of(&scene.scene);
+        let m = &self.settings.maps;
+        let map_bytes = (m.resolution as u64).pow(2) * 16;
+        let kind_count = kinds.representative.len();
+        scene::technique::check_map_budget(&self.id, kind_count, map_bytes, "resolution")?;
+        let maps = render_height_maps(frame, scene, &kinds.representative, m.resolution)?;
+        let search = HeightSearch::new(frame.gpu, &scene.scene, &kinds, &maps, m.steps);
+        let billboards = PieceSurface::Proxy {
+            vertex: "separated_billboard_vs",
+            fragment: "separated_billboard_fs",
+            vertices: 36,
+        };
+        let impostors = PieceImpostors::new(
+            frame,
+            scene,
+            kinds,
+            &search,
+            billboards,
+            &self.settings.impostors(),
+            kind_count as u64 * map_bytes,
+            &format!("{BILLBOARD_BOX_WGSL}\n{SEPARATED_BILLBOARD_WGSL}"),
+            &self.id,
+        )?;
+        self.state = Some((impostors, search));
+        Ok(())
+    }
+    fn render(
+        &mut self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        view: &View,
+        target: &Target,
+    ) -> TechniqueResult<()> {
+        let settings = self.settings.impostors();
+        let (impostors, _) = self
+            .state
+            .as_mut()
+            .ok_or(TechniqueError::NotPrepared(self.id.clone()))?;
+        impostors.render(frame, scene, view, target, &settings, &self.id);
+        Ok(())
+    }
+}

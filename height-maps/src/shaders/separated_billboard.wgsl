@@ -1,0 +1,53 @@
+// ---------------------------------------------------------------------------------------------
+// The paper's section-5.2 pipeline with refractor height maps (Dancsik and Minarik, section 6:
+// "in the algorithm described in 5.2, the refractor distance map can be replaced by the
+// refractor height map"), after scene's environment_pieces.wgsl with the height-map search
+// (height_object_search.wgsl) and billboard_box.wgsl.
+//
+// Each piece is its billboard's proxy box, turned to face the eye (the camera, or the centre
+// of the impostor being built); the billboard decides visibility: a fragment casts the eye
+// ray into the box and searches the piece's height map from outside (piece_hit), discarding a
+// miss and writing the hit's depth. The hit is shaded through the per-piece impostors as the
+// distance-map pieces are (shade_piece): reflection and the exits through the height map
+// (chord) looked up in the piece's impostor, the moving piece found from outside.
+// ---------------------------------------------------------------------------------------------
+
+struct SeparatedBillboardOut {
+    @builtin(position) clip: vec4f,
+    @location(0) world: vec3f,
+    @location(1) @interpolate(flat) piece: u32,
+    @location(2) @interpolate(flat) face_normal: vec3f,
+};
+
+@vertex
+fn separated_billboard_vs(@builtin(vertex_index) vertex: u32,
+                          @builtin(instance_index) piece: u32) -> SeparatedBillboardOut {
+    let v = billboard_box_vertex(vertex, pieces[piece].centre.xyz,
+                                 kind_height_bounds(piece_kind(piece)), camera.eye.xyz);
+    var out: SeparatedBillboardOut;
+    out.world = v.world;
+    out.clip = camera.view_proj * vec4f(v.world, 1.0);
+    out.piece = piece;
+    out.face_normal = v.face_normal;
+    return out;
+}
+
+struct SeparatedBillboardTargets {
+    @location(0) color: vec4f,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment
+fn separated_billboard_fs(in: SeparatedBillboardOut) -> SeparatedBillboardTargets {
+    let eye = camera.eye.xyz;
+    if (!faces_eye(in.face_normal, in.world, eye)) { discard; }
+    let dir = normalize(in.world - eye);
+    let h = piece_hit(in.piece, eye, dir);
+    if (h.w < 0.0) { discard; }
+    let point = eye + dir * h.w;
+    let n = select(h.xyz, -h.xyz, dot(h.xyz, dir) > 0.0);
+    var out: SeparatedBillboardTargets;
+    out.color = shade_piece(in.piece, point, n, eye);
+    out.depth = frag_depth_of(camera.view_proj, point);
+    return out;
+}
