@@ -80,46 +80,33 @@ use gpu::HdrImage;
 use scene::{Camera, Scene, Technique};
 use std::str::FromStr;
 
-/// Every technique variant, as fresh instances (a run calls this once per scene).
-///
-/// Adding a technique crate means adding its variants here (and the crate to
-/// `harness/Cargo.toml`).
-#[allow(clippy::vec_init_then_push)] // one line per crate, added and removed independently
-pub fn registry() -> Vec<Box<dyn Technique>> {
-    let mut techniques: Vec<Box<dyn Technique>> = Vec::new();
-    // ---- REGISTRY: one line per technique crate (and add the crate to harness/Cargo.toml) ----
-    // The ground truth as a technique (`reference`), then the foundation's baselines:
-    techniques.extend(truth::techniques());
-    techniques.extend(scene::foundation::techniques());
-    // Technique crates:
-    techniques.extend(impostors::techniques());
-    techniques.extend(refractor_maps::techniques());
-    techniques.extend(height_maps::techniques());
-    techniques.extend(screen_photons::techniques());
-    techniques.extend(image_space_refraction::techniques());
-    techniques.extend(raytracer::techniques());
-    techniques.extend(volumes::techniques());
-    techniques.extend(interior_mapping::techniques());
-    // ---- end of registry ----
-    techniques
+/// Every family of techniques: the ground truth as a technique (`reference`), the
+/// foundation's baselines, then one line per technique crate (and the crate in
+/// harness/Cargo.toml). [`registry`] and [`image_checks`] read this list.
+pub fn families() -> Vec<scene::Family> {
+    vec![
+        truth::FAMILY,
+        scene::foundation::FAMILY,
+        impostors::FAMILY,
+        refractor_maps::FAMILY,
+        height_maps::FAMILY,
+        screen_photons::FAMILY,
+        image_space_refraction::FAMILY,
+        raytracer::FAMILY,
+        volumes::FAMILY,
+        interior_mapping::FAMILY,
+    ]
 }
 
-/// Every image check the technique crates declare (`scene::ImageCheck`), run by the tests
-/// crate against the reference. One line per crate, beside its registry line.
+/// Every registered technique variant, fresh, family by family.
+pub fn registry() -> Vec<Box<dyn Technique>> {
+    families().iter().flat_map(|f| (f.techniques)()).collect()
+}
+
+/// Every image check the families declare (`scene::ImageCheck`), run by the tests crate
+/// against the reference.
 pub fn image_checks() -> Vec<scene::ImageCheck> {
-    let mut checks = Vec::new();
-    // ---- IMAGE CHECKS: one line per technique crate ----
-    checks.extend(scene::foundation::image_checks());
-    checks.extend(impostors::image_checks());
-    checks.extend(refractor_maps::image_checks());
-    checks.extend(height_maps::image_checks());
-    checks.extend(screen_photons::image_checks());
-    checks.extend(image_space_refraction::image_checks());
-    checks.extend(raytracer::image_checks());
-    checks.extend(volumes::image_checks());
-    checks.extend(interior_mapping::image_checks());
-    // ---- end of image checks ----
-    checks
+    families().iter().flat_map(|f| (f.image_checks)()).collect()
 }
 
 /// A technique factory: returns fresh instances of every variant it knows.
@@ -590,6 +577,35 @@ pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The one list of families: ids unique, each variant named after its family (the
+    /// foundation's baselines and the reference excepted), each image check naming a
+    /// variant of the family that declares it.
+    #[test]
+    fn every_family_owns_its_variants_and_checks() {
+        let mut ids = std::collections::BTreeSet::new();
+        for family in families() {
+            let own: Vec<String> = (family.techniques)().iter().map(|t| t.id()).collect();
+            assert!(!own.is_empty(), "{} has no variant", family.name);
+            for id in &own {
+                assert!(ids.insert(id.clone()), "{id} registered twice");
+                let named = id == family.name || id.starts_with(&format!("{}/", family.name));
+                assert!(
+                    named || family.name == "foundation",
+                    "{id} is not named after its family {}",
+                    family.name
+                );
+            }
+            for check in (family.image_checks)() {
+                assert!(
+                    own.iter().any(|id| id == check.technique),
+                    "{} declares a check of {}, not one of its variants",
+                    family.name,
+                    check.technique
+                );
+            }
+        }
+    }
 
     #[test]
     fn sizes_parse() {

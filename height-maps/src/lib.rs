@@ -35,6 +35,13 @@ pub use in_chess::{HeightMapsInChess, HeightSearch, InChessSettings};
 pub use separated::{HeightMapsSeparated, SeparatedSettings};
 pub use technique::{HeightMaps, MapSettings, Refraction, Settings};
 
+/// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
+pub const FAMILY: scene::Family = scene::Family {
+    name: "height-maps",
+    techniques,
+    image_checks,
+};
+
 /// All technique variants of this crate: `height-maps/single`,
 /// `height-maps/double-refraction`, `height-maps/in-chess`, `height-maps/separated`,
 /// `height-maps/full-update`.

@@ -29,6 +29,13 @@ pub mod technique;
 
 pub use technique::{Nearby, Refraction, Settings, Variant};
 
+/// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
+pub const FAMILY: scene::Family = scene::Family {
+    name: "image-space-refraction",
+    techniques,
+    image_checks,
+};
+
 /// All variants: `image-space-refraction/one-interface`, `two-interface-baseline`, `hu-qin`,
 /// `hu-qin-back-first`, `nearby-uncorrected`, `baseline-nearby`, `nearby-corrected`,
 /// `recursive`, `caustics` and the engine baseline `thickness-proxy`.

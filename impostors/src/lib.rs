@@ -23,6 +23,13 @@ pub mod technique;
 
 pub use technique::{Impostor, Lookup, Mode, Probe, Settings};
 
+/// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
+pub const FAMILY: scene::Family = scene::Family {
+    name: "impostors",
+    techniques,
+    image_checks,
+};
+
 /// All technique variants of this crate: `impostors/classic`, `impostors/initial-guess`,
 /// `impostors/secant-{1..8}`, `impostors/false-position-{1..8}`,
 /// `impostors/false-position-4-split`, `impostors/double-refraction`, the engine baselines

@@ -20,6 +20,13 @@ pub use technique::{InteriorMapping, PolygonInteriors, Variant};
 /// The WGSL twin of [`rooms`] (needs the `gpu` prelude).
 pub const INTERIOR_WGSL: &str = include_str!("shaders/interior.wgsl");
 
+/// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
+pub const FAMILY: scene::Family = scene::Family {
+    name: "interior-mapping",
+    techniques,
+    image_checks,
+};
+
 /// All technique variants of this crate.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     technique::all()

@@ -24,6 +24,13 @@ pub mod tracer;
 pub use technique::{RayTracer, Variant};
 pub use tracer::{GpuTracer, RayCounts, TracerSettings, Traversal};
 
+/// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
+pub const FAMILY: scene::Family = scene::Family {
+    name: "raytracer",
+    techniques,
+    image_checks,
+};
+
 /// All variants: `raytracer/whitted`, `raytracer/caustics` and `raytracer/ray-query`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     technique::variants()

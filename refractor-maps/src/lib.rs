@@ -29,6 +29,13 @@ pub use caustics::CausticSettings;
 pub use environment::{EnvSettings, EnvironmentMaps};
 pub use technique::{Maps, RefractorMaps, Search, Settings};
 
+/// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
+pub const FAMILY: scene::Family = scene::Family {
+    name: "refractor-maps",
+    techniques,
+    image_checks,
+};
+
 /// All technique variants of this crate: `refractor-maps/single-bounce`,
 /// `refractor-maps/multi-bounce-2`, `refractor-maps/multi-bounce-4`,
 /// `refractor-maps/first-square`, `refractor-maps/all-pieces`, `refractor-maps/caustics`,

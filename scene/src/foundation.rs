@@ -13,6 +13,14 @@ use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Context, Target, bind};
 
+/// The foundation's family: the baselines `raster` and `envmap/classic`, which live in
+/// `scene` (their ids carry no family name).
+pub const FAMILY: crate::Family = crate::Family {
+    name: "foundation",
+    techniques,
+    image_checks,
+};
+
 /// The foundation's variants, fresh: `raster`, `envmap/classic`.
 pub fn techniques() -> Vec<Box<dyn Technique>> {
     vec![

@@ -34,7 +34,8 @@ pub use kinds::Kinds;
 pub use medium::Medium;
 pub use model::*;
 pub use technique::{
-    Contained, Frame, ImageCheck, Param, Technique, TechniqueError, TechniqueResult, Timing, View,
+    Contained, Family, Frame, ImageCheck, Param, Technique, TechniqueError, TechniqueResult,
+    Timing, View,
 };
 
 use std::path::Path;

@@ -232,6 +232,19 @@ pub fn not_prepared(technique: &(impl Technique + ?Sized)) -> TechniqueError {
     TechniqueError::NotPrepared(technique.id())
 }
 
+/// A family of techniques, one crate: its variants and the image checks it declares. Each
+/// crate exports one as `FAMILY`, and the harness lists every family once
+/// (`harness::families()`): its registry and its image checks are both read from that list.
+#[derive(Clone, Copy, Debug)]
+pub struct Family {
+    /// The crate's name; every variant's id but the foundation's starts with it.
+    pub name: &'static str,
+    /// Fresh instances of every variant.
+    pub techniques: fn() -> Vec<Box<dyn Technique>>,
+    /// The image checks the family declares (run by the tests crate against the reference).
+    pub image_checks: fn() -> Vec<ImageCheck>,
+}
+
 /// An image check a technique crate declares, like a wgpu example's image test: `technique`
 /// rendered on `scene` at `size` x `size`, at the start, middle and end of the scene's camera
 /// path, must stay within `max_flip_mean` and `max_rmse` of the reference (no NaN pixel, ever).

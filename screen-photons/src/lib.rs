@@ -28,6 +28,13 @@ pub mod technique;
 
 pub use technique::{March, Refraction, ScreenPhotons, Settings, Shafts, Splat, Variant};
 
+/// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
+pub const FAMILY: scene::Family = scene::Family {
+    name: "screen-photons",
+    techniques,
+    image_checks,
+};
+
 /// All technique variants of this crate.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
     technique::variants()

@@ -27,6 +27,14 @@ mod technique;
 
 pub use technique::ReferenceTechnique;
 
+/// This crate's family: `reference`, with no image check of its own (it is what the checks
+/// measure against).
+pub const FAMILY: scene::Family = scene::Family {
+    name: "reference",
+    techniques,
+    image_checks: Vec::new,
+};
+
 /// This crate's technique, fresh: `reference` (the ground truth rendered on the CPU and
 /// uploaded).
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {

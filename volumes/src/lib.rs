@@ -24,6 +24,13 @@ pub mod technique;
 pub use path_length::{OpacityFn, Primitive};
 pub use technique::{Method, Variant, VolumeSet, VolumeTechnique};
 
+/// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
+pub const FAMILY: scene::Family = scene::Family {
+    name: "volumes",
+    techniques,
+    image_checks,
+};
+
 /// All technique variants of this crate: the 17 of the thesis's figure 6.23 in its order,
 /// then the particle-system versions.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
