@@ -6,8 +6,7 @@
 //! their front/back buffers, the photon pass and the caustic mapping pass).
 
 use crate::rectangles::Rectangles;
-use crate::search::Eye;
-use crate::technique::EyeGpu;
+use crate::search::{Eye, EyeGpu};
 use glam::{Vec2, Vec3};
 use gpu::wgpu;
 use gpu::{Context, Uniform, bind};

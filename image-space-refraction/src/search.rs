@@ -461,3 +461,36 @@ pub fn exit_direction(exit: &Exit, t1: Vec3, ior: f32) -> Vec4 {
     let facing = if n.dot(t1) > 0.0 { -n } else { n };
     gpu::prelude::refract_dir(t1, facing, ior)
 }
+
+/// The WGSL `EyeParams` (search.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct EyeGpu {
+    view_proj: [[f32; 4]; 4],
+    inverse_view_proj: [[f32; 4]; 4],
+    position: [f32; 4],
+    forward: [f32; 4],
+    size: [f32; 4],
+}
+
+impl EyeGpu {
+    /// A light's view for the photon pass: `size.z` its pixel size at unit distance, `size.w`
+    /// the light's index.
+    pub fn for_light(mut self, pixel_size: f32, light: u32) -> Self {
+        self.size[2] = pixel_size;
+        self.size[3] = light as f32;
+        self
+    }
+}
+
+impl From<&Eye> for EyeGpu {
+    fn from(e: &Eye) -> Self {
+        Self {
+            view_proj: e.view_proj.to_cols_array_2d(),
+            inverse_view_proj: e.view_proj.inverse().to_cols_array_2d(),
+            position: e.position.extend(1.0).to_array(),
+            forward: e.forward.extend(0.0).to_array(),
+            size: [e.width as f32, e.height as f32, 0.0, 0.0],
+        }
+    }
+}

@@ -14,7 +14,7 @@
 
 use crate::caustics::{CausticSettings, Caustics, RefractorBindings};
 use crate::rectangles::{self, NearbyParamsGpu, Rectangles};
-use crate::search::Eye;
+use crate::search::{Eye, EyeGpu};
 use glam::{Mat4, Vec3};
 use gpu::cube::CubeTarget;
 use gpu::wgpu;
@@ -161,39 +161,6 @@ impl Default for Settings {
             nearby: None,
             caustics: None,
             room_probe: false,
-        }
-    }
-}
-
-/// The WGSL `EyeParams` (search.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct EyeGpu {
-    view_proj: [[f32; 4]; 4],
-    inverse_view_proj: [[f32; 4]; 4],
-    position: [f32; 4],
-    forward: [f32; 4],
-    size: [f32; 4],
-}
-
-impl EyeGpu {
-    /// A light's view for the photon pass: `size.z` its pixel size at unit distance, `size.w`
-    /// the light's index.
-    pub fn for_light(mut self, pixel_size: f32, light: u32) -> Self {
-        self.size[2] = pixel_size;
-        self.size[3] = light as f32;
-        self
-    }
-}
-
-impl From<&Eye> for EyeGpu {
-    fn from(e: &Eye) -> Self {
-        Self {
-            view_proj: e.view_proj.to_cols_array_2d(),
-            inverse_view_proj: e.view_proj.inverse().to_cols_array_2d(),
-            position: e.position.extend(1.0).to_array(),
-            forward: e.forward.extend(0.0).to_array(),
-            size: [e.width as f32, e.height as f32, 0.0, 0.0],
         }
     }
 }

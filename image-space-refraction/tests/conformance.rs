@@ -10,11 +10,12 @@ use gpu::wgpu::{self, util::DeviceExt};
 use image_space_refraction::caustics::{self, Accumulator, CausticSettings, scatter};
 use image_space_refraction::nearby::{DepthLayers, Lookup, Rect, nearby_hit};
 use image_space_refraction::rectangles::{NearbyParamsGpu, RectGpu};
+use image_space_refraction::search::EyeGpu;
 use image_space_refraction::search::{
     self, Buffers, Eye, FrontBack, Iteration, Side, Strategy, exit_direction, hu_qin_exit,
     wyman_exit,
 };
-use image_space_refraction::technique::{EyeGpu, SEARCH_WGSL};
+use image_space_refraction::technique::SEARCH_WGSL;
 
 const W: u32 = 96;
 const H: u32 = 80;

@@ -15,6 +15,9 @@
 /// environment impostor.
 pub const MAX_KINDS: usize = 12;
 
+/// Format of the refractor maps (normal + distance) and the environment impostor.
+pub const MAP_FORMAT: gpu::wgpu::TextureFormat = gpu::wgpu::TextureFormat::Rgba16Float;
+
 pub use scene::kinds::Kinds;
 pub use scene::multi_object::pieces::{PIECES_WGSL, PieceGpu, map_box, pieces_at};
 
@@ -23,7 +26,7 @@ pub const REFRACTOR_MAP_WGSL: &str = include_str!("shaders/refractor_map.wgsl");
 
 /// Renders each kind's refractor map around its representative (at the scene's current
 /// time): outward normal in rgb, distance from the centre in alpha, `resolution` texels per
-/// cube face, in the format [`crate::technique::MAP_FORMAT`]. Made once per scene.
+/// cube face, in the format [`MAP_FORMAT`]. Made once per scene.
 pub fn render_kind_maps(
     frame: &mut scene::Frame,
     scene: &scene::GpuScene,
@@ -39,17 +42,12 @@ pub fn render_kind_maps(
         &scene.pipeline_layout_with(ctx, &[]),
         &module,
         "refractor_map_fs",
-        crate::technique::MAP_FORMAT,
+        MAP_FORMAT,
     );
     let time = scene.time();
     let mut maps = Vec::new();
     for &rep in &kinds.representative {
-        let cube = gpu::cube::CubeTarget::new(
-            ctx,
-            resolution,
-            crate::technique::MAP_FORMAT,
-            "refractor map",
-        )?;
+        let cube = gpu::cube::CubeTarget::new(ctx, resolution, MAP_FORMAT, "refractor map")?;
         let centre = scene.scene.objects[rep].center_at(time);
         scene.draw_cube(
             frame,

@@ -23,8 +23,7 @@ pub use scene::multi_object::{MAX_DEPTH, Search};
 
 const DISTANCE_SEARCH_WGSL: &str = include_str!("shaders/distance_search.wgsl");
 
-/// Format of the refractor maps (normal + distance) and the environment impostor.
-pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+pub use crate::pieces::MAP_FORMAT;
 /// Parameters of a [`RefractorMaps`] variant (settable by name through
 /// [`Technique::set_param`]).
 #[derive(Clone, Debug, PartialEq)]

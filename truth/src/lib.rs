@@ -27,6 +27,12 @@ mod technique;
 
 pub use technique::ReferenceTechnique;
 
+/// Distance new rays start off a surface at `p` (the reference's and the scattering passes'
+/// one rule: `1e-4 * max(1, |p|)` metres).
+pub fn offset_epsilon(p: glam::Vec3) -> f32 {
+    1e-4 * p.length().max(1.0)
+}
+
 /// This crate's family: `reference`, with no image check of its own (it is what the checks
 /// measure against).
 pub const FAMILY: scene::Family = scene::Family {

@@ -192,6 +192,7 @@
 //!   a rasterizer without MSAA).
 
 use crate::media::Media;
+use crate::offset_epsilon;
 use crate::scattering::{BeamSplatter, direct_inscatter, view_depths};
 use glam::{DVec3, Vec2, Vec3};
 use gpu::HdrImage;
@@ -512,11 +513,6 @@ impl Counts {
         self.shadow += o.shadow;
         self.photon += o.photon;
     }
-}
-
-/// Distance new rays start off a surface at `p`.
-pub fn offset_epsilon(p: Vec3) -> f32 {
-    1e-4 * p.length().max(1.0)
 }
 
 /// Sample `i` of `n` inside a pixel, in [0, 1)^2: a Hammersley set shifted by half a cell

@@ -51,7 +51,7 @@
 //! left out, as caustics seen through one are. Photons are attenuated by the medium on every
 //! segment, and so are the eye's rays and the shadow rays of direct lighting.
 
-use crate::reference::offset_epsilon;
+use crate::offset_epsilon;
 use glam::{Mat4, Vec2, Vec3};
 use scene::bvh::SceneBvh;
 use scene::medium::{EYE_CLEARANCE, henyey_greenstein, transmittance_of};
