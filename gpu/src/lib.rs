@@ -34,6 +34,19 @@ pub struct Frame<'a> {
     pub timer: &'a mut GpuTimer,
 }
 
+impl Frame<'_> {
+    /// Records `passes` inside the timer span `label` (an encoder-level span, reported apart
+    /// from the frame): the span's end cannot be forgotten or misnamed, and a span opened in a
+    /// branch closes in it. Passes that time themselves (`GpuTimer::render_pass`) may nest
+    /// inside.
+    pub fn span<R>(&mut self, label: &str, passes: impl FnOnce(&mut Self) -> R) -> R {
+        self.timer.begin(self.encoder, label);
+        let result = passes(self);
+        self.timer.end(self.encoder, label);
+        result
+    }
+}
+
 /// Everything that can go wrong in the GPU layer, each as one sentence a user can act on.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {

@@ -823,77 +823,77 @@ impl Technique for Refraction {
             .as_ref()
             .map(|r| r.objects())
             .unwrap_or_default();
-        frame.timer.begin(frame.encoder, "regenerate");
-        if let Some((probe, centre)) = probe_to_capture {
-            // The engine's baked probe: the scene without its specular objects, once.
-            let specular = state.maps.iter().map(|m| m.object).collect();
-            scene.raster_cube(
-                frame,
-                &probe,
-                centre,
-                &ObjectFilter::Except(specular),
-                false,
-            );
-        }
-        // What `prepare` built decides, not the settings since.
-        let per_object = match state.room_probe.is_some() {
-            true => &[][..],
-            false => &state.maps[..],
-        };
-        for map in per_object {
-            let centre = scene.scene.objects[map.object].center_at(scene.time());
-            let mut left_out = in_rectangles.clone();
-            left_out.push(map.object);
-            scene.raster_cube(
-                frame,
-                &map.cube,
-                centre,
-                &ObjectFilter::Except(left_out),
-                false,
-            );
-            if let Some(full) = &map.full_cube {
-                let own = ObjectFilter::Except(vec![map.object]);
-                scene.raster_cube(frame, full, centre, &own, false);
+        frame.span("regenerate", |frame| {
+            if let Some((probe, centre)) = probe_to_capture {
+                // The engine's baked probe: the scene without its specular objects, once.
+                let specular = state.maps.iter().map(|m| m.object).collect();
+                scene.raster_cube(
+                    frame,
+                    &probe,
+                    centre,
+                    &ObjectFilter::Except(specular),
+                    false,
+                );
             }
-        }
-        frame.timer.end(frame.encoder, "regenerate");
+            // What `prepare` built decides, not the settings since.
+            let per_object = match state.room_probe.is_some() {
+                true => &[][..],
+                false => &state.maps[..],
+            };
+            for map in per_object {
+                let centre = scene.scene.objects[map.object].center_at(scene.time());
+                let mut left_out = in_rectangles.clone();
+                left_out.push(map.object);
+                scene.raster_cube(
+                    frame,
+                    &map.cube,
+                    centre,
+                    &ObjectFilter::Except(left_out),
+                    false,
+                );
+                if let Some(full) = &map.full_cube {
+                    let own = ObjectFilter::Except(vec![map.object]);
+                    scene.raster_cube(frame, full, centre, &own, false);
+                }
+            }
+        });
 
         let screen = state.screen.as_ref().expect("ensure_screen made it");
         if let Some(rects) = &state.rectangles {
-            frame.timer.begin(frame.encoder, "impostors");
-            let mut draw =
-                |frame: &mut Frame, object: usize, view_proj, eye, target: RasterTarget| {
-                    let i = state.maps.iter().position(|m| m.object == object);
-                    let (Some(i), Some(pipeline)) = (i, &state.impostor_pipeline) else {
-                        return;
+            frame.span("impostors", |frame| {
+                let mut draw =
+                    |frame: &mut Frame, object: usize, view_proj, eye, target: RasterTarget| {
+                        let i = state.maps.iter().position(|m| m.object == object);
+                        let (Some(i), Some(pipeline)) = (i, &state.impostor_pipeline) else {
+                            return;
+                        };
+                        let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
+                        let mut pass = scene::begin_scene_pass(
+                            frame.encoder,
+                            &target,
+                            scene.scene.background,
+                            "recursive impostor",
+                        );
+                        pass.set_pipeline(pipeline);
+                        pass.set_bind_group(0, &camera, &[]);
+                        pass.set_bind_group(1, scene.bind_group(), &[]);
+                        pass.set_bind_group(2, &screen.impostor_groups[i], &[]);
+                        scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![object]));
                     };
-                    let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
-                    let mut pass = scene::begin_scene_pass(
-                        frame.encoder,
-                        &target,
-                        scene.scene.background,
-                        "recursive impostor",
-                    );
-                    pass.set_pipeline(pipeline);
-                    pass.set_bind_group(0, &camera, &[]);
-                    pass.set_bind_group(1, scene.bind_group(), &[]);
-                    pass.set_bind_group(2, &screen.impostor_groups[i], &[]);
-                    scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![object]));
-                };
-            let recursive = state.impostor_pipeline.is_some();
-            rects.render(frame, scene, if recursive { Some(&mut draw) } else { None });
-            frame.timer.end(frame.encoder, "impostors");
+                let recursive = state.impostor_pipeline.is_some();
+                rects.render(frame, scene, if recursive { Some(&mut draw) } else { None });
+            });
             if let Some(caustics) = &state.caustics {
-                frame.timer.begin(frame.encoder, "caustics");
-                let refractors: Vec<usize> = state.maps.iter().map(|m| m.object).collect();
-                caustics.record(
-                    frame,
-                    scene,
-                    &refractors,
-                    rects,
-                    [&state.front_pipeline, &state.back_pipeline],
-                );
-                frame.timer.end(frame.encoder, "caustics");
+                frame.span("caustics", |frame| {
+                    let refractors: Vec<usize> = state.maps.iter().map(|m| m.object).collect();
+                    caustics.record(
+                        frame,
+                        scene,
+                        &refractors,
+                        rects,
+                        [&state.front_pipeline, &state.back_pipeline],
+                    );
+                });
             }
         }
 
@@ -901,24 +901,24 @@ impl Technique for Refraction {
         let view_proj = view.camera.view_proj(view.width, view.height);
         let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
         if variant.needs_buffers() {
-            frame.timer.begin(frame.encoder, "buffers");
-            for (pipeline, buffer) in [
-                (&state.front_pipeline, &screen.front),
-                (&state.back_pipeline, &screen.back),
-            ] {
-                let mut pass = gpu::pass::begin(
-                    frame.encoder,
-                    "front/back buffer",
-                    &[gpu::pass::color(buffer, gpu::pass::CLEAR_BLACK)],
-                    Some(gpu::pass::depth(&screen.depth, gpu::pass::CLEAR_FAR)),
-                    None,
-                );
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &camera, &[]);
-                pass.set_bind_group(1, scene.bind_group(), &[]);
-                scene.draw_objects(&mut pass, &ObjectFilter::Only(specular.clone()));
-            }
-            frame.timer.end(frame.encoder, "buffers");
+            frame.span("buffers", |frame| {
+                for (pipeline, buffer) in [
+                    (&state.front_pipeline, &screen.front),
+                    (&state.back_pipeline, &screen.back),
+                ] {
+                    let mut pass = gpu::pass::begin(
+                        frame.encoder,
+                        "front/back buffer",
+                        &[gpu::pass::color(buffer, gpu::pass::CLEAR_BLACK)],
+                        Some(gpu::pass::depth(&screen.depth, gpu::pass::CLEAR_FAR)),
+                        None,
+                    );
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, &camera, &[]);
+                    pass.set_bind_group(1, scene.bind_group(), &[]);
+                    scene.draw_objects(&mut pass, &ObjectFilter::Only(specular.clone()));
+                }
+            });
         }
 
         scene::multi_object::raster_diffuse(frame, scene, view, target, &specular);
@@ -939,8 +939,7 @@ impl Technique for Refraction {
             );
         }
 
-        frame.timer.begin(frame.encoder, "lookup");
-        {
+        frame.span("lookup", |frame| {
             let mut pass = scene::begin_scene_pass(
                 frame.encoder,
                 &RasterTarget {
@@ -960,8 +959,7 @@ impl Technique for Refraction {
                 }
                 scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![map.object]));
             }
-        }
-        frame.timer.end(frame.encoder, "lookup");
+        });
         Ok(())
     }
 }

@@ -664,27 +664,27 @@ impl Technique for Impostor {
             })
             .collect();
         if !stale.is_empty() {
-            frame.timer.begin(frame.encoder, "regenerate");
-            for &i in &stale {
-                let m = &mut state.maps[i];
-                let reference = match (state.proxy, scene::probe_centre(&scene.scene)) {
-                    (Some(_), Some(probe)) if room_probe => probe,
-                    _ => scene.scene.objects[m.object].center_at(time),
-                };
-                // Without the object itself (`render_environment` from another point: an
-                // engine's probe would not hold the moving object either).
-                let others = ObjectFilter::Except(vec![m.object]);
-                scene.raster_cube(frame, &m.env, reference, &others, false);
-                if let Some(split) = &m.split {
-                    copy_distances(frame, &state.split_pipeline, split);
+            frame.span("regenerate", |frame| {
+                for &i in &stale {
+                    let m = &mut state.maps[i];
+                    let reference = match (state.proxy, scene::probe_centre(&scene.scene)) {
+                        (Some(_), Some(probe)) if room_probe => probe,
+                        _ => scene.scene.objects[m.object].center_at(time),
+                    };
+                    // Without the object itself (`render_environment` from another point: an
+                    // engine's probe would not hold the moving object either).
+                    let others = ObjectFilter::Except(vec![m.object]);
+                    scene.raster_cube(frame, &m.env, reference, &others, false);
+                    if let Some(split) = &m.split {
+                        copy_distances(frame, &state.split_pipeline, split);
+                    }
+                    if let (Some(c), Some(maps)) = (&state.caustic, &m.caustics) {
+                        c.render_receivers(frame, scene, i, maps, m.object, reference);
+                    }
+                    m.reference = Some(reference);
+                    m.regenerations += 1;
                 }
-                if let (Some(c), Some(maps)) = (&state.caustic, &m.caustics) {
-                    c.render_receivers(frame, scene, i, maps, m.object, reference);
-                }
-                m.reference = Some(reference);
-                m.regenerations += 1;
-            }
-            frame.timer.end(frame.encoder, "regenerate");
+            });
         }
         let _ = &state.split_layout;
         let groups = impostor_groups(frame.gpu, scene, state, &settings);
@@ -718,10 +718,9 @@ impl Technique for Impostor {
                         )
                     })
                     .collect();
-                frame.timer.begin(frame.encoder, "caustics");
-                let g = caustic.render(frame, scene, &generators);
-                frame.timer.end(frame.encoder, "caustics");
-                g
+                frame.span("caustics", |frame| {
+                    caustic.render(frame, scene, &generators)
+                })
             }
             None => Vec::new(),
         };

@@ -557,9 +557,9 @@ impl Technique for InteriorMapping {
         if let Some(env) = &state.env {
             // The reflection map: the scene around the eye (buildings' hulls included as drawn by
             // the shared pass), regenerated every frame.
-            frame.timer.begin(frame.encoder, "regenerate");
-            scene.raster_cube(frame, env, eye, &ObjectFilter::All, true);
-            frame.timer.end(frame.encoder, "regenerate");
+            frame.span("regenerate", |frame| {
+                scene.raster_cube(frame, env, eye, &ObjectFilter::All, true);
+            });
         }
         let frame_index = ((view.time * FURNITURE_FPS).floor().max(0.0) as u32) % FURNITURE_FRAMES;
         let settings = SettingsGpu {
@@ -596,45 +596,45 @@ impl Technique for InteriorMapping {
         let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
         // The hulls' own passes (pre-pass and interior mapping), timed apart from the shared
         // raster pass as span "interior" (encoder timestamps around the passes).
-        frame.timer.begin(frame.encoder, "interior");
-        if let Some(prepass) = &state.prepass {
-            let mut pass = pass::begin(
+        frame.span("interior", |frame| {
+            if let Some(prepass) = &state.prepass {
+                let mut pass = pass::begin(
+                    frame.encoder,
+                    "interior depth pre-pass",
+                    &[],
+                    Some(pass::depth(&target.depth_view, Load::Keep)),
+                    None,
+                );
+                pass.set_pipeline(prepass);
+                pass.set_bind_group(0, &camera, &[]);
+                pass.set_bind_group(1, scene.bind_group(), &[]);
+                pass.set_bind_group(2, &state.bind_group, &[]);
+                draw_hulls(&mut pass, state, scene);
+            }
+            let mut pass = scene::begin_scene_pass(
                 frame.encoder,
-                "interior depth pre-pass",
-                &[],
-                Some(pass::depth(&target.depth_view, Load::Keep)),
-                None,
+                &RasterTarget {
+                    clear: false,
+                    ..main
+                },
+                scene.scene.background,
+                "interior mapping",
             );
-            pass.set_pipeline(prepass);
+            let inside = state.hull_boxes.iter().any(|(to_object, lo, hi)| {
+                let e = to_object.transform_point3(eye);
+                e.cmpgt(*lo).all() && e.cmplt(*hi).all()
+            });
+            pass.set_pipeline(if inside {
+                &state.pipeline_inside
+            } else {
+                &state.pipeline
+            });
             pass.set_bind_group(0, &camera, &[]);
             pass.set_bind_group(1, scene.bind_group(), &[]);
             pass.set_bind_group(2, &state.bind_group, &[]);
             draw_hulls(&mut pass, state, scene);
-        }
-        let mut pass = scene::begin_scene_pass(
-            frame.encoder,
-            &RasterTarget {
-                clear: false,
-                ..main
-            },
-            scene.scene.background,
-            "interior mapping",
-        );
-        let inside = state.hull_boxes.iter().any(|(to_object, lo, hi)| {
-            let e = to_object.transform_point3(eye);
-            e.cmpgt(*lo).all() && e.cmplt(*hi).all()
+            drop(pass);
         });
-        pass.set_pipeline(if inside {
-            &state.pipeline_inside
-        } else {
-            &state.pipeline
-        });
-        pass.set_bind_group(0, &camera, &[]);
-        pass.set_bind_group(1, scene.bind_group(), &[]);
-        pass.set_bind_group(2, &state.bind_group, &[]);
-        draw_hulls(&mut pass, state, scene);
-        drop(pass);
-        frame.timer.end(frame.encoder, "interior");
         Ok(())
     }
 }

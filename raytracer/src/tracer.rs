@@ -849,19 +849,17 @@ impl GpuTracer {
         self.resolve_params
             .write(ctx, &[width, height, (traced > 0) as u32, k + 1]);
         if matches!(self.structure, Structure::RayQuery { stale: true, .. }) {
-            frame.timer.begin(frame.encoder, "build");
-            self.build_acceleration_structures(frame.encoder);
-            frame.timer.end(frame.encoder, "build");
+            frame.span("build", |frame| {
+                self.build_acceleration_structures(frame.encoder);
+            });
         }
-        let encoder = &mut *frame.encoder;
-        encoder.clear_buffer(&self.stats, 0, None);
+        frame.encoder.clear_buffer(&self.stats, 0, None);
         if k == 0 {
-            encoder.clear_buffer(&self.photon_sum, 0, None);
+            frame.encoder.clear_buffer(&self.photon_sum, 0, None);
         }
 
-        frame.timer.begin(encoder, "eye");
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
+        frame.span("eye", |frame| {
+            let mut pass = frame.encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&self.eye_pipeline);
             pass.set_bind_group(0, &self.group, &[]);
             pass.dispatch_workgroups(
@@ -869,25 +867,24 @@ impl GpuTracer {
                 height.div_ceil(EYE_WORKGROUP),
                 1,
             );
-        }
-        frame.timer.end(encoder, "eye");
+        });
         if traced > 0 {
-            frame.timer.begin(encoder, "photons");
-            let groups = (traced as u32).div_ceil(PHOTON_WORKGROUP);
-            let (x, y) = (
-                groups.min(PHOTON_ROW_WORKGROUPS),
-                groups.div_ceil(PHOTON_ROW_WORKGROUPS),
-            );
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.photon_pipeline);
-            pass.set_bind_group(0, &self.group, &[]);
-            pass.dispatch_workgroups(x, y, 1);
-            drop(pass);
-            frame.timer.end(encoder, "photons");
+            frame.span("photons", |frame| {
+                let groups = (traced as u32).div_ceil(PHOTON_WORKGROUP);
+                let (x, y) = (
+                    groups.min(PHOTON_ROW_WORKGROUPS),
+                    groups.div_ceil(PHOTON_ROW_WORKGROUPS),
+                );
+                let mut pass = frame.encoder.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&self.photon_pipeline);
+                pass.set_bind_group(0, &self.group, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            });
         }
-        frame.timer.begin(encoder, "resolve");
-        self.draw_resolve(encoder, "ray tracer resolve", target);
-        frame.timer.end(encoder, "resolve");
+        frame.span("resolve", |frame| {
+            self.draw_resolve(frame.encoder, "ray tracer resolve", target)
+        });
+        let encoder = &mut *frame.encoder;
         encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
         Ok(())
     }

@@ -503,9 +503,9 @@ impl Technique for RefractorMaps {
             .group(ctx, &scene.scene, &state.search, &settings, scene.time())
             .map_err(|e| prefixed(&self.id, e))?;
         if let Some(caustics) = &state.caustics {
-            frame.timer.begin(frame.encoder, "caustics");
-            caustics.update(frame, scene, state.tracer.kinds(), &group);
-            frame.timer.end(frame.encoder, "caustics");
+            frame.span("caustics", |frame| {
+                caustics.update(frame, scene, state.tracer.kinds(), &group);
+            });
         }
         state
             .tracer

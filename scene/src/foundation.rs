@@ -244,11 +244,11 @@ impl Technique for ClassicEnvMap {
         view: &View,
         target: &Target,
     ) -> TechniqueResult<()> {
-        frame.timer.begin(frame.encoder, "regenerate");
-        for map in &self.maps {
-            render_environment(frame, scene, &map.cube, map.object);
-        }
-        frame.timer.end(frame.encoder, "regenerate");
+        frame.span("regenerate", |frame| {
+            for map in &self.maps {
+                render_environment(frame, scene, &map.cube, map.object);
+            }
+        });
 
         let view_proj = view.camera.view_proj(view.width, view.height);
         let specular: Vec<usize> = self.maps.iter().map(|m| m.object).collect();

@@ -1964,18 +1964,19 @@ impl Passes {
         let view_proj = camera.view_proj(width, height);
         let eye = camera.eye;
         let specular = scene.scene.specular_objects();
-        frame.timer.begin(frame.encoder, "ldi");
-        sized
-            .scene_ldi
-            .peel(frame, scene, &ObjectFilter::All, view_proj, eye)?;
-        sized.refractor_ldi.peel(
-            frame,
-            scene,
-            &ObjectFilter::Only(specular.clone()),
-            view_proj,
-            eye,
-        )?;
-        frame.timer.end(frame.encoder, "ldi");
+        frame.span("ldi", |frame| -> TechniqueResult<()> {
+            sized
+                .scene_ldi
+                .peel(frame, scene, &ObjectFilter::All, view_proj, eye)?;
+            sized.refractor_ldi.peel(
+                frame,
+                scene,
+                &ObjectFilter::Only(specular.clone()),
+                view_proj,
+                eye,
+            )?;
+            Ok(())
+        })?;
 
         // The scene's box at this time, grown a little (rays start on its surfaces).
         let (lo, hi) = scene_box(&scene.scene, scene.time());
@@ -2063,79 +2064,79 @@ impl Passes {
                 None,
             );
             for (light_index, light) in scene.scene.lights.iter().enumerate() {
-                frame.timer.begin(frame.encoder, "caustics");
-                let (spacing, flux) = self.transfer(frame, scene, sized, settings, light)?;
-                let flux = Uniform::new(ctx, "unit flux", &flux.extend(0.0).to_array());
-                self.dispatch(
-                    frame,
-                    &groups,
-                    made(&self.gather),
-                    &bind::group(
-                        ctx,
-                        "gather",
-                        &self.gather_layout,
-                        &[
-                            bind::view(&sized.transfer[0]),
-                            bind::view(&sized.transfer[1]),
-                            sized.photons.photons.as_entire_binding(),
-                            sized.photons.receivers.as_entire_binding(),
-                            flux.binding(),
-                        ],
-                    ),
-                    sized.photons.count.div_ceil(64),
-                );
-                for round in 0..=settings.bounces {
-                    // The march alone (the paper: "intersection testing consumed over 80% of
-                    // the time").
-                    frame.timer.begin(frame.encoder, "march");
-                    match march {
-                        March::Lines => self.march_lines(frame, &groups, sized),
-                        March::Dda | March::Shader => self.dispatch(
-                            frame,
-                            &groups,
-                            made(&self.per_photon),
-                            &bind::group(
-                                ctx,
-                                "dda",
-                                &self.dda_layout,
-                                &[
-                                    sized.photons.photons.as_entire_binding(),
-                                    sized.photons.hits.as_entire_binding(),
-                                ],
-                            ),
-                            sized.photons.count.div_ceil(64),
+                let spacing = frame.span("caustics", |frame| -> TechniqueResult<f32> {
+                    let (spacing, flux) = self.transfer(frame, scene, sized, settings, light)?;
+                    let flux = Uniform::new(ctx, "unit flux", &flux.extend(0.0).to_array());
+                    self.dispatch(
+                        frame,
+                        &groups,
+                        made(&self.gather),
+                        &bind::group(
+                            ctx,
+                            "gather",
+                            &self.gather_layout,
+                            &[
+                                bind::view(&sized.transfer[0]),
+                                bind::view(&sized.transfer[1]),
+                                sized.photons.photons.as_entire_binding(),
+                                sized.photons.receivers.as_entire_binding(),
+                                flux.binding(),
+                            ],
                         ),
+                        sized.photons.count.div_ceil(64),
+                    );
+                    for round in 0..=settings.bounces {
+                        // The march alone (the paper: "intersection testing consumed over 80% of
+                        // the time").
+                        frame.span("march", |frame| match march {
+                            March::Lines => self.march_lines(frame, &groups, sized),
+                            March::Dda | March::Shader => self.dispatch(
+                                frame,
+                                &groups,
+                                made(&self.per_photon),
+                                &bind::group(
+                                    ctx,
+                                    "dda",
+                                    &self.dda_layout,
+                                    &[
+                                        sized.photons.photons.as_entire_binding(),
+                                        sized.photons.hits.as_entire_binding(),
+                                    ],
+                                ),
+                                sized.photons.count.div_ceil(64),
+                            ),
+                        });
+                        let beams = media.map(|(targets, _)| &targets.beams);
+                        let keep = beams.filter(|_| keep_beams);
+                        self.resolve(frame, &groups, sized, settings, round, keep);
                     }
-                    frame.timer.end(frame.encoder, "march");
-                    let beams = media.map(|(targets, _)| &targets.beams);
-                    let keep = beams.filter(|_| keep_beams);
-                    self.resolve(frame, &groups, sized, settings, round, keep);
-                }
-                frame.timer.end(frame.encoder, "caustics");
+                    Ok(spacing)
+                })?;
                 if let (Some((targets, passes)), true) = (media, keep_beams) {
-                    frame.timer.begin(frame.encoder, "shafts");
-                    match variant.shafts {
-                        Some(Shafts::GodRays) => {
-                            passes.draw_bands(frame, &groups, targets, view, settings)
+                    frame.span("shafts", |frame| -> TechniqueResult<()> {
+                        match variant.shafts {
+                            Some(Shafts::GodRays) => {
+                                passes.draw_bands(frame, &groups, targets, view, settings)
+                            }
+                            Some(Shafts::FroxelsWithPhotons) if light_index == 0 => {
+                                passes.draw_caustic_map(frame, &groups, targets, scene, settings)?
+                            }
+                            _ => {}
                         }
-                        Some(Shafts::FroxelsWithPhotons) if light_index == 0 => {
-                            passes.draw_caustic_map(frame, &groups, targets, scene, settings)?
-                        }
-                        _ => {}
-                    }
-                    frame.timer.end(frame.encoder, "shafts");
+                        Ok(())
+                    })?;
                 }
-                frame.timer.begin(frame.encoder, "splat");
-                self.splat(
-                    frame,
-                    &groups,
-                    sized,
-                    view,
-                    splat,
-                    spacing * settings.splat_radius,
-                    settings,
-                );
-                frame.timer.end(frame.encoder, "splat");
+                frame.span("splat", |frame| {
+                    self.splat(
+                        frame,
+                        &groups,
+                        sized,
+                        view,
+                        splat,
+                        spacing * settings.splat_radius,
+                        settings,
+                    );
+                });
             }
             let apply_group = bind::group(
                 ctx,
@@ -2155,42 +2156,44 @@ impl Passes {
             scene.draw_objects(&mut pass, &ObjectFilter::Except(specular.clone()));
         }
 
-        frame.timer.begin(frame.encoder, "refraction");
-        let mode = Uniform::new(
-            ctx,
-            "specular mode",
-            &ModeGpu {
-                value: (variant.refraction == Refraction::Dda) as u32,
-                _pad: [0; 3],
-            },
-        );
-        let specular_group = bind::group(ctx, "specular", &self.specular_layout, &[mode.binding()]);
-        {
-            let mut pass = pass::begin(
-                frame.encoder,
-                "screen-space refraction",
-                &[pass::color(&target.color_view, pass::Load::Keep)],
-                Some(pass::depth(&target.depth_view, pass::Load::Keep)),
-                None,
+        frame.span("refraction", |frame| {
+            let mode = Uniform::new(
+                ctx,
+                "specular mode",
+                &ModeGpu {
+                    value: (variant.refraction == Refraction::Dda) as u32,
+                    _pad: [0; 3],
+                },
             );
-            pass.set_pipeline(&self.specular);
-            groups.set(&mut pass, &specular_group);
-            scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
-        }
-        frame.timer.end(frame.encoder, "refraction");
-        if let Some((targets, passes)) = media {
-            frame.timer.begin(frame.encoder, "shafts");
-            match variant.shafts {
-                Some(Shafts::GodRays) => passes.blur(frame, &groups, targets, view, settings),
-                Some(Shafts::Froxels | Shafts::FroxelsWithPhotons) => {
-                    passes.froxels(frame, &groups, targets, scene, view, settings)?
-                }
-                None => {}
+            let specular_group =
+                bind::group(ctx, "specular", &self.specular_layout, &[mode.binding()]);
+            {
+                let mut pass = pass::begin(
+                    frame.encoder,
+                    "screen-space refraction",
+                    &[pass::color(&target.color_view, pass::Load::Keep)],
+                    Some(pass::depth(&target.depth_view, pass::Load::Keep)),
+                    None,
+                );
+                pass.set_pipeline(&self.specular);
+                groups.set(&mut pass, &specular_group);
+                scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
             }
-            frame.timer.end(frame.encoder, "shafts");
-            frame.timer.begin(frame.encoder, "medium");
-            passes.composite(frame, &groups, targets, target);
-            frame.timer.end(frame.encoder, "medium");
+        });
+        if let Some((targets, passes)) = media {
+            frame.span("shafts", |frame| -> TechniqueResult<()> {
+                match variant.shafts {
+                    Some(Shafts::GodRays) => passes.blur(frame, &groups, targets, view, settings),
+                    Some(Shafts::Froxels | Shafts::FroxelsWithPhotons) => {
+                        passes.froxels(frame, &groups, targets, scene, view, settings)?
+                    }
+                    None => {}
+                }
+                Ok(())
+            })?;
+            frame.span("medium", |frame| {
+                passes.composite(frame, &groups, targets, target);
+            });
         }
         Ok(())
     }
@@ -2209,25 +2212,25 @@ impl Passes {
         specular: &[usize],
     ) {
         let ctx = frame.gpu;
-        frame.timer.begin(frame.encoder, "shadows");
-        let mask_group = bind::group(
-            ctx,
-            "shadow mask",
-            &self.shadow_mask_layout,
-            &[mask.as_entire_binding()],
-        );
-        {
-            let mut pass = frame
-                .encoder
-                .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(made(&self.shadow_mask));
-            pass.set_bind_group(0, groups.camera, &[]);
-            pass.set_bind_group(1, groups.scene, &[]);
-            pass.set_bind_group(2, groups.ldi, &[]);
-            pass.set_bind_group(3, &mask_group, &[]);
-            pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
-        }
-        frame.timer.end(frame.encoder, "shadows");
+        frame.span("shadows", |frame| {
+            let mask_group = bind::group(
+                ctx,
+                "shadow mask",
+                &self.shadow_mask_layout,
+                &[mask.as_entire_binding()],
+            );
+            {
+                let mut pass = frame
+                    .encoder
+                    .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+                pass.set_pipeline(made(&self.shadow_mask));
+                pass.set_bind_group(0, groups.camera, &[]);
+                pass.set_bind_group(1, groups.scene, &[]);
+                pass.set_bind_group(2, groups.ldi, &[]);
+                pass.set_bind_group(3, &mask_group, &[]);
+                pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+            }
+        });
         let group = bind::group(
             ctx,
             "shadowed",

@@ -718,8 +718,7 @@ impl Technique for VolumeTechnique {
 
         // 1. The thesis's depth pre-pass (scene distance into an R16Float texture).
         if self.renders_distance() {
-            frame.timer.begin(frame.encoder, "scene-depth");
-            {
+            frame.span("scene-depth", |frame| {
                 let camera_group = scene.camera_bind_group(ctx, view_proj, camera.eye);
                 let background = Load::Clear(wgpu::Color {
                     r: BACKGROUND_DISTANCE as f64,
@@ -738,8 +737,7 @@ impl Technique for VolumeTechnique {
                 pass.set_bind_group(0, &camera_group, &[]);
                 pass.set_bind_group(1, scene.bind_group(), &[]);
                 scene.draw_objects(&mut pass, &ObjectFilter::All);
-            }
-            frame.timer.end(frame.encoder, "scene-depth");
+            });
         }
 
         // 2. The diffuse scene.
@@ -825,8 +823,7 @@ impl Technique for VolumeTechnique {
                     bind::view(depth_view),
                 ],
             );
-            frame.timer.begin(frame.encoder, "volumes");
-            {
+            frame.span("volumes", |frame| {
                 // Billboards and slices test against the scene's depth without writing it: a
                 // read-only attachment (no depth ops), which `pass::depth` does not make.
                 let depth_test = (!reads_depth).then_some(wgpu::RenderPassDepthStencilAttachment {
@@ -844,8 +841,7 @@ impl Technique for VolumeTechnique {
                 pass.set_pipeline(&res.volume_pipeline);
                 pass.set_bind_group(0, &group, &[]);
                 pass.draw(0..6, 0..placed.len() as u32 * self.slice_count());
-            }
-            frame.timer.end(frame.encoder, "volumes");
+            });
         }
 
         // 5. Into the HDR target.

@@ -355,9 +355,9 @@ impl PieceImpostors {
         if settings.separated {
             // The static impostors, once: every piece but the moving one, all rounds.
             let statics: Vec<usize> = (0..n).filter(|p| Some(*p) != impostors.mover).collect();
-            frame.timer.begin(frame.encoder, "static impostors");
-            impostors.build(frame, scene, &statics, &statics, settings.env_depth, true);
-            frame.timer.end(frame.encoder, "static impostors");
+            frame.span("static impostors", |frame| {
+                impostors.build(frame, scene, &statics, &statics, settings.env_depth, true)
+            });
         }
         Ok(impostors)
     }
@@ -431,15 +431,15 @@ impl PieceImpostors {
         }
         self.updated_at = Some(mover_now);
         let all: Vec<usize> = (0..self.kinds.pieces.len()).collect();
-        frame.timer.begin(frame.encoder, "update impostors");
-        if !settings.separated {
-            self.build(frame, scene, &all, &all, settings.env_depth, true);
-        } else if let Some(mover) = self.mover {
-            let statics: Vec<usize> = all.iter().copied().filter(|&p| p != mover).collect();
-            let rounds = settings.env_depth.min(1);
-            self.build(frame, scene, &[mover], &statics, rounds, rounds == 0);
-        }
-        frame.timer.end(frame.encoder, "update impostors");
+        frame.span("update impostors", |frame| {
+            if !settings.separated {
+                self.build(frame, scene, &all, &all, settings.env_depth, true);
+            } else if let Some(mover) = self.mover {
+                let statics: Vec<usize> = all.iter().copied().filter(|&p| p != mover).collect();
+                let rounds = settings.env_depth.min(1);
+                self.build(frame, scene, &[mover], &statics, rounds, rounds == 0);
+            }
+        });
     }
 
     /// The scene objects of pieces `pieces`.

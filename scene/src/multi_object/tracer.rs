@@ -297,9 +297,9 @@ impl EnvironmentImpostor {
 
     /// Renders it at the scene's time (timed as "environment").
     pub fn capture(&self, frame: &mut Frame, scene: &GpuScene) {
-        frame.timer.begin(frame.encoder, "environment");
-        scene.raster_cube(frame, &self.cube, self.reference, &ObjectFilter::All, false);
-        frame.timer.end(frame.encoder, "environment");
+        frame.span("environment", |frame| {
+            scene.raster_cube(frame, &self.cube, self.reference, &ObjectFilter::All, false)
+        });
     }
 
     /// Its cube view.
