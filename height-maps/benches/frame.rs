@@ -7,9 +7,7 @@
 //! linear bracket; wall clock). `cargo bench -p height-maps --bench frame`.
 
 use glam::Vec3;
-use height_maps::search::{
-    Bounds, SampledField, Steps, exit_from_inside, search_from_outside,
-};
+use height_maps::search::{Bounds, SampledField, Steps, exit_from_inside, search_from_outside};
 use testkit::gpu_time::{FrameClock, bench_frame};
 
 fn main() {
@@ -30,7 +28,13 @@ fn main() {
     let mut c = criterion::Criterion::default().configure_from_args();
     for (name, steps) in [
         ("paper-8", Steps::paper(8)),
-        ("bracket-8-8", Steps { linear: 8, binary: 8 }),
+        (
+            "bracket-8-8",
+            Steps {
+                linear: 8,
+                binary: 8,
+            },
+        ),
     ] {
         c.bench_function(&format!("search/from_outside/{name}"), |b| {
             let mut k = 0u32;

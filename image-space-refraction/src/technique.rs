@@ -922,12 +922,7 @@ impl Technique for Refraction {
         }
 
         scene::multi_object::raster_diffuse(frame, scene, view, target, &specular);
-        let main = RasterTarget {
-            color: &target.color_view,
-            depth: &target.depth_view,
-            format: gpu::HDR_FORMAT,
-            clear: false,
-        };
+        let main = RasterTarget::of(target, false);
         if let (Some(caustics), Some(rects)) = (&state.caustics, &state.rectangles) {
             caustics.map(frame, scene, &camera, rects, &main);
         }

@@ -691,12 +691,7 @@ impl Technique for Impostor {
 
         let ctx = frame.gpu;
         let view_proj = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget {
-            color: &target.color_view,
-            depth: &target.depth_view,
-            format: gpu::HDR_FORMAT,
-            clear: true,
-        };
+        let main = RasterTarget::of(target, true);
         let specular: Vec<usize> = state.maps.iter().map(|m| m.object).collect();
         // Caustics: photons from each light through each object.
         let caustic_groups = match &state.caustic {

@@ -579,12 +579,7 @@ impl Technique for InteriorMapping {
         state.settings.write(frame.gpu, &settings);
 
         let view_proj = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget {
-            color: &target.color_view,
-            depth: &target.depth_view,
-            format: gpu::HDR_FORMAT,
-            clear: true,
-        };
+        let main = RasterTarget::of(target, true);
         scene.raster(
             frame,
             &main,
@@ -911,12 +906,7 @@ impl Technique for PolygonInteriors {
         };
         state.set_time(frame, view.time);
         let view_proj: Mat4 = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget {
-            color: &target.color_view,
-            depth: &target.depth_view,
-            format: gpu::HDR_FORMAT,
-            clear: true,
-        };
+        let main = RasterTarget::of(target, true);
         state.raster(
             frame,
             &main,

@@ -54,12 +54,7 @@ pub fn image_checks() -> Vec<crate::ImageCheck> {
 }
 
 fn main_target(target: &Target) -> RasterTarget<'_> {
-    RasterTarget {
-        color: &target.color_view,
-        depth: &target.depth_view,
-        format: gpu::HDR_FORMAT,
-        clear: true,
-    }
+    RasterTarget::of(target, true)
 }
 
 /// Writes linear RGBA pixels into the target's colour texture.

@@ -105,6 +105,19 @@ pub struct RasterTarget<'a> {
     pub clear: bool,
 }
 
+impl<'a> RasterTarget<'a> {
+    /// The frame's own target: `target`'s colour (`gpu::HDR_FORMAT`) and depth, cleared first
+    /// or drawn over.
+    pub fn of(target: &'a gpu::Target, clear: bool) -> Self {
+        Self {
+            color: &target.color_view,
+            depth: &target.depth_view,
+            format: gpu::HDR_FORMAT,
+            clear,
+        }
+    }
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct CameraGpu {

@@ -72,12 +72,7 @@ fn raster_at(gpu_scene: &mut GpuScene, target: &Target, time: f32) -> gpu::HdrIm
     testkit::submit(ctx, gpu_scene, time, |frame, s| {
         s.raster(
             frame,
-            &RasterTarget {
-                color: &target.color_view,
-                depth: &target.depth_view,
-                format: gpu::HDR_FORMAT,
-                clear: true,
-            },
+            &RasterTarget::of(target, true),
             camera.view_proj(SIZE, SIZE),
             camera.eye,
             &ObjectFilter::All,

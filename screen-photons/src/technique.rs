@@ -2021,12 +2021,7 @@ impl Passes {
         } else {
             scene.raster(
                 frame,
-                &RasterTarget {
-                    color: &target.color_view,
-                    depth: &target.depth_view,
-                    format: gpu::HDR_FORMAT,
-                    clear: true,
-                },
+                &RasterTarget::of(target, true),
                 view_proj,
                 eye,
                 &ObjectFilter::All,

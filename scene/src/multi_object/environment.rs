@@ -389,12 +389,7 @@ impl PieceImpostors {
         let ctx = frame.gpu;
         self.write_pieces(ctx, scene);
         let view_proj = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget {
-            color: &target.color_view,
-            depth: &target.depth_view,
-            format: gpu::HDR_FORMAT,
-            clear: true,
-        };
+        let main = RasterTarget::of(target, true);
         let all: Vec<usize> = (0..self.kinds.pieces.len()).collect();
         let objects = self.objects(&all);
         scene.raster(

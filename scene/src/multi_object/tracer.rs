@@ -318,12 +318,7 @@ pub fn raster_diffuse(
     specular: &[usize],
 ) -> glam::Mat4 {
     let view_proj = view.camera.view_proj(view.width, view.height);
-    let main = RasterTarget {
-        color: &target.color_view,
-        depth: &target.depth_view,
-        format: gpu::HDR_FORMAT,
-        clear: true,
-    };
+    let main = RasterTarget::of(target, true);
     scene.raster(
         frame,
         &main,
