@@ -14,7 +14,7 @@
 
 use crate::in_chess::HeightSearch;
 use crate::map::render_height_maps;
-use crate::technique::{BILLBOARD_BOX_WGSL, MapSettings, unsupported};
+use crate::technique::{BILLBOARD_BOX_VERTICES, BILLBOARD_BOX_WGSL, MapSettings, unsupported};
 use gpu::Target;
 use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
 use scene::technique::check_param;
@@ -180,12 +180,15 @@ impl Technique for HeightMapsSeparated {
         let map_bytes = (m.resolution as u64).pow(2) * 16;
         let kind_count = kinds.representative.len();
         scene::technique::check_map_budget(&self.id, kind_count, map_bytes, "resolution")?;
+        let settings = self.settings.impostors();
+        let all_maps = kind_count as u64 * map_bytes;
+        PieceImpostors::check(&scene.scene, &kinds, &settings, all_maps, &self.id)?;
         let maps = render_height_maps(frame, scene, &kinds.representative, m.resolution)?;
         let search = HeightSearch::new(frame.gpu, &scene.scene, &kinds, &maps, m.steps);
         let billboards = PieceSurface::Proxy {
             vertex: "separated_billboard_vs",
             fragment: "separated_billboard_fs",
-            vertices: 36,
+            vertices: BILLBOARD_BOX_VERTICES,
         };
         let impostors = PieceImpostors::new(
             frame,
@@ -193,8 +196,8 @@ impl Technique for HeightMapsSeparated {
             kinds,
             &search,
             billboards,
-            &self.settings.impostors(),
-            kind_count as u64 * map_bytes,
+            &settings,
+            all_maps,
             &format!("{BILLBOARD_BOX_WGSL}\n{SEPARATED_BILLBOARD_WGSL}"),
             &self.id,
         )?;

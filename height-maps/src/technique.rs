@@ -24,9 +24,10 @@ use scene::{
 };
 
 const BILLBOARD_WGSL: &str = include_str!("shaders/billboard.wgsl");
-/// The billboard's proxy box (36 vertices per piece, turned to face the eye), after the
-/// height search.
+/// The billboard's proxy box (turned to face the eye), after the height search.
 pub(crate) const BILLBOARD_BOX_WGSL: &str = include_str!("shaders/billboard_box.wgsl");
+/// Vertices of a billboard's box (`BOX_CORNERS` in billboard_box.wgsl): 12 triangles.
+pub(crate) const BILLBOARD_BOX_VERTICES: u32 = 36;
 
 /// What the refracted ray does after the first surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -350,7 +351,10 @@ impl Technique for HeightMaps {
         pass.set_bind_group(0, &camera, &[]);
         pass.set_bind_group(1, scene.bind_group(), &[]);
         pass.set_bind_group(2, &group, &[]);
-        pass.draw(0..36, 0..state.kinds.pieces.len() as u32);
+        pass.draw(
+            0..BILLBOARD_BOX_VERTICES,
+            0..state.kinds.pieces.len() as u32,
+        );
         Ok(())
     }
 }

@@ -1,14 +1,12 @@
-//! `height-maps/separated` and `full-update` on the GPU (section 5.2 with height maps): the
-//! two agree when nothing moves (the build-once path against the rebuild path, with the
-//! billboards drawn into the impostors); with the mirror pawn moving they stay close but
-//! differ (the moving piece found from outside in its height map); separated rebuilds only the
-//! moving piece's impostor.
+//! `height-maps/separated` and `full-update` on the GPU (section 5.2 with height maps), by
+//! `testkit::section5`'s shared tests of the impostors: the two agree when nothing moves;
+//! with the mirror pawn moving they stay close; close behind it the search from outside in
+//! its height map shows it in its neighbours; the rounds draw the billboards into the
+//! impostors; separated rebuilds only the moving piece's impostor.
 
 use height_maps::{HeightMapsSeparated, SeparatedSettings};
-use scene::{Scene, Technique};
-use testkit::{Shot, gpu_lock, max_difference, relative_difference, render_shots};
-
-const SIZE: u32 = 32;
+use scene::Technique;
+use testkit::{Shot, gpu_lock, render_shots, section5};
 
 /// The variant with `settings` and small maps.
 fn small(settings: SeparatedSettings) -> HeightMapsSeparated {
@@ -19,73 +17,36 @@ fn small(settings: SeparatedSettings) -> HeightMapsSeparated {
     t
 }
 
-/// The last image of `shots` by separated, by full update and by separated with the static
-/// pieces not searching for the moving one (`find_mover` off).
-fn three_ways(scene: &Scene, shots: &[Shot]) -> [gpu::HdrImage; 3] {
-    [(true, true), (false, true), (true, false)].map(|(separated, find_mover)| {
-        let mut t = small(SeparatedSettings {
-            separated,
-            find_mover,
-            ..SeparatedSettings::default()
-        });
-        render_shots(&mut t, scene, shots)
-    })
+/// Separated (true) or full update, small maps.
+fn make(separated: bool) -> Box<dyn Technique> {
+    Box::new(small(SeparatedSettings {
+        separated,
+        ..SeparatedSettings::default()
+    }))
 }
 
 #[test]
 fn separated_and_full_update_agree_when_nothing_moves() {
     let _lock = gpu_lock();
-    let mut scene = scene::load("chess").unwrap();
-    for o in &mut scene.objects {
-        o.motion.keys.clear();
-    }
-    let shots: Vec<_> = [0.0, 1.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
-    let [separated, full_update, _] = three_ways(&scene, &shots);
-    let diff = max_difference(&separated, &full_update);
-    assert!(diff < 1e-4, "separated and full update differ by {diff}");
+    section5::separated_and_full_update_agree_when_nothing_moves(&make);
 }
 
-/// The paper's figure 9 scene along its camera path: separated finds the moving mirror pawn
-/// from outside where full update has it in every impostor; the images stay within 1 % of
-/// the radiance but differ.
 #[test]
 fn separated_stays_close_to_full_update_with_a_moving_mirror() {
     let _lock = gpu_lock();
-    let scene = scene::load("chess:material=mirror-mover").unwrap();
-    let shots: Vec<_> = [0.0, 2.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
-    let [separated, full_update, _] = three_ways(&scene, &shots);
-    let difference = relative_difference(&separated, &full_update);
-    println!("mean difference {difference:.5} of mean radiance");
-    assert!(
-        difference < 0.01,
-        "separated strays from full update: {difference}"
-    );
-    assert!(
-        difference > 0.0,
-        "the moving mirror changes nothing: the mover path is not exercised"
-    );
+    section5::separated_stays_close_to_full_update_with_a_moving_mirror(&make);
 }
 
-/// Close behind the moving mirror pawn, where its glass neighbours show it: the search from
-/// outside in its height map changes their pixels and brings separated closer to full
-/// update, which has the pawn in every impostor, than the static impostors alone.
 #[test]
 fn the_static_pieces_find_the_moving_one_from_outside() {
     let _lock = gpu_lock();
-    let (scene, shot) = testkit::mover_close_up(64);
-    let [separated, full_update, without_search] = three_ways(&scene, &[shot]);
-    let with = relative_difference(&separated, &full_update);
-    let without = relative_difference(&without_search, &full_update);
-    let changed = testkit::pixels_differing(&separated, &without_search, 0.01);
-    println!(
-        "from full update: {with:.4} with the search, {without:.4} without; it changes \
-         {changed} pixels"
-    );
-    assert!(changed >= 20, "the search changes {changed} pixels");
-    assert!(
-        with < 0.8 * without,
-        "the search does not bring separated closer to full update: {with} against {without}"
-    );
+    section5::the_static_pieces_find_the_moving_one_from_outside(&make);
+}
+
+#[test]
+fn the_rounds_draw_the_billboards_into_the_impostors() {
+    let _lock = gpu_lock();
+    section5::the_rounds_draw_the_pieces_into_the_impostors(&make);
 }
 
 /// Separated: the static impostors once (a diffuse start and two rounds), then one impostor

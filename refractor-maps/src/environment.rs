@@ -163,6 +163,9 @@ impl Technique for EnvironmentMaps {
         let map_bytes = CubeTarget::bytes(m.resolution, MAP_FORMAT);
         let kind_count = kinds.representative.len();
         scene::technique::check_map_budget(&self.id, kind_count, map_bytes, "resolution")?;
+        let settings = self.settings.impostors();
+        let all_maps = kind_count as u64 * map_bytes;
+        PieceImpostors::check(&scene.scene, &kinds, &settings, all_maps, &self.id)?;
         let maps = render_kind_maps(frame, scene, &kinds, m.resolution)?;
         let search = DistanceSearch::new(frame.gpu, maps, m);
         let impostors = PieceImpostors::new(
@@ -171,8 +174,8 @@ impl Technique for EnvironmentMaps {
             kinds,
             &search,
             PieceSurface::Mesh,
-            &self.settings.impostors(),
-            kind_count as u64 * map_bytes,
+            &settings,
+            all_maps,
             "",
             &self.id,
         )?;

@@ -4,8 +4,8 @@
 //! paper says.
 
 use refractor_maps::{EnvSettings, EnvironmentMaps, Search, Settings};
-use scene::{Scene, Technique};
-use testkit::{Shot, gpu_lock, max_difference, relative_difference, render_shots};
+use scene::Technique;
+use testkit::{Shot, gpu_lock, max_difference, render_shots, section5};
 
 const SIZE: u32 = 32;
 
@@ -41,18 +41,6 @@ fn every_variant_renders_finite_pixels() {
     }
 }
 
-/// chess with the pawn standing still: nothing moves, so the separated variant's static
-/// impostors, built once, must be exactly what full update rebuilds every frame (the
-/// build-once path against the rebuild path; the moving piece's search is not involved: see
-/// `separated_stays_close_to_full_update_with_a_moving_mirror`).
-fn still_chess() -> Scene {
-    let mut scene = scene::load("chess").unwrap();
-    for o in &mut scene.objects {
-        o.motion.keys.clear();
-    }
-    scene
-}
-
 /// The section-5 impostors with `settings`, at the small sizes of [`small`].
 fn small_environment_maps(settings: EnvSettings) -> EnvironmentMaps {
     let mut t = EnvironmentMaps::new("refractor-maps/test", "test", true, settings);
@@ -60,71 +48,36 @@ fn small_environment_maps(settings: EnvSettings) -> EnvironmentMaps {
     t
 }
 
-/// The last image of `shots` by separated, by full update and by separated with the static
-/// pieces not searching for the moving one (`find_mover` off), with small maps.
-fn three_ways(scene: &Scene, shots: &[Shot]) -> [gpu::HdrImage; 3] {
-    [(true, true), (false, true), (true, false)].map(|(separated, find_mover)| {
-        let mut t = small_environment_maps(EnvSettings {
-            separated,
-            find_mover,
-            ..EnvSettings::default()
-        });
-        render_shots(&mut t, scene, shots)
-    })
+/// Separated (true) or full update, small maps.
+fn make(separated: bool) -> Box<dyn Technique> {
+    Box::new(small_environment_maps(EnvSettings {
+        separated,
+        ..EnvSettings::default()
+    }))
 }
 
 #[test]
 fn separated_and_full_update_agree_when_nothing_moves() {
     let _lock = gpu_lock();
-    let scene = still_chess();
-    let shots: Vec<_> = [0.0, 1.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
-    let [separated, full_update, _] = three_ways(&scene, &shots);
-    let diff = max_difference(&separated, &full_update);
-    assert!(diff < 1e-4, "separated and full update differ by {diff}");
+    section5::separated_and_full_update_agree_when_nothing_moves(&make);
 }
 
-/// With the mirror pawn moving (the paper's figure 9), separated finds it from outside where
-/// full update has it in every impostor: the two images stay close (mean difference below 1%
-/// of the mean radiance) but not identical (the moving piece's reflections of itself and its
-/// neighbours' second bounces differ).
 #[test]
 fn separated_stays_close_to_full_update_with_a_moving_mirror() {
     let _lock = gpu_lock();
-    let scene = scene::load("chess:material=mirror-mover").unwrap();
-    let shots: Vec<_> = [0.0, 2.0].map(|t| Shot::along_path(&scene, t, SIZE)).into();
-    let [separated, full_update, _] = three_ways(&scene, &shots);
-    let difference = relative_difference(&separated, &full_update);
-    println!("mean difference {difference:.5} of mean radiance");
-    assert!(
-        difference < 0.01,
-        "separated strays from full update: {difference}"
-    );
-    assert!(
-        difference > 0.0,
-        "the moving mirror changes nothing: the mover path is not exercised"
-    );
+    section5::separated_stays_close_to_full_update_with_a_moving_mirror(&make);
 }
 
-/// Close behind the moving mirror pawn, where its glass neighbours show it: the search from
-/// outside in its refractor map changes their pixels and brings separated closer to full
-/// update, which has the pawn in every impostor, than the static impostors alone.
 #[test]
 fn the_static_pieces_find_the_moving_one_from_outside() {
     let _lock = gpu_lock();
-    let (scene, shot) = testkit::mover_close_up(64);
-    let [separated, full_update, without_search] = three_ways(&scene, &[shot]);
-    let with = relative_difference(&separated, &full_update);
-    let without = relative_difference(&without_search, &full_update);
-    let changed = testkit::pixels_differing(&separated, &without_search, 0.01);
-    println!(
-        "from full update: {with:.4} with the search, {without:.4} without; it changes \
-         {changed} pixels"
-    );
-    assert!(changed >= 20, "the search changes {changed} pixels");
-    assert!(
-        with < 0.8 * without,
-        "the search does not bring separated closer to full update: {with} against {without}"
-    );
+    section5::the_static_pieces_find_the_moving_one_from_outside(&make);
+}
+
+#[test]
+fn the_rounds_draw_the_pieces_into_the_impostors() {
+    let _lock = gpu_lock();
+    section5::the_rounds_draw_the_pieces_into_the_impostors(&make);
 }
 
 /// Impostor renders over `times` on chess, at 16 x 16 with small maps, for `separated` or

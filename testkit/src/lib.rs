@@ -8,6 +8,7 @@
 
 pub mod gltf;
 pub mod gpu_time;
+pub mod section5;
 pub mod strategies;
 use gpu::{Context, GpuTimer, HdrImage, Target};
 use scene::{Camera, Frame, GpuScene, Scene, Technique, View, runner};
@@ -244,25 +245,6 @@ pub fn relative_difference(a: &HdrImage, b: &HdrImage) -> f32 {
         .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).abs()).sum::<f32>())
         .sum();
     diff / total.max(f32::MIN_POSITIVE)
-}
-
-/// The paper's figure-9 scene (`chess:material=mirror-mover`) seen from close behind the
-/// moving mirror pawn at time 0, while it still stands between its glass neighbours: a shot in
-/// which the static pieces' reflections and refractions show the moving piece (from the
-/// default camera it covers a few pixels of them).
-pub fn mover_close_up(size: u32) -> (Scene, Shot) {
-    let mut scene = scene::load("chess:material=mirror-mover").expect("built-in scene");
-    let mover = scene
-        .objects
-        .iter()
-        .find(|o| !o.motion.is_static())
-        .expect("the moving pawn")
-        .center_at(0.0);
-    scene.camera.eye = mover + glam::Vec3::new(0.1, 0.2, 0.45);
-    scene.camera.target = mover;
-    scene.camera_path = Default::default();
-    let shot = Shot::default_camera(&scene, 0.0, size);
-    (scene, shot)
 }
 
 /// Pixels of `a` with a colour channel more than `threshold` from `b`'s.

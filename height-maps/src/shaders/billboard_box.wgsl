@@ -16,9 +16,6 @@ const BOX_NORMALS = array<vec3f, 6>(
     vec3f(-1.0, 0.0, 0.0), vec3f(1.0, 0.0, 0.0), vec3f(0.0, -1.0, 0.0),
     vec3f(0.0, 1.0, 0.0), vec3f(0.0, 0.0, -1.0), vec3f(0.0, 0.0, 1.0),
 );
-// Vertices per piece.
-const BOX_VERTICES: u32 = 36u;
-
 struct BoxVertex {
     world: vec3f,
     // The box face's outward normal, world.

@@ -45,7 +45,8 @@ fn separated_billboard_fs(in: SeparatedBillboardOut) -> SeparatedBillboardTarget
     let h = piece_hit(in.piece, eye, dir);
     if (h.w < 0.0) { discard; }
     let point = eye + dir * h.w;
-    let n = select(h.xyz, -h.xyz, dot(h.xyz, dir) > 0.0);
+    let normal = piece_hit_normal(in.piece, eye, dir, h);
+    let n = select(normal, -normal, dot(normal, dir) > 0.0);
     var out: SeparatedBillboardTargets;
     out.color = shade_piece(in.piece, point, n, eye);
     out.depth = frag_depth_of(camera.view_proj, point);

@@ -31,7 +31,8 @@ use super::tracer::{ObjectSearch, SEARCH_FIRST_BINDING, storage};
 use crate::kinds::Kinds;
 use crate::technique::MAP_BUDGET_BYTES;
 use crate::{
-    Frame, GpuScene, ObjectFilter, Param, RasterTarget, TechniqueError, TechniqueResult, View,
+    Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, TechniqueError, TechniqueResult,
+    View,
 };
 use glam::Vec3;
 use gpu::cube::{CubeArray, cube_face_view_proj};
@@ -88,9 +89,9 @@ impl ImpostorSettings {
     }
 
     /// The parameters both families declare (`env_resolution` and `env_iterations` are
-    /// declared with their other maps').
+    /// declared with their other maps'; `find_mover` by separated variants only).
     pub fn params(&self) -> Vec<Param> {
-        vec![
+        let mut params = vec![
             Param::new(
                 "env_depth",
                 self.env_depth as f64,
@@ -107,15 +108,18 @@ impl ImpostorSettings {
                 "metres the moving piece travels before the impostors are updated again (0: \
                  every frame)",
             ),
-            Param::new(
+        ];
+        if self.separated {
+            params.push(Param::new(
                 "find_mover",
                 self.find_mover as u32 as f64,
                 (0.0, 1.0),
                 true,
                 "separated: 1, the static pieces find the moving one from outside (section \
                  5.2); 0, they show their static impostors alone, without it",
-            ),
-        ]
+            ));
+        }
+        params
     }
 
     /// Sets parameter `name` if it is one of [`ImpostorSettings::params`] (already checked).
@@ -171,10 +175,7 @@ pub struct PieceImpostors {
     impostor_centres: Vec<Vec3>,
     /// The moving piece (separated: its impostor is rebuilt each frame, the others never).
     mover: Option<usize>,
-    eye_pipeline: wgpu::RenderPipeline,
-    cube_pipeline: wgpu::RenderPipeline,
-    /// The shared raster pass's shading (`raster_fs`) for the diffuse objects in the atlas.
-    diffuse_pipeline: wgpu::RenderPipeline,
+    shading: Shading,
     /// The pieces now and each impostor's reference point, rewritten each frame.
     pieces: wgpu::Buffer,
     centres: wgpu::Buffer,
@@ -196,11 +197,42 @@ impl PieceImpostors {
         2 * CubeArray::bytes(resolution, pieces as u32, IMPOSTOR_FORMAT)
     }
 
+    /// Fails, before anything is rendered, where [`PieceImpostors::new`] would: separated
+    /// with more than one moving piece, or the impostors and the caller's own maps
+    /// (`map_bytes`) over [`MAP_BUDGET_BYTES`]. Callers run it before rendering their maps.
+    pub fn check(
+        scene: &Scene,
+        kinds: &Kinds,
+        settings: &ImpostorSettings,
+        map_bytes: u64,
+        label: &str,
+    ) -> TechniqueResult<()> {
+        let movers = movers(scene, kinds);
+        if settings.separated && movers.len() > 1 {
+            return Err(TechniqueError::Unsupported(format!(
+                "{label} separates one moving piece from the static ones (as a chess move \
+                 does); this scene has {} moving specular objects",
+                movers.len()
+            )));
+        }
+        let n = kinds.pieces.len();
+        let bytes = Self::bytes(settings.env_resolution, n) + map_bytes;
+        if bytes > MAP_BUDGET_BYTES {
+            return Err(TechniqueError::OverBudget(format!(
+                "{label}: {n} impostors at {} texels and the pieces' maps need {:.2} GB, over \
+                 the {} MB budget of per-object maps; lower `env_resolution`",
+                settings.env_resolution,
+                bytes as f64 / 1e9,
+                MAP_BUDGET_BYTES >> 20
+            )));
+        }
+        Ok(())
+    }
+
     /// The impostors of `scene`'s specular objects (`kinds`), shaded through `search`, the
     /// pieces drawn as `surface` (with `extra_wgsl` appended to the module: a proxy's entry
     /// points); separated, the static impostors are built here, timed as "static impostors".
-    /// `map_bytes` is what the caller's own maps take: with the impostors they must fit
-    /// [`MAP_BUDGET_BYTES`]. Fails when separated meets more than one moving piece.
+    /// `map_bytes` is what the caller's own maps take (see [`PieceImpostors::check`]).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         frame: &mut Frame,
@@ -213,76 +245,10 @@ impl PieceImpostors {
         extra_wgsl: &str,
         label: &str,
     ) -> TechniqueResult<Self> {
+        Self::check(&scene.scene, &kinds, settings, map_bytes, label)?;
         let ctx = frame.gpu;
         let n = kinds.pieces.len();
-        let movers: Vec<usize> = kinds
-            .pieces
-            .iter()
-            .enumerate()
-            .filter(|(_, (o, _))| !scene.scene.objects[*o].motion.is_static())
-            .map(|(p, _)| p)
-            .collect();
-        if settings.separated && movers.len() > 1 {
-            return Err(TechniqueError::Unsupported(format!(
-                "{label} separates one moving piece from the static ones (as a chess move \
-                 does); this scene has {} moving specular objects",
-                movers.len()
-            )));
-        }
-        let bytes = Self::bytes(settings.env_resolution, n) + map_bytes;
-        if bytes > MAP_BUDGET_BYTES {
-            return Err(TechniqueError::OverBudget(format!(
-                "{label}: {n} impostors at {} texels and the pieces' maps need {:.2} GB, over \
-                 the {} MB budget of per-object maps; lower `env_resolution`",
-                settings.env_resolution,
-                bytes as f64 / 1e9,
-                MAP_BUDGET_BYTES >> 20
-            )));
-        }
-        let source = format!(
-            "{}\n{}\n{HIT_WGSL}\n{}\n{PIECES_WGSL}\n{}\n{ENVIRONMENT_PIECES_WGSL}\n{extra_wgsl}",
-            crate::SCENE_WGSL,
-            crate::RASTER_WGSL,
-            layered_hit_wgsl(),
-            search.wgsl(SEARCH_FIRST_BINDING),
-        );
-        let module = gpu::shader_with_prelude(ctx, label, &source);
-        let mut entries = vec![
-            bind::uniform(),
-            bind::storage(true),
-            bind::storage(true),
-            bind::storage(true),
-            bind::sampler(),
-            bind::texture(wgpu::TextureViewDimension::CubeArray, true),
-        ];
-        entries.extend(search.binding_types());
-        let layout = bind::layout(
-            ctx,
-            "environment pieces",
-            wgpu::ShaderStages::VERTEX_FRAGMENT,
-            &entries,
-        );
-        let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
-        let pipeline = |format| match surface {
-            PieceSurface::Mesh => crate::scene_pipeline(
-                ctx,
-                label,
-                &pipeline_layout,
-                &module,
-                "environment_piece_fs",
-                format,
-            ),
-            PieceSurface::Proxy {
-                vertex, fragment, ..
-            } => crate::proxy_pipeline(
-                ctx,
-                label,
-                &pipeline_layout,
-                &module,
-                (vertex, fragment),
-                format,
-            ),
-        };
+        let shading = Shading::new(ctx, scene, search, surface, extra_wgsl, label);
         let time = scene.time();
         let centres = kinds
             .pieces
@@ -303,7 +269,7 @@ impl PieceImpostors {
             IMPOSTOR_FORMAT,
             "piece impostors",
         )?;
-        let mover = movers.first().copied();
+        let mover = movers(&scene.scene, &kinds).first().copied();
         let group = |mover: Option<usize>| {
             let params = Uniform::new(
                 ctx,
@@ -323,7 +289,7 @@ impl PieceImpostors {
                 bind::view(&current.array_view),
             ];
             resources.extend(search.resources());
-            bind::group(ctx, "environment pieces", &layout, &resources)
+            bind::group(ctx, "environment pieces", &shading.layout, &resources)
         };
         // Static pieces look for the moving one (separated only).
         let build_group = group(None);
@@ -334,16 +300,7 @@ impl PieceImpostors {
             atlas: Atlas::new(ctx, settings.env_resolution, n as u32)?,
             impostor_centres: centres,
             mover,
-            eye_pipeline: pipeline(gpu::HDR_FORMAT),
-            cube_pipeline: pipeline(IMPOSTOR_FORMAT),
-            diffuse_pipeline: crate::scene_pipeline(
-                ctx,
-                "impostor diffuse",
-                &pipeline_layout,
-                &module,
-                "raster_fs",
-                IMPOSTOR_FORMAT,
-            ),
+            shading,
             pieces,
             centres: centre_buffer,
             build_group,
@@ -408,7 +365,7 @@ impl PieceImpostors {
             Some(pass::depth(&target.depth_view, Load::Keep)),
             frame.timer.render_pass("pieces"),
         );
-        pass.set_pipeline(&self.eye_pipeline);
+        pass.set_pipeline(&self.shading.eye);
         pass.set_bind_group(0, &camera, &[]);
         pass.set_bind_group(1, scene.bind_group(), &[]);
         pass.set_bind_group(2, &self.eye_group, &[]);
@@ -442,15 +399,17 @@ impl PieceImpostors {
         pieces.iter().map(|&p| self.kinds.pieces[p].0).collect()
     }
 
-    /// Draws pieces `pieces` with the bound pipeline: their meshes, or their proxies.
+    /// Draws pieces `pieces` (ascending) with the bound pipeline: their meshes, or their
+    /// proxies, one draw per run of consecutive pieces.
     fn draw_pieces(&self, pass: &mut wgpu::RenderPass<'_>, scene: &GpuScene, pieces: &[usize]) {
         match self.surface {
             PieceSurface::Mesh => {
                 scene.draw_objects(pass, &ObjectFilter::Only(self.objects(pieces)));
             }
             PieceSurface::Proxy { vertices, .. } => {
-                for &p in pieces {
-                    pass.draw(0..vertices, p as u32..p as u32 + 1);
+                for run in pieces.chunk_by(|a, b| b == &(a + 1)) {
+                    let first = run[0] as u32;
+                    pass.draw(0..vertices, first..first + run.len() as u32);
                 }
             }
         }
@@ -535,11 +494,11 @@ impl PieceImpostors {
                 pass.set_viewport(x as f32, y as f32, size as f32, size as f32, 0.0, 1.0);
                 pass.set_scissor_rect(x, y, size, size);
                 pass.set_bind_group(0, camera, &[]);
-                pass.set_pipeline(&self.diffuse_pipeline);
+                pass.set_pipeline(&self.shading.diffuse);
                 scene.draw_objects(&mut pass, &diffuse);
                 let others: Vec<usize> = drawn.iter().copied().filter(|&p| p != t).collect();
                 if !others.is_empty() {
-                    pass.set_pipeline(&self.cube_pipeline);
+                    pass.set_pipeline(&self.shading.cube);
                     self.draw_pieces(&mut pass, scene, &others);
                 }
             }
@@ -578,6 +537,100 @@ impl PieceImpostors {
         let (pieces, _) = pieces_at(&scene.scene, &self.kinds, scene.time());
         centre_of(&pieces[mover])
     }
+}
+
+/// The pieces' shading: the module (the search, `environment_pieces.wgsl`, the caller's
+/// extra WGSL), its `@group(2)` layout and the three pipelines.
+struct Shading {
+    layout: wgpu::BindGroupLayout,
+    /// The pieces into the frame's target.
+    eye: wgpu::RenderPipeline,
+    /// The pieces into the impostor atlas.
+    cube: wgpu::RenderPipeline,
+    /// The shared raster pass's shading (`raster_fs`) for the diffuse objects in the atlas.
+    diffuse: wgpu::RenderPipeline,
+}
+
+impl Shading {
+    fn new(
+        ctx: &Context,
+        scene: &GpuScene,
+        search: &dyn ObjectSearch,
+        surface: PieceSurface,
+        extra_wgsl: &str,
+        label: &str,
+    ) -> Self {
+        let source = format!(
+            "{}\n{}\n{HIT_WGSL}\n{}\n{PIECES_WGSL}\n{}\n{ENVIRONMENT_PIECES_WGSL}\n{extra_wgsl}",
+            crate::SCENE_WGSL,
+            crate::RASTER_WGSL,
+            layered_hit_wgsl(),
+            search.wgsl(SEARCH_FIRST_BINDING),
+        );
+        let module = gpu::shader_with_prelude(ctx, label, &source);
+        let mut entries = vec![
+            bind::uniform(),
+            bind::storage(true),
+            bind::storage(true),
+            bind::storage(true),
+            bind::sampler(),
+            bind::texture(wgpu::TextureViewDimension::CubeArray, true),
+        ];
+        entries.extend(search.binding_types());
+        // The vertex stage too: a proxy's vertex entry reads the piece table and the search's
+        // bounds.
+        let layout = bind::layout(
+            ctx,
+            "environment pieces",
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            &entries,
+        );
+        let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
+        let pipeline = |format| match surface {
+            PieceSurface::Mesh => crate::scene_pipeline(
+                ctx,
+                label,
+                &pipeline_layout,
+                &module,
+                "environment_piece_fs",
+                format,
+            ),
+            PieceSurface::Proxy {
+                vertex, fragment, ..
+            } => crate::proxy_pipeline(
+                ctx,
+                label,
+                &pipeline_layout,
+                &module,
+                (vertex, fragment),
+                format,
+            ),
+        };
+        Self {
+            eye: pipeline(gpu::HDR_FORMAT),
+            cube: pipeline(IMPOSTOR_FORMAT),
+            diffuse: crate::scene_pipeline(
+                ctx,
+                "impostor diffuse",
+                &pipeline_layout,
+                &module,
+                "raster_fs",
+                IMPOSTOR_FORMAT,
+            ),
+            layout,
+        }
+    }
+}
+
+/// The pieces (indices into `kinds.pieces`) that move over the scene's time.
+fn movers(scene: &Scene, kinds: &Kinds) -> Vec<usize> {
+    kinds
+        .pieces
+        .iter()
+        .enumerate()
+        .filter(|(_, (o, _))| !scene.objects[*o].motion.is_static())
+        .map(|(p, _)| p)
+        .collect()
 }
 
 /// One render target holding many cube faces side by side (one tile per face), so a round of

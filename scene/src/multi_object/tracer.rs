@@ -45,7 +45,8 @@ pub trait ObjectSearch {
     /// `SCENE_WGSL`, `HIT_WGSL` and the piece table; its `i`-th resource of
     /// [`ObjectSearch::binding_types`] at `@group(2) @binding(first_binding + i)`.
     fn wgsl(&self, first_binding: u32) -> String;
-    /// The binding types of its resources (fragment stage), in order.
+    /// The binding types of its resources, in order (visible to the fragment stage, and to
+    /// the vertex stage in [`super::PieceImpostors`], whose proxies may read them).
     fn binding_types(&self) -> Vec<wgpu::BindingType>;
     /// Its resources, in the order of [`ObjectSearch::binding_types`].
     fn resources(&self) -> Vec<wgpu::BindingResource<'_>>;
