@@ -27,17 +27,9 @@ const SEPARATED_BILLBOARD_WGSL: &str = include_str!("shaders/separated_billboard
 /// Parameters of a [`HeightMapsSeparated`] variant.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SeparatedSettings {
-    /// Static pieces' impostors built once without the moving piece (section 5.2), or every
-    /// impostor rebuilt every frame.
-    pub separated: bool,
-    /// Rounds of drawing the pieces into the impostors (section 5.1's DEPTH).
-    pub env_depth: u32,
-    /// Metres the moving piece travels before the impostors are updated again (0: every
-    /// frame).
-    pub rebuild_threshold: f32,
-    /// Separated: whether the static pieces find the moving one from outside (see
-    /// [`ImpostorSettings::find_mover`]).
-    pub find_mover: bool,
+    /// Separated or full update, rounds, rebuild threshold, the search for the moving piece
+    /// (their size and steps are `maps.env_resolution` and `maps.env_iterations`).
+    pub impostors: ImpostorSettings,
     /// The height maps and their searches (`env_resolution`: each piece's impostor).
     pub maps: MapSettings,
 }
@@ -46,32 +38,22 @@ impl Default for SeparatedSettings {
     /// The impostors of `refractor-maps/separated` (so the two compare map for map), the
     /// height maps of the other variants.
     fn default() -> Self {
-        let s = ImpostorSettings::separated();
+        let impostors = ImpostorSettings::separated();
         Self {
-            separated: s.separated,
-            env_depth: s.env_depth,
-            rebuild_threshold: s.rebuild_threshold,
-            find_mover: s.find_mover,
             maps: MapSettings {
-                env_resolution: s.env_resolution,
-                env_iterations: s.env_iterations,
+                env_resolution: impostors.env_resolution,
+                env_iterations: impostors.env_iterations,
                 ..MapSettings::default()
             },
+            impostors,
         }
     }
 }
 
 impl SeparatedSettings {
-    /// The impostors' part of these settings.
+    /// The impostors' settings, with the size and steps of `maps`.
     fn impostors(&self) -> ImpostorSettings {
-        ImpostorSettings {
-            separated: self.separated,
-            env_depth: self.env_depth,
-            rebuild_threshold: self.rebuild_threshold,
-            find_mover: self.find_mover,
-            env_resolution: self.maps.env_resolution,
-            env_iterations: self.maps.env_iterations,
-        }
+        (self.impostors).with_maps(self.maps.env_resolution, self.maps.env_iterations)
     }
 }
 
@@ -126,7 +108,10 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
             "as separated, every impostor rebuilt every frame (section 5.1)",
             false,
             SeparatedSettings {
-                separated: false,
+                impostors: ImpostorSettings {
+                    separated: false,
+                    ..s.impostors
+                },
                 ..s
             },
         )),
@@ -157,12 +142,7 @@ impl Technique for HeightMapsSeparated {
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         check_param(&self.id, &self.params(), name, value)?;
         let s = &mut self.settings;
-        let mut impostors = s.impostors();
-        if impostors.set(name, value) {
-            s.env_depth = impostors.env_depth;
-            s.rebuild_threshold = impostors.rebuild_threshold;
-            s.find_mover = impostors.find_mover;
-        } else if !s.maps.set(name, value) {
+        if !s.impostors.set(name, value) && !s.maps.set(name, value) {
             unreachable!("check_param accepted an undeclared parameter");
         }
         self.state = None;

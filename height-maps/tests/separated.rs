@@ -6,6 +6,7 @@
 
 use height_maps::{HeightMapsSeparated, SeparatedSettings};
 use scene::Technique;
+use scene::multi_object::ImpostorSettings;
 use testkit::{Shot, gpu_lock, render_shots, section5};
 
 /// The variant with `settings` and small maps.
@@ -20,7 +21,10 @@ fn small(settings: SeparatedSettings) -> HeightMapsSeparated {
 /// Separated (true) or full update, small maps.
 fn make(separated: bool) -> Box<dyn Technique> {
     Box::new(small(SeparatedSettings {
-        separated,
+        impostors: ImpostorSettings {
+            separated,
+            ..ImpostorSettings::separated()
+        },
         ..SeparatedSettings::default()
     }))
 }
@@ -61,7 +65,10 @@ fn separated_rebuilds_only_the_moving_impostor() {
         .into();
     for (separated, expected) in [(true, 3 * (pieces - 1) + 3), (false, 3 * pieces * 3)] {
         let mut t = small(SeparatedSettings {
-            separated,
+            impostors: ImpostorSettings {
+                separated,
+                ..ImpostorSettings::separated()
+            },
             ..SeparatedSettings::default()
         });
         render_shots(&mut t, &scene, &shots);

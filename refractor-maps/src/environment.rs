@@ -26,45 +26,27 @@ pub use scene::multi_object::MAX_ENV_DEPTH;
 /// Parameters of an [`EnvironmentMaps`] variant.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvSettings {
-    /// Static pieces' impostors built once without the moving piece (section 5.2), or every
-    /// impostor rebuilt every frame.
-    pub separated: bool,
-    /// Rounds of drawing the pieces into the impostors (section 5.1's DEPTH).
-    pub env_depth: u32,
-    /// Metres the moving piece may travel from where the impostors were last updated before
-    /// they are updated again (0: every frame; see [`ImpostorSettings::rebuild_threshold`]).
-    pub rebuild_threshold: f32,
-    /// Separated: whether the static pieces find the moving one from outside (see
-    /// [`ImpostorSettings::find_mover`]).
-    pub find_mover: bool,
+    /// Separated or full update, rounds, rebuild threshold, the search for the moving piece
+    /// (their size and steps are `maps.env_resolution` and `maps.env_iterations`).
+    pub impostors: ImpostorSettings,
     /// The maps and their searches (`env_resolution`: each piece's impostor).
     pub maps: Maps,
 }
 
 impl Default for EnvSettings {
     fn default() -> Self {
-        let s = ImpostorSettings::separated();
+        let impostors = ImpostorSettings::separated();
         Self {
-            separated: s.separated,
-            env_depth: s.env_depth,
-            rebuild_threshold: s.rebuild_threshold,
-            find_mover: s.find_mover,
-            maps: Maps::with_env_resolution(s.env_resolution),
+            maps: Maps::with_env_resolution(impostors.env_resolution),
+            impostors,
         }
     }
 }
 
 impl EnvSettings {
-    /// The impostors' part of these settings.
+    /// The impostors' settings, with the size and steps of `maps`.
     fn impostors(&self) -> ImpostorSettings {
-        ImpostorSettings {
-            separated: self.separated,
-            env_depth: self.env_depth,
-            rebuild_threshold: self.rebuild_threshold,
-            find_mover: self.find_mover,
-            env_resolution: self.maps.env_resolution,
-            env_iterations: self.maps.env_iterations,
-        }
+        (self.impostors).with_maps(self.maps.env_resolution, self.maps.env_iterations)
     }
 }
 
@@ -106,7 +88,10 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
              impostor rebuilt every frame: the paper's baseline for a moving piece",
             true,
             EnvSettings {
-                separated: false,
+                impostors: ImpostorSettings {
+                    separated: false,
+                    ..s.impostors
+                },
                 ..s.clone()
             },
         )),
@@ -142,12 +127,7 @@ impl Technique for EnvironmentMaps {
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         check_param(&self.id, &self.params(), name, value)?;
         let s = &mut self.settings;
-        let mut impostors = s.impostors();
-        if impostors.set(name, value) {
-            s.env_depth = impostors.env_depth;
-            s.rebuild_threshold = impostors.rebuild_threshold;
-            s.find_mover = impostors.find_mover;
-        } else if !s.maps.set(name, value) {
+        if !s.impostors.set(name, value) && !s.maps.set(name, value) {
             unreachable!("check_param accepted an undeclared parameter");
         }
         self.state = None;

@@ -5,6 +5,7 @@
 
 use refractor_maps::{EnvSettings, EnvironmentMaps, Search, Settings};
 use scene::Technique;
+use scene::multi_object::ImpostorSettings;
 use testkit::{Shot, gpu_lock, max_difference, render_shots, section5};
 
 const SIZE: u32 = 32;
@@ -51,7 +52,10 @@ fn small_environment_maps(settings: EnvSettings) -> EnvironmentMaps {
 /// Separated (true) or full update, small maps.
 fn make(separated: bool) -> Box<dyn Technique> {
     Box::new(small_environment_maps(EnvSettings {
-        separated,
+        impostors: ImpostorSettings {
+            separated,
+            ..ImpostorSettings::separated()
+        },
         ..EnvSettings::default()
     }))
 }
@@ -89,9 +93,12 @@ fn rebuilds_along_the_path(separated: bool, rebuild_threshold: f32, times: &[f32
         .map(|&t| Shot::along_path(&scene, t, 16))
         .collect();
     let mut t = small_environment_maps(EnvSettings {
-        separated,
-        env_depth: 2,
-        rebuild_threshold,
+        impostors: ImpostorSettings {
+            separated,
+            env_depth: 2,
+            rebuild_threshold,
+            ..ImpostorSettings::separated()
+        },
         ..EnvSettings::default()
     });
     render_shots(&mut t, &scene, &shots);

@@ -878,7 +878,43 @@ pub fn scene_pipeline_entries(
     label: &str,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
+    entries: (&str, &str),
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
+    let vertices = [Some(Vertex::layout())];
+    render_pipeline(
+        ctx, label, layout, module, entries, &vertices, targets, depth,
+    )
+}
+
+/// A pipeline that draws no vertex buffer: the vertex entry makes each vertex from its vertex
+/// and instance indices (a proxy of an object, such as a height map's billboard box, one
+/// instance per object), the fragment entry may write its own depth. One colour target of
+/// `format`, depth written and tested with `Less`, no culling.
+pub fn proxy_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entries: (&str, &str),
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    let targets = [pass::color_target(format, None)];
+    let depth = (true, wgpu::CompareFunction::Less);
+    render_pipeline(ctx, label, layout, module, entries, &[], &targets, depth)
+}
+
+/// The one render-pipeline descriptor of the scene's pipelines: `buffers` of vertices, the
+/// caller's targets and depth state, no culling.
+#[allow(clippy::too_many_arguments)]
+fn render_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
     (vertex_entry, fragment_entry): (&str, &str),
+    buffers: &[Option<wgpu::VertexBufferLayout>],
     targets: &[Option<wgpu::ColorTargetState>],
     depth: (bool, wgpu::CompareFunction),
 ) -> wgpu::RenderPipeline {
@@ -890,7 +926,7 @@ pub fn scene_pipeline_entries(
                 module,
                 entry_point: Some(vertex_entry),
                 compilation_options: Default::default(),
-                buffers: &[Some(Vertex::layout())],
+                buffers,
             },
             fragment: Some(wgpu::FragmentState {
                 module,
@@ -903,45 +939,6 @@ pub fn scene_pipeline_entries(
                 ..Default::default()
             },
             depth_stencil: Some(pass::depth_state(depth.0, depth.1)),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: ctx.pipeline_cache(),
-        })
-}
-
-/// A pipeline that draws no vertex buffer: the vertex entry makes each vertex from its vertex
-/// and instance indices (a proxy of an object, such as a height map's billboard box, one
-/// instance per object), the fragment entry may write its own depth. One colour target of
-/// `format`, depth written and tested with `Less`, no culling.
-pub fn proxy_pipeline(
-    ctx: &Context,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    (vertex_entry, fragment_entry): (&str, &str),
-    format: wgpu::TextureFormat,
-) -> wgpu::RenderPipeline {
-    ctx.device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some(vertex_entry),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some(fragment_entry),
-                compilation_options: Default::default(),
-                targets: &[pass::color_target(format, None)],
-            }),
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(pass::depth_state(true, wgpu::CompareFunction::Less)),
             multisample: Default::default(),
             multiview_mask: None,
             cache: ctx.pipeline_cache(),

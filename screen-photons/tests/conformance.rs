@@ -264,20 +264,28 @@ fn the_wgsl_march_finds_the_twins_hits() {
     );
 }
 
+/// A kernel module over splat_weight.wgsl: `inputs` of `input`, `outputs` of `output`,
+/// entry point `entry` running `body` for element `i`.
+fn weight_kernel_source(input: &str, output: &str, entry: &str, body: &str) -> String {
+    format!(
+        "{}\n{}\n{}{}",
+        gpu::prelude::PRELUDE_WGSL,
+        screen_photons::splat::WEIGHT_WGSL,
+        kernel_header(input, output),
+        kernel_entry(entry, body)
+    )
+}
+
 #[test]
 fn the_wgsl_splat_weight_matches_the_twin() {
     let _lock = testkit::gpu_lock();
     let ctx = testkit::context();
-    let source = format!(
-        "{}\n{}\n{}{}",
-        gpu::prelude::PRELUDE_WGSL,
-        screen_photons::splat::WEIGHT_WGSL,
-        kernel_header("array<vec4f, 3>", "vec2f"),
-        kernel_entry(
-            "weight_kernel",
-            "let c = inputs[i]; outputs[i] = splat_weight(c[0].xyz, normalize(c[1].xyz), c[2].xyz, \
-             normalize(vec3f(c[0].w, c[1].w, c[2].w)), 0.4);"
-        )
+    let source = weight_kernel_source(
+        "array<vec4f, 3>",
+        "vec2f",
+        "weight_kernel",
+        "let c = inputs[i]; outputs[i] = splat_weight(c[0].xyz, normalize(c[1].xyz), c[2].xyz, \
+         normalize(vec3f(c[0].w, c[1].w, c[2].w)), 0.4);",
     );
     let eye = Vec3::new(0.0, 1.0, 3.0);
     let mut cases = Vec::new();
@@ -326,18 +334,14 @@ fn the_wgsl_footprints_match_the_twins() {
     use screen_photons::splat;
     let _lock = testkit::gpu_lock();
     let ctx = testkit::context();
-    let source = format!(
-        "{}\n{}\n{}{}",
-        gpu::prelude::PRELUDE_WGSL,
-        screen_photons::splat::WEIGHT_WGSL,
-        kernel_header("array<vec4f, 2>", "vec4f"),
-        kernel_entry(
-            "footprint_kernel_test",
-            "let c = inputs[i]; let m = footprint_matrix(c[0].x, c[0].yz, vec2f(c[0].w, c[1].x)); \
-             let t = footprint_tangent(normalize(vec3f(c[1].w, 0.7, -0.4))); \
-             outputs[2u * i] = vec4f(m, footprint_reach(m)); \
-             outputs[2u * i + 1u] = vec4f(footprint_kernel(c[1].yz, m), t);"
-        )
+    let source = weight_kernel_source(
+        "array<vec4f, 2>",
+        "vec4f",
+        "footprint_kernel_test",
+        "let c = inputs[i]; let m = footprint_matrix(c[0].x, c[0].yz, vec2f(c[0].w, c[1].x)); \
+         let t = footprint_tangent(normalize(vec3f(c[1].w, 0.7, -0.4))); \
+         outputs[2u * i] = vec4f(m, footprint_reach(m)); \
+         outputs[2u * i + 1u] = vec4f(footprint_kernel(c[1].yz, m), t);",
     );
     let mut cases = Vec::new();
     for i in 0..256 {

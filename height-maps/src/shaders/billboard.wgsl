@@ -68,24 +68,9 @@ fn environment(o: vec3f, d: vec3f) -> vec3f {
     return textureSampleLevel(env_map, env_sampler, l, 0.0).rgb;
 }
 
-struct BillboardOut {
-    @builtin(position) clip: vec4f,
-    @location(0) world: vec3f,
-    @location(1) @interpolate(flat) piece: u32,
-    // The box face's outward normal, world.
-    @location(2) @interpolate(flat) face_normal: vec3f,
-};
-
 @vertex
 fn billboard_vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) piece: u32) -> BillboardOut {
-    let v = billboard_box_vertex(vertex, pieces[piece].centre.xyz, piece_bounds(piece),
-                                 camera.eye.xyz);
-    var out: BillboardOut;
-    out.world = v.world;
-    out.clip = camera.view_proj * vec4f(out.world, 1.0);
-    out.piece = piece;
-    out.face_normal = v.face_normal;
-    return out;
+    return billboard_out(vertex, piece, pieces[piece].centre.xyz, piece_bounds(piece));
 }
 
 // The refracted share of a ray inside piece p from `point` along `dir`, leaving it: up to
@@ -118,11 +103,6 @@ fn leave_piece(p: u32, b: Billboard, point: vec3f, dir: vec3f, ior: f32) -> vec3
     }
     return color;
 }
-
-struct BillboardTargets {
-    @location(0) color: vec4f,
-    @builtin(frag_depth) depth: f32,
-};
 
 @fragment
 fn billboard_fs(in: BillboardOut) -> BillboardTargets {

@@ -1,8 +1,9 @@
 // ---------------------------------------------------------------------------------------------
-// The billboard's proxy box (Dancsik and Minarik, section 6), after height_search.wgsl: a
-// piece is drawn as the bounding box of its height map's proxy, turned about the vertical to
-// face the eye, 36 vertices (12 triangles) per piece, no vertex buffer. Its fragments cast the
-// eye ray into the box and search the height map; the box only bounds where they can hit.
+// The billboard's proxy box (Dancsik and Minarik, section 6), after scene.wgsl and
+// height_search.wgsl: a piece is drawn as the bounding box of its height map's proxy, turned
+// about the vertical to face the eye, 36 vertices (12 triangles) per piece, no vertex buffer.
+// Its fragments cast the eye ray into the box and search the height map; the box only bounds
+// where they can hit.
 // ---------------------------------------------------------------------------------------------
 
 // The 36 corners of a box's 12 triangles, as (corner bits, face): bit 0 = x max, 1 = y max,
@@ -29,6 +30,34 @@ fn billboard_box_vertex(vertex: u32, centre: vec3f, hb: HeightBounds, eye: vec3f
     let q = select(height_box_min(hb), height_box_max(hb),
                    vec3<bool>((corner & 1u) != 0u, (corner & 2u) != 0u, (corner & 4u) != 0u));
     return BoxVertex(b.centre + dir_to_world(b, q), dir_to_world(b, BOX_NORMALS[vertex / 6u]));
+}
+
+// What the billboard's vertex passes to its fragment.
+struct BillboardOut {
+    @builtin(position) clip: vec4f,
+    @location(0) world: vec3f,
+    @location(1) @interpolate(flat) piece: u32,
+    // The box face's outward normal, world.
+    @location(2) @interpolate(flat) face_normal: vec3f,
+};
+
+// What a billboard's fragment writes: the shaded colour (alpha: the hit's distance from the
+// eye) and the hit's own depth.
+struct BillboardTargets {
+    @location(0) color: vec4f,
+    @builtin(frag_depth) depth: f32,
+};
+
+// Vertex `vertex` of piece `piece`'s box (bounds `hb` about `centre`) in the camera's view,
+// turned to face the camera's eye.
+fn billboard_out(vertex: u32, piece: u32, centre: vec3f, hb: HeightBounds) -> BillboardOut {
+    let v = billboard_box_vertex(vertex, centre, hb, camera.eye.xyz);
+    var out: BillboardOut;
+    out.world = v.world;
+    out.clip = camera.view_proj * vec4f(v.world, 1.0);
+    out.piece = piece;
+    out.face_normal = v.face_normal;
+    return out;
 }
 
 // Whether a fragment at `world` on a face of outward normal `face_normal` faces the eye:

@@ -12,33 +12,15 @@
 // (chord) looked up in the piece's impostor, the moving piece found from outside.
 // ---------------------------------------------------------------------------------------------
 
-struct SeparatedBillboardOut {
-    @builtin(position) clip: vec4f,
-    @location(0) world: vec3f,
-    @location(1) @interpolate(flat) piece: u32,
-    @location(2) @interpolate(flat) face_normal: vec3f,
-};
-
 @vertex
 fn separated_billboard_vs(@builtin(vertex_index) vertex: u32,
-                          @builtin(instance_index) piece: u32) -> SeparatedBillboardOut {
-    let v = billboard_box_vertex(vertex, pieces[piece].centre.xyz,
-                                 kind_height_bounds(piece_kind(piece)), camera.eye.xyz);
-    var out: SeparatedBillboardOut;
-    out.world = v.world;
-    out.clip = camera.view_proj * vec4f(v.world, 1.0);
-    out.piece = piece;
-    out.face_normal = v.face_normal;
-    return out;
+                          @builtin(instance_index) piece: u32) -> BillboardOut {
+    return billboard_out(vertex, piece, pieces[piece].centre.xyz,
+                         kind_height_bounds(piece_kind(piece)));
 }
 
-struct SeparatedBillboardTargets {
-    @location(0) color: vec4f,
-    @builtin(frag_depth) depth: f32,
-};
-
 @fragment
-fn separated_billboard_fs(in: SeparatedBillboardOut) -> SeparatedBillboardTargets {
+fn separated_billboard_fs(in: BillboardOut) -> BillboardTargets {
     let eye = camera.eye.xyz;
     if (!faces_eye(in.face_normal, in.world, eye)) { discard; }
     let dir = normalize(in.world - eye);
@@ -47,7 +29,7 @@ fn separated_billboard_fs(in: SeparatedBillboardOut) -> SeparatedBillboardTarget
     let point = eye + dir * h.w;
     let normal = piece_hit_normal(in.piece, eye, dir, h);
     let n = select(normal, -normal, dot(normal, dir) > 0.0);
-    var out: SeparatedBillboardTargets;
+    var out: BillboardTargets;
     out.color = shade_piece(in.piece, point, n, eye);
     out.depth = frag_depth_of(camera.view_proj, point);
     return out;

@@ -27,7 +27,7 @@
 
 use super::grid::EMPTY;
 use super::pieces::{PIECES_WGSL, PieceGpu, pieces_at};
-use super::tracer::{ObjectSearch, SEARCH_FIRST_BINDING, storage};
+use super::tracer::{ObjectSearch, SEARCH_FIRST_BINDING, driver_entries, storage};
 use crate::kinds::Kinds;
 use crate::technique::MAP_BUDGET_BYTES;
 use crate::{
@@ -64,9 +64,10 @@ pub struct ImpostorSettings {
     /// when the rate of changes makes it necessary", not every frame; between updates the
     /// impostors show the moving piece where it was.
     pub rebuild_threshold: f32,
-    /// Cube face size of each piece's impostor.
+    /// Cube face size of each piece's impostor (declared with a technique's other maps: see
+    /// [`ImpostorSettings::with_maps`]).
     pub env_resolution: u32,
-    /// Hit() refinement steps in the impostors.
+    /// Hit() refinement steps in the impostors (likewise).
     pub env_iterations: u32,
     /// Separated: whether the static pieces search for the moving one from outside along
     /// their lookup rays (section 5.2). Off, they show their static impostors alone, which
@@ -85,6 +86,16 @@ impl ImpostorSettings {
             env_resolution: 128,
             env_iterations: 4,
             find_mover: true,
+        }
+    }
+
+    /// These settings with the impostors' size and search steps of a technique's map
+    /// settings, which declare them beside their other maps'.
+    pub fn with_maps(self, env_resolution: u32, env_iterations: u32) -> Self {
+        Self {
+            env_resolution,
+            env_iterations,
+            ..self
         }
     }
 
@@ -568,14 +579,8 @@ impl Shading {
             search.wgsl(SEARCH_FIRST_BINDING),
         );
         let module = gpu::shader_with_prelude(ctx, label, &source);
-        let mut entries = vec![
-            bind::uniform(),
-            bind::storage(true),
-            bind::storage(true),
-            bind::storage(true),
-            bind::sampler(),
-            bind::texture(wgpu::TextureViewDimension::CubeArray, true),
-        ];
+        let mut entries =
+            driver_entries(bind::texture(wgpu::TextureViewDimension::CubeArray, true));
         entries.extend(search.binding_types());
         // The vertex stage too: a proxy's vertex entry reads the piece table and the search's
         // bounds.

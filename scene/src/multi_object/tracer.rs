@@ -34,6 +34,21 @@ pub const TRACE_WGSL: &str = include_str!("../shaders/trace.wgsl");
 /// 0..6).
 pub const SEARCH_FIRST_BINDING: u32 = 6;
 
+/// The binding types of both drivers' own `@group(2)` resources, before the search's (from
+/// [`SEARCH_FIRST_BINDING`]): their parameters, the piece table, a per-piece buffer of their
+/// own (the tracer's grid cells, the impostors' centres), the piece of each object, a sampler
+/// and their environment map(s) (`env_map`).
+pub(super) fn driver_entries(env_map: wgpu::BindingType) -> Vec<wgpu::BindingType> {
+    vec![
+        bind::uniform(),
+        bind::storage(true),
+        bind::storage(true),
+        bind::storage(true),
+        bind::sampler(),
+        env_map,
+    ]
+}
+
 /// Format of the environment impostor.
 const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
@@ -140,14 +155,7 @@ impl Tracer {
             search.wgsl(SEARCH_FIRST_BINDING),
         );
         let module = gpu::shader_with_prelude(ctx, label, &source);
-        let mut entries = vec![
-            bind::uniform(),
-            bind::storage(true),
-            bind::storage(true),
-            bind::storage(true),
-            bind::sampler(),
-            bind::texture_cube(),
-        ];
+        let mut entries = driver_entries(bind::texture_cube());
         entries.extend(search.binding_types());
         let layout = bind::layout(ctx, label, wgpu::ShaderStages::FRAGMENT, &entries);
         let pipeline = crate::scene_pipeline(
