@@ -1925,7 +1925,11 @@ impl Passes {
                     ctx,
                     "splats",
                     &with(&splat_layout),
-                    &format!("{}\n{SPLAT_WGSL}", crate::splat::WEIGHT_WGSL),
+                    &format!(
+                        "{}\n{}\n{SPLAT_WGSL}",
+                        scene::lightmap::FOOTPRINT_WGSL,
+                        crate::splat::WEIGHT_WGSL
+                    ),
                     ("splat_vs", "splat_fs"),
                     wgpu::PrimitiveTopology::TriangleList,
                     Some(ADD),

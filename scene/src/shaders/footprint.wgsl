@@ -1,6 +1,7 @@
 // A photon's Gaussian footprint on the light-map atlas (no bindings): the covariance and cut
 // that splat_quads.wgsl's quads weight with. lightmap.rs's `Footprint` is the twin; the
-// conformance test runs this file against it.
+// conformance test runs this file against it. The cell's edges come from lattice_cell_edge,
+// which screen-photons' splats use too.
 
 // A lattice cell's width in standard deviations: c in the covariance
 // sigma0^2 I + c^2 (ex ex^T + ey ey^T), ex and ey the cell's edges on the atlas. Cut at three
@@ -42,4 +43,18 @@ fn footprint_covariance(radius: f32, ex: vec2f, ey: vec2f, cut2: f32) -> vec3f {
         cov *= shrink * shrink;
     }
     return cov;
+}
+
+// One edge of a photon's lattice cell from its two neighbours along one lattice axis (xy: the
+// neighbour's landing point less the photon's; z: 1 where it landed on the same surface, 0
+// where not): the shorter of the two (the longer may span a fold or a silhouette), or the one
+// that exists; zero where neither does.
+fn lattice_cell_edge(ahead: vec3f, behind: vec3f) -> vec2f {
+    let backward = -behind.xy;
+    if (ahead.z > 0.0 && behind.z > 0.0) {
+        return select(backward, ahead.xy, dot(ahead.xy, ahead.xy) <= dot(backward, backward));
+    }
+    if (ahead.z > 0.0) { return ahead.xy; }
+    if (behind.z > 0.0) { return backward; }
+    return vec2f(0.0);
 }

@@ -57,20 +57,12 @@ fn lattice_neighbour(origin: vec2i, at: vec2i, chart: f32) -> vec3f {
     return select(vec3f(0.0), vec3f(a.xy * quads.atlas.x, 1.0), same);
 }
 
-// One edge of the photon's lattice cell on the atlas along lattice axis `axis`: the shorter of
-// the differences to its two neighbours (the longer may span a fold or a silhouette), or the
-// one that exists; zero where neither landed.
+// One edge of the photon's lattice cell on the atlas along lattice axis `axis`
+// (footprint.wgsl's lattice_cell_edge of its two neighbours).
 fn lattice_edge(texel: vec2i, axis: vec2i, centre: vec2f, chart: f32) -> vec2f {
     let ahead = lattice_neighbour(texel, texel + axis, chart);
     let behind = lattice_neighbour(texel, texel - axis, chart);
-    let forward = ahead.xy - centre;
-    let backward = centre - behind.xy;
-    if (ahead.z > 0.0 && behind.z > 0.0) {
-        return select(backward, forward, dot(forward, forward) <= dot(backward, backward));
-    }
-    if (ahead.z > 0.0) { return forward; }
-    if (behind.z > 0.0) { return backward; }
-    return vec2f(0.0);
+    return lattice_cell_edge(vec3f(ahead.xy - centre, ahead.z), vec3f(behind.xy - centre, behind.z));
 }
 
 const QUAD_CORNERS = array<vec2f, 6>(

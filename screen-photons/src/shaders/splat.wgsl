@@ -53,19 +53,12 @@ fn lattice_neighbour(i: u32, j: i32, same_row: bool, c: vec3f, n: vec3f, t: vec3
 }
 
 // One edge of receiver i's lattice cell along `step` (1: the row, lattice: the column), in
-// the tangent basis: the shorter difference to its two neighbours (the longer may span a fold),
-// or the one that exists; zero where neither does.
+// the tangent basis (scene's footprint.wgsl, lattice_cell_edge of its two neighbours).
 fn lattice_edge(i: u32, step: i32, c: vec3f, n: vec3f, t: vec3f, b: vec3f) -> vec2f {
     let same_row = step == 1;
     let ahead = lattice_neighbour(i, i32(i) + step, same_row, c, n, t, b);
     let behind = lattice_neighbour(i, i32(i) - step, same_row, c, n, t, b);
-    let backward = -behind.xy;
-    if (ahead.z > 0.0 && behind.z > 0.0) {
-        return select(backward, ahead.xy, dot(ahead.xy, ahead.xy) <= dot(backward, backward));
-    }
-    if (ahead.z > 0.0) { return ahead.xy; }
-    if (behind.z > 0.0) { return backward; }
-    return vec2f(0.0);
+    return lattice_cell_edge(ahead, behind);
 }
 
 const SPLAT_CORNERS = array<vec2f, 6>(
