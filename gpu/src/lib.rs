@@ -19,8 +19,9 @@ mod timer;
 pub use bind::{Samplers, Uniform};
 pub use context::{AdapterSummary, Context};
 pub use target::{
-    DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, depth_texture, layer_view, map_buffer, read_buffer,
-    read_texture_bytes, read_texture_f32, read_texture_f32x4, render_texture,
+    DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, channel_to_srgb8, depth_texture, layer_view,
+    linear_to_srgb, map_buffer, read_buffer, read_texture_bytes, read_texture_f32,
+    read_texture_f32x4, render_texture,
 };
 pub use timer::{GpuTimer, TimeStats, TimerKind};
 pub use wgpu;

@@ -42,6 +42,31 @@ impl HdrImage {
             .filter(|p| p.iter().any(|c| !c.is_finite()))
             .count()
     }
+    /// The image as sRGB8 RGB (alpha dropped), rows tightly packed, row 0 the top: each
+    /// channel through [`channel_to_srgb8`]. What every PNG of the workspace holds and FLIP
+    /// reads.
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        self.pixels
+            .iter()
+            .flat_map(|p| [p[0], p[1], p[2]].map(channel_to_srgb8))
+            .collect()
+    }
+}
+
+/// sRGB transfer function of a linear value (IEC 61966-2-1), input already in [0, 1].
+pub fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.003_130_8 {
+        v * 12.92
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// One linear channel to an sRGB byte: clamp to [0, 1] (NaN counts as 0, +inf as 1), sRGB
+/// transfer, round to nearest. No tone mapping, so PNGs of two renderers compare.
+pub fn channel_to_srgb8(v: f32) -> u8 {
+    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+    (linear_to_srgb(v) * 255.0 + 0.5).floor().clamp(0.0, 255.0) as u8
 }
 
 /// The colour + depth pair a technique renders a frame into: [`Target::new`] makes both

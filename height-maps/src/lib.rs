@@ -1,6 +1,5 @@
 //! Refractor height maps (Dancsik and Minarik: "Real-time multi-bounce many-object ray
-//! tracing with distance-normal impostors", ../shared/papers/
-//! distance-normal-impostors-and-refractor-height-maps.md, section 6): a piece with a plane of
+//! tracing with distance-normal impostors", section 6): a piece with a plane of
 //! symmetry stored as a height map of its half in front of that plane, stood on a billboard
 //! that turns about the vertical to face the ray's origin, and searched by binary search for
 //! the ray's entry and, after refraction, its exit. Where a refractor *distance* map misses

@@ -80,7 +80,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         "adapter offers hardware ray queries (EXPERIMENTAL_RAY_QUERY): {}",
         ctx.adapter
             .features()
-            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+            .contains(gpu::wgpu::Features::EXPERIMENTAL_RAY_QUERY)
     );
     println!(
         "BVH: {} triangles, {} nodes, {} levels deep; built on the CPU in {build_ms:.1} ms \

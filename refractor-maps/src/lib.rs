@@ -1,6 +1,5 @@
 //! Refractor distance maps (Dancsik and Minarik: "Real-time multi-bounce many-object ray
-//! tracing with distance-normal impostors", ../shared/papers/
-//! distance-normal-impostors-and-refractor-height-maps.md, sections 3-4): the surface of each
+//! tracing with distance-normal impostors", sections 3-4): the surface of each
 //! kind of refracting piece stored once as a cube map of outward normal and distance from its
 //! centre, searched from inside for the exit of a refracted ray and from *outside* (section
 //! 4.1, `gpu::distance_map::hit_from_outside`) for the hit of a ray coming from elsewhere, so

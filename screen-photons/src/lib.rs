@@ -1,5 +1,5 @@
 //! Screen-space photon tracing (Krüger, Bürger and Westermann: "Interactive Screen-Space
-//! Accurate Photon Tracing on GPUs", EGSR 2006; `../shared/papers/screen-space-photon-tracing.md`,
+//! Accurate Photon Tracing on GPUs", Eurographics Symposium on Rendering 2006,
 //! sections 2-5): caustics without photon maps. Photons leave the light through the specular
 //! surfaces (the transfer map), their rays are marched in screen space over a layered depth
 //! image of the eye's view, and where they meet a diffuse surface their flux is splatted onto

@@ -74,34 +74,15 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
     if n == 0 { f64::NAN } else { sum / n as f64 }
 }
 
-/// sRGB transfer function of a linear value (IEC 61966-2-1), input already in [0, 1].
-pub fn linear_to_srgb(v: f32) -> f32 {
-    if v <= 0.003_130_8 {
-        v * 12.92
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// One linear channel to an sRGB byte: clamp to [0, 1] (NaN counts as 0, +inf as 1), sRGB
-/// transfer, round to nearest. No tone mapping (DESIGN.md), so PNGs of two renderers compare.
-pub fn channel_to_srgb8(v: f32) -> u8 {
-    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
-    (linear_to_srgb(v) * 255.0 + 0.5).floor().clamp(0.0, 255.0) as u8
-}
+/// The sRGB transfer (IEC 61966-2-1) and the 8-bit encoding live with the image type in
+/// `gpu`, so an example's PNG is written without this crate; re-exported where the metrics
+/// have always had them.
+pub use gpu::{channel_to_srgb8, linear_to_srgb};
 
 /// The image as sRGB8 RGB (alpha dropped), rows tightly packed, row 0 the top: the PNG's
 /// pixels and FLIP's input.
 pub fn to_srgb8(image: &HdrImage) -> Vec<u8> {
-    let mut out = Vec::with_capacity(image.pixels.len() * 3);
-    for p in &image.pixels {
-        out.extend_from_slice(&[
-            channel_to_srgb8(p[0]),
-            channel_to_srgb8(p[1]),
-            channel_to_srgb8(p[2]),
-        ]);
-    }
-    out
+    image.to_srgb8()
 }
 
 /// Width of the silhouette band in pixels: 3% of the image's smaller side, at least 2.

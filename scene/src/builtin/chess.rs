@@ -1,6 +1,6 @@
 //! The `chess` scene: the glass chess set of Szirmay-Kalos and co-authors' multi-bounce paper
-//! (../shared/papers/distance-normal-impostors-and-refractor-height-maps.md, sections 4.2 and
-//! 8): a textured chessboard, two full sets of glass pieces (32), a glass sphere, one point
+//! ("Real-time multi-bounce many-object ray tracing with distance-normal impostors",
+//! sections 4.2 and 8): a textured chessboard, two full sets of glass pieces (32), a glass sphere, one point
 //! light, and one piece that moves (the white king's pawn, e2 to e4) while the others stand.
 //!
 //! The pieces are generated, not loaded: pawn, rook, bishop, queen and king are surfaces of
