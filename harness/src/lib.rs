@@ -679,6 +679,46 @@ mod tests {
         assert_eq!(file_name(""), "_");
     }
 
+    /// Every declared parameter of every variant is settable at both ends of its range and
+    /// reads back what was set (a parameter listed but not settable, or set into another
+    /// field, fails); its default lies in its range; an undeclared name is refused.
+    #[test]
+    fn every_declared_parameter_sets_and_reads_back() {
+        let mut wrong = Vec::new();
+        for mut technique in registry() {
+            let id = technique.id();
+            for param in technique.params() {
+                let name = param.name;
+                assert!(
+                    param.min <= param.default && param.default <= param.max,
+                    "{id}: {name}'s default {} outside [{}, {}]",
+                    param.default,
+                    param.min,
+                    param.max
+                );
+                for value in [param.min, param.max, param.default] {
+                    technique
+                        .set_param(name, value)
+                        .unwrap_or_else(|e| panic!("{id}: {name} = {value}: {e}"));
+                    let read = technique.params().into_iter().find(|p| p.name == name);
+                    if let Some(read) = read {
+                        if (read.default - value).abs() > 1e-6 * value.abs().max(1.0) {
+                            wrong.push(format!(
+                                "{id}: set {name} = {value}, reads {}",
+                                read.default
+                            ));
+                        }
+                    }
+                }
+            }
+            assert!(
+                technique.set_param("no_such_parameter", 1.0).is_err(),
+                "{id}"
+            );
+        }
+        assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    }
+
     #[test]
     fn scene_folders_are_unique() {
         let specs: Vec<String> = ["x/scene.glb", "y/scene.glb", "cornell-sphere", "z/a.glb"]

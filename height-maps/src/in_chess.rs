@@ -13,6 +13,7 @@ use crate::search::{HEIGHT_SEARCH_WGSL, Steps};
 use crate::technique::{MapSettings, unsupported};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
+use scene::Settings as _;
 use scene::multi_object::grid::ALL_CELLS;
 use scene::multi_object::{MAX_DEPTH, ObjectSearch, Search, Tracer, TracerSettings, storage};
 use scene::technique::check_param;

@@ -16,6 +16,7 @@ use crate::in_chess::HeightSearch;
 use crate::map::render_height_maps;
 use crate::technique::{BILLBOARD_BOX_VERTICES, BILLBOARD_BOX_WGSL, MapSettings, unsupported};
 use gpu::Target;
+use scene::Settings as _;
 use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
 use scene::technique::check_param;
 use scene::{

@@ -17,8 +17,9 @@ use gpu::distance_map::HIT_WGSL;
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, Uniform, bind};
+use scene::Settings as _;
 use scene::multi_object::{EnvironmentImpostor, raster_diffuse};
-use scene::technique::check_param;
+use scene::technique::{Declared, declared_params, declared_set, set_checked};
 use scene::{
     Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
 };
@@ -63,62 +64,40 @@ impl Default for MapSettings {
     }
 }
 
-impl MapSettings {
-    /// The declared parameters.
-    pub(crate) fn params(&self) -> Vec<Param> {
-        vec![
-            Param::new(
-                "steps",
-                self.steps.binary as f64,
-                (0.0, 32.0),
-                true,
-                "halvings of each binary search in the height map",
-            ),
-            Param::new(
-                "linear_steps",
-                self.steps.linear as f64,
-                (0.0, 256.0),
-                true,
-                "even samples along a segment before the binary search (0: the paper's binary \
-                 search alone; more: relief mapping's linear bracket, not in the paper)",
-            ),
-            Param::new(
-                "resolution",
-                self.resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "side of each kind's height map (texels)",
-            ),
-            Param::new(
-                "env_resolution",
-                self.env_resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "cube face size of the diffuse environment impostor (texels)",
-            ),
-            Param::new(
-                "env_iterations",
-                self.env_iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the environment impostor",
-            ),
-        ]
-    }
-
-    /// Sets parameter `name` if it is one of these (already checked against its range).
-    pub(crate) fn set(&mut self, name: &str, value: f64) -> bool {
-        let v = value as u32;
-        match name {
-            "steps" => self.steps.binary = v,
-            "linear_steps" => self.steps.linear = v,
-            "resolution" => self.resolution = v,
-            "env_resolution" => self.env_resolution = v,
-            "env_iterations" => self.env_iterations = v,
-            _ => return false,
-        }
-        true
-    }
+impl scene::Settings for MapSettings {
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "steps",
+            (0.0, 32.0),
+            "halvings of each binary search in the height map",
+            |s| Some(&mut s.steps.binary),
+        ),
+        Declared::new(
+            "linear_steps",
+            (0.0, 256.0),
+            "even samples along a segment before the binary search (0: the paper's binary \
+             search alone; more: relief mapping's linear bracket, not in the paper)",
+            |s| Some(&mut s.steps.linear),
+        ),
+        Declared::new(
+            "resolution",
+            (4.0, 4096.0),
+            "side of each kind's height map (texels)",
+            |s| Some(&mut s.resolution),
+        ),
+        Declared::new(
+            "env_resolution",
+            (4.0, 4096.0),
+            "cube face size of the diffuse environment impostor (texels)",
+            |s| Some(&mut s.env_resolution),
+        ),
+        Declared::new(
+            "env_iterations",
+            (0.0, 64.0),
+            "Hit() refinement steps in the environment impostor",
+            |s| Some(&mut s.env_iterations),
+        ),
+    ];
 }
 
 /// Parameters of a [`HeightMaps`] variant (settable by name through
@@ -140,6 +119,23 @@ impl Default for Settings {
             maps: MapSettings::default(),
             chords: 3,
         }
+    }
+}
+
+impl scene::Settings for Settings {
+    const DECLARED: &'static [Declared<Self>] = &[Declared::new(
+        "chords",
+        (1.0, 8.0),
+        "chords a refracted ray follows inside a piece (double refraction)",
+        |s| Some(&mut s.chords),
+    )];
+    fn params(&self) -> Vec<Param> {
+        let mut params = self.maps.params();
+        params.extend(declared_params(self));
+        params
+    }
+    fn set(&mut self, name: &str, value: f64) -> bool {
+        self.maps.set(name, value) || declared_set(self, name, value)
     }
 }
 
@@ -243,24 +239,10 @@ impl Technique for HeightMaps {
         self.representative
     }
     fn params(&self) -> Vec<Param> {
-        let mut p = self.settings.maps.params();
-        p.push(Param::new(
-            "chords",
-            self.settings.chords as f64,
-            (1.0, 8.0),
-            true,
-            "chords a refracted ray follows inside a piece (double refraction)",
-        ));
-        p
+        self.settings.params()
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id, &self.params(), name, value)?;
-        let s = &mut self.settings;
-        match name {
-            "chords" => s.chords = value as u32,
-            name if s.maps.set(name, value) => {}
-            _ => unreachable!("check_param accepted an undeclared parameter"),
-        }
+        set_checked(&self.id, &mut self.settings, name, value)?;
         self.state = None;
         Ok(())
     }

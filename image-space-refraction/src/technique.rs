@@ -19,8 +19,12 @@ use glam::{Mat4, Vec3};
 use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
-use scene::emission::{PHOTON_JITTER_PARAM, jitter_param};
-use scene::technique::{check_map_budget, check_param, not_prepared};
+use scene::Settings as _;
+use scene::emission::jitter_declared;
+use scene::technique::{
+    Declared, ParamValue, check_map_budget, not_prepared, set_checked, setting_if,
+};
+
 use scene::{
     Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
     TechniqueResult, View,
@@ -113,6 +117,120 @@ pub struct Settings {
     /// from each object's centre every frame. One map whatever the number of objects: a scene of many glass
     /// objects (`chess`) renders. Without `nearby` only.
     pub room_probe: bool,
+}
+
+impl scene::Settings for Settings {
+    /// Which parameters a variant has follows its second-interface method, its nearby
+    /// geometry and its caustics.
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "resolution",
+            (4.0, 4096.0),
+            "environment cube map face size (texels)",
+            |s| Some(&mut s.env_resolution),
+        ),
+        Declared::new(
+            "tolerance",
+            (1e-6, 1.0),
+            "d_T iteration stops when a correction is at most this (m of view depth)",
+            |s| setting_if(s.variant == Variant::HuQin, &mut s.tolerance),
+        ),
+        Declared::new(
+            "iterations",
+            (1.0, 64.0),
+            "d_T iteration: most corrections",
+            |s| setting_if(s.variant == Variant::HuQin, &mut s.max_iterations),
+        ),
+        Declared::new(
+            "initial_step",
+            (1e-4, 2.0),
+            "d_T iteration: first d_T as a fraction of the refractor's bounding radius",
+            |s| setting_if(s.variant == Variant::HuQin, &mut s.initial_step),
+        ),
+        Declared::new(
+            "back_first",
+            (0.0, 1.0),
+            "1: section 4's acceleration (back side first); 0: silhouette search and angle \
+             test",
+            |s| setting_if(s.variant == Variant::HuQin, &mut s.back_first),
+        ),
+        Declared::new(
+            "thickness",
+            (0.0, 4.0),
+            "the proxy sphere's diameter (slab's thickness) as a fraction of the object's \
+             bounding diameter",
+            |s| setting_if(s.variant == Variant::ThicknessProxy, &mut s.thickness),
+        ),
+        Declared::new(
+            "proxy",
+            (0.0, 1.0),
+            "0: HDRP's sphere model (in and out of a tangent sphere); 1: its box model (a \
+             slab, leaving along the view ray)",
+            |s| setting_if(s.variant == Variant::ThicknessProxy, &mut s.box_proxy),
+        ),
+        Declared::new(
+            "probe",
+            (0.0, 1.0),
+            "1: one room probe for every object, captured once, box-projected (the engine's); \
+             0: the paper's map from each object's centre every frame",
+            |s| setting_if(s.nearby.is_none(), &mut s.room_probe),
+        ),
+        Declared::new(
+            "photon_buffer",
+            (8.0, 2048.0),
+            "side of each light's photon buffer (photons per light: its square)",
+            |s| Some(&mut s.caustics.as_mut()?.photon_size),
+        ),
+        Declared::new(
+            "caustic_resolution",
+            (8.0, 2048.0),
+            "side of each rectangle's caustic texture (texels)",
+            |s| Some(&mut s.caustics.as_mut()?.resolution),
+        ),
+        Declared::new(
+            "filter_k",
+            (0.0, 8.0),
+            "the caustic filter's half size k (section 3.2; the paper's default 2)",
+            |s| Some(&mut s.caustics.as_mut()?.k),
+        ),
+        jitter_declared(|s| Some(&mut s.caustics.as_mut()?.jitter)),
+        Declared::new(
+            "filter_s",
+            (0.0, 100.0),
+            "the caustic filter's scale s (1: the photons' power; the filter is normalized by \
+             its weights)",
+            |s| Some(&mut s.caustics.as_mut()?.scale),
+        ),
+        Declared::new(
+            "impostor_resolution",
+            (8.0, 4096.0),
+            "side of each rectangle impostor's texture (texels)",
+            |s| Some(&mut s.nearby.as_mut()?.resolution),
+        ),
+        Declared::new(
+            "seeds",
+            (1.0, 64.0),
+            "points on the ray tried as the correction's start (figure 17)",
+            |s| corrected(s).map(|n| &mut n.seeds as &mut dyn ParamValue),
+        ),
+        Declared::new(
+            "corrections",
+            (1.0, 64.0),
+            "most depth corrections of a rectangle lookup (figure 16)",
+            |s| corrected(s).map(|n| &mut n.iterations as &mut dyn ParamValue),
+        ),
+        Declared::new(
+            "depth_tolerance",
+            (1e-6, 1.0),
+            "a correction stops within this depth difference (m)",
+            |s| corrected(s).map(|n| &mut n.tolerance as &mut dyn ParamValue),
+        ),
+    ];
+}
+
+/// The rectangle impostors' settings where their lookup is depth-corrected.
+fn corrected(s: &mut Settings) -> Option<&mut Nearby> {
+    s.nearby.as_mut().filter(|n| n.corrected)
 }
 
 /// Parameters of the rectangle impostors of nearby geometry (section 2.2).
@@ -429,185 +547,10 @@ impl Technique for Refraction {
         self.representative
     }
     fn params(&self) -> Vec<Param> {
-        let d = Settings::default();
-        let mut params = vec![Param::new(
-            "resolution",
-            d.env_resolution as f64,
-            (4.0, 4096.0),
-            true,
-            "environment cube map face size (texels)",
-        )];
-        match self.settings.variant {
-            Variant::HuQin => params.extend([
-                Param::new(
-                    "tolerance",
-                    d.tolerance as f64,
-                    (1e-6, 1.0),
-                    false,
-                    "d_T iteration stops when a correction is at most this (m of view depth)",
-                ),
-                Param::new(
-                    "iterations",
-                    d.max_iterations as f64,
-                    (1.0, 64.0),
-                    true,
-                    "d_T iteration: most corrections",
-                ),
-                Param::new(
-                    "initial_step",
-                    d.initial_step as f64,
-                    (1e-4, 2.0),
-                    false,
-                    "d_T iteration: first d_T as a fraction of the refractor's bounding radius",
-                ),
-                Param::new(
-                    "back_first",
-                    f64::from(u8::from(self.settings.back_first)),
-                    (0.0, 1.0),
-                    true,
-                    "1: section 4's acceleration (back side first); 0: silhouette search and \
-                     angle test",
-                ),
-            ]),
-            Variant::ThicknessProxy => params.extend([
-                Param::new(
-                    "thickness",
-                    d.thickness as f64,
-                    (0.0, 4.0),
-                    false,
-                    "the proxy sphere's diameter (slab's thickness) as a fraction of the \
-                     object's bounding diameter",
-                ),
-                Param::new(
-                    "proxy",
-                    0.0,
-                    (0.0, 1.0),
-                    true,
-                    "0: HDRP's sphere model (in and out of a tangent sphere); 1: its box model \
-                     (a slab, leaving along the view ray)",
-                ),
-            ]),
-            _ => {}
-        }
-        if self.settings.nearby.is_none() {
-            params.push(Param::new(
-                "probe",
-                f64::from(u8::from(self.settings.room_probe)),
-                (0.0, 1.0),
-                true,
-                "1: one room probe for every object, captured once, box-projected (the \
-                 engine's); 0: the paper's map from each object's centre every frame",
-            ));
-        }
-        if self.settings.caustics.is_some() {
-            let d = CausticSettings::default();
-            params.extend([
-                Param::new(
-                    "photon_buffer",
-                    d.photon_size as f64,
-                    (8.0, 2048.0),
-                    true,
-                    "side of each light's photon buffer (photons per light: its square)",
-                ),
-                Param::new(
-                    "caustic_resolution",
-                    d.resolution as f64,
-                    (8.0, 2048.0),
-                    true,
-                    "side of each rectangle's caustic texture (texels)",
-                ),
-                Param::new(
-                    "filter_k",
-                    d.k as f64,
-                    (0.0, 8.0),
-                    true,
-                    "the caustic filter's half size k (section 3.2; the paper's default 2)",
-                ),
-                jitter_param(d.jitter),
-                Param::new(
-                    "filter_s",
-                    d.scale as f64,
-                    (0.0, 100.0),
-                    false,
-                    "the caustic filter's scale s (1: the photons' power; the filter is \
-                     normalized by its weights)",
-                ),
-            ]);
-        }
-        if let Some(n) = self.settings.nearby {
-            let d = Nearby::default();
-            params.push(Param::new(
-                "impostor_resolution",
-                d.resolution as f64,
-                (8.0, 4096.0),
-                true,
-                "side of each rectangle impostor's texture (texels)",
-            ));
-            if n.corrected {
-                params.extend([
-                    Param::new(
-                        "seeds",
-                        d.seeds as f64,
-                        (1.0, 64.0),
-                        true,
-                        "points on the ray tried as the correction's start (figure 17)",
-                    ),
-                    Param::new(
-                        "corrections",
-                        d.iterations as f64,
-                        (1.0, 64.0),
-                        true,
-                        "most depth corrections of a rectangle lookup (figure 16)",
-                    ),
-                    Param::new(
-                        "depth_tolerance",
-                        d.tolerance as f64,
-                        (1e-6, 1.0),
-                        false,
-                        "a correction stops within this depth difference (m)",
-                    ),
-                ]);
-            }
-        }
-        params
+        self.settings.params()
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id, &self.params(), name, value)?;
-        let s = &mut self.settings;
-        match name {
-            "resolution" => s.env_resolution = value as u32,
-            "tolerance" => s.tolerance = value as f32,
-            "iterations" => s.max_iterations = value as u32,
-            "initial_step" => s.initial_step = value as f32,
-            "back_first" => s.back_first = value != 0.0,
-            "thickness" => s.thickness = value as f32,
-            "proxy" => s.box_proxy = value != 0.0,
-            "probe" => s.room_probe = value != 0.0,
-            "photon_buffer" | "caustic_resolution" | "filter_k" | "filter_s"
-            | PHOTON_JITTER_PARAM => {
-                let c = s.caustics.as_mut().expect("declared only with caustics");
-                match name {
-                    "photon_buffer" => c.photon_size = value as u32,
-                    "caustic_resolution" => c.resolution = value as u32,
-                    "filter_k" => c.k = value as u32,
-                    PHOTON_JITTER_PARAM => c.jitter = value != 0.0,
-                    _ => c.scale = value as f32,
-                }
-            }
-            "impostor_resolution" | "seeds" | "corrections" | "depth_tolerance" => {
-                let n = s
-                    .nearby
-                    .as_mut()
-                    .expect("declared only with nearby geometry");
-                match name {
-                    "impostor_resolution" => n.resolution = value as u32,
-                    "seeds" => n.seeds = value as u32,
-                    "corrections" => n.iterations = value as u32,
-                    _ => n.tolerance = value as f32,
-                }
-            }
-            _ => unreachable!("check_param accepted only declared names"),
-        }
+        set_checked(&self.id, &mut self.settings, name, value)?;
         // Maps, buffers and the probe follow the settings: prepare() makes them again.
         self.state = None;
         Ok(())

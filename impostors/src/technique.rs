@@ -20,8 +20,9 @@ use gpu::distance_map::{HIT_WGSL, Method};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Target, bind};
-use scene::emission::{PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_PARAM, footprint_param, jitter_param};
-use scene::technique::check_param;
+use scene::Settings as _;
+use scene::emission::{footprint_declared, jitter_declared};
+use scene::technique::{Declared, set_checked, setting_if};
 use scene::{
     Frame, GpuScene, Material, ObjectFilter, Param, RasterTarget, Scene, Technique,
     TechniqueResult, View,
@@ -206,12 +207,102 @@ impl Impostor {
 
     /// The map is captured once where the probe stands (no regeneration parameter).
     fn room_probe(&self) -> bool {
-        self.settings.lookup == Lookup::BoxProjected && self.settings.probe == Probe::RoomCentre
+        self.settings.room_probe()
     }
 
     fn uses_distance(&self) -> bool {
-        self.settings.mode != Mode::Classic && self.settings.lookup == Lookup::Hit
+        self.settings.uses_distance()
     }
+}
+
+impl Settings {
+    /// The engine's room probe: one box-projected map for every object, never regenerated.
+    fn room_probe(&self) -> bool {
+        self.lookup == Lookup::BoxProjected && self.probe == Probe::RoomCentre
+    }
+
+    /// Whether lookups search a distance map by Hit().
+    fn uses_distance(&self) -> bool {
+        self.mode != Mode::Classic && self.lookup == Lookup::Hit
+    }
+
+    /// The caustics' settings on `path` only.
+    fn caustics_on(&mut self, path: CausticPath) -> Option<&mut CausticSettings> {
+        self.caustics.as_mut().filter(|c| c.path == path)
+    }
+}
+
+impl scene::Settings for Settings {
+    /// Which parameters a variant has follows its lookup, its mode and its caustics.
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "resolution",
+            (4.0, 4096.0),
+            "cube map face size (texels)",
+            |s| Some(&mut s.resolution),
+        ),
+        Declared::new(
+            "regen_threshold",
+            (0.0, 1000.0),
+            "metres the object may move from the map's reference point before the map is \
+             regenerated (0: every frame)",
+            |s| setting_if(!s.room_probe(), &mut s.regen_threshold),
+        ),
+        Declared::new(
+            "iterations",
+            (0.0, 64.0),
+            "Hit() refinement steps after the two initial guesses",
+            |s| setting_if(s.uses_distance(), &mut s.iterations),
+        ),
+        Declared::new(
+            "split",
+            (0.0, 1.0),
+            "1: distances in a separate R16Float cube; 0: in the radiance map's alpha",
+            |s| setting_if(s.uses_distance(), &mut s.split),
+        ),
+        Declared::new(
+            "caustic_resolution",
+            (4.0, 2048.0),
+            "caustic map size (photons per side, per light and object)",
+            |s| Some(&mut s.caustics.as_mut()?.resolution),
+        ),
+        Declared::new(
+            "caustics_in_lookup",
+            (0.0, 1.0),
+            "1: reflections and refractions show the caustics (paper fig. 11; the reference \
+             has none there)",
+            |s| Some(&mut s.caustics.as_mut()?.in_lookup),
+        ),
+        jitter_declared(|s| Some(&mut s.caustics.as_mut()?.jitter)),
+        Declared::new(
+            "caustic_grid",
+            (4.0, 1024.0),
+            "face size of the photon accumulation grid",
+            |s| Some(&mut s.caustics_on(CausticPath::Grid)?.grid),
+        ),
+        Declared::new(
+            "lightmap_resolution",
+            (16.0, 8192.0),
+            "side of the receivers' light-map atlas (texels)",
+            |s| Some(&mut s.caustics_on(CausticPath::LightMap)?.lightmap_resolution),
+        ),
+        Declared::new(
+            "splat_radius",
+            (1.0, 64.0),
+            "radius of a photon's Gaussian quad in light-map texels (sigma = R / 2)",
+            |s| Some(&mut s.caustics_on(CausticPath::LightMap)?.splat_radius),
+        ),
+        footprint_declared(|s| Some(&mut s.caustics_on(CausticPath::LightMap)?.footprint)),
+        Declared::new(
+            "refractor_iterations",
+            (0.0, 64.0),
+            "Hit() refinement steps inside the refractor map",
+            |s| {
+                let double = s.mode == Mode::DoubleRefraction;
+                setting_if(double, &mut s.refractor_iterations)
+            },
+        ),
+    ];
 }
 
 /// Every variant of this crate, with the ids the harness lists.
@@ -327,17 +418,6 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
     v
 }
 
-fn param(
-    name: &'static str,
-    default: f64,
-    min: f64,
-    max: f64,
-    integer: bool,
-    help: &'static str,
-) -> Param {
-    Param::new(name, default, (min, max), integer, help)
-}
-
 impl Technique for Impostor {
     fn id(&self) -> String {
         self.id.clone()
@@ -369,131 +449,10 @@ impl Technique for Impostor {
         self.description.clone()
     }
     fn params(&self) -> Vec<Param> {
-        let s = &self.settings;
-        let mut p = vec![param(
-            "resolution",
-            s.resolution as f64,
-            4.0,
-            4096.0,
-            true,
-            "cube map face size (texels)",
-        )];
-        if !self.room_probe() {
-            p.push(param(
-                "regen_threshold",
-                s.regen_threshold as f64,
-                0.0,
-                1000.0,
-                false,
-                "metres the object may move from the map's reference point before the map is \
-                 regenerated (0: every frame)",
-            ));
-        }
-        if self.uses_distance() {
-            p.push(param(
-                "iterations",
-                s.iterations as f64,
-                0.0,
-                64.0,
-                true,
-                "Hit() refinement steps after the two initial guesses",
-            ));
-            p.push(param(
-                "split",
-                s.split as u32 as f64,
-                0.0,
-                1.0,
-                true,
-                "1: distances in a separate R16Float cube; 0: in the radiance map's alpha",
-            ));
-        }
-        if let Some(c) = &s.caustics {
-            p.push(param(
-                "caustic_resolution",
-                c.resolution as f64,
-                4.0,
-                2048.0,
-                true,
-                "caustic map size (photons per side, per light and object)",
-            ));
-            p.push(param(
-                "caustics_in_lookup",
-                c.in_lookup as u32 as f64,
-                0.0,
-                1.0,
-                true,
-                "1: reflections and refractions show the caustics (paper fig. 11; the reference \
-                 has none there)",
-            ));
-            p.push(jitter_param(c.jitter));
-            match c.path {
-                CausticPath::Grid => p.push(param(
-                    "caustic_grid",
-                    c.grid as f64,
-                    4.0,
-                    1024.0,
-                    true,
-                    "face size of the photon accumulation grid",
-                )),
-                CausticPath::LightMap => {
-                    p.push(param(
-                        "lightmap_resolution",
-                        c.lightmap_resolution as f64,
-                        16.0,
-                        8192.0,
-                        true,
-                        "side of the receivers' light-map atlas (texels)",
-                    ));
-                    p.push(param(
-                        "splat_radius",
-                        c.splat_radius as f64,
-                        1.0,
-                        64.0,
-                        false,
-                        "radius of a photon's Gaussian quad in light-map texels (sigma = R / 2)",
-                    ));
-                    p.push(footprint_param(c.footprint));
-                }
-            }
-        }
-        if s.mode == Mode::DoubleRefraction {
-            p.push(param(
-                "refractor_iterations",
-                s.refractor_iterations as f64,
-                0.0,
-                64.0,
-                true,
-                "Hit() refinement steps inside the refractor map",
-            ));
-        }
-        p
+        self.settings.params()
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id, &self.params(), name, value)?;
-        let s = &mut self.settings;
-        match name {
-            "resolution" => s.resolution = value as u32,
-            "regen_threshold" => s.regen_threshold = value as f32,
-            "iterations" => s.iterations = value as u32,
-            "split" => s.split = value != 0.0,
-            "refractor_iterations" => s.refractor_iterations = value as u32,
-            _ => {
-                let c = s
-                    .caustics
-                    .as_mut()
-                    .expect("caustic parameters exist with caustics");
-                match name {
-                    "caustic_resolution" => c.resolution = value as u32,
-                    "caustics_in_lookup" => c.in_lookup = value != 0.0,
-                    PHOTON_JITTER_PARAM => c.jitter = value != 0.0,
-                    "caustic_grid" => c.grid = value as u32,
-                    "lightmap_resolution" => c.lightmap_resolution = value as u32,
-                    "splat_radius" => c.splat_radius = value as f32,
-                    PHOTON_FOOTPRINT_PARAM => c.footprint = value != 0.0,
-                    _ => unreachable!("check_param accepted an undeclared parameter"),
-                }
-            }
-        }
+        set_checked(&self.id, &mut self.settings, name, value)?;
         // Maps and pipelines depend on the settings: prepare() rebuilds them.
         self.state = None;
         Ok(())

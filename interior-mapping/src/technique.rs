@@ -6,7 +6,8 @@ use gpu::cube::CubeTarget;
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, Uniform, Vertex, bind};
-use scene::technique::{check_param, not_prepared};
+use scene::Settings as _;
+use scene::technique::{Declared, check_param, not_prepared, set_checked, setting_if};
 use scene::{
     Frame, GpuScene, Material, Object, ObjectFilter, Param, RasterTarget, Roles, Scene, Technique,
     TechniqueResult, View,
@@ -142,6 +143,17 @@ pub struct InteriorMapping {
     /// Depth-only pass over the hulls first, then shading with `LessEqual` (the `-prepass`
     /// ids): each pixel is shaded once.
     pub prepass: bool,
+    /// The parameters.
+    pub settings: Settings,
+    state: Option<State>,
+}
+
+/// The parameters of an [`InteriorMapping`] variant, each declared once
+/// ([`scene::Settings`]); which a variant has follows its `variant`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// The variant (what decides which parameters it has).
+    pub variant: Variant,
     /// Multiplies each building's room size (parameter `room_scale`).
     pub room_scale: f32,
     /// Interior texture size, texels per side (parameter `texture_resolution`).
@@ -159,7 +171,75 @@ pub struct InteriorMapping {
     /// Room surfaces of box hulls lit only through the windows (exact); false: the scene's
     /// shadow maps, as the polygon baseline.
     pub room_shadows: bool,
-    state: Option<State>,
+}
+
+impl Settings {
+    /// Whether rooms are cast (all but `reflection-only`, whose only parameter is the window
+    /// grid's `room_scale`).
+    fn casts_rooms(&self) -> bool {
+        self.variant != Variant::ReflectionOnly
+    }
+}
+
+impl scene::Settings for Settings {
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "room_scale",
+            (0.05, 20.0),
+            "multiplies each building's room size",
+            |s| Some(&mut s.room_scale),
+        ),
+        Declared::new(
+            "texture_resolution",
+            (16.0, 256.0),
+            "room cube map face size (texels per side; one face spans a room face as one \
+             interior texture does)",
+            |s| {
+                let cubes = s.casts_rooms() && s.variant.uses_room_cubes();
+                setting_if(cubes, &mut s.texture_resolution)
+            },
+        ),
+        Declared::new(
+            "texture_resolution",
+            (16.0, 256.0),
+            "interior texture size (texels per side)",
+            |s| {
+                let textures = s.casts_rooms() && !s.variant.uses_room_cubes();
+                setting_if(textures, &mut s.texture_resolution)
+            },
+        ),
+        Declared::new(
+            "room_shadows",
+            (0.0, 1.0),
+            "1: rooms of box hulls lit only through their windows (exact); 0: the scene's \
+             shadow maps, like interior-mapping/polygons",
+            |s| setting_if(s.casts_rooms(), &mut s.room_shadows),
+        ),
+        Declared::new(
+            "interior_light",
+            (0.0, 100.0),
+            "unshadowed room light: radiance = albedo * value (0 matches the reference)",
+            |s| setting_if(s.casts_rooms(), &mut s.interior_light),
+        ),
+        Declared::new(
+            "light_probability",
+            (0.0, 1.0),
+            "probability that a room's light is on (c in 5.4.1)",
+            |s| setting_if(s.variant == Variant::Varied, &mut s.light_probability),
+        ),
+        Declared::new(
+            "displacement",
+            (0.0, crate::rooms::MAX_DISPLACEMENT as f64),
+            "largest wall displacement (rooms)",
+            |s| setting_if(s.variant == Variant::Varied, &mut s.displacement),
+        ),
+        Declared::new(
+            "furniture_depth",
+            (0.0, 1.0),
+            "furniture plane depth behind the facade (rooms)",
+            |s| setting_if(s.variant == Variant::Furniture, &mut s.furniture_depth),
+        ),
+    ];
 }
 
 struct State {
@@ -186,9 +266,8 @@ impl InteriorMapping {
     /// parameters.
     pub fn new(variant: Variant, prepass: bool) -> Self {
         let varied = variant == Variant::Varied;
-        Self {
+        let settings = Settings {
             variant,
-            prepass,
             room_scale: 1.0,
             texture_resolution: 64,
             light_probability: 0.5,
@@ -196,6 +275,11 @@ impl InteriorMapping {
             furniture_depth: 0.4,
             displacement: if varied { 0.3 } else { 0.0 },
             room_shadows: true,
+        };
+        Self {
+            variant,
+            prepass,
+            settings,
             state: None,
         }
     }
@@ -253,93 +337,10 @@ impl Technique for InteriorMapping {
         )
     }
     fn params(&self) -> Vec<Param> {
-        let room_scale = Param {
-            name: "room_scale",
-            default: 1.0,
-            min: 0.05,
-            max: 20.0,
-            integer: false,
-            help: "multiplies each building's room size",
-        };
-        if self.variant == Variant::ReflectionOnly {
-            // No rooms are cast: only the window grid (room cells) depends on a parameter.
-            return vec![room_scale];
-        }
-        let mut p = vec![
-            room_scale,
-            Param {
-                name: "texture_resolution",
-                default: 64.0,
-                min: 16.0,
-                max: 256.0,
-                integer: true,
-                help: if self.variant.uses_room_cubes() {
-                    "room cube map face size (texels per side; one face spans a room face as one \
-                     interior texture does)"
-                } else {
-                    "interior texture size (texels per side)"
-                },
-            },
-            Param {
-                name: "room_shadows",
-                default: 1.0,
-                min: 0.0,
-                max: 1.0,
-                integer: true,
-                help: "1: rooms of box hulls lit only through their windows (exact); 0: the scene's shadow maps, like interior-mapping/polygons",
-            },
-            Param {
-                name: "interior_light",
-                default: self.default_interior_light(),
-                min: 0.0,
-                max: 100.0,
-                integer: false,
-                help: "unshadowed room light: radiance = albedo * value (0 matches the reference)",
-            },
-        ];
-        if self.variant == Variant::Varied {
-            p.push(Param {
-                name: "light_probability",
-                default: 0.5,
-                min: 0.0,
-                max: 1.0,
-                integer: false,
-                help: "probability that a room's light is on (c in 5.4.1)",
-            });
-            p.push(Param {
-                name: "displacement",
-                default: 0.3,
-                min: 0.0,
-                max: crate::rooms::MAX_DISPLACEMENT as f64,
-                integer: false,
-                help: "largest wall displacement (rooms)",
-            });
-        }
-        if self.variant == Variant::Furniture {
-            p.push(Param {
-                name: "furniture_depth",
-                default: 0.4,
-                min: 0.0,
-                max: 1.0,
-                integer: false,
-                help: "furniture plane depth behind the facade (rooms)",
-            });
-        }
-        p
+        self.settings.params()
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id(), &self.params(), name, value)?;
-        let v = value as f32;
-        match name {
-            "room_scale" => self.room_scale = v,
-            "texture_resolution" => self.texture_resolution = value as u32,
-            "interior_light" => self.interior_light = v,
-            "room_shadows" => self.room_shadows = value == 1.0,
-            "light_probability" => self.light_probability = v,
-            "displacement" => self.displacement = v,
-            _ => self.furniture_depth = v,
-        }
-        Ok(())
+        set_checked(&self.id(), &mut self.settings, name, value)
     }
     fn supports(&self, scene: &Scene) -> bool {
         has_buildings(scene)
@@ -363,14 +364,20 @@ impl Technique for InteriorMapping {
             records[i] = BuildingGpu {
                 world_to_object: o.world_at(time).inverse().to_cols_array_2d(),
                 grid_origin: lo.extend(number).to_array(),
-                room_size: (b.room_size * self.room_scale).extend(1.0).to_array(),
-                displacement: Vec3::new(self.displacement, 0.0, self.displacement)
-                    .extend(if has_window_holes(o) || o.mesh.triangle_count() == 12 {
-                        1.0
-                    } else {
-                        0.0
-                    })
+                room_size: (b.room_size * self.settings.room_scale)
+                    .extend(1.0)
                     .to_array(),
+                displacement: Vec3::new(
+                    self.settings.displacement,
+                    0.0,
+                    self.settings.displacement,
+                )
+                .extend(if has_window_holes(o) || o.mesh.triangle_count() == 12 {
+                    1.0
+                } else {
+                    0.0
+                })
+                .to_array(),
                 hull_max: hi.extend(0.0).to_array(),
             };
             number += 1.0;
@@ -435,7 +442,7 @@ impl Technique for InteriorMapping {
             wgpu::BufferUsages::INDEX,
         );
 
-        let size = self.texture_resolution;
+        let size = self.settings.texture_resolution;
         ctx.check_size(size, size)?;
         // The thesis's surface textures (every tint and the furniture frames), or, for the
         // cube-map interiors, which never read them, one placeholder texel.
@@ -565,14 +572,14 @@ impl Technique for InteriorMapping {
         let settings = SettingsGpu {
             a: [
                 self.variant.code(),
-                self.light_probability,
-                self.interior_light,
+                self.settings.light_probability,
+                self.settings.interior_light,
                 frame_index as f32,
             ],
             b: [
-                self.furniture_depth,
+                self.settings.furniture_depth,
                 GLASS_IOR,
-                if self.room_shadows { 1.0 } else { 0.0 },
+                if self.settings.room_shadows { 1.0 } else { 0.0 },
                 0.0,
             ],
         };
@@ -639,14 +646,6 @@ impl InteriorMapping {
     /// memory figure reported beside error and time.
     pub fn texture_bytes(&self) -> Option<u64> {
         self.state.as_ref().map(|s| s.texture_bytes)
-    }
-
-    fn default_interior_light(&self) -> f64 {
-        if self.variant == Variant::Varied {
-            0.3
-        } else {
-            0.0
-        }
     }
 }
 
@@ -862,7 +861,7 @@ impl Technique for PolygonInteriors {
         vec![
             Param {
                 name: "room_scale",
-                default: 1.0,
+                default: self.room_scale as f64,
                 min: 0.05,
                 max: 20.0,
                 integer: false,
@@ -870,7 +869,7 @@ impl Technique for PolygonInteriors {
             },
             Param {
                 name: "texture_resolution",
-                default: 64.0,
+                default: self.texture_resolution as f64,
                 min: 16.0,
                 max: 256.0,
                 integer: true,

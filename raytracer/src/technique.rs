@@ -3,7 +3,10 @@
 
 use crate::tracer::{GpuTracer, MAX_PHOTONS, MAX_VOLUMES, TracerSettings, Traversal};
 use gpu::Target;
-use scene::technique::{Param, TechniqueResult, check_param, not_prepared};
+use scene::Settings as _;
+use scene::technique::{
+    Declared, Param, ParamValue, TechniqueResult, not_prepared, set_checked, setting_if,
+};
 use scene::{Frame, GpuScene, Scene, Technique, View};
 
 /// The two variants.
@@ -20,10 +23,42 @@ pub enum Variant {
 /// A variant with its settings; the scene's tracer after `prepare`.
 pub struct RayTracer {
     variant: Variant,
-    settings: TracerSettings,
-    /// Frames an error frame accumulates ([`Technique::frames_to_converge`]).
-    converge: u32,
+    settings: Settings,
     tracer: Option<GpuTracer>,
+}
+
+/// The parameters of a variant: the tracer's, and the frames an error frame accumulates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub tracer: TracerSettings,
+    /// Frames an error frame accumulates ([`Technique::frames_to_converge`]).
+    pub converge: u32,
+}
+
+impl scene::Settings for Settings {
+    /// `photons` and `converge` where the variant traces photons (`photons` is `Some`).
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "max_depth",
+            (0.0, 16.0),
+            "specular interactions followed along a path (the reference's max_depth)",
+            |s| Some(&mut s.tracer.max_depth),
+        ),
+        Declared::new(
+            "photons",
+            (0.0, MAX_PHOTONS as f64),
+            "caustic photons per frame; 0: a sixteenth of the reference's density (61 per \
+             pixel, at least 100 000), so 16 frames of one view reach it",
+            |s| s.tracer.photons.as_mut().map(|p| p as &mut dyn ParamValue),
+        ),
+        Declared::new(
+            "converge",
+            (1.0, 1024.0),
+            "frames of one view an error frame accumulates (each with new photons, the \
+             image their running mean): 16 reach the reference's density with photons=0",
+            |s| setting_if(s.tracer.photons.is_some(), &mut s.converge),
+        ),
+    ];
 }
 
 /// The default of `converge`: an error frame holds 4 frames' photons, a quarter of the
@@ -37,16 +72,17 @@ impl RayTracer {
             Variant::Whitted => None,
             Variant::Caustics | Variant::RayQuery => Some(0),
         };
+        let tracer = TracerSettings {
+            photons,
+            ..TracerSettings::default()
+        };
+        let converge = match variant {
+            Variant::Whitted => 1,
+            Variant::Caustics | Variant::RayQuery => DEFAULT_CONVERGE,
+        };
         Self {
             variant,
-            settings: TracerSettings {
-                photons,
-                ..TracerSettings::default()
-            },
-            converge: match variant {
-                Variant::Whitted => 1,
-                Variant::Caustics | Variant::RayQuery => DEFAULT_CONVERGE,
-            },
+            settings: Settings { tracer, converge },
             tracer: None,
         }
     }
@@ -82,43 +118,13 @@ impl Technique for RayTracer {
     }
 
     fn params(&self) -> Vec<Param> {
-        let mut params = vec![Param::new(
-            "max_depth",
-            8.0,
-            (0.0, 16.0),
-            true,
-            "specular interactions followed along a path (the reference's max_depth)",
-        )];
-        if self.variant != Variant::Whitted {
-            params.push(Param::new(
-                "photons",
-                0.0,
-                (0.0, MAX_PHOTONS as f64),
-                true,
-                "caustic photons per frame; 0: a sixteenth of the reference's density (61 per \
-                 pixel, at least 100 000), so 16 frames of one view reach it",
-            ));
-            params.push(Param::new(
-                "converge",
-                DEFAULT_CONVERGE as f64,
-                (1.0, 1024.0),
-                true,
-                "frames of one view an error frame accumulates (each with new photons, the \
-                 image their running mean): 16 reach the reference's density with photons=0",
-            ));
-        }
-        params
+        self.settings.params()
     }
 
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id(), &self.params(), name, value)?;
-        match name {
-            "max_depth" => self.settings.max_depth = value as u32,
-            "converge" => self.converge = value as u32,
-            _ => self.settings.photons = Some(value as u64),
-        }
+        set_checked(&self.id(), &mut self.settings, name, value)?;
         if let Some(t) = &mut self.tracer {
-            t.set_settings(self.settings);
+            t.set_settings(self.settings.tracer);
         }
         Ok(())
     }
@@ -131,7 +137,7 @@ impl Technique for RayTracer {
     }
 
     fn frames_to_converge(&self) -> u32 {
-        self.converge
+        self.settings.converge
     }
 
     /// The ray-query variant is the same image as `caustics`, traversed by the hardware: what
@@ -147,7 +153,7 @@ impl Technique for RayTracer {
     fn contains(&self) -> Vec<scene::Contained> {
         let whitted = RayTracer::new(Variant::Whitted);
         if self.variant != Variant::Caustics
-            || self.settings.max_depth != whitted.settings.max_depth
+            || self.settings.tracer.max_depth != whitted.settings.tracer.max_depth
         {
             return Vec::new();
         }
@@ -188,7 +194,7 @@ impl Technique for RayTracer {
             frame.gpu,
             &scene.scene,
             scene.time(),
-            self.settings,
+            self.settings.tracer,
             match self.variant {
                 Variant::RayQuery => Traversal::RayQuery,
                 _ => Traversal::Bvh,

@@ -17,6 +17,7 @@ use crate::pieces::{Kinds, render_kind_maps};
 use crate::technique::{DistanceSearch, MAP_FORMAT, Maps, check_kinds};
 use gpu::Target;
 use gpu::cube::CubeTarget;
+use scene::Settings as _;
 use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
 use scene::technique::check_param;
 use scene::{Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View};

@@ -14,6 +14,7 @@
 //! photon drawn in direction `w` carries `Phi = I / sum_{j : w in cone j} (N_j / Omega_j)`
 //! (Veach's balance heuristic, one-sample form): `I Omega_j / N_j` where cones do not overlap.
 
+use crate::technique::{Declared, ParamValue};
 use crate::{Param, Roles, Scene};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -69,6 +70,25 @@ pub fn footprint_param(value: bool) -> Param {
         (0.0, 1.0),
         true,
         PHOTON_FOOTPRINT_HELP,
+    )
+}
+
+/// [`PHOTON_JITTER_PARAM`] declared once in a family's [`crate::Settings`], on the switch
+/// `setting` finds.
+pub const fn jitter_declared<S>(setting: fn(&mut S) -> Option<&mut dyn ParamValue>) -> Declared<S> {
+    Declared::new(PHOTON_JITTER_PARAM, (0.0, 1.0), PHOTON_JITTER_HELP, setting)
+}
+
+/// [`PHOTON_FOOTPRINT_PARAM`] declared once in a family's [`crate::Settings`], on the switch
+/// `setting` finds.
+pub const fn footprint_declared<S>(
+    setting: fn(&mut S) -> Option<&mut dyn ParamValue>,
+) -> Declared<S> {
+    Declared::new(
+        PHOTON_FOOTPRINT_PARAM,
+        (0.0, 1.0),
+        PHOTON_FOOTPRINT_HELP,
+        setting,
     )
 }
 

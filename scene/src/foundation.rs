@@ -168,7 +168,7 @@ impl Technique for ClassicEnvMap {
     fn params(&self) -> Vec<Param> {
         vec![Param {
             name: "resolution",
-            default: 256.0,
+            default: self.resolution as f64,
             min: 4.0,
             max: 4096.0,
             integer: true,

@@ -34,8 +34,8 @@ pub use kinds::Kinds;
 pub use medium::Medium;
 pub use model::*;
 pub use technique::{
-    Contained, Family, Frame, ImageCheck, Param, Technique, TechniqueError, TechniqueResult,
-    Timing, View,
+    Contained, Declared, Family, Frame, ImageCheck, Param, ParamValue, Settings, Technique,
+    TechniqueError, TechniqueResult, Timing, View,
 };
 
 use std::path::Path;

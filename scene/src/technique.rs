@@ -41,6 +41,163 @@ impl Param {
     }
 }
 
+/// A setting a parameter reads and writes, as the `f64` of [`Technique::set_param`]: whole
+/// counts (`u32`), reals (`f32`) and switches (`bool`, 0 or 1).
+pub trait ParamValue {
+    /// The setting as the parameter's value.
+    fn read(&self) -> f64;
+    /// Sets it from a value already checked against the parameter's range.
+    fn write(&mut self, value: f64);
+    /// Whether only whole numbers make sense.
+    fn integer(&self) -> bool;
+}
+
+impl ParamValue for u32 {
+    fn read(&self) -> f64 {
+        *self as f64
+    }
+    fn write(&mut self, value: f64) {
+        *self = value as u32;
+    }
+    fn integer(&self) -> bool {
+        true
+    }
+}
+
+impl ParamValue for u64 {
+    fn read(&self) -> f64 {
+        *self as f64
+    }
+    fn write(&mut self, value: f64) {
+        *self = value as u64;
+    }
+    fn integer(&self) -> bool {
+        true
+    }
+}
+
+impl ParamValue for f32 {
+    fn read(&self) -> f64 {
+        *self as f64
+    }
+    fn write(&mut self, value: f64) {
+        *self = value as f32;
+    }
+    fn integer(&self) -> bool {
+        false
+    }
+}
+
+impl ParamValue for bool {
+    fn read(&self) -> f64 {
+        f64::from(u8::from(*self))
+    }
+    fn write(&mut self, value: f64) {
+        *self = value != 0.0;
+    }
+    fn integer(&self) -> bool {
+        true
+    }
+}
+
+/// `setting` where `condition` holds (a parameter of some variants only), else `None`.
+pub fn setting_if(condition: bool, setting: &mut impl ParamValue) -> Option<&mut dyn ParamValue> {
+    if condition { Some(setting) } else { None }
+}
+
+/// One parameter of a settings type `S`, declared once: its name, range and help, and the
+/// setting it reads and writes. `setting` answers `None` where these settings lack it (a
+/// parameter of another variant: caustics' on a variant without caustics), and the
+/// parameter is then not declared.
+pub struct Declared<S> {
+    pub name: &'static str,
+    pub range: (f64, f64),
+    pub help: &'static str,
+    pub setting: fn(&mut S) -> Option<&mut dyn ParamValue>,
+}
+
+impl<S> Declared<S> {
+    /// Parameter `name` in `[min, max]` with one line of `help`, reading and writing the
+    /// setting `setting` finds.
+    pub const fn new(
+        name: &'static str,
+        (min, max): (f64, f64),
+        help: &'static str,
+        setting: fn(&mut S) -> Option<&mut dyn ParamValue>,
+    ) -> Self {
+        Self {
+            name,
+            range: (min, max),
+            help,
+            setting,
+        }
+    }
+}
+
+/// A family's settings with their parameters declared once ([`Settings::DECLARED`]): the
+/// parameter list (with each setting's current value as its default) and `set` follow from
+/// it, so a parameter cannot be listed without being settable, or settable without being
+/// listed.
+pub trait Settings: Clone + 'static {
+    /// Every parameter these settings may have, in the order [`Settings::params`] lists them.
+    const DECLARED: &'static [Declared<Self>];
+
+    /// The parameters these settings have, each with its current value as its default.
+    /// Settings that hold settings of a shared layer (a search's maps, the section-5
+    /// impostors') override it to list those too.
+    fn params(&self) -> Vec<Param> {
+        declared_params(self)
+    }
+
+    /// Sets parameter `name` (already checked against its range by [`check_param`]) and says
+    /// whether these settings have it.
+    fn set(&mut self, name: &str, value: f64) -> bool {
+        declared_set(self, name, value)
+    }
+}
+
+/// The parameters of [`Settings::DECLARED`] that `settings` has, each with its current value.
+pub fn declared_params<S: Settings>(settings: &S) -> Vec<Param> {
+    let mut probe = settings.clone();
+    S::DECLARED
+        .iter()
+        .filter_map(|d| {
+            let value = (d.setting)(&mut probe)?;
+            let (read, integer) = (value.read(), value.integer());
+            Some(Param::new(d.name, read, d.range, integer, d.help))
+        })
+        .collect()
+}
+
+/// Sets parameter `name` of [`Settings::DECLARED`] if `settings` has it.
+pub fn declared_set<S: Settings>(settings: &mut S, name: &str, value: f64) -> bool {
+    // A name may be declared more than once, with the help of each kind of variant: the
+    // first entry these settings have is the one.
+    let mut probe = settings.clone();
+    let applies = |d: &&Declared<S>| d.name == name && (d.setting)(&mut probe).is_some();
+    match S::DECLARED.iter().find(applies) {
+        Some(declared) => {
+            let setting = (declared.setting)(settings).expect("the probe has it");
+            setting.write(value);
+            true
+        }
+        None => false,
+    }
+}
+
+/// Checks `value` against the declared parameters of `settings` and sets it: what a
+/// technique's [`Technique::set_param`] does with settings of its own.
+pub fn set_checked(
+    id: &str,
+    settings: &mut impl Settings,
+    name: &str,
+    value: f64,
+) -> TechniqueResult<()> {
+    check_param(id, &settings.params(), name, value)?;
+    settings.set(name, value);
+    Ok(())
+}
+
 /// What is being rendered this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {

@@ -4,9 +4,25 @@
 
 use crate::reference::{self, ReferenceOptions};
 use gpu::Target;
+use scene::Settings as _;
 use scene::foundation::upload_image;
-use scene::technique::check_param;
+use scene::technique::{Declared, set_checked};
 use scene::{Frame, GpuScene, Param, Scene, Technique, TechniqueResult, Timing, View};
+
+/// The reference's parameters, declared once.
+impl scene::Settings for ReferenceOptions {
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new("max_depth", (0.0, 64.0), "specular bounces followed", |s| {
+            Some(&mut s.max_depth)
+        }),
+        Declared::new(
+            "photons",
+            (0.0, 1e9),
+            "caustic photons per frame (0: no caustics)",
+            |s| Some(&mut s.photons),
+        ),
+    ];
+}
 
 /// The ground truth as a technique: renders on the CPU and uploads the image.
 pub struct ReferenceTechnique {
@@ -29,32 +45,10 @@ impl Technique for ReferenceTechnique {
         "CPU ground truth: Whitted specular chains split by Fresnel + light-traced caustics".into()
     }
     fn params(&self) -> Vec<Param> {
-        vec![
-            Param {
-                name: "max_depth",
-                default: 8.0,
-                min: 0.0,
-                max: 64.0,
-                integer: true,
-                help: "specular bounces followed",
-            },
-            Param {
-                name: "photons",
-                default: ReferenceOptions::default().photons as f64,
-                min: 0.0,
-                max: 1e9,
-                integer: true,
-                help: "caustic photons per frame (0: no caustics)",
-            },
-        ]
+        self.options.params()
     }
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id(), &self.params(), name, value)?;
-        match name {
-            "max_depth" => self.options.max_depth = value as u32,
-            _ => self.options.photons = value as u64,
-        }
-        Ok(())
+        set_checked(&self.id(), &mut self.options, name, value)
     }
     fn supports(&self, _scene: &Scene) -> bool {
         true

@@ -25,7 +25,8 @@ use glam::Vec3;
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, bind};
-use scene::technique::{check_param, not_prepared};
+use scene::Settings as _;
+use scene::technique::{Declared, not_prepared, set_checked, setting_if};
 use scene::{
     BACKGROUND_DISTANCE, Camera, Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene,
     Technique, TechniqueResult, View, Volume,
@@ -395,24 +396,89 @@ pub fn placed_volumes(
     out
 }
 
-/// One variant of the volume techniques.
-pub struct VolumeTechnique {
-    variant: Variant,
+/// The parameters of a variant, each declared once ([`scene::Settings`]); which a variant
+/// has follows its drawing method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// The variant's method (what decides which parameters it has).
+    pub method: Method,
     /// Billboard half size in units of the volume radius (billboards and ray-traced).
-    billboard_scale: f32,
+    pub billboard_scale: f32,
     /// Ray-traced: size each billboard to the sphere's silhouette, and draw a screen-filling
     /// quad when the eye is inside or next to the sphere (a departure from the thesis, which
     /// accepts the cut-off, 6.3.3).
-    fit_silhouette: bool,
+    pub fit_silhouette: bool,
     /// Ray-traced: read the raster pass's depth buffer instead of rendering the thesis's
     /// distance texture (the depth "already exists for other reasons").
-    free_depth: bool,
+    pub free_depth: bool,
     /// Billboards and slices: render the distance texture anyway (the thesis's measurement of
     /// what the depth texture costs, 6.4.3).
-    depth_prepass: bool,
+    pub depth_prepass: bool,
     /// Depth fade: the gap (units of the volume radius) over which a billboard fades in
     /// front of the scene (parameter `fade_distance`).
-    fade_distance: f32,
+    pub fade_distance: f32,
+}
+
+impl Settings {
+    fn raytraced(&self) -> bool {
+        matches!(self.method, Method::Raytraced(_))
+    }
+    fn scaled(&self) -> bool {
+        matches!(
+            self.method,
+            Method::Raytraced(_) | Method::DepthFade | Method::Billboard
+        )
+    }
+}
+
+impl scene::Settings for Settings {
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "billboard_scale",
+            (1.0, 8.0),
+            "billboard half size in units of the volume radius (the sphere is cut where its \
+             silhouette leaves the billboard)",
+            |s| setting_if(s.scaled(), &mut s.billboard_scale),
+        ),
+        Declared::new(
+            "fit_silhouette",
+            (0.0, 1.0),
+            "1: size each billboard to cover the sphere's silhouette and fill the screen \
+             when the eye is inside or next to the volume (not in the thesis); \
+             0: billboard_scale times the radius, as the thesis",
+            |s| setting_if(s.raytraced(), &mut s.fit_silhouette),
+        ),
+        Declared::new(
+            "free_depth",
+            (0.0, 1.0),
+            "1: read the raster pass's depth buffer (the depth texture exists for other \
+             reasons, its cost not charged); 0: render the thesis's R16Float distance texture",
+            |s| setting_if(s.raytraced(), &mut s.free_depth),
+        ),
+        Declared::new(
+            "fade_distance",
+            (0.0, 10.0),
+            "scene-to-billboard gap over which a particle fades in, in units of its \
+             radius (0: a hard depth test)",
+            |s| setting_if(s.method == Method::DepthFade, &mut s.fade_distance),
+        ),
+        Declared::new(
+            "depth_prepass",
+            (0.0, 1.0),
+            "1: also render the (unused) scene distance texture, as the thesis did to \
+             measure its cost (6.4.3)",
+            |s| {
+                let unused = matches!(s.method, Method::Billboard | Method::Slices { .. });
+                setting_if(unused, &mut s.depth_prepass)
+            },
+        ),
+    ];
+}
+
+/// One variant of the volume techniques.
+pub struct VolumeTechnique {
+    variant: Variant,
+    settings: Settings,
     gpu: Option<Resources>,
     buffers: Option<FrameBuffers>,
 }
@@ -457,13 +523,17 @@ impl VolumeTechnique {
     /// The technique of `variant` with the default parameters (`billboard_scale`
     /// [`DEFAULT_BILLBOARD_SCALE`], `fit_silhouette`, `free_depth` and `depth_prepass` off).
     pub fn new(variant: Variant) -> Self {
-        Self {
-            variant,
+        let settings = Settings {
+            method: variant.method,
             billboard_scale: DEFAULT_BILLBOARD_SCALE,
             fit_silhouette: false,
             free_depth: false,
             depth_prepass: false,
             fade_distance: DEFAULT_FADE_DISTANCE,
+        };
+        Self {
+            variant,
+            settings,
             gpu: None,
             buffers: None,
         }
@@ -492,7 +562,8 @@ impl VolumeTechnique {
     /// Where the scene depth is read from: the depth buffer (depth fade, as engines do, and
     /// ray-traced volumes with `free_depth`) or the thesis's distance texture.
     fn reads_depth_buffer(&self) -> bool {
-        self.variant.method == Method::DepthFade || (self.is_raytraced() && self.free_depth)
+        self.variant.method == Method::DepthFade
+            || (self.is_raytraced() && self.settings.free_depth)
     }
 
     fn slice_count(&self) -> u32 {
@@ -516,9 +587,9 @@ impl VolumeTechnique {
         if self.variant.method == Method::DepthFade {
             false
         } else if self.is_raytraced() {
-            !self.free_depth
+            !self.settings.free_depth
         } else {
-            self.depth_prepass
+            self.settings.depth_prepass
         }
     }
 
@@ -616,71 +687,11 @@ impl Technique for VolumeTechnique {
     }
 
     fn params(&self) -> Vec<Param> {
-        let mut params = Vec::new();
-        match self.variant.method {
-            Method::Raytraced(_) => {
-                params.push(scale_param());
-                params.push(Param {
-                    name: "fit_silhouette",
-                    default: 0.0,
-                    min: 0.0,
-                    max: 1.0,
-                    integer: true,
-                    help: "1: size each billboard to cover the sphere's silhouette and fill the screen \
-                           when the eye is inside or next to the volume (not in the thesis); \
-                           0: billboard_scale times the radius, as the thesis",
-                });
-                params.push(Param {
-                    name: "free_depth",
-                    default: 0.0,
-                    min: 0.0,
-                    max: 1.0,
-                    integer: true,
-                    help: "1: read the raster pass's depth buffer (the depth texture exists for other \
-                           reasons, its cost not charged); 0: render the thesis's R16Float distance texture",
-                });
-            }
-            Method::DepthFade => {
-                params.push(scale_param());
-                params.push(Param {
-                    name: "fade_distance",
-                    default: DEFAULT_FADE_DISTANCE as f64,
-                    min: 0.0,
-                    max: 10.0,
-                    integer: false,
-                    help: "scene-to-billboard gap over which a particle fades in, in units of its \
-                           radius (0: a hard depth test)",
-                });
-            }
-            Method::Billboard | Method::Slices { .. } => {
-                if self.variant.method == Method::Billboard {
-                    params.push(scale_param());
-                }
-                params.push(Param {
-                    name: "depth_prepass",
-                    default: 0.0,
-                    min: 0.0,
-                    max: 1.0,
-                    integer: true,
-                    help: "1: also render the (unused) scene distance texture, as the thesis did to \
-                           measure its cost (6.4.3)",
-                });
-            }
-        }
-        params
+        self.settings.params()
     }
 
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id(), &self.params(), name, value)?;
-        match name {
-            "billboard_scale" => self.billboard_scale = value as f32,
-            "free_depth" => self.free_depth = value != 0.0,
-            "fit_silhouette" => self.fit_silhouette = value != 0.0,
-            "depth_prepass" => self.depth_prepass = value != 0.0,
-            "fade_distance" => self.fade_distance = value as f32,
-            _ => unreachable!("check_param accepts declared names only"),
-        }
-        Ok(())
+        set_checked(&self.id(), &mut self.settings, name, value)
     }
 
     fn supports(&self, scene: &Scene) -> bool {
@@ -704,7 +715,8 @@ impl Technique for VolumeTechnique {
     ) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         if self.gpu.as_ref().is_some_and(|r| {
-            r.free_depth != self.free_depth || r.fade_distance != self.fade_distance
+            r.free_depth != self.settings.free_depth
+                || r.fade_distance != self.settings.fade_distance
         }) {
             // `free_depth` or `fade_distance` changed after prepare: respecialise the pipelines.
             self.gpu = Some(ctx.validated(|| self.create_resources(ctx, scene))?);
@@ -859,18 +871,6 @@ impl Technique for VolumeTechnique {
     }
 }
 
-fn scale_param() -> Param {
-    Param {
-        name: "billboard_scale",
-        default: DEFAULT_BILLBOARD_SCALE as f64,
-        min: 1.0,
-        max: 8.0,
-        integer: false,
-        help: "billboard half size in units of the volume radius (the sphere is cut where its \
-               silhouette leaves the billboard)",
-    }
-}
-
 impl VolumeTechnique {
     /// The thickness texture: baked from the first volume of the variant's set as seen from
     /// the scene's default camera at time 0 (the artist's view), or the plain sphere profile
@@ -909,8 +909,8 @@ impl VolumeTechnique {
     fn volume_record(&self, v: &PlacedVolume, volumes: &[Volume]) -> VolumeGpu {
         let (half_size, screen) = billboard_extent(
             v,
-            self.billboard_scale,
-            self.fit_silhouette && self.is_raytraced(),
+            self.settings.billboard_scale,
+            self.settings.fit_silhouette && self.is_raytraced(),
         );
         let baked = self
             .gpu
@@ -1017,7 +1017,7 @@ impl VolumeTechnique {
                 "DEPTH_SOURCE",
                 if self.reads_depth_buffer() { 1.0 } else { 0.0 },
             ),
-            ("FADE", self.fade_distance as f64),
+            ("FADE", self.settings.fade_distance as f64),
         ];
         let options = wgpu::PipelineCompilationOptions {
             constants: &constants,
@@ -1134,8 +1134,8 @@ impl VolumeTechnique {
             .create_view(&Default::default());
         Resources {
             baked,
-            free_depth: self.free_depth,
-            fade_distance: self.fade_distance,
+            free_depth: self.settings.free_depth,
+            fade_distance: self.settings.fade_distance,
             volume_layout,
             copy_layout,
             volume_pipeline,

@@ -29,10 +29,9 @@ use super::grid::EMPTY;
 use super::pieces::{PIECES_WGSL, PieceGpu, pieces_at};
 use super::tracer::{ObjectSearch, SEARCH_FIRST_BINDING, driver_entries, storage};
 use crate::kinds::Kinds;
-use crate::technique::MAP_BUDGET_BYTES;
+use crate::technique::{Declared, MAP_BUDGET_BYTES, Settings, setting_if};
 use crate::{
-    Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, TechniqueError, TechniqueResult,
-    View,
+    Frame, GpuScene, ObjectFilter, RasterTarget, Scene, TechniqueError, TechniqueResult, View,
 };
 use glam::Vec3;
 use gpu::cube::{CubeArray, cube_face_view_proj};
@@ -98,51 +97,34 @@ impl ImpostorSettings {
             ..self
         }
     }
+}
 
+impl Settings for ImpostorSettings {
     /// The parameters both families declare (`env_resolution` and `env_iterations` are
     /// declared with their other maps'; `find_mover` by separated variants only).
-    pub fn params(&self) -> Vec<Param> {
-        let mut params = vec![
-            Param::new(
-                "env_depth",
-                self.env_depth as f64,
-                (0.0, MAX_ENV_DEPTH as f64),
-                true,
-                "rounds of drawing the pieces into each other's impostors (0: diffuse scene \
-                 only)",
-            ),
-            Param::new(
-                "rebuild_threshold",
-                self.rebuild_threshold as f64,
-                (0.0, 10.0),
-                false,
-                "metres the moving piece travels before the impostors are updated again (0: \
-                 every frame)",
-            ),
-        ];
-        if self.separated {
-            params.push(Param::new(
-                "find_mover",
-                self.find_mover as u32 as f64,
-                (0.0, 1.0),
-                true,
-                "separated: 1, the static pieces find the moving one from outside (section \
-                 5.2); 0, they show their static impostors alone, without it",
-            ));
-        }
-        params
-    }
-
-    /// Sets parameter `name` if it is one of [`ImpostorSettings::params`] (already checked).
-    pub fn set(&mut self, name: &str, value: f64) -> bool {
-        match name {
-            "env_depth" => self.env_depth = value as u32,
-            "rebuild_threshold" => self.rebuild_threshold = value as f32,
-            "find_mover" => self.find_mover = value != 0.0,
-            _ => return false,
-        }
-        true
-    }
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "env_depth",
+            (0.0, MAX_ENV_DEPTH as f64),
+            "rounds of drawing the pieces into each other's impostors (0: diffuse scene \
+             only)",
+            |s| Some(&mut s.env_depth),
+        ),
+        Declared::new(
+            "rebuild_threshold",
+            (0.0, 10.0),
+            "metres the moving piece travels before the impostors are updated again (0: \
+             every frame)",
+            |s| Some(&mut s.rebuild_threshold),
+        ),
+        Declared::new(
+            "find_mover",
+            (0.0, 1.0),
+            "separated: 1, the static pieces find the moving one from outside (section \
+             5.2); 0, they show their static impostors alone, without it",
+            |s| setting_if(s.separated, &mut s.find_mover),
+        ),
+    ];
 }
 
 /// How a piece's first hit is found, in the eye pass and when pieces are drawn into
