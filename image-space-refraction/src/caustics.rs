@@ -404,106 +404,9 @@ impl Caustics {
             .map(|r| r.members.len() as u32)
             .sum::<u32>();
         let accumulator = Accumulator::new(ctx, settings, layers);
-        let mut views = Vec::new();
-        for light in 0..scene.scene.lights.len() {
-            for (refractor, (env, params)) in bindings.refractors.iter().enumerate() {
-                let eye = Uniform::new(ctx, "light eye", &bytemuck::Zeroable::zeroed());
-                let group = bind::group(
-                    ctx,
-                    "photon pass",
-                    bindings.layout,
-                    &[
-                        bind::view(env),
-                        bind::sampler_resource(&ctx.samplers.linear_clamp),
-                        params.clone(),
-                        eye.binding(),
-                        bind::view(&light_front),
-                        bind::view(&light_back),
-                        bind::view(&light_front),
-                        bindings.normal_thickness.as_entire_binding(),
-                    ],
-                );
-                views.push(LightView {
-                    light,
-                    refractor,
-                    eye,
-                    group,
-                });
-            }
-        }
-        // Caustic mapping.
-        let map_layout = bind::layout(
-            ctx,
-            "caustic mapping",
-            wgpu::ShaderStages::FRAGMENT,
-            &[
-                bind::storage(true),                                      // rects
-                bind::storage(true),                                      // caustic
-                bind::depth_texture(wgpu::TextureViewDimension::D2Array), // impostor_depth
-                bind::uniform(),                                          // map
-                bind::storage(true),                                      // rect_of_object
-            ],
-        );
-        // The visibility test's slack: 2% of a rectangle's depth range (a few texels of depth
-        // on a slanted receiver).
-        let bias = 0.02f32;
-        let map_params = Uniform::new(
-            ctx,
-            "caustic map params",
-            &[settings.resolution, 0, f32::to_bits(bias), 0],
-        );
-        let depth_array = rectangles.depth.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-        let mut rect_of_object = Vec::new();
-        let mut map_groups = Vec::new();
-        for table in &rectangles.refractors {
-            let mut of_object = vec![-1i32; scene.scene.objects.len().max(1)];
-            for (i, m) in table.members.iter().enumerate() {
-                of_object[m.object] = i as i32;
-            }
-            use wgpu::util::DeviceExt;
-            let buffer = ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("rect of object"),
-                    contents: bytemuck::cast_slice(&of_object),
-                    usage: wgpu::BufferUsages::STORAGE,
-                });
-            map_groups.push(bind::group(
-                ctx,
-                "caustic mapping",
-                &map_layout,
-                &[
-                    table.rects.as_entire_binding(),
-                    accumulator.caustic.as_entire_binding(),
-                    bind::view(&depth_array),
-                    map_params.binding(),
-                    buffer.as_entire_binding(),
-                ],
-            ));
-            rect_of_object.push(buffer);
-        }
-        let source = format!(
-            "{}\n{}\n{}",
-            scene::SCENE_WGSL,
-            include_str!("shaders/rect.wgsl"),
-            include_str!("shaders/caustic.wgsl")
-        );
-        let module = gpu::shader_with_prelude(ctx, "caustic mapping", &source);
-        let map_pipeline = scene::scene_pipeline_with(
-            ctx,
-            "caustic mapping",
-            &scene.pipeline_layout_with(ctx, &[&map_layout]),
-            &module,
-            "caustic_fs",
-            &[gpu::pass::color_target(
-                gpu::HDR_FORMAT,
-                Some(gpu::pass::ADD_RGB_KEEP_ALPHA),
-            )],
-            (false, wgpu::CompareFunction::LessEqual),
-        );
+        let views = light_views(ctx, scene, &bindings, [&light_front, &light_back]);
+        let (map_pipeline, map_groups, map_params, rect_of_object) =
+            caustic_mapping(ctx, scene, &settings, rectangles, &accumulator);
         Self {
             settings,
             accumulator,
@@ -657,4 +560,133 @@ impl Caustics {
             scene.draw_objects(&mut pass, &scene::ObjectFilter::Only(members));
         }
     }
+}
+
+/// One bind group of the photon pass per light and refractor: the refractor's environment
+/// map and parameters, the light's eye, and the light's front and back buffers.
+fn light_views(
+    ctx: &Context,
+    scene: &GpuScene,
+    bindings: &RefractorBindings,
+    [light_front, light_back]: [&wgpu::TextureView; 2],
+) -> Vec<LightView> {
+    let mut views = Vec::new();
+    for light in 0..scene.scene.lights.len() {
+        for (refractor, (env, params)) in bindings.refractors.iter().enumerate() {
+            let eye = Uniform::new(ctx, "light eye", &bytemuck::Zeroable::zeroed());
+            let group = bind::group(
+                ctx,
+                "photon pass",
+                bindings.layout,
+                &[
+                    bind::view(env),
+                    bind::sampler_resource(&ctx.samplers.linear_clamp),
+                    params.clone(),
+                    eye.binding(),
+                    bind::view(light_front),
+                    bind::view(light_back),
+                    bind::view(light_front),
+                    bindings.normal_thickness.as_entire_binding(),
+                ],
+            );
+            views.push(LightView {
+                light,
+                refractor,
+                eye,
+                group,
+            });
+        }
+    }
+    views
+}
+
+/// Caustic mapping: the pass that adds each rectangle's caustic texture onto
+/// the receivers seen from the eye, with its bind group per refractor, its parameters and
+/// each refractor's rectangle-of-object table.
+fn caustic_mapping(
+    ctx: &Context,
+    scene: &GpuScene,
+    settings: &CausticSettings,
+    rectangles: &Rectangles,
+    accumulator: &Accumulator,
+) -> (
+    wgpu::RenderPipeline,
+    Vec<wgpu::BindGroup>,
+    Uniform<[u32; 4]>,
+    Vec<wgpu::Buffer>,
+) {
+    // Caustic mapping.
+    let map_layout = bind::layout(
+        ctx,
+        "caustic mapping",
+        wgpu::ShaderStages::FRAGMENT,
+        &[
+            bind::storage(true),                                      // rects
+            bind::storage(true),                                      // caustic
+            bind::depth_texture(wgpu::TextureViewDimension::D2Array), // impostor_depth
+            bind::uniform(),                                          // map
+            bind::storage(true),                                      // rect_of_object
+        ],
+    );
+    // The visibility test's slack: 2% of a rectangle's depth range (a few texels of depth
+    // on a slanted receiver).
+    let bias = 0.02f32;
+    let map_params = Uniform::new(
+        ctx,
+        "caustic map params",
+        &[settings.resolution, 0, f32::to_bits(bias), 0],
+    );
+    let depth_array = rectangles.depth.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let mut rect_of_object = Vec::new();
+    let mut map_groups = Vec::new();
+    for table in &rectangles.refractors {
+        let mut of_object = vec![-1i32; scene.scene.objects.len().max(1)];
+        for (i, m) in table.members.iter().enumerate() {
+            of_object[m.object] = i as i32;
+        }
+        use wgpu::util::DeviceExt;
+        let buffer = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("rect of object"),
+                contents: bytemuck::cast_slice(&of_object),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+        map_groups.push(bind::group(
+            ctx,
+            "caustic mapping",
+            &map_layout,
+            &[
+                table.rects.as_entire_binding(),
+                accumulator.caustic.as_entire_binding(),
+                bind::view(&depth_array),
+                map_params.binding(),
+                buffer.as_entire_binding(),
+            ],
+        ));
+        rect_of_object.push(buffer);
+    }
+    let source = format!(
+        "{}\n{}\n{}",
+        scene::SCENE_WGSL,
+        include_str!("shaders/rect.wgsl"),
+        include_str!("shaders/caustic.wgsl")
+    );
+    let module = gpu::shader_with_prelude(ctx, "caustic mapping", &source);
+    let map_pipeline = scene::scene_pipeline_with(
+        ctx,
+        "caustic mapping",
+        &scene.pipeline_layout_with(ctx, &[&map_layout]),
+        &module,
+        "caustic_fs",
+        &[gpu::pass::color_target(
+            gpu::HDR_FORMAT,
+            Some(gpu::pass::ADD_RGB_KEEP_ALPHA),
+        )],
+        (false, wgpu::CompareFunction::LessEqual),
+    );
+    (map_pipeline, map_groups, map_params, rect_of_object)
 }

@@ -216,7 +216,6 @@ impl Caustics {
             // Additive blending into 32-bit float texels.
             ctx.require(wgpu::Features::FLOAT32_BLENDABLE)?;
         }
-        let device = &ctx.device;
         let frag = wgpu::ShaderStages::FRAGMENT;
         let layers = bind::texture(wgpu::TextureViewDimension::D2Array, false);
         let group3_layout = bind::layout(
@@ -250,83 +249,24 @@ impl Caustics {
         let empty_layout = bind::layout(ctx, "empty", frag, &[]);
         let empty_group = bind::group(ctx, "empty", &empty_layout, &[]);
 
-        let module = gpu::shader_with_prelude(ctx, "impostors caustics", localized_source);
-        let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, &group3_layout]);
-        let (map_entry, apply_entry) = match settings.path {
-            CausticPath::LightMap => ("caustic_uv_fs", "lightmap_apply_fs"),
-            CausticPath::Grid => ("caustic_map_fs", "caustic_apply_fs"),
-        };
-        let less = (true, wgpu::CompareFunction::Less);
-        let map_pipeline = scene::scene_pipeline_with(
-            ctx,
-            "caustic map",
-            &layout,
-            &module,
-            map_entry,
-            &[
-                color_target(PHOTON_FORMAT, None),
-                color_target(PHOTON_FORMAT, None),
-            ],
-            less,
-        );
-        let apply_pipeline = scene::scene_pipeline_with(
-            ctx,
-            "caustics apply",
-            &layout,
-            &module,
-            apply_entry,
-            &[color_target(gpu::HDR_FORMAT, Some(ADD_RGB_KEEP_ALPHA))],
-            (false, wgpu::CompareFunction::LessEqual),
-        );
-        let localized_pipeline = scene::scene_pipeline_with(
-            ctx,
-            "localized lookup with caustics",
-            &layout,
-            &module,
-            "localized_fs",
-            &[color_target(gpu::HDR_FORMAT, None)],
-            less,
-        );
-        let receiver_pipeline = scene::scene_pipeline_with(
-            ctx,
-            "caustic receivers",
-            &scene.pipeline_layout_with(ctx, &[&empty_layout, &receiver_layout]),
-            &module,
-            "receiver_fs",
-            &[
-                color_target(RECEIVER_INFO_FORMAT, None),
-                color_target(RECEIVER_ALBEDO_FORMAT, None),
-            ],
-            less,
-        );
+        let layouts = [
+            impostor_layout,
+            &group3_layout,
+            &empty_layout,
+            &receiver_layout,
+        ];
+        let [
+            map_pipeline,
+            apply_pipeline,
+            localized_pipeline,
+            receiver_pipeline,
+        ] = caustic_pipelines(ctx, scene, layouts, localized_source, settings.path);
         let splat = match settings.path {
             CausticPath::Grid => splat_compute(ctx),
             CausticPath::LightMap => Splatter::Quads(QuadSplatter::new(ctx, LIGHT_MAP_FORMAT)),
         };
 
-        let atlas = ChartAtlas::new(&scene.scene, settings.lightmap_resolution);
-        let charts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("light-map charts"),
-            contents: bytemuck::cast_slice(&atlas.gpu_charts()),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let chart_of = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("light-map chart table"),
-            contents: bytemuck::cast_slice(&atlas.chart_of),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        // The grid path never writes the light map: a 1 x 1 stand-in.
-        let side = match settings.path {
-            CausticPath::LightMap => settings.lightmap_resolution,
-            CausticPath::Grid => 1,
-        };
-        let light_map = gpu::render_texture(
-            ctx,
-            "caustic light map",
-            (side, side, 1),
-            LIGHT_MAP_FORMAT,
-            wgpu::TextureUsages::COPY_SRC,
-        );
+        let (atlas, charts, chart_of, light_map) = light_map_resources(ctx, scene, settings);
         let light_map_view = light_map.create_view(&Default::default());
         Ok(Self {
             settings: settings.clone(),
@@ -765,4 +705,114 @@ fn splat_compute(ctx: &Context) -> Splatter {
     let module = gpu::shader_with_prelude(ctx, "caustic splat", SPLAT_WGSL);
     let pipeline = gpu::compute::pipeline(ctx, "caustic splat", &[&layout], &module, "splat_main");
     Splatter::Compute { pipeline, layout }
+}
+
+/// The caustic passes' pipelines from the localized module with caustics: the caustic map
+/// (photon landing points and power), the apply onto the receivers, the localized lookup
+/// with caustics, and the receivers' pass. `layouts`: the impostor's `@group(2)`, the
+/// caustics' `@group(3)`, and the receiver pass's empty `@group(2)` and `@group(3)`.
+fn caustic_pipelines(
+    ctx: &Context,
+    scene: &GpuScene,
+    [
+        impostor_layout,
+        group3_layout,
+        empty_layout,
+        receiver_layout,
+    ]: [&wgpu::BindGroupLayout; 4],
+    localized_source: &str,
+    path: CausticPath,
+) -> [wgpu::RenderPipeline; 4] {
+    let module = gpu::shader_with_prelude(ctx, "impostors caustics", localized_source);
+    let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, group3_layout]);
+    let (map_entry, apply_entry) = match path {
+        CausticPath::LightMap => ("caustic_uv_fs", "lightmap_apply_fs"),
+        CausticPath::Grid => ("caustic_map_fs", "caustic_apply_fs"),
+    };
+    let less = (true, wgpu::CompareFunction::Less);
+    let map_pipeline = scene::scene_pipeline_with(
+        ctx,
+        "caustic map",
+        &layout,
+        &module,
+        map_entry,
+        &[
+            color_target(PHOTON_FORMAT, None),
+            color_target(PHOTON_FORMAT, None),
+        ],
+        less,
+    );
+    let apply_pipeline = scene::scene_pipeline_with(
+        ctx,
+        "caustics apply",
+        &layout,
+        &module,
+        apply_entry,
+        &[color_target(gpu::HDR_FORMAT, Some(ADD_RGB_KEEP_ALPHA))],
+        (false, wgpu::CompareFunction::LessEqual),
+    );
+    let localized_pipeline = scene::scene_pipeline_with(
+        ctx,
+        "localized lookup with caustics",
+        &layout,
+        &module,
+        "localized_fs",
+        &[color_target(gpu::HDR_FORMAT, None)],
+        less,
+    );
+    let receiver_pipeline = scene::scene_pipeline_with(
+        ctx,
+        "caustic receivers",
+        &scene.pipeline_layout_with(ctx, &[empty_layout, receiver_layout]),
+        &module,
+        "receiver_fs",
+        &[
+            color_target(RECEIVER_INFO_FORMAT, None),
+            color_target(RECEIVER_ALBEDO_FORMAT, None),
+        ],
+        less,
+    );
+    [
+        map_pipeline,
+        apply_pipeline,
+        localized_pipeline,
+        receiver_pipeline,
+    ]
+}
+
+/// The light-map path's atlas of receiver charts with its chart tables, and the light map
+/// (a 1 x 1 stand-in on the grid path, which never writes it).
+fn light_map_resources(
+    ctx: &Context,
+    scene: &GpuScene,
+    settings: &CausticSettings,
+) -> (ChartAtlas, wgpu::Buffer, wgpu::Buffer, wgpu::Texture) {
+    let atlas = ChartAtlas::new(&scene.scene, settings.lightmap_resolution);
+    let charts = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light-map charts"),
+            contents: bytemuck::cast_slice(&atlas.gpu_charts()),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    let chart_of = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light-map chart table"),
+            contents: bytemuck::cast_slice(&atlas.chart_of),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    // The grid path never writes the light map: a 1 x 1 stand-in.
+    let side = match settings.path {
+        CausticPath::LightMap => settings.lightmap_resolution,
+        CausticPath::Grid => 1,
+    };
+    let light_map = gpu::render_texture(
+        ctx,
+        "caustic light map",
+        (side, side, 1),
+        LIGHT_MAP_FORMAT,
+        wgpu::TextureUsages::COPY_SRC,
+    );
+    (atlas, charts, chart_of, light_map)
 }

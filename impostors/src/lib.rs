@@ -20,6 +20,7 @@
 
 pub mod caustics;
 pub mod technique;
+pub mod variants;
 
 pub use technique::{Impostor, Lookup, Mode, Probe, Settings};
 
@@ -37,7 +38,7 @@ pub const FAMILY: scene::Family = scene::Family {
 /// `impostors/box-projected-double` (parallax-corrected cube maps), `impostors/caustics`,
 /// `impostors/caustics-compute`.
 pub fn techniques() -> Vec<Box<dyn scene::Technique>> {
-    technique::variants()
+    variants::variants()
 }
 
 /// The image checks of this crate (run by the tests crate against the reference along the

@@ -305,119 +305,6 @@ impl scene::Settings for Settings {
     ];
 }
 
-/// Every variant of this crate, with the ids the harness lists.
-pub fn variants() -> Vec<Box<dyn Technique>> {
-    let mut v: Vec<Box<dyn Technique>> = Vec::new();
-    let s = Settings::default();
-    v.push(Box::new(Impostor::new(
-        "impostors/classic",
-        "classic environment map (direction-only lookup) on the impostor's own maps and regeneration",
-        Settings { mode: Mode::Classic, iterations: 0, ..s.clone() },
-    )));
-    v.push(Box::new(Impostor::new(
-        "impostors/initial-guess",
-        "distance impostor, perpendicular + planar guesses only (eqs. 2, 4), no iteration",
-        Settings {
-            iterations: 0,
-            ..s.clone()
-        },
-    )));
-    for n in 1..=8 {
-        v.push(Box::new(Impostor::new(
-            &format!("impostors/secant-{n}"),
-            &format!("distance impostor, {n} secant iterations (eq. 6, previous approximation as partner)"),
-            Settings { method: Method::Secant, iterations: n, ..s.clone() },
-        )));
-    }
-    for n in 1..=8 {
-        v.push(Box::new(Impostor::new(
-            &format!("impostors/false-position-{n}"),
-            &format!("distance impostor, {n} false-position iterations (the paper's Hit listing)"),
-            Settings {
-                method: Method::FalsePosition,
-                iterations: n,
-                ..s.clone()
-            },
-        )));
-    }
-    v.push(Box::new(Impostor::new(
-        "impostors/false-position-4-split",
-        "false position, 4 iterations, distances in a separate R16Float cube (paper section 6)",
-        Settings {
-            iterations: 4,
-            split: true,
-            ..s.clone()
-        },
-    )));
-    v.push(Box::new(Impostor::new(
-        "impostors/double-refraction",
-        "glass: Hit() in a refractor map (normal + distance), refraction out, then Hit() in the \
-         environment impostor (section 4); false position, 4 iterations",
-        Settings {
-            mode: Mode::DoubleRefraction,
-            iterations: 4,
-            ..s.clone()
-        },
-    )));
-    v.push(Box::new(Impostor::new(
-        "impostors/box-projected",
-        "engine baseline as shipped: a reflection probe among the specular objects, captured \
-         once, looked up by parallax correction against the room's bounds (Lagarde and \
-         Zanuttini 2012); one interface like the localized variants",
-        Settings {
-            lookup: Lookup::BoxProjected,
-            probe: Probe::RoomCentre,
-            iterations: 0,
-            ..s.clone()
-        },
-    )));
-    v.push(Box::new(Impostor::new(
-        "impostors/box-projected-object",
-        "box projection on the impostor's own map (captured at the object's centre every \
-         frame): false-position-4 with the lookup alone replaced",
-        Settings {
-            lookup: Lookup::BoxProjected,
-            iterations: 0,
-            ..s.clone()
-        },
-    )));
-    v.push(Box::new(Impostor::new(
-        "impostors/box-projected-double",
-        "double refraction through the refractor map as impostors/double-refraction, the exit \
-         ray looked up by box projection instead of Hit()",
-        Settings {
-            mode: Mode::DoubleRefraction,
-            lookup: Lookup::BoxProjected,
-            iterations: 0,
-            ..s.clone()
-        },
-    )));
-    v.push(Box::new(Impostor::new(
-        "impostors/caustics",
-        "double-refraction plus caustics as in the paper: photons from the lights through the \
-         object, landing points by Hit(), light-map address from a uv/chart cube, Gaussian \
-         quads blended into the receivers' light maps (section 5)",
-        Settings {
-            mode: Mode::DoubleRefraction,
-            iterations: 4,
-            caustics: Some(CausticSettings::new(CausticPath::LightMap)),
-            ..s.clone()
-        },
-    )));
-    v.push(Box::new(Impostor::new(
-        "impostors/caustics-compute",
-        "double-refraction plus caustics, modern scatter: the same photons added by a compute \
-         pass with atomics into a grid indexed by direction from the reference point",
-        Settings {
-            mode: Mode::DoubleRefraction,
-            iterations: 4,
-            caustics: Some(CausticSettings::new(CausticPath::Grid)),
-            ..s
-        },
-    )));
-    v
-}
-
 impl Technique for Impostor {
     fn id(&self) -> String {
         self.id.clone()
@@ -545,38 +432,12 @@ impl Technique for Impostor {
                 IMPOSTOR_FORMAT,
             )
         });
-        let mut maps = Vec::new();
-        for (object, o) in scene.scene.objects.iter().enumerate() {
-            if !o.material.is_specular() {
-                continue;
-            }
-            let env = CubeTarget::new(ctx, res, IMPOSTOR_FORMAT, "distance impostor")?;
-            let split = split
-                .then(|| split_distance(ctx, &env, &split_layout))
-                .transpose()?;
-            let refractor = match (&refractor_pipeline, &o.material) {
-                (Some(pipeline), Material::Glass { .. }) => {
-                    let cube = CubeTarget::new(ctx, res, IMPOSTOR_FORMAT, "refractor map")?;
-                    let center = o.center_at(scene.time());
-                    render_refractor_map(frame, scene, pipeline, &cube, object, center);
-                    Some(cube)
-                }
-                _ => None,
-            };
-            let caustics = match &caustic {
-                Some(c) => Some(c.generator_maps(ctx, res)?),
-                None => None,
-            };
-            maps.push(ObjectMaps {
-                object,
-                env,
-                split,
-                refractor,
-                caustics,
-                reference: None,
-                regenerations: 0,
-            });
-        }
+        let made = MapPipelines {
+            split: split.then_some(&split_layout),
+            refractor: refractor_pipeline.as_ref(),
+            caustic: caustic.as_ref(),
+        };
+        let maps = object_maps(frame, scene, res, &made)?;
         let proxy = scene::probe_proxy_box(&scene.scene);
         self.state = Some(State {
             caustic,
@@ -605,46 +466,7 @@ impl Technique for Impostor {
             .as_mut()
             .ok_or(scene::TechniqueError::NotPrepared(id))?;
 
-        // Regenerate the environment impostors of objects that moved too far (a room probe is
-        // captured once).
-        let time = scene.time();
-        let stale: Vec<usize> = (0..state.maps.len())
-            .filter(|&i| {
-                let m = &state.maps[i];
-                let center = scene.scene.objects[m.object].center_at(time);
-                match m.reference {
-                    None => true,
-                    Some(_) if room_probe => false,
-                    Some(r) => {
-                        settings.regen_threshold <= 0.0
-                            || r.distance(center) > settings.regen_threshold
-                    }
-                }
-            })
-            .collect();
-        if !stale.is_empty() {
-            frame.span("regenerate", |frame| {
-                for &i in &stale {
-                    let m = &mut state.maps[i];
-                    let reference = match (state.proxy, scene::probe_centre(&scene.scene)) {
-                        (Some(_), Some(probe)) if room_probe => probe,
-                        _ => scene.scene.objects[m.object].center_at(time),
-                    };
-                    // Without the object itself (`render_environment` from another point: an
-                    // engine's probe would not hold the moving object either).
-                    let others = ObjectFilter::Except(vec![m.object]);
-                    scene.raster_cube(frame, &m.env, reference, &others, false);
-                    if let Some(split) = &m.split {
-                        copy_distances(frame, &state.split_pipeline, split);
-                    }
-                    if let (Some(c), Some(maps)) = (&state.caustic, &m.caustics) {
-                        c.render_receivers(frame, scene, i, maps, m.object, reference);
-                    }
-                    m.reference = Some(reference);
-                    m.regenerations += 1;
-                }
-            });
-        }
+        regenerate_stale(frame, scene, state, &settings, room_probe);
         let _ = &state.split_layout;
         let groups = impostor_groups(frame.gpu, scene, state, &settings);
 
@@ -693,29 +515,160 @@ impl Technique for Impostor {
             );
         }
 
-        // The specular objects' pass, timed on its own as "lookup" (pass timestamps).
-        let mut pass = gpu::pass::begin(
-            frame.encoder,
+        lookup(
+            frame,
+            scene,
+            target,
+            state,
+            &camera,
+            &groups,
+            &caustic_groups,
             &self.id,
-            &[pass::color(&target.color_view, Load::Keep)],
-            Some(pass::depth(&target.depth_view, Load::Keep)),
-            frame.timer.render_pass("lookup"),
         );
-        match &state.caustic {
-            Some(c) => pass.set_pipeline(&c.localized_pipeline),
-            None => pass.set_pipeline(&state.pipeline),
-        }
-        pass.set_bind_group(0, &camera, &[]);
-        pass.set_bind_group(1, scene.bind_group(), &[]);
-        for (i, (m, group)) in state.maps.iter().zip(&groups).enumerate() {
-            pass.set_bind_group(2, group, &[]);
-            if let Some(g3) = caustic_groups.get(i) {
-                pass.set_bind_group(3, g3, &[]);
-            }
-            scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![m.object]));
-        }
         Ok(())
     }
+}
+
+/// Regenerates the environment impostors of objects that moved farther than
+/// `regen_threshold` from where their maps were made ("regenerate" span; a room probe is
+/// captured once). Reads: the scene. Writes: those objects' cube maps, split distances and
+/// caustic receivers.
+fn regenerate_stale(
+    frame: &mut Frame,
+    scene: &GpuScene,
+    state: &mut State,
+    settings: &Settings,
+    room_probe: bool,
+) {
+    // Regenerate the environment impostors of objects that moved too far (a room probe is
+    // captured once).
+    let time = scene.time();
+    let stale: Vec<usize> = (0..state.maps.len())
+        .filter(|&i| {
+            let m = &state.maps[i];
+            let center = scene.scene.objects[m.object].center_at(time);
+            match m.reference {
+                None => true,
+                Some(_) if room_probe => false,
+                Some(r) => {
+                    settings.regen_threshold <= 0.0 || r.distance(center) > settings.regen_threshold
+                }
+            }
+        })
+        .collect();
+    if !stale.is_empty() {
+        frame.span("regenerate", |frame| {
+            for &i in &stale {
+                let m = &mut state.maps[i];
+                let reference = match (state.proxy, scene::probe_centre(&scene.scene)) {
+                    (Some(_), Some(probe)) if room_probe => probe,
+                    _ => scene.scene.objects[m.object].center_at(time),
+                };
+                // Without the object itself (`render_environment` from another point: an
+                // engine's probe would not hold the moving object either).
+                let others = ObjectFilter::Except(vec![m.object]);
+                scene.raster_cube(frame, &m.env, reference, &others, false);
+                if let Some(split) = &m.split {
+                    copy_distances(frame, &state.split_pipeline, split);
+                }
+                if let (Some(c), Some(maps)) = (&state.caustic, &m.caustics) {
+                    c.render_receivers(frame, scene, i, maps, m.object, reference);
+                }
+                m.reference = Some(reference);
+                m.regenerations += 1;
+            }
+        });
+    }
+}
+
+/// The specular objects' pass, timed on its own as "lookup" (pass timestamps). Reads: each
+/// object's impostor bindings (and caustic bindings). Writes: the specular surfaces' colour and
+/// depth into the target.
+#[allow(clippy::too_many_arguments)]
+fn lookup(
+    frame: &mut Frame,
+    scene: &GpuScene,
+    target: &Target,
+    state: &State,
+    camera: &wgpu::BindGroup,
+    groups: &[wgpu::BindGroup],
+    caustic_groups: &[wgpu::BindGroup],
+    label: &str,
+) {
+    // The specular objects' pass, timed on its own as "lookup" (pass timestamps).
+    let mut pass = gpu::pass::begin(
+        frame.encoder,
+        label,
+        &[pass::color(&target.color_view, Load::Keep)],
+        Some(pass::depth(&target.depth_view, Load::Keep)),
+        frame.timer.render_pass("lookup"),
+    );
+    match &state.caustic {
+        Some(c) => pass.set_pipeline(&c.localized_pipeline),
+        None => pass.set_pipeline(&state.pipeline),
+    }
+    pass.set_bind_group(0, camera, &[]);
+    pass.set_bind_group(1, scene.bind_group(), &[]);
+    for (i, (m, group)) in state.maps.iter().zip(groups).enumerate() {
+        pass.set_bind_group(2, group, &[]);
+        if let Some(g3) = caustic_groups.get(i) {
+            pass.set_bind_group(3, g3, &[]);
+        }
+        scene.draw_objects(&mut pass, &ObjectFilter::Only(vec![m.object]));
+    }
+}
+
+/// What each object's maps are made with: the split copy's layout (split variants), the
+/// refractor-map pipeline (double refraction), the caustics (caustic variants).
+struct MapPipelines<'a> {
+    split: Option<&'a wgpu::BindGroupLayout>,
+    refractor: Option<&'a wgpu::RenderPipeline>,
+    caustic: Option<&'a Caustics>,
+}
+
+/// Each specular object's maps at `res` texels: its distance impostor, and as the variant
+/// needs the split distances, the refractor map (drawn now, once) and the caustic
+/// generator maps.
+fn object_maps(
+    frame: &mut Frame,
+    scene: &GpuScene,
+    res: u32,
+    made: &MapPipelines,
+) -> TechniqueResult<Vec<ObjectMaps>> {
+    let ctx = frame.gpu;
+    let mut maps = Vec::new();
+    for (object, o) in scene.scene.objects.iter().enumerate() {
+        if !o.material.is_specular() {
+            continue;
+        }
+        let env = CubeTarget::new(ctx, res, IMPOSTOR_FORMAT, "distance impostor")?;
+        let split = (made.split)
+            .map(|layout| split_distance(ctx, &env, layout))
+            .transpose()?;
+        let refractor = match (made.refractor, &o.material) {
+            (Some(pipeline), Material::Glass { .. }) => {
+                let cube = CubeTarget::new(ctx, res, IMPOSTOR_FORMAT, "refractor map")?;
+                let center = o.center_at(scene.time());
+                render_refractor_map(frame, scene, pipeline, &cube, object, center);
+                Some(cube)
+            }
+            _ => None,
+        };
+        let caustics = match made.caustic {
+            Some(c) => Some(c.generator_maps(ctx, res)?),
+            None => None,
+        };
+        maps.push(ObjectMaps {
+            object,
+            env,
+            split,
+            refractor,
+            caustics,
+            reference: None,
+            regenerations: 0,
+        });
+    }
+    Ok(maps)
 }
 
 /// The uniform block `ImpostorParams` of localized.wgsl.

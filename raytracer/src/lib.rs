@@ -18,6 +18,7 @@
 //!   adapter offers wgpu's experimental ray queries).
 
 pub mod bvh;
+mod tables;
 pub mod technique;
 pub mod tracer;
 

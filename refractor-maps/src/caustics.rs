@@ -345,58 +345,9 @@ impl Caustics {
         let static_map = light_map("static pieces' light map");
         let moving_map = light_map("moving piece's light map");
 
-        let apply_layout = bind::layout(
-            ctx,
-            "caustics apply",
-            frag,
-            &[
-                bind::uniform(),    // ReceiverParams
-                bind::texture_2d(), // static light map
-                bind::texture_2d(), // moving light map
-                bind::sampler(),
-            ],
-        );
-        let source = format!(
-            "{}\n{}\n{}\n{APPLY_WGSL}",
-            scene::SCENE_WGSL,
-            scene::lightmap::CHART_WGSL,
-            scene::lightmap::RECEIVER_WGSL
-        );
-        let module = gpu::shader_with_prelude(ctx, "caustics apply", &source);
-        let apply_pipeline = scene::scene_pipeline_with(
-            ctx,
-            "caustics apply",
-            &scene.pipeline_layout_with(ctx, &[&apply_layout]),
-            &module,
-            "caustics_apply_fs",
-            &[pass::color_target(
-                gpu::HDR_FORMAT,
-                Some(ADD_RGB_KEEP_ALPHA),
-            )],
-            (false, wgpu::CompareFunction::LessEqual),
-        );
-        let chart = receiver_chart(&atlas, receiver.object)?;
-        let params = Uniform::new(
-            ctx,
-            "caustic receiver",
-            &ReceiverParamsGpu {
-                chart,
-                object: receiver.object as u32,
-                side: settings.lightmap_resolution as f32,
-                _pad: [0; 2],
-            },
-        );
-        let apply_group = bind::group(
-            ctx,
-            "caustics apply",
-            &apply_layout,
-            &[
-                params.binding(),
-                bind::view(&static_map.view),
-                bind::view(&moving_map.view),
-                bind::sampler_resource(&ctx.samplers.linear_clamp),
-            ],
-        );
+        let maps = [&static_map, &moving_map];
+        let (apply_pipeline, apply_group) =
+            apply_pass(ctx, scene, settings, &atlas, receiver, maps)?;
 
         let (movers, statics): (Vec<usize>, Vec<usize>) = (0..kinds.pieces.len())
             .partition(|&p| !scene.scene.objects[kinds.pieces[p].0].motion.is_static());
@@ -639,6 +590,44 @@ impl PhotonSum {
     }
 }
 
+/// How far off a surface a photon's next ray starts (metres).
+const SURFACE_OFFSET: f32 = 1e-4;
+/// Chords a photon follows inside a glass piece (photons.wgsl's).
+const PHOTON_CHORDS: usize = 3;
+
+/// A photon refracted into a glass piece of index `ior` at `origin` along `d` leaves it: up to
+/// [`PHOTON_CHORDS`] chords, reflecting totally inside. The point just outside the exit, the
+/// leaving direction and the transmittance through the exit; `None` if it does not leave.
+fn leave_glass(
+    on_piece: &impl Fn(Vec3, Vec3) -> Option<scene::bvh::Hit>,
+    mut origin: Vec3,
+    mut d: Vec3,
+    ior: f32,
+) -> Option<(Vec3, Vec3, f32)> {
+    use gpu::prelude::{fresnel_dielectric, reflect_dir, refract_dir};
+    for _ in 0..PHOTON_CHORDS {
+        let exit = on_piece(origin, d)?;
+        // Outward normal agreeing with the leaving ray.
+        let out_n = if exit.normal.dot(d) < 0.0 {
+            -exit.normal
+        } else {
+            exit.normal
+        };
+        let out = refract_dir(d, -out_n, ior);
+        if out.w > 0.5 {
+            let transmitted = 1.0 - fresnel_dielectric(d.dot(out_n), 1.0 / ior);
+            return Some((
+                exit.position + out_n * SURFACE_OFFSET,
+                out.truncate(),
+                transmitted,
+            ));
+        }
+        d = reflect_dir(d, -out_n);
+        origin = exit.position - out_n * SURFACE_OFFSET;
+    }
+    None
+}
+
 /// The photons `photons.wgsl` writes for one piece and light, traced through the piece's exact
 /// mesh instead of its refractor map: the same tile view and pixel lattice, the same Fresnel
 /// weights, chords (`PHOTON_CHORDS`) and landing rule on the receiver's plane and chart. The
@@ -655,8 +644,6 @@ pub fn exact_photons(
     time: f32,
 ) -> Vec<Landing> {
     use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_plane, reflect_dir, refract_dir};
-    const SURFACE_OFFSET: f32 = 1e-4;
-    const PHOTON_CHORDS: usize = 3;
     let o = &scene.objects[piece_object];
     let (tile, view_proj) = tile_view(
         light,
@@ -701,34 +688,12 @@ pub fn exact_photons(
                     if t.w < 0.5 {
                         continue;
                     }
-                    let mut weight = Vec3::splat(1.0 - fresnel_dielectric(cos_i, eta_rel));
-                    let mut origin = entry.position - n * SURFACE_OFFSET;
-                    let mut d = t.truncate();
-                    let mut left = false;
-                    for _ in 0..PHOTON_CHORDS {
-                        let Some(exit) = on_piece(origin, d) else {
-                            break;
-                        };
-                        // Outward normal agreeing with the leaving ray.
-                        let out_n = if exit.normal.dot(d) < 0.0 {
-                            -exit.normal
-                        } else {
-                            exit.normal
-                        };
-                        let out = refract_dir(d, -out_n, ior);
-                        if out.w > 0.5 {
-                            weight *= 1.0 - fresnel_dielectric(d.dot(out_n), 1.0 / ior);
-                            origin = exit.position + out_n * SURFACE_OFFSET;
-                            d = out.truncate();
-                            left = true;
-                            break;
-                        }
-                        d = reflect_dir(d, -out_n);
-                        origin = exit.position - out_n * SURFACE_OFFSET;
-                    }
-                    if !left {
+                    let inside = entry.position - n * SURFACE_OFFSET;
+                    let Some((origin, d, out)) = leave_glass(&on_piece, inside, t.truncate(), ior)
+                    else {
                         continue;
-                    }
+                    };
+                    let weight = Vec3::splat((1.0 - fresnel_dielectric(cos_i, eta_rel)) * out);
                     (origin, d, weight)
                 }
                 Material::Diffuse { .. } => continue,
@@ -796,6 +761,73 @@ fn clear(encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView) {
         None,
         None,
     );
+}
+
+/// The caustics' apply pass: the receiver drawn again adding the static and the moving
+/// pieces' light maps. Its pipeline and its one bind group (the receiver's chart and both
+/// maps).
+fn apply_pass(
+    ctx: &Context,
+    scene: &GpuScene,
+    settings: &CausticSettings,
+    atlas: &ChartAtlas,
+    receiver: Receiver,
+    [static_map, moving_map]: [&LightMap; 2],
+) -> Result<(wgpu::RenderPipeline, wgpu::BindGroup), TechniqueError> {
+    let frag = wgpu::ShaderStages::FRAGMENT;
+    let apply_layout = bind::layout(
+        ctx,
+        "caustics apply",
+        frag,
+        &[
+            bind::uniform(),    // ReceiverParams
+            bind::texture_2d(), // static light map
+            bind::texture_2d(), // moving light map
+            bind::sampler(),
+        ],
+    );
+    let source = format!(
+        "{}\n{}\n{}\n{APPLY_WGSL}",
+        scene::SCENE_WGSL,
+        scene::lightmap::CHART_WGSL,
+        scene::lightmap::RECEIVER_WGSL
+    );
+    let module = gpu::shader_with_prelude(ctx, "caustics apply", &source);
+    let apply_pipeline = scene::scene_pipeline_with(
+        ctx,
+        "caustics apply",
+        &scene.pipeline_layout_with(ctx, &[&apply_layout]),
+        &module,
+        "caustics_apply_fs",
+        &[pass::color_target(
+            gpu::HDR_FORMAT,
+            Some(ADD_RGB_KEEP_ALPHA),
+        )],
+        (false, wgpu::CompareFunction::LessEqual),
+    );
+    let chart = receiver_chart(atlas, receiver.object)?;
+    let params = Uniform::new(
+        ctx,
+        "caustic receiver",
+        &ReceiverParamsGpu {
+            chart,
+            object: receiver.object as u32,
+            side: settings.lightmap_resolution as f32,
+            _pad: [0; 2],
+        },
+    );
+    let apply_group = bind::group(
+        ctx,
+        "caustics apply",
+        &apply_layout,
+        &[
+            params.binding(),
+            bind::view(&static_map.view),
+            bind::view(&moving_map.view),
+            bind::sampler_resource(&ctx.samplers.linear_clamp),
+        ],
+    );
+    Ok((apply_pipeline, apply_group))
 }
 
 #[cfg(test)]
