@@ -8,8 +8,8 @@
 //! 2. [`create_context`]: the user's own wgpu device (plain wgpu, with the features the
 //!    technique cannot run without, and GPU timestamps where the adapter has them), wrapped
 //!    for the workspace's crates by `gpu::Context::from_parts`;
-//! 3. [`load_scene`]: a glTF file or the example's built-in scene, checked against what the
-//!    technique needs;
+//! 3. [`load_scene`]: a glTF file (validated) or the example's built-in scene; [`run`] then
+//!    asks the technique whether it supports it;
 //! 4. [`create_target`]: colour and depth textures the user owns, wrapped as a `gpu::Target`;
 //! 5. upload once (`scene::GpuScene`), prepare once, render [`Example::FRAMES`] frames along
 //!    [`Example::view`], read the last one back;

@@ -2,7 +2,7 @@
 //!
 //! What is this crate's own: pick the variant by id (section 5.2's many-object algorithm
 //! with every search in the pieces' height maps and every piece drawn as its billboard),
-//! lower the height maps' resolution by name, and render the built-in chess scene (glass and
+//! lower the height maps' resolution by name (from 256 to 128 texels), and render the built-in chess scene (glass and
 //! mirror pieces of revolution and the knight, each with a plane of symmetry) along its
 //! camera path, closer in. The rest (your wgpu device, your colour and depth textures, the frame loop,
 //! the PNG) is `example_framework`'s, each step a function you can lift.
@@ -30,7 +30,7 @@ impl Example for HeightMaps {
     fn technique() -> Result<Box<dyn Technique>> {
         let mut technique = pick(height_maps::techniques(), "height-maps/separated")?;
         // Parameters by name (`technique.params()` lists them, with ranges and help).
-        technique.set_param("resolution", 256.0)?;
+        technique.set_param("resolution", 128.0)?;
         Ok(technique)
     }
 

@@ -17,9 +17,8 @@ use gpu::distance_map::HIT_WGSL;
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, Uniform, bind};
-use scene::Settings as _;
 use scene::multi_object::{EnvironmentImpostor, raster_diffuse};
-use scene::technique::{Declared, declared_params, declared_set, set_checked};
+use scene::technique::{Declared, declared_params, declared_set};
 use scene::{
     Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
 };
@@ -229,23 +228,8 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
 }
 
 impl Technique for HeightMaps {
-    fn id(&self) -> String {
-        self.id.clone()
-    }
-    fn description(&self) -> String {
-        self.description.clone()
-    }
-    fn representative(&self) -> bool {
-        self.representative
-    }
-    fn params(&self) -> Vec<Param> {
-        self.settings.params()
-    }
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        set_checked(&self.id, &mut self.settings, name, value)?;
-        self.state = None;
-        Ok(())
-    }
+    scene::named_variant!();
+    scene::declared_params!(settings, state);
     fn supports(&self, scene: &Scene) -> bool {
         unsupported(&self.id, scene).is_none()
     }

@@ -20,12 +20,10 @@ use gpu::distance_map::{HIT_WGSL, Method};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Target, bind};
-use scene::Settings as _;
 use scene::emission::{footprint_declared, jitter_declared};
-use scene::technique::{Declared, set_checked, setting_if};
+use scene::technique::{Declared, setting_if};
 use scene::{
-    Frame, GpuScene, Material, ObjectFilter, Param, RasterTarget, Scene, Technique,
-    TechniqueResult, View,
+    Frame, GpuScene, Material, ObjectFilter, RasterTarget, Scene, Technique, TechniqueResult, View,
 };
 
 /// WGSL of `Hit()` (needs the gpu prelude before it).
@@ -335,15 +333,8 @@ impl Technique for Impostor {
     fn description(&self) -> String {
         self.description.clone()
     }
-    fn params(&self) -> Vec<Param> {
-        self.settings.params()
-    }
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        set_checked(&self.id, &mut self.settings, name, value)?;
-        // Maps and pipelines depend on the settings: prepare() rebuilds them.
-        self.state = None;
-        Ok(())
-    }
+    // Maps and pipelines depend on the settings: a set parameter drops them.
+    scene::declared_params!(settings, state);
     fn supports(&self, scene: &Scene) -> bool {
         if self.settings.caustics.is_some() && scene.lights.is_empty() {
             return false;

@@ -107,15 +107,7 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
 }
 
 impl Technique for EnvironmentMaps {
-    fn id(&self) -> String {
-        self.id.clone()
-    }
-    fn description(&self) -> String {
-        self.description.clone()
-    }
-    fn representative(&self) -> bool {
-        self.representative
-    }
+    scene::named_variant!();
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
         let mut p = s.impostors().params();

@@ -185,6 +185,42 @@ pub fn declared_set<S: Settings>(settings: &mut S, name: &str, value: f64) -> bo
     }
 }
 
+/// The `id`, `description` and `representative` of a [`Technique`] impl whose type keeps
+/// them in fields of those names (`id: String`, `description: String`, `representative:
+/// bool`): what each variant type configured by its constructor writes alike.
+#[macro_export]
+macro_rules! named_variant {
+    () => {
+        fn id(&self) -> String {
+            self.id.clone()
+        }
+        fn description(&self) -> String {
+            self.description.clone()
+        }
+        fn representative(&self) -> bool {
+            self.representative
+        }
+    };
+}
+
+/// The `params` and `set_param` of a [`Technique`] impl whose parameters are its field
+/// `$settings` (a [`Settings`]): a parameter set drops the prepared `$state` (an `Option`),
+/// which the next `prepare` or frame makes again with it.
+#[macro_export]
+macro_rules! declared_params {
+    ($settings:ident, $state:ident) => {
+        fn params(&self) -> Vec<$crate::Param> {
+            $crate::Settings::params(&self.$settings)
+        }
+        fn set_param(&mut self, name: &str, value: f64) -> $crate::TechniqueResult<()> {
+            let id = $crate::Technique::id(self);
+            $crate::technique::set_checked(&id, &mut self.$settings, name, value)?;
+            self.$state = None;
+            Ok(())
+        }
+    };
+}
+
 /// Checks `value` against the declared parameters of `settings` and sets it: what a
 /// technique's [`Technique::set_param`] does with settings of its own.
 pub fn set_checked(
@@ -194,7 +230,12 @@ pub fn set_checked(
     value: f64,
 ) -> TechniqueResult<()> {
     check_param(id, &settings.params(), name, value)?;
-    settings.set(name, value);
+    // A listed parameter the settings cannot set is a bug in the family's declaration, not
+    // an input error.
+    assert!(
+        settings.set(name, value),
+        "{id}: parameter {name} is listed by params() but not settable"
+    );
     Ok(())
 }
 

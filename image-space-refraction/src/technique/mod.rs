@@ -9,12 +9,17 @@
 //!
 //! 1. "regenerate": per specular object an environment cube map from its centre (the paper's
 //!    environment map; the scene without that object, `scene::foundation::render_environment`);
-//! 2. "buffers": the specular objects' front- and back-facing surfaces from the eye into two
+//! 2. (nearby geometry) "impostors": the rectangle impostors' textures (recursive ones draw
+//!    the specular objects with one interface); with caustics, "caustics": per light and
+//!    refractor the light's front/back buffers, the photon pass and the scatter into the
+//!    caustic textures, then their filter;
+//! 3. "buffers": the specular objects' front- and back-facing surfaces from the eye into two
 //!    `Rgba32Float` buffers (outward normal, view depth), the inputs of the searches of
 //!    [`crate::search`];
-//! 3. the opaque scene by the shared raster pass; the thickness proxy copies it (the engine's
+//! 4. the opaque scene by the shared raster pass, then (caustics) caustic mapping adds the
+//!    caustic textures onto the receivers; the thickness proxy copies it (the engine's
 //!    scene-colour buffer);
-//! 4. "lookup": the specular objects drawn with `refract.wgsl`, which follows each pixel's
+//! 5. "lookup": the specular objects drawn with `refract.wgsl`, which follows each pixel's
 //!    refracted ray through the variant's second interface to the environment.
 
 use crate::caustics::{CausticSettings, Caustics, RefractorBindings};
@@ -24,15 +29,12 @@ use glam::{Mat4, Vec3};
 use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
-use scene::Settings as _;
 use scene::emission::jitter_declared;
-use scene::technique::{
-    Declared, ParamValue, check_map_budget, not_prepared, set_checked, setting_if,
-};
+use scene::technique::{Declared, ParamValue, check_map_budget, not_prepared, setting_if};
 
 use scene::{
-    Frame, GpuScene, ObjectFilter, Param, RasterTarget, Scene, Technique, TechniqueError,
-    TechniqueResult, View,
+    Frame, GpuScene, ObjectFilter, RasterTarget, Scene, Technique, TechniqueError, TechniqueResult,
+    View,
 };
 
 mod passes;
@@ -305,24 +307,9 @@ impl ParamsGpu {
 }
 
 impl Technique for Refraction {
-    fn id(&self) -> String {
-        self.id.clone()
-    }
-    fn description(&self) -> String {
-        self.description.clone()
-    }
-    fn representative(&self) -> bool {
-        self.representative
-    }
-    fn params(&self) -> Vec<Param> {
-        self.settings.params()
-    }
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        set_checked(&self.id, &mut self.settings, name, value)?;
-        // Maps, buffers and the probe follow the settings: prepare() makes them again.
-        self.state = None;
-        Ok(())
-    }
+    scene::named_variant!();
+    // Maps, buffers and the probe follow the settings: a set parameter drops them.
+    scene::declared_params!(settings, state);
     fn required_features(&self) -> wgpu::Features {
         match self.settings.caustics {
             // Caustic mapping adds the caustics onto the 32-bit float target by blending.

@@ -379,8 +379,8 @@ impl InteriorMapping {
     }
 }
 
-/// Every variant: the eight interior-mapping versions (five of the paper's, three baselines
-/// of 5.3.2) with and without a depth pre-pass, and the polygon baseline.
+/// Every variant: the ten interior-mapping versions of [`Variant::ALL`] (the paper's, the
+/// baselines of 5.3.2 and the engine's cube-map interiors) with and without a depth pre-pass, and the polygon baseline.
 pub fn all() -> Vec<Box<dyn Technique>> {
     let mut out: Vec<Box<dyn Technique>> = Vec::new();
     for v in Variant::ALL {

@@ -87,8 +87,9 @@ impl Variant {
 /// ([`scene::Settings`]); which a variant has follows its `variant`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
-    /// The variant (what decides which parameters it has).
-    pub variant: Variant,
+    /// The variant (what decides which parameters it has): `InteriorMapping::new` copies
+    /// its own, and nothing changes it after.
+    pub(crate) variant: Variant,
     /// Multiplies each building's room size (parameter `room_scale`).
     pub room_scale: f32,
     /// Interior texture size, texels per side (parameter `texture_resolution`).

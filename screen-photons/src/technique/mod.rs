@@ -47,12 +47,11 @@ use glam::{Mat4, Vec3};
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
-use scene::Settings as _;
 use scene::emission::{footprint_declared, jitter_declared};
 use scene::technique::Declared;
 use scene::{
-    CasterShadowMaps, DepthPeeler, Frame, GpuScene, ObjectFilter, Param, RasterTarget, SCENE_WGSL,
-    Scene, Technique, TechniqueError, TechniqueResult, View,
+    CasterShadowMaps, DepthPeeler, Frame, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL, Scene,
+    Technique, TechniqueError, TechniqueResult, View,
 };
 
 mod gpu_types;
@@ -219,16 +218,8 @@ impl Technique for ScreenPhotons {
         }
     }
 
-    fn params(&self) -> Vec<Param> {
-        self.settings.params()
-    }
-
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        scene::technique::set_checked(&self.id(), &mut self.settings, name, value)?;
-        // Sizes and batch counts follow the settings: rebuilt at the next frame.
-        self.sized = None;
-        Ok(())
-    }
+    // Sizes and batch counts follow the settings: a set parameter drops them.
+    scene::declared_params!(settings, sized);
 
     fn required_features(&self) -> wgpu::Features {
         wgpu::Features::FLOAT32_BLENDABLE

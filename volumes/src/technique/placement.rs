@@ -1,5 +1,6 @@
 //! The volumes of a frame placed for drawing: camera-facing billboard axes, back-to-front
-//! order, the records the volume pass reads, and the billboards' extent.
+//! order, the records the volume pass reads, the billboards' extent, and the thickness
+//! texture baked from the first volume (`bake`).
 
 use super::*;
 

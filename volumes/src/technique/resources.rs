@@ -1,5 +1,5 @@
-//! What a variant prepares (pipelines, layouts, the thickness texture) and the view-sized
-//! buffers of a frame.
+//! What a variant prepares: its pipelines, layouts and thickness texture (the view-sized
+//! buffers are `mod.rs`'s `ensure_buffers`).
 
 use super::*;
 

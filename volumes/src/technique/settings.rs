@@ -6,8 +6,9 @@ use super::*;
 /// has follows its drawing method.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
-    /// The variant's method (what decides which parameters it has).
-    pub method: Method,
+    /// The variant's method (what decides which parameters it has): `VolumeTechnique::new`
+    /// copies its variant's, and nothing changes it after.
+    pub(crate) method: Method,
     /// Billboard half size in units of the volume radius (billboards and ray-traced).
     pub billboard_scale: f32,
     /// Ray-traced: size each billboard to the sphere's silhouette, and draw a screen-filling
