@@ -1,13 +1,10 @@
 //! The scenes the examples build in code with `scene`'s API (objects, materials, roles,
-//! lights, volumes, buildings), where `scene::load`'s built-ins do not show what a crate needs.
+//! lights, buildings), where `scene::load`'s built-ins do not show what a crate needs.
 
-use glam::{Mat4, Quat, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use scene::builtin::textures::checker_texture;
 use scene::mesh::{cuboid, cylinder, quad, uv_sphere};
-use scene::{
-    Building, Camera, CameraPath, DensityProfile, Material, Motion, Object, PointLight, Roles,
-    Scene, Volume,
-};
+use scene::{Building, Camera, CameraPath, Material, Object, PointLight, Roles, Scene};
 
 /// A 3 x 2.5 x 3 m room (checker floor, coloured walls, one light under the ceiling) with a
 /// mirror sphere and a glass sphere, and the camera looking at them from near the front wall.
@@ -114,115 +111,6 @@ pub fn mirror_and_glass_room() -> Scene {
         volumes: vec![],
         medium: None,
         background: Vec3::ZERO,
-    }
-}
-
-/// A yard: checker ground, three posts and a log crossing a large smoke volume (density
-/// falling to zero at its sphere, textured by noise), a few soft particles rising beside it,
-/// one light high up, and the camera in front.
-pub fn smoky_yard() -> Scene {
-    let wood = Material::diffuse(0.45, 0.3, 0.18);
-    let mut objects = vec![Object::new(
-        "ground",
-        // `quad`'s normal is u x v: +Y.
-        quad(
-            Vec3::new(-6.0, 0.0, 6.0),
-            Vec3::X * 12.0,
-            Vec3::NEG_Z * 12.0,
-            Vec2::splat(6.0),
-        ),
-        Material::Diffuse {
-            albedo: Vec3::splat(0.8),
-            texture: Some(0),
-        },
-        Mat4::IDENTITY,
-    )];
-    for (k, x) in [-1.2f32, 0.3, 1.4].into_iter().enumerate() {
-        objects.push(Object::new(
-            &format!("post {k}"),
-            cylinder(0.12, 2.6, 16),
-            wood.clone(),
-            Mat4::from_translation(Vec3::new(x, 0.0, -0.4 + 0.5 * k as f32)),
-        ));
-    }
-    objects.push(Object::new(
-        "log",
-        cylinder(0.15, 4.0, 16),
-        wood,
-        Mat4::from_rotation_translation(
-            Quat::from_rotation_z(std::f32::consts::FRAC_PI_2),
-            Vec3::new(2.0, 0.15, 0.2),
-        ),
-    ));
-    // The smoke: extinction 0.6 per metre at the centre, falling to zero at the sphere,
-    // +-45 % noise with features of a third of the radius.
-    let profile = DensityProfile {
-        falloff: 1.0,
-        noise: 0.45,
-        noise_frequency: 3.0,
-    };
-    let mut volumes = vec![Volume {
-        name: "smoke".into(),
-        center: Vec3::new(0.0, 1.0, 0.0),
-        radius: 1.5,
-        color: Vec3::new(0.8, 0.8, 0.85),
-        density: 0.6,
-        profile,
-        particle: false,
-        motion: Motion::default(),
-    }];
-    // Soft particles that rise 0.25 m per second.
-    for (k, center) in [
-        Vec3::new(2.2, 0.6, 1.4),
-        Vec3::new(2.8, 1.1, 1.0),
-        Vec3::new(2.4, 1.6, 1.8),
-        Vec3::new(3.1, 0.5, 2.0),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        volumes.push(Volume {
-            name: format!("particle {k}"),
-            center,
-            radius: 0.35,
-            color: Vec3::new(0.7, 0.7, 0.75),
-            density: 1.8,
-            profile: DensityProfile {
-                falloff: 2.0,
-                ..profile
-            },
-            particle: true,
-            motion: Motion {
-                keys: vec![(0.0, Vec3::ZERO), (2.0, Vec3::Y * 0.5)],
-            },
-        });
-    }
-    let camera = Camera {
-        eye: Vec3::new(0.8, 1.6, 5.5),
-        target: Vec3::new(0.8, 0.9, 0.0),
-        up: Vec3::Y,
-        fov_y_deg: 55.0,
-    };
-    Scene {
-        name: "smoky yard".into(),
-        objects,
-        textures: vec![checker_texture(
-            "ground",
-            64,
-            8,
-            [200, 200, 200],
-            [120, 120, 120],
-        )],
-        lights: vec![PointLight {
-            name: "light".into(),
-            position: Vec3::new(-2.0, 5.0, 3.0),
-            intensity: Vec3::splat(30.0),
-        }],
-        camera,
-        camera_path: CameraPath::default(),
-        volumes,
-        medium: None,
-        background: Vec3::new(0.05, 0.06, 0.08),
     }
 }
 

@@ -16,9 +16,8 @@ use crate::in_chess::HeightSearch;
 use crate::map::render_height_maps;
 use crate::technique::{BILLBOARD_BOX_VERTICES, BILLBOARD_BOX_WGSL, MapSettings, unsupported};
 use gpu::Target;
-use scene::Settings as _;
 use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
-use scene::technique::check_param;
+use scene::technique::Declared;
 use scene::{
     Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
 };
@@ -55,6 +54,25 @@ impl SeparatedSettings {
     /// The impostors' settings, with the size and steps of `maps`.
     fn impostors(&self) -> ImpostorSettings {
         (self.impostors).with_maps(self.maps.env_resolution, self.maps.env_iterations)
+    }
+}
+
+/// The impostors' parameters, then the maps' (each declared once by its own settings), the
+/// maps' `env_resolution` naming each piece's impostor.
+impl scene::Settings for SeparatedSettings {
+    const DECLARED: &'static [Declared<Self>] = &[];
+    fn params(&self) -> Vec<Param> {
+        let mut params = self.impostors.params();
+        params.extend(self.maps.params().into_iter().map(|mut param| {
+            if param.name == "env_resolution" {
+                param.help = "cube face size of each piece's environment impostor (texels)";
+            }
+            param
+        }));
+        params
+    }
+    fn set(&mut self, name: &str, value: f64) -> bool {
+        self.impostors.set(name, value) || self.maps.set(name, value)
     }
 }
 
@@ -121,26 +139,7 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
 
 impl Technique for HeightMapsSeparated {
     scene::named_variant!();
-    fn params(&self) -> Vec<Param> {
-        let s = &self.settings;
-        let mut p = s.impostors().params();
-        p.extend(s.maps.params().into_iter().map(|mut param| {
-            if param.name == "env_resolution" {
-                param.help = "cube face size of each piece's environment impostor (texels)";
-            }
-            param
-        }));
-        p
-    }
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id, &self.params(), name, value)?;
-        let s = &mut self.settings;
-        if !s.impostors.set(name, value) && !s.maps.set(name, value) {
-            unreachable!("check_param accepted an undeclared parameter");
-        }
-        self.state = None;
-        Ok(())
-    }
+    scene::declared_params!(settings, state);
     fn supports(&self, scene: &Scene) -> bool {
         unsupported(&self.id, scene).is_none()
     }

@@ -7,7 +7,7 @@
 use height_maps::{HeightMapsSeparated, SeparatedSettings};
 use scene::Technique;
 use scene::multi_object::ImpostorSettings;
-use testkit::{Shot, gpu_lock, render_shots, section5};
+use testkit::{Shot, gpu_lock, render_shots};
 
 /// The variant with `settings` and small maps.
 fn small(settings: SeparatedSettings) -> HeightMapsSeparated {
@@ -29,29 +29,7 @@ fn make(separated: bool) -> Box<dyn Technique> {
     }))
 }
 
-#[test]
-fn separated_and_full_update_agree_when_nothing_moves() {
-    let _lock = gpu_lock();
-    section5::separated_and_full_update_agree_when_nothing_moves(&make);
-}
-
-#[test]
-fn separated_stays_close_to_full_update_with_a_moving_mirror() {
-    let _lock = gpu_lock();
-    section5::separated_stays_close_to_full_update_with_a_moving_mirror(&make);
-}
-
-#[test]
-fn the_static_pieces_find_the_moving_one_from_outside() {
-    let _lock = gpu_lock();
-    section5::the_static_pieces_find_the_moving_one_from_outside(&make);
-}
-
-#[test]
-fn the_rounds_draw_the_billboards_into_the_impostors() {
-    let _lock = gpu_lock();
-    section5::the_rounds_draw_the_pieces_into_the_impostors(&make);
-}
+testkit::section5_tests!(make);
 
 /// Separated: the static impostors once (a diffuse start and two rounds), then one impostor
 /// per frame; full update: every impostor, all of that, every frame.

@@ -17,9 +17,8 @@ use crate::pieces::{Kinds, render_kind_maps};
 use crate::technique::{DistanceSearch, MAP_FORMAT, Maps, check_kinds};
 use gpu::Target;
 use gpu::cube::CubeTarget;
-use scene::Settings as _;
 use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
-use scene::technique::check_param;
+use scene::technique::Declared;
 use scene::{Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View};
 
 pub use scene::multi_object::MAX_ENV_DEPTH;
@@ -48,6 +47,20 @@ impl EnvSettings {
     /// The impostors' settings, with the size and steps of `maps`.
     fn impostors(&self) -> ImpostorSettings {
         (self.impostors).with_maps(self.maps.env_resolution, self.maps.env_iterations)
+    }
+}
+
+/// The impostors' parameters, then the maps' (each declared once by its own settings).
+impl scene::Settings for EnvSettings {
+    const DECLARED: &'static [Declared<Self>] = &[];
+    fn params(&self) -> Vec<Param> {
+        let mut params = self.impostors.params();
+        let env_map = "cube face size of each piece's environment impostor (texels)";
+        params.extend(self.maps.params(env_map));
+        params
+    }
+    fn set(&mut self, name: &str, value: f64) -> bool {
+        self.impostors.set(name, value) || self.maps.set(name, value)
     }
 }
 
@@ -108,24 +121,7 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
 
 impl Technique for EnvironmentMaps {
     scene::named_variant!();
-    fn params(&self) -> Vec<Param> {
-        let s = &self.settings;
-        let mut p = s.impostors().params();
-        p.extend(
-            s.maps
-                .params("cube face size of each piece's environment impostor (texels)"),
-        );
-        p
-    }
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id, &self.params(), name, value)?;
-        let s = &mut self.settings;
-        if !s.impostors.set(name, value) && !s.maps.set(name, value) {
-            unreachable!("check_param accepted an undeclared parameter");
-        }
-        self.state = None;
-        Ok(())
-    }
+    scene::declared_params!(settings, state);
     fn supports(&self, scene: &Scene) -> bool {
         !scene.specular_objects().is_empty()
     }

@@ -6,7 +6,7 @@
 use refractor_maps::{EnvSettings, EnvironmentMaps, Search, Settings};
 use scene::Technique;
 use scene::multi_object::ImpostorSettings;
-use testkit::{Shot, gpu_lock, max_difference, render_shots, section5};
+use testkit::{Shot, gpu_lock, max_difference, render_shots};
 
 const SIZE: u32 = 32;
 
@@ -60,29 +60,7 @@ fn make(separated: bool) -> Box<dyn Technique> {
     }))
 }
 
-#[test]
-fn separated_and_full_update_agree_when_nothing_moves() {
-    let _lock = gpu_lock();
-    section5::separated_and_full_update_agree_when_nothing_moves(&make);
-}
-
-#[test]
-fn separated_stays_close_to_full_update_with_a_moving_mirror() {
-    let _lock = gpu_lock();
-    section5::separated_stays_close_to_full_update_with_a_moving_mirror(&make);
-}
-
-#[test]
-fn the_static_pieces_find_the_moving_one_from_outside() {
-    let _lock = gpu_lock();
-    section5::the_static_pieces_find_the_moving_one_from_outside(&make);
-}
-
-#[test]
-fn the_rounds_draw_the_pieces_into_the_impostors() {
-    let _lock = gpu_lock();
-    section5::the_rounds_draw_the_pieces_into_the_impostors(&make);
-}
+testkit::section5_tests!(make);
 
 /// Impostor renders over `times` on chess, at 16 x 16 with small maps, for `separated` or
 /// full update and a `rebuild_threshold` (metres).

@@ -7,6 +7,37 @@ use crate::{Shot, max_difference, pixels_differing, relative_difference, render_
 use gpu::HdrImage;
 use scene::{Scene, Technique};
 
+/// The four shared tests as `#[test]` functions of the calling test crate, each holding the
+/// GPU lock, on `make` (a `fn(bool) -> Box<dyn Technique>`): `testkit::section5_tests!(make);`.
+#[macro_export]
+macro_rules! section5_tests {
+    ($make:path) => {
+        #[test]
+        fn separated_and_full_update_agree_when_nothing_moves() {
+            let _lock = $crate::gpu_lock();
+            $crate::section5::separated_and_full_update_agree_when_nothing_moves(&$make);
+        }
+
+        #[test]
+        fn separated_stays_close_to_full_update_with_a_moving_mirror() {
+            let _lock = $crate::gpu_lock();
+            $crate::section5::separated_stays_close_to_full_update_with_a_moving_mirror(&$make);
+        }
+
+        #[test]
+        fn the_static_pieces_find_the_moving_one_from_outside() {
+            let _lock = $crate::gpu_lock();
+            $crate::section5::the_static_pieces_find_the_moving_one_from_outside(&$make);
+        }
+
+        #[test]
+        fn the_rounds_draw_the_pieces_into_the_impostors() {
+            let _lock = $crate::gpu_lock();
+            $crate::section5::the_rounds_draw_the_pieces_into_the_impostors(&$make);
+        }
+    };
+}
+
 /// A fresh variant: separated (true) or full update (false), with small maps.
 pub type Make<'a> = &'a dyn Fn(bool) -> Box<dyn Technique>;
 

@@ -1,8 +1,9 @@
 //! Soft volumes in your own wgpu renderer: no harness, no test kit.
 //!
 //! What is this crate's own: pick the variant by id (particles and the large volume, nine
-//! slices), build a scene in code (a yard with posts, a log, a large textured smoke volume
-//! and a few soft particles) and move the camera sideways through it. The rest (your wgpu
+//! slices), take the built-in `smoke` scene with four particles (a yard with posts, a log, a
+//! large textured smoke volume and soft particles rising beside it) and move the camera
+//! sideways through it. The rest (your wgpu
 //! device, your colour and depth textures, the frame loop, the PNG) is
 //! `example_framework`'s, each step a function you can lift.
 //!
@@ -14,7 +15,7 @@
 //! must hold a volume (`harness export-scene smoke` writes one); it brings its own camera,
 //! which the example moves the same way.
 
-use example_framework::{Example, Result, pick, scenes, sideways};
+use example_framework::{Example, Result, pick, sideways};
 use scene::{Camera, Scene, Technique};
 
 struct Volumes;
@@ -28,7 +29,9 @@ impl Example for Volumes {
     }
 
     fn built_in_scene() -> Result<Scene> {
-        Ok(scenes::smoky_yard())
+        // The built-in yard (posts, a log, a large textured smoke volume) with four soft
+        // particles rising beside it: `scene::builtin::smoke` shows how it is built.
+        Ok(scene::load("smoke:particles=4")?)
     }
 
     fn view(scene: &Scene, frame: u32) -> (Camera, f32) {
