@@ -55,9 +55,9 @@ pub fn pipeline_with_layout(
 }
 
 /// errors come back as `GpuError::Validation`.
-pub fn run_kernel<I: bytemuck::Pod, O: bytemuck::Pod>(
+pub fn run_kernel<'s, I: bytemuck::Pod, O: bytemuck::Pod>(
     ctx: &Context,
-    source: &str,
+    source: impl Into<crate::wgsl::Shader<'s>>,
     entry: &str,
     inputs: &[I],
     outputs_per_input: usize,
@@ -68,9 +68,9 @@ pub fn run_kernel<I: bytemuck::Pod, O: bytemuck::Pod>(
 /// [`run_kernel`] with more resources bound after the two buffers: `extra[k]` (its binding
 /// type and resource) at `@group(0) @binding(k + 2)`, for kernels that read textures and
 /// samplers (a distance map searched by the routine under test).
-pub fn run_kernel_with<I: bytemuck::Pod, O: bytemuck::Pod>(
+pub fn run_kernel_with<'s, I: bytemuck::Pod, O: bytemuck::Pod>(
     ctx: &Context,
-    source: &str,
+    source: impl Into<crate::wgsl::Shader<'s>>,
     entry: &str,
     inputs: &[I],
     outputs_per_input: usize,
@@ -79,14 +79,16 @@ pub fn run_kernel_with<I: bytemuck::Pod, O: bytemuck::Pod>(
     if inputs.is_empty() {
         return Ok(Vec::new());
     }
+    let source = source.into();
     let output_bytes = (std::mem::size_of::<O>() * outputs_per_input * inputs.len()) as u64;
     let (pipeline, group_layout, input, output) = ctx.validated(|| {
-        let module = ctx
-            .device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(entry),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            });
+        let module = crate::shader(
+            ctx,
+            crate::wgsl::Shader {
+                label: entry,
+                ..source
+            },
+        );
         let mut types = vec![crate::bind::storage(true), crate::bind::storage(false)];
         types.extend(extra.iter().map(|(ty, _)| *ty));
         let group_layout = crate::bind::layout(ctx, entry, wgpu::ShaderStages::COMPUTE, &types);

@@ -46,9 +46,35 @@
 
 use glam::Vec3;
 
-/// `Hit()` in WGSL (needs the prelude): `hit(x, R, map, sampler, channel, method, iterations)
-/// -> vec4(l, d)`.
+/// `Hit()` in WGSL, the module `gpu::distance_map`: `hit(x, R, map, sampler, channel, method,
+/// iterations) -> vec4(l, d)` and `hit_from_outside`.
 pub const HIT_WGSL: &str = include_str!("shaders/hit.wgsl");
+/// [`HIT_WGSL`] as a module (always available to [`crate::shader`]).
+pub static HIT: crate::wgsl::Module =
+    crate::wgsl::Module::new(HIT_WGSL, "gpu/src/shaders/hit.wgsl", &[]);
+
+/// [`layered_hit_wgsl`] as the module `gpu::layered_distance_map` (always available to
+/// [`crate::shader`]); its constants and `hit_clamp_d` are `gpu::distance_map`'s.
+pub fn hit_layered() -> &'static crate::wgsl::Module {
+    static MODULE: std::sync::OnceLock<crate::wgsl::Module> = std::sync::OnceLock::new();
+    MODULE.get_or_init(|| {
+        // The layered functions read hit.wgsl's constants and hit_clamp_d from gpu::distance_map.
+        let constants: Vec<&str> = HIT_WGSL
+            .lines()
+            .filter_map(|line| line.strip_prefix("const "))
+            .filter_map(|rest| rest.split(':').next())
+            .collect();
+        let source = format!(
+            "#define_import_path gpu::layered_distance_map\n\
+             #import gpu::prelude::ray_box\n\
+             #import gpu::distance_map::{{{}, hit_clamp_d}}\n{}",
+            constants.join(", "),
+            layered_hit_wgsl()
+        );
+        crate::wgsl::Module::new("", "gpu::distance_map::layered_hit_wgsl()", &[])
+            .with_source(source)
+    })
+}
 
 /// `Hit()` and the search from outside for maps stored as layers of a cube-map array
 /// (`texture_cube_array<f32>`): `hit_layered(x, R, map, layer, sampler, channel, method,

@@ -29,7 +29,7 @@ pub fn pipeline(
     blend: Option<wgpu::BlendState>,
 ) -> wgpu::RenderPipeline {
     let source = format!("{FULLSCREEN_VS_WGSL}\n{fragment_source}");
-    let module = crate::shader_with_prelude(ctx, label, &source);
+    let module = crate::shader(ctx, crate::wgsl::Shader::new(label, &source));
     let layout = ctx
         .device
         .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

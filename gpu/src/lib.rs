@@ -15,6 +15,7 @@ pub mod pass;
 pub mod prelude;
 mod target;
 mod timer;
+pub mod wgsl;
 
 pub use bind::{Samplers, Uniform};
 pub use context::{AdapterSummary, Context};
@@ -100,12 +101,25 @@ impl Vertex {
     }
 }
 
-/// Compiles WGSL source prefixed with the shared prelude.
-pub fn shader_with_prelude(ctx: &Context, label: &str, source: &str) -> wgpu::ShaderModule {
-    let full = format!("{}\n{}", prelude::PRELUDE_WGSL, source);
+/// The modules of `gpu` every shader may import without naming them: `gpu::prelude`,
+/// `gpu::distance_map` and `gpu::layered_distance_map`.
+pub(crate) fn gpu_modules() -> [&'static wgsl::Module; 3] {
+    [
+        &prelude::PRELUDE,
+        &distance_map::HIT,
+        distance_map::hit_layered(),
+    ]
+}
+
+/// Composes `shader` (its own WGSL and the modules it imports, see [`wgsl`]) into a wgpu
+/// shader module. The shaders are part of the program: one that does not compose is a bug,
+/// reported with the composer's message (file, line and text).
+pub fn shader(ctx: &Context, shader: wgsl::Shader<'_>) -> wgpu::ShaderModule {
+    let module = wgsl::compose(&shader)
+        .unwrap_or_else(|message| panic!("shader {}: {message}", shader.label));
     ctx.device
         .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(full.into()),
+            label: Some(shader.label),
+            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
         })
 }

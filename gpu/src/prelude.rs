@@ -5,8 +5,12 @@
 
 use glam::{IVec2, Vec2, Vec3, Vec4};
 
-/// The WGSL prelude source; prefix it to a shader with [`crate::shader_with_prelude`].
+/// The WGSL prelude source, the module `gpu::prelude`: a shader takes what it uses with
+/// `#import gpu::prelude::{PI, ray_box}` (see [`crate::wgsl`]).
 pub const PRELUDE_WGSL: &str = include_str!("shaders/prelude.wgsl");
+/// The prelude as a module (always available to [`crate::shader`]).
+pub static PRELUDE: crate::wgsl::Module =
+    crate::wgsl::Module::new(PRELUDE_WGSL, "gpu/src/shaders/prelude.wgsl", &[]);
 
 pub const PI: f32 = std::f32::consts::PI;
 /// Empty interval returned by [`ray_sphere`] and [`ray_box`] on a miss (t_near > t_far).

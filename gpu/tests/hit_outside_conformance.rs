@@ -14,9 +14,7 @@
 
 use glam::Vec3;
 use gpu::compute::{kernel_entry, kernel_header, run_kernel_with};
-use gpu::distance_map::{
-    CubeDistanceMap, DistanceMap, HIT_WGSL, Method, hit_from_outside, layered_hit_wgsl,
-};
+use gpu::distance_map::{CubeDistanceMap, DistanceMap, HIT, HIT_WGSL, Method, hit_from_outside};
 use gpu::wgpu;
 use std::sync::OnceLock;
 use wgpu::util::DeviceExt;
@@ -74,13 +72,23 @@ fn rays() -> Vec<(Vec3, Vec3)> {
 /// The kernel: one ray per input (origin, direction), the map and the run's settings bound
 /// after the buffers; one `vec4f` out (point, d), (0, 0, 0, -1) for no hit.
 fn kernel(layered: bool) -> String {
-    let (map_type, call, layer) = if layered {
-        ("texture_cube_array<f32>", "hit_from_outside_layered", " 1,")
+    let (map_type, module, call, layer) = if layered {
+        (
+            "texture_cube_array<f32>",
+            "gpu::layered_distance_map",
+            "hit_from_outside_layered",
+            " 1,",
+        )
     } else {
-        ("texture_cube<f32>", "hit_from_outside", "")
+        (
+            "texture_cube<f32>",
+            "gpu::distance_map",
+            "hit_from_outside",
+            "",
+        )
     };
     format!(
-        "{}{}\n{}",
+        "#import {module}::{call}\n{}{}\n{}",
         kernel_header("array<vec4f, 2>", "vec4f"),
         format!(
             r#"
@@ -101,11 +109,11 @@ struct Run {{ method: u32, iterations: u32, epsilon: f32, _a: u32, half_axes: ve
     )
 }
 
-/// Runs the search on the GPU. `layered`: the map is the second cube of a two-cube array
-/// (the first a decoy sphere of radius 0.2) searched with the `_layered` functions of
-/// `layered_hit_wgsl()` instead.
+/// Runs the search on the GPU, with `hit` as the module `gpu::distance_map`. `layered`: the map is the
+/// second cube of a two-cube array (the first a decoy sphere of radius 0.2) searched with the
+/// `_layered` functions of `gpu::layered_distance_map` instead.
 fn run_gpu(
-    hit_wgsl: &str,
+    hit: &gpu::wgsl::Module,
     faces: &[Vec<[f32; 4]>],
     rays: &[(Vec3, Vec3)],
     method: Method,
@@ -168,21 +176,10 @@ fn run_gpu(
         .iter()
         .map(|(y, r)| [y.extend(0.0).to_array(), r.extend(0.0).to_array()])
         .collect();
-    let layered_wgsl = if layered {
-        layered_hit_wgsl()
-    } else {
-        String::new()
-    };
-    let source = format!(
-        "{}\n{}\n{}\n{}",
-        gpu::prelude::PRELUDE_WGSL,
-        hit_wgsl,
-        layered_wgsl,
-        kernel(layered)
-    );
+    let source = kernel(layered);
     run_kernel_with(
         ctx,
-        &source,
+        gpu::wgsl::Shader::new("search from outside", &source).importing(&[hit]),
         "main",
         &inputs,
         1,
@@ -263,7 +260,7 @@ fn wgsl_search_from_outside_matches_the_twin() {
     let rays = rays();
     for method in [Method::FalsePosition, Method::Secant] {
         for iterations in [0, 4, 8, 16] {
-            let gpu = run_gpu(HIT_WGSL, &faces, &rays, method, iterations, false);
+            let gpu = run_gpu(&HIT, &faces, &rays, method, iterations, false);
             let hits = gpu.iter().filter(|g| g[3] >= 0.0).count();
             let (differ, excused) = disagreements(&gpu, &map, &rays, method, iterations);
             println!(
@@ -301,7 +298,14 @@ fn a_loosened_epsilon_test_is_caught() {
     let faces = faces();
     let map = CubeDistanceMap::from_rgba_faces(SIZE, &faces, 3);
     let rays = rays();
-    let gpu = run_gpu(&loosened, &faces, &rays, Method::FalsePosition, 8, false);
+    let gpu = run_gpu(
+        &HIT.with_source(loosened),
+        &faces,
+        &rays,
+        Method::FalsePosition,
+        8,
+        false,
+    );
     let (differ, excused) = disagreements(&gpu, &map, &rays, Method::FalsePosition, 8);
     println!(
         "loosened epsilon: {} differ, {excused} excused",
@@ -314,7 +318,7 @@ fn a_loosened_epsilon_test_is_caught() {
     );
 }
 
-/// The cube-array functions of `layered_hit_wgsl()` (a map on the second cube of an array, a
+/// The cube-array functions of `gpu::layered_distance_map` (a map on the second cube of an array, a
 /// decoy on the first) return exactly the bits of the cube functions on the same map.
 #[test]
 fn the_layered_search_returns_the_same_bits() {
@@ -322,21 +326,14 @@ fn the_layered_search_returns_the_same_bits() {
     let rays = rays();
     for iterations in [0, 4] {
         let cube = run_gpu(
-            HIT_WGSL,
+            &HIT,
             &faces,
             &rays,
             Method::FalsePosition,
             iterations,
             false,
         );
-        let layered = run_gpu(
-            HIT_WGSL,
-            &faces,
-            &rays,
-            Method::FalsePosition,
-            iterations,
-            true,
-        );
+        let layered = run_gpu(&HIT, &faces, &rays, Method::FalsePosition, iterations, true);
         let hits = cube.iter().filter(|g| g[3] >= 0.0).count();
         assert!(hits > 0);
         for (i, (a, b)) in cube.iter().zip(&layered).enumerate() {

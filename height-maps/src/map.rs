@@ -101,7 +101,7 @@ pub fn render_height_maps(
         &[bind::uniform()],
     );
     let source = format!("{}\n{HEIGHT_MAP_WGSL}", scene::SCENE_WGSL);
-    let module = gpu::shader_with_prelude(ctx, "height map", &source);
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("height map", &source));
     let pipeline = scene::scene_pipeline(
         ctx,
         "height map",

@@ -13,7 +13,6 @@
 
 use crate::map::{map_bounds, render_height_maps, upright};
 use crate::search::{HEIGHT_SEARCH_WGSL, Steps};
-use gpu::distance_map::HIT_WGSL;
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, Uniform, bind};
@@ -247,10 +246,10 @@ impl Technique for HeightMaps {
             "resolution",
         )?;
         let source = format!(
-            "{}\n{HIT_WGSL}\n{HEIGHT_SEARCH_WGSL}\n{BILLBOARD_BOX_WGSL}\n{BILLBOARD_WGSL}",
+            "{}\n{HEIGHT_SEARCH_WGSL}\n{BILLBOARD_BOX_WGSL}\n{BILLBOARD_WGSL}",
             scene::SCENE_WGSL,
         );
-        let module = gpu::shader_with_prelude(ctx, &self.id, &source);
+        let module = gpu::shader(ctx, gpu::wgsl::Shader::new(&self.id, &source));
         let layout = bind::layout(
             ctx,
             "height-map billboards",

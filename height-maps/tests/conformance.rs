@@ -122,9 +122,8 @@ fn twin(maps: &[SampledField; 2], c: &Case) -> [Vec4; 2] {
 
 fn kernel(search: &str) -> String {
     format!(
-        "{}\n@group(0) @binding(2) var height_maps: texture_2d_array<f32>;\n{search}\n\
+        "@group(0) @binding(2) var height_maps: texture_2d_array<f32>;\n{search}\n\
          struct Case {{ o: vec4f, d: vec4f, bounds: vec4f, steps: vec4u }};\n{}\n{}",
-        gpu::prelude::PRELUDE_WGSL,
         gpu::compute::kernel_header("Case", "vec4f"),
         gpu::compute::kernel_entry(
             "k_height",

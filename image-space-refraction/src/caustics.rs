@@ -188,10 +188,12 @@ impl Accumulator {
                 bind::storage(true),             // texel_areas
             ],
         );
-        let module = gpu::shader_with_prelude(
+        let module = gpu::shader(
             ctx,
-            "caustic textures",
-            include_str!("shaders/caustic_compute.wgsl"),
+            gpu::wgsl::Shader::new(
+                "caustic textures",
+                include_str!("shaders/caustic_compute.wgsl"),
+            ),
         );
         let pipeline = |entry: &str| gpu::compute::pipeline(ctx, entry, &[&layout], &module, entry);
         Self {
@@ -675,7 +677,7 @@ fn caustic_mapping(
         include_str!("shaders/rect.wgsl"),
         include_str!("shaders/caustic.wgsl")
     );
-    let module = gpu::shader_with_prelude(ctx, "caustic mapping", &source);
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("caustic mapping", &source));
     let map_pipeline = scene::scene_pipeline_with(
         ctx,
         "caustic mapping",

@@ -176,7 +176,7 @@ fn wgsl_searches_match_their_twins() {
         });
     let front = upload(ctx, &buffers.front, "front");
     let back = upload(ctx, &buffers.back, "back");
-    let source = format!("{}\n{}", gpu::prelude::PRELUDE_WGSL, kernel());
+    let source = kernel();
     let out: Vec<Out> = run_kernel_with(
         ctx,
         &source,
@@ -538,9 +538,8 @@ fn nearby_kernel() -> String {
         nearby = nearby.replace(&from, &format!("@group(0) @binding({})", b + 2));
     }
     format!(
-        "{}\nstruct Ray {{ origin: vec4f, dir: vec4f }};\n{}{}\n{nearby}\n\
+        "struct Ray {{ origin: vec4f, dir: vec4f }};\n{}{}\n{nearby}\n\
          fn env_lookup(d: vec3f) -> vec3f {{ return vec3f(0.0); }}\n{}",
-        gpu::prelude::PRELUDE_WGSL,
         kernel_header("Ray", "vec4f"),
         include_str!("../src/shaders/rect.wgsl"),
         kernel_entry(

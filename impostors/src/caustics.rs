@@ -702,7 +702,7 @@ fn splat_compute(ctx: &Context) -> Splatter {
         wgpu::ShaderStages::COMPUTE,
         &[photons, photons, bind::storage(false), bind::uniform()],
     );
-    let module = gpu::shader_with_prelude(ctx, "caustic splat", SPLAT_WGSL);
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("caustic splat", SPLAT_WGSL));
     let pipeline = gpu::compute::pipeline(ctx, "caustic splat", &[&layout], &module, "splat_main");
     Splatter::Compute { pipeline, layout }
 }
@@ -723,7 +723,10 @@ fn caustic_pipelines(
     localized_source: &str,
     path: CausticPath,
 ) -> [wgpu::RenderPipeline; 4] {
-    let module = gpu::shader_with_prelude(ctx, "impostors caustics", localized_source);
+    let module = gpu::shader(
+        ctx,
+        gpu::wgsl::Shader::new("impostors caustics", localized_source),
+    );
     let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, group3_layout]);
     let (map_entry, apply_entry) = match path {
         CausticPath::LightMap => ("caustic_uv_fs", "lightmap_apply_fs"),

@@ -16,7 +16,7 @@ use crate::caustics::{self, CausticPath, CausticSettings, Caustics, GeneratorMap
 use glam::Vec3;
 use gpu::bind::UniformGroups;
 use gpu::cube::CubeTarget;
-use gpu::distance_map::{HIT_WGSL, Method};
+use gpu::distance_map::Method;
 use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Target, bind};
@@ -356,14 +356,13 @@ impl Technique for Impostor {
         // caustic variants draw with their own module, whose lookups add the caustics.
         let source_with = |path| {
             format!(
-                "{}\n{}\n{}\n{}",
+                "{}\n{}\n{}",
                 scene::SCENE_WGSL,
-                HIT_WGSL,
                 LOCALIZED_WGSL,
                 caustics::lookup_wgsl(path)
             )
         };
-        let module = gpu::shader_with_prelude(ctx, &self.id, &source_with(None));
+        let module = gpu::shader(ctx, gpu::wgsl::Shader::new(&self.id, &source_with(None)));
         let caustic = match &self.settings.caustics {
             Some(c) => Some(Caustics::new(
                 ctx,

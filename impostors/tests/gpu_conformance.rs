@@ -76,7 +76,7 @@ fn kernel() -> String {
         kernel_header("array<vec4f, 2>", "vec4f"),
         kernel_entry(
             "main",
-            "    outputs[i] = hit(inputs[i][0].xyz, inputs[i][1].xyz, dist_map, dist_sampler, 3u, \
+            "    outputs[i] = distance_map::hit(inputs[i][0].xyz, inputs[i][1].xyz, dist_map, dist_sampler, 3u, \
              run.method, run.iterations);"
         )
     )
@@ -246,7 +246,7 @@ fn run_gpu(f: &Fixture, filter: Filter, method: Method, iterations: u32) -> Vec<
         .iter()
         .flat_map(|(x, r)| [x.extend(0.0).to_array(), r.extend(0.0).to_array()])
         .collect();
-    let source = format!("{}\n{}", gpu::distance_map::HIT_WGSL, kernel());
+    let source = format!("#import gpu::distance_map\n{}", kernel());
     dispatch(
         f,
         &source,
@@ -274,7 +274,7 @@ fn dispatch(
 ) -> Vec<[f32; 4]> {
     let ctx = common::ctx();
     let device = &ctx.device;
-    let module = gpu::shader_with_prelude(ctx, "hit conformance", source);
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("hit conformance", source));
     let rays = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("rays"),
         contents: bytemuck::cast_slice(inputs),

@@ -93,12 +93,7 @@ fn wgsl_cast_rooms_matches_twin() {
             ]
         })
         .collect();
-    let source = format!(
-        "{}\n{}\n{}",
-        gpu::prelude::PRELUDE_WGSL,
-        interior_mapping::INTERIOR_WGSL,
-        kernel()
-    );
+    let source = format!("{}\n{}", interior_mapping::INTERIOR_WGSL, kernel());
     let results: Vec<Output> = run_kernel(testkit::context(), &source, "main", &input, 1)
         .unwrap_or_else(|e| panic!("interior conformance kernel: {e}"));
 
@@ -190,12 +185,7 @@ fn wgsl_cubemap_room_matches_twin() {
     outputs[i][2] = bitcast<vec4u>(vec4i(hit.room, 0));
     outputs[i][3] = bitcast<vec4u>(vec4f(hit.lookup, 0.0));"#,
         );
-    let source = format!(
-        "{}\n{}\n{}",
-        gpu::prelude::PRELUDE_WGSL,
-        interior_mapping::INTERIOR_WGSL,
-        kernel
-    );
+    let source = format!("{}\n{}", interior_mapping::INTERIOR_WGSL, kernel);
     let results: Vec<CubemapOutput> = run_kernel(testkit::context(), &source, "main", &input, 1)
         .unwrap_or_else(|e| panic!("cube-map interiors conformance kernel: {e}"));
     let float3 = |v: [u32; 4]| {

@@ -227,8 +227,7 @@ pub fn tracer_wgsl(traversal: Traversal) -> String {
         ),
     };
     format!(
-        "{enable}{}\n{}\n{}\n{}{}\n{}",
-        gpu::prelude::PRELUDE_WGSL,
+        "{enable}{}\n{}\n{}{}\n{}",
         scene::medium::MEDIUM_WGSL,
         include_str!("shaders/triangles.wgsl"),
         traversal.binding_wgsl(),
@@ -297,12 +296,10 @@ impl GpuTracer {
             wgpu::ShaderStages::FRAGMENT,
             &[bind::uniform(), bind::storage(true), bind::storage(true)],
         );
-        let module = ctx
-            .device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("ray tracer"),
-                source: wgpu::ShaderSource::Wgsl(tracer_wgsl(traversal).into()),
-            });
+        let module = gpu::shader(
+            ctx,
+            gpu::wgsl::Shader::new("ray tracer", &tracer_wgsl(traversal)),
+        );
         let pipeline = |entry: &str| gpu::compute::pipeline(ctx, entry, &[&layout], &module, entry);
         let (eye_pipeline, photon_pipeline) = (pipeline("eye_pass"), pipeline("photon_pass"));
         let resolve_pipeline = gpu::fullscreen::pipeline(

@@ -792,7 +792,7 @@ fn apply_pass(
         scene::lightmap::CHART_WGSL,
         scene::lightmap::RECEIVER_WGSL
     );
-    let module = gpu::shader_with_prelude(ctx, "caustics apply", &source);
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("caustics apply", &source));
     let apply_pipeline = scene::scene_pipeline_with(
         ctx,
         "caustics apply",

@@ -35,7 +35,7 @@ pub fn render_kind_maps(
 ) -> Result<Vec<gpu::cube::CubeTarget>, gpu::GpuError> {
     let ctx = frame.gpu;
     let source = format!("{}\n{}", scene::SCENE_WGSL, REFRACTOR_MAP_WGSL);
-    let module = gpu::shader_with_prelude(ctx, "refractor map", &source);
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("refractor map", &source));
     let pipeline = scene::scene_pipeline(
         ctx,
         "refractor map",

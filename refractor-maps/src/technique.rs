@@ -562,13 +562,15 @@ pub fn distance_search_source(kinds: usize, first_binding: u32) -> String {
         .replace(
             "// {INSIDE_ARMS}\n",
             &arms(
-                "hit(x, R, MAP, map_sampler, 3u, HIT_FALSE_POSITION, distance_search.iterations)",
+                "distance_map::hit(x, R, MAP, map_sampler, 3u, distance_map::HIT_FALSE_POSITION, \
+                 distance_search.iterations)",
             ),
         )
         .replace(
             "// {OUTSIDE_ARMS}\n",
             &arms(
-                "hit_from_outside(y, R, MAP, map_sampler, 3u, bmin, bmax, HIT_FALSE_POSITION, \
+                "distance_map::hit_from_outside(y, R, MAP, map_sampler, 3u, bmin, bmax, \
+                 distance_map::HIT_FALSE_POSITION, \
                  distance_search.iterations, distance_search.epsilon)",
             ),
         )

@@ -207,8 +207,10 @@ impl DepthPeeler {
             })
             .collect();
 
-        let module =
-            gpu::shader_with_prelude(ctx, "depth peel", &format!("{SCENE_WGSL}\n{PEEL_WGSL}"));
+        let module = gpu::shader(
+            ctx,
+            gpu::wgsl::Shader::new("depth peel", &format!("{SCENE_WGSL}\n{PEEL_WGSL}")),
+        );
         let layout = gpu_scene.pipeline_layout_with(ctx, &[&peel_layout]);
         let pipeline = scene_pipeline_with(
             ctx,

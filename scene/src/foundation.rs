@@ -220,7 +220,7 @@ impl Technique for ClassicEnvMap {
             crate::SCENE_WGSL,
             include_str!("shaders/envmap.wgsl")
         );
-        let module = gpu::shader_with_prelude(ctx, "envmap/classic", &source);
+        let module = gpu::shader(ctx, gpu::wgsl::Shader::new("envmap/classic", &source));
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
         self.pipeline = Some(crate::scene_pipeline(
             ctx,

@@ -352,8 +352,10 @@ impl GpuScene {
         let raster_bind_group = bind(&raster_info_buffer);
 
         let layout = pipeline_layout(ctx, &camera_layout, &scene_layout, &[]);
-        let module =
-            gpu::shader_with_prelude(ctx, "raster", &format!("{SCENE_WGSL}\n{RASTER_WGSL}"));
+        let module = gpu::shader(
+            ctx,
+            gpu::wgsl::Shader::new("raster", &format!("{SCENE_WGSL}\n{RASTER_WGSL}")),
+        );
         let raster_pipelines = [gpu::HDR_FORMAT, wgpu::TextureFormat::Rgba16Float]
             .into_iter()
             .map(|f| {

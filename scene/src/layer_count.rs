@@ -191,7 +191,10 @@ impl LayerCounter {
             "{SCENE_WGSL}\n{}\n{COUNT_WGSL}",
             BINDINGS_WGSL.replace("{G}", "2")
         );
-        let count_module = gpu::shader_with_prelude(ctx, "depth complexity count", &count_source);
+        let count_module = gpu::shader(
+            ctx,
+            gpu::wgsl::Shader::new("depth complexity count", &count_source),
+        );
         let count_pipeline = scene_pipeline_with(
             ctx,
             "depth complexity count",
@@ -202,7 +205,10 @@ impl LayerCounter {
             (false, wgpu::CompareFunction::Always),
         );
         let reduce_source = format!("{}\n{REDUCE_WGSL}", BINDINGS_WGSL.replace("{G}", "0"));
-        let reduce_module = gpu::shader_with_prelude(ctx, "depth complexity max", &reduce_source);
+        let reduce_module = gpu::shader(
+            ctx,
+            gpu::wgsl::Shader::new("depth complexity max", &reduce_source),
+        );
         let compute = |entry| {
             gpu::compute::pipeline(ctx, "depth complexity", &[&layout], &reduce_module, entry)
         };

@@ -344,7 +344,10 @@ impl QuadSplatter {
             ],
         );
         let source = format!("{CHART_WGSL}\n{FOOTPRINT_WGSL}\n{SPLAT_QUADS_WGSL}");
-        let module = gpu::shader_with_prelude(ctx, "light-map splat quads", &source);
+        let module = gpu::shader(
+            ctx,
+            gpu::wgsl::Shader::new("light-map splat quads", &source),
+        );
         // Adds rgb; alpha is unused.
         let add = wgpu::BlendState {
             color: wgpu::BlendComponent {

@@ -11,8 +11,7 @@ fn the_wgsl_footprints_match_the_twin() {
     let _lock = testkit::gpu_lock();
     let ctx = testkit::context();
     let source = format!(
-        "{}\n{FOOTPRINT_WGSL}\n{}{}",
-        gpu::prelude::PRELUDE_WGSL,
+        "{FOOTPRINT_WGSL}\n{}{}",
         kernel_header("array<vec4f, 2>", "vec4f"),
         kernel_entry(
             "footprint_test",

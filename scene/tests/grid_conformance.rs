@@ -120,7 +120,7 @@ fn rays(spheres: &[Sphere], seed: u64) -> Vec<(Vec3, Vec3, u32, u32)> {
 /// grid_search.wgsl as given (`search` lets the mutation test swap in a broken copy).
 fn kernel(spheres: &[Sphere], grid: &BoardGrid, search: &str) -> String {
     format!(
-        "{prelude}
+        "#import gpu::prelude::ray_sphere
 struct Case {{ o: vec4f, d: vec4f }};
 {header}
 @group(0) @binding(2) var<storage, read> spheres: array<vec4f>;
@@ -135,7 +135,6 @@ fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {{
 }}
 {search}
 {entry}",
-        prelude = gpu::prelude::PRELUDE_WGSL,
         header = gpu::compute::kernel_header("Case", "vec4f"),
         entry = gpu::compute::kernel_entry(
             "k_nearest",

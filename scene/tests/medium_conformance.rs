@@ -73,9 +73,8 @@ fn kernel(mutate: bool) -> String {
         MEDIUM_WGSL.to_string()
     };
     format!(
-        "{prelude}\n{medium}\nstruct Case {{ medium: Medium, origin: vec4f, dir: vec4f }};\n\
+        "{medium}\nstruct Case {{ medium: Medium, origin: vec4f, dir: vec4f }};\n\
          {header}\n{entry}",
-        prelude = gpu::prelude::PRELUDE_WGSL,
         header = gpu::compute::kernel_header("Case", "vec4f"),
         entry = gpu::compute::kernel_entry(
             "main",

@@ -233,8 +233,7 @@ fn the_wgsl_march_finds_the_twins_hits() {
 
     let cases = cases(&eye, &scene_ldi);
     let source = format!(
-        "{}\n{KERNEL_BINDINGS}\n{LDI_WGSL}\n{}{}",
-        gpu::prelude::PRELUDE_WGSL,
+        "{KERNEL_BINDINGS}\n{LDI_WGSL}\n{}{}",
         kernel_header("RayCase", "vec4f"),
         kernel_entry("march_kernel", MARCH_BODY)
     );
@@ -268,8 +267,7 @@ fn the_wgsl_march_finds_the_twins_hits() {
 /// entry point `entry` running `body` for element `i`.
 fn weight_kernel_source(input: &str, output: &str, entry: &str, body: &str) -> String {
     format!(
-        "{}\n{}\n{}{}",
-        gpu::prelude::PRELUDE_WGSL,
+        "{}\n{}{}",
         screen_photons::splat::WEIGHT_WGSL,
         kernel_header(input, output),
         kernel_entry(entry, body)
@@ -565,14 +563,13 @@ fn the_wgsl_beam_fragments_match_the_twin() {
     }
     let source = |tent: &str| {
         format!(
-            "{prelude}\n{medium}\n{photon_structs}\n{constants}\n{beam}\n\
+            "{medium}\n{photon_structs}\n{constants}\n{beam}\n\
              struct BeamCase {{ medium: Medium, view_proj: mat4x4f, eye: vec4f, forward: vec4f, \
              size: vec4u, origin: vec4f, dir: vec4f, power: vec4f, pixel: vec4f }};\n\
              var<private> shaft: ShaftView;\n\
              var<private> case_medium: Medium;\n\
              fn scene_medium() -> Medium {{ return case_medium; }}\n\
              {header}\n{entry}",
-            prelude = gpu::prelude::PRELUDE_WGSL,
             medium = scene::medium::MEDIUM_WGSL,
             photon_structs = BEAM_STRUCT,
             constants = screen_photons::technique::beam_constants(),

@@ -121,11 +121,7 @@ fn run_kernel(entry: &str, cases: &[Case]) -> Vec<Output> {
 }
 
 fn run_kernel_with(path_length_wgsl: &str, entry: &str, cases: &[Case]) -> Vec<Output> {
-    let source = format!(
-        "{}\n{path_length_wgsl}\n{}",
-        gpu::prelude::PRELUDE_WGSL,
-        kernels()
-    );
+    let source = format!("{path_length_wgsl}\n{}", kernels());
     gpu::compute::run_kernel(testkit::context(), &source, entry, cases, 1)
         .unwrap_or_else(|e| panic!("kernel {entry}: {e}"))
 }

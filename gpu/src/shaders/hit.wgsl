@@ -1,3 +1,6 @@
+#define_import_path gpu::distance_map
+#import gpu::prelude::ray_box
+
 // ---------------------------------------------------------------------------------------------
 // Hit(): approximate ray hit against a distance impostor (Szirmay-Kalos et al. 2005, sections
 // 2.1-2.2 and the Hit listing of section 3). Rust twin: gpu/src/distance_map.rs (same algorithm,

@@ -1,3 +1,4 @@
+#define_import_path gpu::prelude
 // ---------------------------------------------------------------------------------------------
 // Workspace WGSL prelude: ray math, reflection/refraction, the seeds' Fresnel with n and k,
 // cube-map addressing, packing and hashing. Every function here has a Rust twin with the same

@@ -11,6 +11,8 @@
 // (exit_from_inside, REFRACTION_DOUBLE), chords that meet the surface beyond the critical
 // angle reflecting on.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{fresnel_dielectric, reflect_dir, refract_dir}
+#import gpu::distance_map
 
 struct PieceGpu {
     // World centre now; w: the kind's layer in height_maps.
@@ -62,7 +64,7 @@ fn piece_layer(p: u32) -> i32 {
 
 // Radiance of the diffuse environment arriving at `o` from direction `d`.
 fn environment(o: vec3f, d: vec3f) -> vec3f {
-    var l = hit(o - params.env_reference.xyz, d, env_map, env_sampler, 3u, HIT_FALSE_POSITION,
+    var l = distance_map::hit(o - params.env_reference.xyz, d, env_map, env_sampler, 3u, distance_map::HIT_FALSE_POSITION,
                 params.env_iterations).xyz;
     if (dot(l, l) < 1e-12) { l = d; }
     return textureSampleLevel(env_map, env_sampler, l, 0.0).rgb;

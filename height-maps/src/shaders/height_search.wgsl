@@ -5,6 +5,7 @@
 //     height_maps: texture_2d_array<f32>   (Rgba32Float: normal.xyz, height; a layer per kind)
 // and passes each map's layer and bounds.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{BIG, ray_box}
 
 const PARALLEL: f32 = 1e-6;
 const CASE_IN_FRONT: u32 = 0u;

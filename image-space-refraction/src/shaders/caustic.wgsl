@@ -4,6 +4,7 @@
 // found there turned into diffuse radiance (albedo / pi E) and added (additive blending). As in
 // shadow mapping, the fragment is compared with the depth the rectangle's impostor texture
 // holds there: surfaces hidden from the refractor behind the object's own front receive none.
+#import gpu::prelude::PI
 
 struct CausticMapParams {
     // Side of each caustic texture.

@@ -6,6 +6,7 @@
 // search on the light's buffers, Fresnel transmission at both interfaces) or reflected by a
 // metal, then to the nearest rectangle impostor (the corrected lookup). It writes which texel
 // of which rectangle it reaches, and its power; a photon that reaches none writes zeros.
+#import gpu::prelude::fresnel_dielectric
 
 struct PhotonOut {
     // u, v on the rectangle's texture, texture array layer + 1 (0: no photon), unused.

@@ -19,6 +19,7 @@
 //                          colour is read where that point projects.
 // The exit ray T2 (or the reflected ray R) takes the radiance `outgoing_radiance(origin, dir)`
 // gives: the environment map, or with nearby geometry its rectangle impostors first.
+#import gpu::prelude::refract_dir
 
 struct RefractParams {
     variant: u32,

@@ -3,6 +3,7 @@
 // After the gpu prelude. The includer declares `eye_params: EyeParams` and the two buffers
 // `front_buffer` and `back_buffer` (texture_2d<f32>, Rgba32Float: outward normal, view depth;
 // depth 0 where the refractor is not).
+#import gpu::prelude::refract_dir
 
 struct EyeParams {
     view_proj: mat4x4f,

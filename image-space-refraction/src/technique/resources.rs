@@ -124,7 +124,10 @@ pub(super) fn pipelines(
         "{}\n{SEARCH_WGSL}\n{REFRACT_WGSL}\n{radiance_wgsl}",
         scene::SCENE_WGSL
     );
-    let module = gpu::shader_with_prelude(ctx, "image-space refraction", &source);
+    let module = gpu::shader(
+        ctx,
+        gpu::wgsl::Shader::new("image-space refraction", &source),
+    );
     let buffers_layout = scene.pipeline_layout_with(ctx, &[]);
     let buffer_pipeline = |entry: &str| {
         scene::scene_pipeline_with(

@@ -18,6 +18,8 @@
 // 3. Reflections and refractions see the caustics too (paper figure 11): env_lookup adds
 //    caustic_radiance_at(l), which reads the caustic at the surface the impostor shows in
 //    direction l (receiver cube: albedo, chart, texel area, cosine).
+#import gpu::prelude::{PI, cube_dir_to_face_uv, reflect_dir}
+#import gpu::distance_map
 
 struct CausticParams {
     // Light position (w unused) and RGB intensity (W/sr).
@@ -105,7 +107,7 @@ fn trace_photon(in: SceneVertexOut) -> Photon {
         }
     }
     let x = origin - params.reference.xyz;
-    var l = hit(x, dir, env_distance, env_sampler, params.distance_channel, params.method,
+    var l = distance_map::hit(x, dir, env_distance, env_sampler, params.distance_channel, params.method,
                 params.iterations).xyz;
     if (dot(l, l) < 1e-12) { l = dir; }
     let shown = textureSampleLevel(env_distance, env_sampler, l, 0.0)[params.distance_channel];

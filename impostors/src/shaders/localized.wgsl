@@ -18,6 +18,8 @@
 // map, captured at `reference` (the probe), is looked up toward the exit point (box_project of
 // the prelude); the distances are unused. Lookup 2: a box-projected variant on a scene with no
 // proxy box falls back to the direction lookup.
+#import gpu::prelude::{box_project, fresnel_dielectric, reflect_dir, refract_dir}
+#import gpu::distance_map
 
 struct ImpostorParams {
     // Reference point of the environment impostor (world), w unused.
@@ -70,7 +72,7 @@ fn env_lookup(origin: vec3f, dir: vec3f) -> vec3f {
                              params.proxy_max.xyz).xyz;
     } else {
         let x = origin - params.reference.xyz;
-        lookup = hit(x, dir, env_distance, env_sampler, params.distance_channel,
+        lookup = distance_map::hit(x, dir, env_distance, env_sampler, params.distance_channel,
                      params.method, params.iterations).xyz;
         // l at the reference point itself: any direction sees the same (ratio 0) - use R.
         if (dot(lookup, lookup) < 1e-12) { lookup = dir; }
@@ -94,7 +96,7 @@ struct Chord {
 fn refractor_chord(pos: vec3f, dir: vec3f, ior: f32) -> Chord {
     let c = params.refractor_center.xyz;
     // Exit point: Hit() inside the refractor map (the object's surface seen from its centre).
-    let h = hit(pos - c, dir, refractor_map, env_sampler, 3u, HIT_FALSE_POSITION,
+    let h = distance_map::hit(pos - c, dir, refractor_map, env_sampler, 3u, distance_map::HIT_FALSE_POSITION,
                 params.refractor_iterations);
     var l = h.xyz;
     if (dot(l, l) < 1e-12) { l = dir; }

@@ -3,6 +3,7 @@
 // interior-mapping/src/rooms.rs (same algorithm, same constants; see its docs). Needs the gpu
 // prelude (BIG, hash_to_unit). Grid space: plane k of family a at (k + offset) * size[a].
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{BIG, box_project, hash_to_unit, pcg_hash}
 
 const FAMILY_X: u32 = 0u;
 const FAMILY_Y: u32 = 1u;

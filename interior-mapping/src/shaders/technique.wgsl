@@ -4,6 +4,7 @@
 // space against the room planes (cast_rooms), the nearest plane is textured by family and
 // shaded with the scene's diffuse model (shade_diffuse, shadow maps included), and the result
 // shows through the windows of the facade.
+#import gpu::prelude::{PI, cube_dir_to_face_uv, fresnel_dielectric, hash_to_unit, pcg_hash, ray_box, reflect_dir}
 
 struct BuildingGpu {
     world_to_object: mat4x4f,

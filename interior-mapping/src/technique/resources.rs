@@ -42,7 +42,7 @@ impl InteriorMapping {
             crate::INTERIOR_WGSL,
             TECHNIQUE_WGSL
         );
-        let module = gpu::shader_with_prelude(ctx, "interior mapping", &source);
+        let module = gpu::shader(ctx, gpu::wgsl::Shader::new("interior mapping", &source));
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[layout]);
         let writes_depth = !self.prepass;
         let shaded =

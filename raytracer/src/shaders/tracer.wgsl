@@ -16,6 +16,7 @@
 // Needs the gpu prelude, scene's medium.wgsl, triangles.wgsl and one traversal (bvh.wgsl or
 // ray_query.wgsl, with its binding 1).
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{PI, fresnel_dielectric, fresnel_nk, pcg_hash, ray_sphere, reflect_dir, refract_dir}
 
 struct Params {
     // xyz: the eye.

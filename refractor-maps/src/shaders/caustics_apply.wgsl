@@ -2,6 +2,7 @@
 // albedo / pi * E, E = the power per texel of both light maps (static pieces, moving piece)
 // over the texel's area on the surface. After the gpu prelude + scene.wgsl + scene::lightmap's
 // chart.wgsl and receiver.wgsl. Drawn over the finished image (depth equal, additive).
+#import gpu::prelude::PI
 
 struct ReceiverParams {
     chart: Chart,

@@ -6,6 +6,8 @@
 // pieces.wgsl. {B} is the search's first binding in @group(2).
 // ---------------------------------------------------------------------------------------------
 
+#import gpu::distance_map
+
 struct DistanceSearch {
     // Refinement steps of Hit() in the refractor maps.
     iterations: u32,

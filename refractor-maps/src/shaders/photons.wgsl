@@ -10,6 +10,7 @@
 // other pieces on its way. splat_quads.wgsl (scene::lightmap::QuadSplatter) then adds a
 // Gaussian quad per photon into the light map.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{fresnel_dielectric, ray_plane, reflect_dir, refract_dir}
 
 struct PhotonParams {
     // The receiver's light-map chart (the only chart of the atlas).

@@ -35,7 +35,6 @@ use crate::{
 };
 use glam::Vec3;
 use gpu::cube::{CubeArray, cube_face_view_proj};
-use gpu::distance_map::{HIT_WGSL, layered_hit_wgsl};
 use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
@@ -554,13 +553,12 @@ impl Shading {
         label: &str,
     ) -> Self {
         let source = format!(
-            "{}\n{}\n{HIT_WGSL}\n{}\n{PIECES_WGSL}\n{}\n{ENVIRONMENT_PIECES_WGSL}\n{extra_wgsl}",
+            "{}\n{}\n{PIECES_WGSL}\n{}\n{ENVIRONMENT_PIECES_WGSL}\n{extra_wgsl}",
             crate::SCENE_WGSL,
             crate::RASTER_WGSL,
-            layered_hit_wgsl(),
             search.wgsl(SEARCH_FIRST_BINDING),
         );
-        let module = gpu::shader_with_prelude(ctx, label, &source);
+        let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &source));
         let mut entries =
             driver_entries(bind::texture(wgpu::TextureViewDimension::CubeArray, true));
         entries.extend(search.binding_types());

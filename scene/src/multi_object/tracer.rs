@@ -18,7 +18,6 @@ use crate::kinds::Kinds;
 use crate::{Frame, GpuScene, ObjectFilter, RasterTarget, Scene, TechniqueError, View};
 use glam::Vec3;
 use gpu::cube::CubeTarget;
-use gpu::distance_map::HIT_WGSL;
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, GpuError, Target, Uniform, bind};
@@ -150,11 +149,11 @@ impl Tracer {
         label: &str,
     ) -> Result<Self, GpuError> {
         let source = format!(
-            "{}\n{HIT_WGSL}\n{GRID_SEARCH_WGSL}\n{PIECES_WGSL}\n{TRACE_WGSL}\n{}\n{extra_wgsl}",
+            "{}\n{GRID_SEARCH_WGSL}\n{PIECES_WGSL}\n{TRACE_WGSL}\n{}\n{extra_wgsl}",
             crate::SCENE_WGSL,
             search.wgsl(SEARCH_FIRST_BINDING),
         );
-        let module = gpu::shader_with_prelude(ctx, label, &source);
+        let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &source));
         let mut entries = driver_entries(bind::texture_cube());
         entries.extend(search.binding_types());
         let layout = bind::layout(ctx, label, wgpu::ShaderStages::FRAGMENT, &entries);

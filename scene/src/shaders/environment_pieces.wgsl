@@ -21,6 +21,9 @@
 // (camera.eye = the cube's centre): alpha is the distance from the eye, as a distance
 // impostor needs.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{fresnel_dielectric, fresnel_nk, reflect_dir, refract_dir}
+#import gpu::distance_map
+#import gpu::layered_distance_map
 
 const NO_PIECE: u32 = 0xffffffffu;
 
@@ -46,8 +49,8 @@ const EXIT_CHORDS: u32 = 3u;
 
 // Radiance and ray parameter of the surface piece p's impostor shows along o + t d.
 fn impostor_lookup(p: u32, o: vec3f, d: vec3f) -> vec4f {
-    let h = hit_layered(o - env_centres[p].xyz, d, impostors, i32(p), impostor_sampler, 3u,
-                        HIT_FALSE_POSITION, env.env_iterations);
+    let h = layered_distance_map::hit_layered(o - env_centres[p].xyz, d, impostors, i32(p), impostor_sampler, 3u,
+                        distance_map::HIT_FALSE_POSITION, env.env_iterations);
     var l = h.xyz;
     if (dot(l, l) < 1e-12) { l = d; }
     return vec4f(textureSampleLevel(impostors, impostor_sampler, l, i32(p), 0.0).rgb, h.w);

@@ -5,6 +5,7 @@
 //   fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f   // (any payload, t) or t < 0: no hit
 //   var<storage, read> grid_cells: array<vec4u>;         // CELL_CAPACITY = 4 pieces per cell
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{grid_walk, grid_walk_next}
 
 const GRID_EMPTY: u32 = 0xffffffffu;
 

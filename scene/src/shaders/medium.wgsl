@@ -4,6 +4,7 @@
 // functions of a `Medium` value (after the gpu prelude); scene.wgsl holds the scene's medium in
 // `scene_info.medium` and `scene_medium()` returns it.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{PI, ray_box}
 
 struct Medium {
     // xyz: the box's lower corner; w: 1 when the scene has a medium, 0 when not.

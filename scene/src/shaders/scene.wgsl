@@ -6,6 +6,7 @@
 // Technique shaders are prelude + this file + their own entry points; they draw objects with
 // `scene_vs` (instance index = object index) and shade diffuse surfaces with `shade_diffuse`.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{PI, fresnel_dielectric, fresnel_nk, hash_to_unit, pcg_hash, reflect_dir, refract_dir}
 
 struct CameraUniform {
     view_proj: mat4x4f,

@@ -4,6 +4,7 @@
 // instance index) and moves quads of empty texels out of the clip volume; the fragment
 // shader weights the photon power with a Gaussian over the quad. After the gpu prelude +
 // chart.wgsl + footprint.wgsl.
+#import gpu::prelude::PI
 
 // Photon footprints (photon differentials, Schjoth et al. 2007, in their finite-difference
 // form): the photons leave the light on a lattice (the photon map's texels), so each photon

@@ -23,6 +23,8 @@
 //   fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord
 //       the search from inside: where the ray leaves piece p and the outward normal there.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{fresnel_dielectric, fresnel_nk, reflect_dir, refract_dir}
+#import gpu::distance_map
 
 struct TracerParams {
     // xyz: reference point of the environment impostor (world).
@@ -61,7 +63,7 @@ const SURFACE_OFFSET: f32 = 1e-4;
 
 // Radiance of the diffuse environment arriving at `o` from direction `d`.
 fn environment(o: vec3f, d: vec3f) -> vec3f {
-    var l = hit(o - tracer.env_reference.xyz, d, env_map, env_sampler, 3u, HIT_FALSE_POSITION,
+    var l = distance_map::hit(o - tracer.env_reference.xyz, d, env_map, env_sampler, 3u, distance_map::HIT_FALSE_POSITION,
                 tracer.env_iterations).xyz;
     if (dot(l, l) < 1e-12) { l = d; }
     return textureSampleLevel(env_map, env_sampler, l, 0.0).rgb;

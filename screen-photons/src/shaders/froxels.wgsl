@@ -12,6 +12,7 @@
 // the integration, unit-tested there; this pass is checked as a whole by the shafts' energy
 // against the reference (tests/diagnostics.rs).
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::ray_box
 
 struct FroxelParams {
     // The caustic map's light view (world to clip).

@@ -11,6 +11,7 @@
 // Every function reading an LDI takes `which`: LDI_SCENE (all objects) or LDI_REFRACTORS.
 // (the technique's passes at @group(2), the conformance kernel at @group(0)).
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::ray_box
 
 struct LdiParams {
     // World to clip of the eye the LDI was peeled from (depth in [0, 1]).

@@ -1,5 +1,6 @@
 // The diffuse surfaces shaded like the raster pass (raster.wgsl: the reference's rules) with
 // the screen-space visibility of the first four lights instead of their shadow maps.
+#import gpu::prelude::PI
 
 @group(3) @binding(0) var<storage, read> shadow_mask: array<vec4f>;
 

@@ -1,4 +1,5 @@
 // The splat kernel and weight (section 3.1): the WGSL twin of `src/splat.rs`.
+#import gpu::prelude::PI
 
 // The cone kernel of radius s, normalised to integrate to 1 over its plane.
 fn splat_kernel(d: f32, s: f32) -> f32 {

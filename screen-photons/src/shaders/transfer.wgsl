@@ -11,6 +11,7 @@
 // a weight is the share of the light's flux through the pixel: the transmitted or reflected
 // share times cos^3 off the view's axis (0 everywhere: no photon).
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::oct_encode
 
 struct TransferParams {
     // Light position; w unused.

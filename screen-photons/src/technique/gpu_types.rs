@@ -106,7 +106,7 @@ pub(super) fn compute_pipeline(
     own: &str,
     entry: &str,
 ) -> wgpu::ComputePipeline {
-    let module = gpu::shader_with_prelude(ctx, label, &pass_source(own));
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &pass_source(own)));
     gpu::compute::pipeline_with_layout(ctx, label, layout, &module, entry)
 }
 
@@ -141,7 +141,7 @@ pub(super) fn render_pipeline(
     topology: wgpu::PrimitiveTopology,
     targets: &[Option<wgpu::ColorTargetState>],
 ) -> wgpu::RenderPipeline {
-    let module = gpu::shader_with_prelude(ctx, label, &pass_source(own));
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &pass_source(own)));
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),

@@ -100,7 +100,7 @@ fn hdr_pipeline(
     blend: Option<wgpu::BlendState>,
     depth: (bool, wgpu::CompareFunction),
 ) -> wgpu::RenderPipeline {
-    let module = gpu::shader_with_prelude(ctx, label, &pass_source(own));
+    let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &pass_source(own)));
     let targets = [pass::color_target(gpu::HDR_FORMAT, blend)];
     scene::scene_pipeline_with(ctx, label, layout, &module, entry, &targets, depth)
 }
@@ -111,10 +111,9 @@ fn transfer_pipeline(
     scene: &GpuScene,
     own: &wgpu::BindGroupLayout,
 ) -> wgpu::RenderPipeline {
-    let module = gpu::shader_with_prelude(
+    let module = gpu::shader(
         ctx,
-        "transfer map",
-        &format!("{SCENE_WGSL}\n{TRANSFER_WGSL}"),
+        gpu::wgsl::Shader::new("transfer map", &format!("{SCENE_WGSL}\n{TRANSFER_WGSL}")),
     );
     let targets = [
         pass::color_target(MAP_FORMAT, None),

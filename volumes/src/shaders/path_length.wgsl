@@ -9,6 +9,7 @@
 // Billboard coordinates (u, v) are in units of the volume radius R, measured on the plane
 // through the volume centre that faces the eye.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{ray_plane, ray_sphere}
 
 const OPACITY_LINEAR: u32 = 0u;
 const OPACITY_LOG: u32 = 1u;

@@ -8,6 +8,7 @@
 // correctly. Colours are premultiplied: out = (colour * a, a), blended with
 // (One, OneMinusSrcAlpha) on rgb; the destination alpha is left as it is.
 // ---------------------------------------------------------------------------------------------
+#import gpu::prelude::{BIG, ray_plane}
 
 // 1 for billboards and ray-traced volumes, N for N slices (thesis 6.3.2).
 override SLICES: u32 = 1u;
