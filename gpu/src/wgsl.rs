@@ -288,3 +288,74 @@ impl ComposerCache {
         error.emit_to_string(&self.composer)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn imports_of_one_item_in_two_parts_are_merged() {
+        let merged = merge_imports(
+            "#import gpu::prelude::{PI, ray_box}\nfn a() {}\n#import gpu::prelude::PI\n\
+             #import gpu::distance_map\n#import gpu::prelude::luminance\n#import gpu::distance_map",
+        );
+        assert_eq!(
+            merged,
+            "#import gpu::prelude::{PI, luminance, ray_box}\nfn a() {}\n\n\
+             #import gpu::distance_map\n\n"
+        );
+    }
+
+    /// The prelude's names are namespaced: a shader may declare its own `PI` and `MISS` and
+    /// still import the prelude's `ray_box`, which uses the prelude's `MISS`.
+    #[test]
+    fn a_shader_may_reuse_the_names_of_what_it_imports() {
+        let source = "#import gpu::prelude::ray_box
+const PI: f32 = 3.0;
+const MISS: f32 = -2.0;
+@compute @workgroup_size(1)
+fn main() {
+    let t = ray_box(vec3f(0.0), vec3f(1.0, 0.0, 0.0), vec3f(-1.0), vec3f(1.0));
+    let x = t.x * PI + MISS;
+}
+";
+        let module = compose(&Shader::new("names", source)).expect("composes");
+        let constants: Vec<_> = module
+            .constants
+            .iter()
+            .filter_map(|(_, c)| c.name.clone())
+            .collect();
+        assert!(constants.contains(&"PI".to_string()), "{constants:?}");
+        assert!(
+            constants
+                .iter()
+                .filter(|name| name.starts_with("MISS"))
+                .count()
+                == 2,
+            "{constants:?}"
+        );
+    }
+
+    #[test]
+    fn an_unknown_name_is_reported_with_its_line() {
+        let error = compose(&Shader::new(
+            "broken pass",
+            "fn f() -> f32 {\n    return PI;\n}\n",
+        ))
+        .expect_err("PI is not imported");
+        assert!(error.contains("broken pass:2"), "{error}");
+        assert!(error.contains("PI"), "{error}");
+    }
+
+    #[test]
+    fn definitions_specialise_the_text() {
+        let source = "@group(#{GROUP}) @binding(0) var<uniform> u: vec4f;
+@compute @workgroup_size(1)
+fn main() { let x = u.x; }
+";
+        let defs = [("GROUP", Def::UInt(3))];
+        let module = compose(&Shader::new("defs", source).with_defs(&defs)).expect("composes");
+        let (_, global) = module.global_variables.iter().next().expect("one global");
+        assert_eq!(global.binding.as_ref().map(|b| b.group), Some(3));
+    }
+}

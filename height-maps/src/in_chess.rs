@@ -60,12 +60,8 @@ impl HeightSearch {
 }
 
 impl ObjectSearch for HeightSearch {
-    fn wgsl(&self, first_binding: u32) -> String {
-        let interface = HEIGHT_OBJECT_SEARCH_WGSL
-            .replace("{B+1}", &(first_binding + 1).to_string())
-            .replace("{B+2}", &(first_binding + 2).to_string())
-            .replace("{B}", &first_binding.to_string());
-        format!("{HEIGHT_SEARCH_WGSL}\n{interface}")
+    fn wgsl(&self) -> String {
+        format!("{HEIGHT_SEARCH_WGSL}\n{HEIGHT_OBJECT_SEARCH_WGSL}")
     }
     fn binding_types(&self) -> Vec<wgpu::BindingType> {
         vec![

@@ -100,8 +100,7 @@ pub fn render_height_maps(
         wgpu::ShaderStages::FRAGMENT,
         &[bind::uniform()],
     );
-    let source = format!("{}\n{HEIGHT_MAP_WGSL}", scene::SCENE_WGSL);
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("height map", &source));
+    let module = scene::shader(ctx, "height map", HEIGHT_MAP_WGSL);
     let pipeline = scene::scene_pipeline(
         ctx,
         "height map",

@@ -33,7 +33,7 @@
 use glam::{Vec2, Vec3};
 use gpu::prelude::{BIG, ray_box};
 
-/// WGSL of the search (after the prelude; the includer declares the height maps, see the
+/// WGSL of the search (imports `gpu::prelude`; the includer declares the height maps, see the
 /// file's header).
 pub const HEIGHT_SEARCH_WGSL: &str = include_str!("shaders/height_search.wgsl");
 

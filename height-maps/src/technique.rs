@@ -245,11 +245,8 @@ impl Technique for HeightMaps {
             (s.resolution as u64).pow(2) * 16,
             "resolution",
         )?;
-        let source = format!(
-            "{}\n{HEIGHT_SEARCH_WGSL}\n{BILLBOARD_BOX_WGSL}\n{BILLBOARD_WGSL}",
-            scene::SCENE_WGSL,
-        );
-        let module = gpu::shader(ctx, gpu::wgsl::Shader::new(&self.id, &source));
+        let source = format!("{HEIGHT_SEARCH_WGSL}\n{BILLBOARD_BOX_WGSL}\n{BILLBOARD_WGSL}",);
+        let module = scene::shader(ctx, &self.id, &source);
         let layout = bind::layout(
             ctx,
             "height-map billboards",

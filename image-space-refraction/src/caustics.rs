@@ -188,12 +188,10 @@ impl Accumulator {
                 bind::storage(true),             // texel_areas
             ],
         );
-        let module = gpu::shader(
+        let module = scene::shader(
             ctx,
-            gpu::wgsl::Shader::new(
-                "caustic textures",
-                include_str!("shaders/caustic_compute.wgsl"),
-            ),
+            "caustic textures",
+            include_str!("shaders/caustic_compute.wgsl"),
         );
         let pipeline = |entry: &str| gpu::compute::pipeline(ctx, entry, &[&layout], &module, entry);
         Self {
@@ -672,12 +670,11 @@ fn caustic_mapping(
         rect_of_object.push(buffer);
     }
     let source = format!(
-        "{}\n{}\n{}",
-        scene::SCENE_WGSL,
+        "{}\n{}",
         include_str!("shaders/rect.wgsl"),
         include_str!("shaders/caustic.wgsl")
     );
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("caustic mapping", &source));
+    let module = scene::shader(ctx, "caustic mapping", &source);
     let map_pipeline = scene::scene_pipeline_with(
         ctx,
         "caustic mapping",

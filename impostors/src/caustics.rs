@@ -25,12 +25,13 @@ use scene::lightmap::{CHART_WGSL, ChartAtlas, QuadSplatter, RECEIVER_WGSL};
 use scene::{Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
 
 /// WGSL of the receivers' light-map charts: the chart and atlas uv under a fragment of a
-/// diffuse object (after the `gpu` prelude, `scene::SCENE_WGSL`,
-/// `scene::lightmap::CHART_WGSL` and `scene::lightmap::RECEIVER_WGSL`).
+/// diffuse object (no imports of its own; after `scene::lightmap::CHART_WGSL` and
+/// `scene::lightmap::RECEIVER_WGSL`).
 pub const LIGHTMAP_WGSL: &str = include_str!("shaders/lightmap.wgsl");
 /// WGSL of the caustic maps (paper section 5): photon tracing from the light
 /// (`trace_photon`), the caustic-map and receiver-cube shaders of both paths and the apply
-/// passes (after the prelude, `scene.wgsl`, `Hit()`, `localized.wgsl` and the chart WGSL).
+/// passes (imports `gpu::prelude`, `scene::shading` and `gpu::distance_map`, whose `Hit()` it
+/// uses; after `localized.wgsl` and the chart WGSL).
 pub const CAUSTIC_WGSL: &str = include_str!("shaders/caustic.wgsl");
 const SPLAT_WGSL: &str = include_str!("shaders/splat.wgsl");
 
@@ -702,7 +703,7 @@ fn splat_compute(ctx: &Context) -> Splatter {
         wgpu::ShaderStages::COMPUTE,
         &[photons, photons, bind::storage(false), bind::uniform()],
     );
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("caustic splat", SPLAT_WGSL));
+    let module = scene::shader(ctx, "caustic splat", SPLAT_WGSL);
     let pipeline = gpu::compute::pipeline(ctx, "caustic splat", &[&layout], &module, "splat_main");
     Splatter::Compute { pipeline, layout }
 }
@@ -723,10 +724,7 @@ fn caustic_pipelines(
     localized_source: &str,
     path: CausticPath,
 ) -> [wgpu::RenderPipeline; 4] {
-    let module = gpu::shader(
-        ctx,
-        gpu::wgsl::Shader::new("impostors caustics", localized_source),
-    );
+    let module = scene::shader(ctx, "impostors caustics", localized_source);
     let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, group3_layout]);
     let (map_entry, apply_entry) = match path {
         CausticPath::LightMap => ("caustic_uv_fs", "lightmap_apply_fs"),

@@ -26,7 +26,7 @@ use scene::{
     Frame, GpuScene, Material, ObjectFilter, RasterTarget, Scene, Technique, TechniqueResult, View,
 };
 
-/// WGSL of `Hit()` (needs the gpu prelude before it).
+/// WGSL of the localized lookups (imports `gpu::prelude`, `gpu::distance_map`, `scene::shading`).
 const LOCALIZED_WGSL: &str = include_str!("shaders/localized.wgsl");
 const SPLIT_WGSL: &str = include_str!("shaders/split.wgsl");
 
@@ -354,15 +354,8 @@ impl Technique for Impostor {
         let layout = impostor_layout(ctx);
         // The plain localized pass (and the refractor map) from a module without caustics;
         // caustic variants draw with their own module, whose lookups add the caustics.
-        let source_with = |path| {
-            format!(
-                "{}\n{}\n{}",
-                scene::SCENE_WGSL,
-                LOCALIZED_WGSL,
-                caustics::lookup_wgsl(path)
-            )
-        };
-        let module = gpu::shader(ctx, gpu::wgsl::Shader::new(&self.id, &source_with(None)));
+        let source_with = |path| format!("{}\n{}", LOCALIZED_WGSL, caustics::lookup_wgsl(path));
+        let module = scene::shader(ctx, &self.id, &source_with(None));
         let caustic = match &self.settings.caustics {
             Some(c) => Some(Caustics::new(
                 ctx,

@@ -227,8 +227,7 @@ pub fn tracer_wgsl(traversal: Traversal) -> String {
         ),
     };
     format!(
-        "{enable}{}\n{}\n{}{}\n{}",
-        scene::medium::MEDIUM_WGSL,
+        "{enable}{}\n{}{}\n{}",
         include_str!("shaders/triangles.wgsl"),
         traversal.binding_wgsl(),
         traverse,
@@ -296,10 +295,7 @@ impl GpuTracer {
             wgpu::ShaderStages::FRAGMENT,
             &[bind::uniform(), bind::storage(true), bind::storage(true)],
         );
-        let module = gpu::shader(
-            ctx,
-            gpu::wgsl::Shader::new("ray tracer", &tracer_wgsl(traversal)),
-        );
+        let module = scene::shader(ctx, "ray tracer", &tracer_wgsl(traversal));
         let pipeline = |entry: &str| gpu::compute::pipeline(ctx, entry, &[&layout], &module, entry);
         let (eye_pipeline, photon_pipeline) = (pipeline("eye_pass"), pipeline("photon_pass"));
         let resolve_pipeline = gpu::fullscreen::pipeline(

@@ -787,12 +787,11 @@ fn apply_pass(
         ],
     );
     let source = format!(
-        "{}\n{}\n{}\n{APPLY_WGSL}",
-        scene::SCENE_WGSL,
+        "{}\n{}\n{APPLY_WGSL}",
         scene::lightmap::CHART_WGSL,
         scene::lightmap::RECEIVER_WGSL
     );
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("caustics apply", &source));
+    let module = scene::shader(ctx, "caustics apply", &source);
     let apply_pipeline = scene::scene_pipeline_with(
         ctx,
         "caustics apply",

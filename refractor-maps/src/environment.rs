@@ -136,7 +136,7 @@ impl Technique for EnvironmentMaps {
         let all_maps = kind_count as u64 * map_bytes;
         PieceImpostors::check(&scene.scene, &kinds, &settings, all_maps, &self.id)?;
         let maps = render_kind_maps(frame, scene, &kinds, m.resolution)?;
-        let search = DistanceSearch::new(frame.gpu, maps, m);
+        let search = DistanceSearch::new(frame, maps, m);
         let impostors = PieceImpostors::new(
             frame,
             scene,

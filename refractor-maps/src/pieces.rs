@@ -10,10 +10,9 @@
 //! piece stands at a time) are `scene`'s (`scene::Kinds`, `scene::multi_object::pieces`),
 //! shared with the height maps.
 
-/// Most kinds (one refractor map binding each) the tracer's shader takes: the 16 sampled
-/// textures a fragment stage may bind (wgpu's default limit), less the scene's three and the
-/// environment impostor.
-pub const MAX_KINDS: usize = 12;
+/// Most kinds the search's maps hold: cube k of one cube-map array is kind k's refractor map,
+/// and wgpu's default limit is 256 array layers (42 cubes of six).
+pub const MAX_KINDS: usize = 42;
 
 /// Format of the refractor maps (normal + distance) and the environment impostor.
 pub const MAP_FORMAT: gpu::wgpu::TextureFormat = gpu::wgpu::TextureFormat::Rgba16Float;
@@ -21,7 +20,7 @@ pub const MAP_FORMAT: gpu::wgpu::TextureFormat = gpu::wgpu::TextureFormat::Rgba1
 pub use scene::kinds::Kinds;
 pub use scene::multi_object::pieces::{PIECES_WGSL, PieceGpu, map_box, pieces_at};
 
-/// WGSL of the refractor map pass (`refractor_map_fs`, after the prelude and scene.wgsl).
+/// WGSL of the refractor map pass (`refractor_map_fs`, importing `scene::shading`).
 pub const REFRACTOR_MAP_WGSL: &str = include_str!("shaders/refractor_map.wgsl");
 
 /// Renders each kind's refractor map around its representative (at the scene's current
@@ -34,8 +33,7 @@ pub fn render_kind_maps(
     resolution: u32,
 ) -> Result<Vec<gpu::cube::CubeTarget>, gpu::GpuError> {
     let ctx = frame.gpu;
-    let source = format!("{}\n{}", scene::SCENE_WGSL, REFRACTOR_MAP_WGSL);
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new("refractor map", &source));
+    let module = scene::shader(ctx, "refractor map", REFRACTOR_MAP_WGSL);
     let pipeline = scene::scene_pipeline(
         ctx,
         "refractor map",

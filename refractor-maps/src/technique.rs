@@ -13,7 +13,7 @@ use crate::caustics::{CausticSettings, Caustics, PHOTONS_WGSL, caustic_receiver}
 use crate::pieces::{Kinds, MAX_KINDS};
 use gpu::cube::CubeTarget;
 use gpu::wgpu;
-use gpu::{Context, Target, Uniform};
+use gpu::{Target, Uniform};
 use scene::multi_object::grid::ALL_CELLS;
 use scene::multi_object::{ObjectSearch, Tracer, TracerSettings, pieces_centre};
 use scene::technique::check_param;
@@ -154,8 +154,9 @@ struct State {
 /// the kind's map from inside, the search from outside (section 4.1) from outside
 /// (`shaders/distance_search.wgsl`).
 pub struct DistanceSearch {
-    /// One refractor map per kind, in kind order.
-    maps: Vec<CubeTarget>,
+    /// The kinds' refractor maps, kind k as cube k of one cube-map array: the search reads
+    /// every kind through one binding and one call (`hit_layered`), whatever their number.
+    maps: wgpu::TextureView,
     params: Uniform<DistanceGpu>,
     sampler: wgpu::Sampler,
 }
@@ -170,52 +171,91 @@ struct DistanceGpu {
 }
 
 impl DistanceSearch {
-    /// The search in `maps` (one per kind) with `maps_settings`' iterations and epsilon.
-    pub fn new(ctx: &Context, maps: Vec<CubeTarget>, settings: &Maps) -> Self {
+    /// The search in `maps` (one per kind, rendered in this frame) with `settings`' iterations
+    /// and epsilon; the frame copies the maps into the search's cube-map array.
+    pub fn new(frame: &mut Frame, maps: Vec<CubeTarget>, settings: &Maps) -> Self {
+        let ctx = frame.gpu;
         let params = DistanceGpu {
             iterations: settings.iterations,
             epsilon: settings.epsilon,
             _pad: [0; 2],
         };
         Self {
-            maps,
+            maps: cube_array_of(frame, &maps).create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::CubeArray),
+                ..Default::default()
+            }),
             params: Uniform::new(ctx, "distance search", &params),
             sampler: ctx.samplers.linear_clamp.clone(),
         }
     }
 }
 
+/// The maps of `cubes` copied into one cube-map array, cube k = `cubes[k]` (the copies are
+/// recorded after the frame's passes that render the maps).
+fn cube_array_of(frame: &mut Frame, cubes: &[CubeTarget]) -> wgpu::Texture {
+    let ctx = frame.gpu;
+    let (size, format) = (cubes[0].size, cubes[0].format);
+    let array = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("refractor maps"),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: 6 * cubes.len() as u32,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (k, cube) in cubes.iter().enumerate() {
+        frame.encoder.copy_texture_to_texture(
+            cube.color.as_image_copy(),
+            wgpu::TexelCopyTextureInfo {
+                origin: wgpu::Origin3d {
+                    x: 0,
+                    y: 0,
+                    z: 6 * k as u32,
+                },
+                ..array.as_image_copy()
+            },
+            cube.color.size(),
+        );
+    }
+    array
+}
+
 impl ObjectSearch for DistanceSearch {
-    fn wgsl(&self, first_binding: u32) -> String {
-        distance_search_source(self.maps.len(), first_binding)
+    fn wgsl(&self) -> String {
+        DISTANCE_SEARCH_WGSL.to_string()
     }
     fn binding_types(&self) -> Vec<wgpu::BindingType> {
-        let mut types = vec![gpu::bind::uniform(), gpu::bind::sampler()];
-        types.extend(std::iter::repeat_n(
-            gpu::bind::texture_cube(),
-            self.maps.len(),
-        ));
-        types
+        vec![
+            gpu::bind::uniform(),
+            gpu::bind::sampler(),
+            gpu::bind::texture(wgpu::TextureViewDimension::CubeArray, true),
+        ]
     }
     fn resources(&self) -> Vec<wgpu::BindingResource<'_>> {
-        let mut resources = vec![
+        vec![
             self.params.binding(),
             gpu::bind::sampler_resource(&self.sampler),
-        ];
-        resources.extend(self.maps.iter().map(|m| gpu::bind::view(&m.cube_view)));
-        resources
+            gpu::bind::view(&self.maps),
+        ]
     }
 }
 
-/// Fails when `kinds` has more kinds than the [`DistanceSearch`] has map bindings
+/// Fails when `kinds` has more kinds than the [`DistanceSearch`]'s array of maps holds
 /// ([`MAX_KINDS`]).
 pub(crate) fn check_kinds(id: &str, kinds: &Kinds) -> TechniqueResult<()> {
     if kinds.representative.len() <= MAX_KINDS {
         return Ok(());
     }
     Err(TechniqueError::Unsupported(format!(
-        "{id} keeps one refractor map per kind of specular object (same mesh and scale), each a \
-         texture binding, and has {MAX_KINDS} map slots; this scene has {} kinds",
+        "{id} keeps one refractor map per kind of specular object (same mesh and scale), as the \
+         cubes of one array texture of at most {MAX_KINDS}; this scene has {} kinds",
         kinds.representative.len()
     )))
 }
@@ -430,7 +470,7 @@ impl Technique for RefractorMaps {
             String::new()
         };
         let maps = crate::pieces::render_kind_maps(frame, scene, &kinds, res)?;
-        let search = DistanceSearch::new(ctx, maps, &self.settings.maps);
+        let search = DistanceSearch::new(frame, maps, &self.settings.maps);
         let tracer_settings = self.tracer_settings();
         let reference = pieces_centre(&scene.scene, &kinds);
         let tracer = Tracer::new(
@@ -517,61 +557,4 @@ fn prefixed(id: &str, e: TechniqueError) -> TechniqueError {
         TechniqueError::Unsupported(m) => TechniqueError::Unsupported(format!("{id}: {m}")),
         other => other,
     }
-}
-
-/// distance_search.wgsl for a scene with `kinds` kinds, its bindings from `first_binding`: one
-/// refractor-map binding per kind and a `switch` arm per kind in the functions that read them
-/// (WGSL has no arrays of cube textures without an extra feature; a shader with exactly the
-/// scene's kinds also keeps the software rasterizer from compiling eight inlined searches for
-/// a one-sphere scene).
-pub fn distance_search_source(kinds: usize, first_binding: u32) -> String {
-    let arms = |call: &str| -> String {
-        (0..kinds)
-            .map(|k| {
-                let case = if k + 1 == kinds {
-                    "default".to_string()
-                } else {
-                    format!("case {k}u")
-                };
-                format!(
-                    "        {case}: {{ return {}; }}\n",
-                    call.replace("MAP", &format!("kind_map{k}"))
-                )
-            })
-            .collect()
-    };
-    let bindings: String = (0..kinds)
-        .map(|k| {
-            format!(
-                "@group(2) @binding({}) var kind_map{k}: texture_cube<f32>;\n",
-                first_binding + 2 + k as u32
-            )
-        })
-        .collect();
-    DISTANCE_SEARCH_WGSL
-        .replace(
-            "// {KIND_MAP_BINDINGS}: one `kind_mapK: texture_cube<f32>` per kind at binding {B} + 2 + K.",
-            &bindings,
-        )
-        .replace("{B+1}", &(first_binding + 1).to_string())
-        .replace("{B}", &first_binding.to_string())
-        .replace(
-            "// {SAMPLE_ARMS}\n",
-            &arms("textureSampleLevel(MAP, map_sampler, dir, 0.0)"),
-        )
-        .replace(
-            "// {INSIDE_ARMS}\n",
-            &arms(
-                "distance_map::hit(x, R, MAP, map_sampler, 3u, distance_map::HIT_FALSE_POSITION, \
-                 distance_search.iterations)",
-            ),
-        )
-        .replace(
-            "// {OUTSIDE_ARMS}\n",
-            &arms(
-                "distance_map::hit_from_outside(y, R, MAP, map_sampler, 3u, bmin, bmax, \
-                 distance_map::HIT_FALSE_POSITION, \
-                 distance_search.iterations, distance_search.epsilon)",
-            ),
-        )
 }

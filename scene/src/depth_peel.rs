@@ -31,9 +31,10 @@
 //! the GPU and peels only that many layers (at most its `layers`): the paper's section 2.2
 //! ([`crate::layer_count`]).
 //!
-//! Shader: `gpu` prelude + [`crate::SCENE_WGSL`] + the peel fragment stage below; camera at
-//! `@group(0)`, scene at `@group(1)`, the peel's uniform (layer, epsilon) and the previous
-//! layer's depth at `@group(2)`.
+//! Shader: the peel fragment stage below, importing `scene::shading` ([`crate::SHADING`]),
+//! drawn with `scene_vs` ([`crate::SCENE_VS_WGSL`]); camera at `@group(0)`, scene at
+//! `@group(1)`, the peel's uniform (layer, epsilon) and the previous layer's depth at
+//! `@group(2)`.
 
 use glam::{Mat4, Vec3};
 use gpu::pass;
@@ -41,9 +42,10 @@ use gpu::wgpu;
 use gpu::{Context, GpuError, Uniform, bind};
 
 use crate::layer_count::LayerCounter;
-use crate::{Frame, GpuScene, ObjectFilter, SCENE_WGSL, scene_pipeline_with};
+use crate::{Frame, GpuScene, ObjectFilter, scene_pipeline_with};
 
 const PEEL_WGSL: &str = r#"
+#import scene::shading::{SceneVertexOut, camera}
 struct Peel {
     layer: u32,
     epsilon: f32,
@@ -209,7 +211,7 @@ impl DepthPeeler {
 
         let module = gpu::shader(
             ctx,
-            gpu::wgsl::Shader::new("depth peel", &format!("{SCENE_WGSL}\n{PEEL_WGSL}")),
+            gpu::wgsl::Shader::new("depth peel", PEEL_WGSL).importing(&[&crate::SHADING]),
         );
         let layout = gpu_scene.pipeline_layout_with(ctx, &[&peel_layout]);
         let pipeline = scene_pipeline_with(

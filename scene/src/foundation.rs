@@ -215,12 +215,7 @@ impl Technique for ClassicEnvMap {
                 bind_group,
             });
         }
-        let source = format!(
-            "{}\n{}",
-            crate::SCENE_WGSL,
-            include_str!("shaders/envmap.wgsl")
-        );
-        let module = gpu::shader(ctx, gpu::wgsl::Shader::new("envmap/classic", &source));
+        let module = crate::shader(ctx, "envmap/classic", include_str!("shaders/envmap.wgsl"));
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
         self.pipeline = Some(crate::scene_pipeline(
             ctx,

@@ -9,10 +9,12 @@
 //! shades diffuse surfaces exactly like the CPU reference (`shaders/scene.wgsl`), so every
 //! technique differs from the reference only where its special objects are.
 //!
-//! Techniques reuse the same bindings: their shaders are `gpu` prelude + [`SCENE_WGSL`] +
-//! their own fragment entry points, with the camera at `@group(0)` and the scene data at
-//! `@group(1)` (see [`GpuScene::pipeline_layout_with`]).
+//! Techniques reuse the same bindings: their shaders are their own fragment entry points,
+//! importing what they use from the WGSL module `scene::shading` ([`crate::SHADING`], composed
+//! by [`crate::shader`]) and drawn with `scene_vs` ([`crate::SCENE_VS_WGSL`]), with the camera
+//! at `@group(0)` and the scene data at `@group(1)` (see [`GpuScene::pipeline_layout_with`]).
 
+use crate::shading::{RASTER_WGSL, scene_pipeline, shader};
 use crate::{Frame, Material, Object, Scene, SceneError};
 use glam::{Mat4, Vec3, Vec4};
 use gpu::cube::CubeTarget;
@@ -20,16 +22,6 @@ use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Uniform, Vertex, bind};
 
-/// Scene bindings and the shared diffuse shading model, in WGSL (needs the `gpu` prelude).
-pub const SCENE_WGSL: &str = concat!(
-    include_str!("shaders/medium.wgsl"),
-    "\n",
-    include_str!("shaders/scene.wgsl")
-);
-/// The shared raster pass's fragment shaders (`raster_fs`: the diffuse shading model, distance from
-/// the eye in alpha; `shadow_fs`), after the prelude and [`SCENE_WGSL`]: a technique that draws
-/// the diffuse scene inside its own passes uses `raster_fs`.
-pub const RASTER_WGSL: &str = include_str!("shaders/raster.wgsl");
 /// Resolution of each face of the shadow cube maps, and of each fitted 2D shadow map, while
 /// the lights' maps fit [`SHADOW_BUDGET_BYTES`].
 pub const SHADOW_MAP_SIZE: u32 = 1024;
@@ -352,10 +344,7 @@ impl GpuScene {
         let raster_bind_group = bind(&raster_info_buffer);
 
         let layout = pipeline_layout(ctx, &camera_layout, &scene_layout, &[]);
-        let module = gpu::shader(
-            ctx,
-            gpu::wgsl::Shader::new("raster", &format!("{SCENE_WGSL}\n{RASTER_WGSL}")),
-        );
+        let module = shader(ctx, "raster", RASTER_WGSL);
         let raster_pipelines = [gpu::HDR_FORMAT, wgpu::TextureFormat::Rgba16Float]
             .into_iter()
             .map(|f| {
@@ -826,125 +815,6 @@ pub fn begin_scene_pass<'e>(
         Some(pass::depth(target.depth, depth)),
         None,
     )
-}
-
-/// A render pipeline drawing scene objects with `scene_vs` and the given fragment entry:
-/// depth test less, no culling (surfaces are two-sided, cube faces differ in handedness).
-pub fn scene_pipeline(
-    ctx: &Context,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    fragment_entry: &str,
-    format: wgpu::TextureFormat,
-) -> wgpu::RenderPipeline {
-    scene_pipeline_with(
-        ctx,
-        label,
-        layout,
-        module,
-        fragment_entry,
-        &[pass::color_target(format, None)],
-        (true, wgpu::CompareFunction::Less),
-    )
-}
-
-/// [`scene_pipeline`] with its own colour targets (several, or blended) and depth state
-/// (`(write, compare)`): for passes that add to what the raster pass drew, or write several
-/// maps at once. No culling.
-pub fn scene_pipeline_with(
-    ctx: &Context,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    fragment_entry: &str,
-    targets: &[Option<wgpu::ColorTargetState>],
-    depth: (bool, wgpu::CompareFunction),
-) -> wgpu::RenderPipeline {
-    scene_pipeline_entries(
-        ctx,
-        label,
-        layout,
-        module,
-        ("scene_vs", fragment_entry),
-        targets,
-        depth,
-    )
-}
-
-/// [`scene_pipeline_with`] with a vertex entry point of the module's own in place of
-/// `scene_vs` (one that places the scene's vertices as `scene_vs` does and passes more along,
-/// per-vertex data read from a storage buffer by vertex index, say): `(vertex, fragment)`.
-pub fn scene_pipeline_entries(
-    ctx: &Context,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
-    targets: &[Option<wgpu::ColorTargetState>],
-    depth: (bool, wgpu::CompareFunction),
-) -> wgpu::RenderPipeline {
-    let vertices = [Some(Vertex::layout())];
-    render_pipeline(
-        ctx, label, layout, module, entries, &vertices, targets, depth,
-    )
-}
-
-/// A pipeline that draws no vertex buffer: the vertex entry makes each vertex from its vertex
-/// and instance indices (a proxy of an object, such as a height map's billboard box, one
-/// instance per object), the fragment entry may write its own depth. One colour target of
-/// `format`, depth written and tested with `Less`, no culling.
-pub fn proxy_pipeline(
-    ctx: &Context,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
-    format: wgpu::TextureFormat,
-) -> wgpu::RenderPipeline {
-    let targets = [pass::color_target(format, None)];
-    let depth = (true, wgpu::CompareFunction::Less);
-    render_pipeline(ctx, label, layout, module, entries, &[], &targets, depth)
-}
-
-/// The one render-pipeline descriptor of the scene's pipelines: `buffers` of vertices, the
-/// caller's targets and depth state, no culling.
-#[allow(clippy::too_many_arguments)]
-fn render_pipeline(
-    ctx: &Context,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    (vertex_entry, fragment_entry): (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    targets: &[Option<wgpu::ColorTargetState>],
-    depth: (bool, wgpu::CompareFunction),
-) -> wgpu::RenderPipeline {
-    ctx.device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some(vertex_entry),
-                compilation_options: Default::default(),
-                buffers,
-            },
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some(fragment_entry),
-                compilation_options: Default::default(),
-                targets,
-            }),
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(pass::depth_state(depth.0, depth.1)),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: ctx.pipeline_cache(),
-        })
 }
 
 fn pipeline_layout(

@@ -24,9 +24,9 @@
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, GpuError, Uniform, bind};
 
-use crate::{GpuScene, ObjectFilter, SCENE_WGSL, scene_pipeline_with};
+use crate::{GpuScene, ObjectFilter, scene_pipeline_with};
 
-/// The counter's bindings, at `@group({G})`: the same four buffers for the count's fragment
+/// The counter's bindings, at `@group(#{COUNT_GROUP})`: the same four buffers for the count's fragment
 /// stage and the two compute passes.
 const BINDINGS_WGSL: &str = r#"
 struct CountParams {
@@ -36,13 +36,24 @@ struct CountParams {
     draws: u32,
 };
 
-@group({G}) @binding(0) var<uniform> count_params: CountParams;
-@group({G}) @binding(1) var<storage, read_write> counts: array<atomic<u32>>;
-@group({G}) @binding(2) var<storage, read_write> complexity: array<atomic<u32>>;
-@group({G}) @binding(3) var<storage, read_write> args: array<u32>;
+@group(#{COUNT_GROUP}) @binding(0) var<uniform> count_params: CountParams;
+@group(#{COUNT_GROUP}) @binding(1) var<storage, read_write> counts: array<atomic<u32>>;
+@group(#{COUNT_GROUP}) @binding(2) var<storage, read_write> complexity: array<atomic<u32>>;
+@group(#{COUNT_GROUP}) @binding(3) var<storage, read_write> args: array<u32>;
 "#;
 
+/// A shader of the counter, its bindings at `@group(group)`.
+fn counter_shader(ctx: &Context, label: &str, source: &str, group: u32) -> wgpu::ShaderModule {
+    let (defs, imports) = (
+        [("COUNT_GROUP", gpu::wgsl::Def::UInt(group))],
+        [&crate::SHADING],
+    );
+    let shader = gpu::wgsl::Shader::new(label, source).importing(&imports);
+    gpu::shader(ctx, shader.with_defs(&defs))
+}
+
 const COUNT_WGSL: &str = r#"
+#import scene::shading::SceneVertexOut
 // Every fragment of every selected surface, whatever its depth, adds one to its pixel.
 @fragment
 fn count_fs(in: SceneVertexOut) {
@@ -187,14 +198,8 @@ impl LayerCounter {
                 args.as_entire_binding(),
             ],
         );
-        let count_source = format!(
-            "{SCENE_WGSL}\n{}\n{COUNT_WGSL}",
-            BINDINGS_WGSL.replace("{G}", "2")
-        );
-        let count_module = gpu::shader(
-            ctx,
-            gpu::wgsl::Shader::new("depth complexity count", &count_source),
-        );
+        let count_source = format!("{BINDINGS_WGSL}\n{COUNT_WGSL}");
+        let count_module = counter_shader(ctx, "depth complexity count", &count_source, 2);
         let count_pipeline = scene_pipeline_with(
             ctx,
             "depth complexity count",
@@ -204,11 +209,8 @@ impl LayerCounter {
             &[],
             (false, wgpu::CompareFunction::Always),
         );
-        let reduce_source = format!("{}\n{REDUCE_WGSL}", BINDINGS_WGSL.replace("{G}", "0"));
-        let reduce_module = gpu::shader(
-            ctx,
-            gpu::wgsl::Shader::new("depth complexity max", &reduce_source),
-        );
+        let reduce_source = format!("{BINDINGS_WGSL}\n{REDUCE_WGSL}");
+        let reduce_module = counter_shader(ctx, "depth complexity max", &reduce_source, 0);
         let compute = |entry| {
             gpu::compute::pipeline(ctx, "depth complexity", &[&layout], &reduce_module, entry)
         };

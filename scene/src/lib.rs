@@ -21,18 +21,22 @@ pub mod mesh;
 mod model;
 pub mod multi_object;
 pub mod runner;
+mod shading;
 pub mod technique;
 
 pub use depth_peel::DepthPeeler;
 pub use gpu_scene::{
     BACKGROUND_DISTANCE, CasterShadowMaps, CubeFace, DrawRange, GpuScene, MIN_SHADOW_MAP_SIZE,
-    ObjectFilter, RASTER_WGSL, RasterTarget, SCENE_WGSL, SHADOW_BUDGET_BYTES, SHADOW_MAP_SIZE,
-    albedo_array_extent, begin_scene_pass, proxy_pipeline, scene_pipeline, scene_pipeline_entries,
-    scene_pipeline_with, shadow_map_size, sphere_meets_cube_face,
+    ObjectFilter, RasterTarget, SHADOW_BUDGET_BYTES, SHADOW_MAP_SIZE, albedo_array_extent,
+    begin_scene_pass, shadow_map_size, sphere_meets_cube_face,
 };
 pub use kinds::Kinds;
 pub use medium::Medium;
 pub use model::*;
+pub use shading::{
+    RASTER_WGSL, SCENE_VS_WGSL, SHADING, SHADING_WGSL, proxy_pipeline, scene_pipeline,
+    scene_pipeline_entries, scene_pipeline_with, scene_vertex_module, shader,
+};
 pub use technique::{
     Contained, Declared, Family, Frame, ImageCheck, Param, ParamValue, Settings, Technique,
     TechniqueError, TechniqueResult, Timing, View,

@@ -23,11 +23,11 @@ use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, bind};
 
-/// `struct Chart` and `chart_uv` in WGSL (needs the prelude; no bindings).
+/// `struct Chart` and `chart_uv` in WGSL (no imports, no bindings).
 pub const CHART_WGSL: &str = include_str!("shaders/chart.wgsl");
 /// `world_to_local`, `normal_to_local`, `texel_area` and `light_map_power` in WGSL: a
-/// receiver's light-map texel area and the power read back from an atlas (after the prelude,
-/// `SCENE_WGSL` and [`CHART_WGSL`]; no bindings).
+/// receiver's light-map texel area and the power read back from an atlas (imports
+/// `scene::shading`, [`crate::SHADING`]; after [`CHART_WGSL`]; no bindings of its own).
 pub const RECEIVER_WGSL: &str = include_str!("shaders/receiver.wgsl");
 const SPLAT_QUADS_WGSL: &str = include_str!("shaders/splat_quads.wgsl");
 /// `footprint_covariance` and `footprint_cut2` in WGSL, the twin of [`Footprint`] (no
@@ -344,10 +344,7 @@ impl QuadSplatter {
             ],
         );
         let source = format!("{CHART_WGSL}\n{FOOTPRINT_WGSL}\n{SPLAT_QUADS_WGSL}");
-        let module = gpu::shader(
-            ctx,
-            gpu::wgsl::Shader::new("light-map splat quads", &source),
-        );
+        let module = crate::shader(ctx, "light-map splat quads", &source);
         // Adds rgb; alpha is unused.
         let add = wgpu::BlendState {
             color: wgpu::BlendComponent {

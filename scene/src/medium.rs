@@ -8,18 +8,22 @@
 //! (emission-absorption, bounded by a sphere, for the volume techniques), it emits nothing: it
 //! attenuates every path through it (Beer-Lambert) and scatters light into the eye's rays.
 //!
-//! These functions are the Rust twin of `shaders/medium.wgsl` (part of [`crate::SCENE_WGSL`]):
-//! the same box clipping (the prelude's `ray_box`), transmittance and phase function, checked
-//! against each other by the conformance test `scene/tests/medium_conformance.rs`. The
-//! reference (`truth`) integrates with them and every technique is measured against that.
+//! These functions are the Rust twin of `shaders/medium.wgsl` (the WGSL module `scene::medium`,
+//! which [`crate::SHADING`] imports): the same box clipping (the prelude's `ray_box`),
+//! transmittance and phase function, checked against each other by the conformance test
+//! `scene/tests/medium_conformance.rs`. The reference (`truth`) integrates with them and every
+//! technique is measured against that.
 
 use crate::SceneError;
 use glam::{Vec2, Vec3};
 use gpu::prelude::ray_box;
 
-/// `shaders/medium.wgsl`: the WGSL twin of this module (part of [`crate::SCENE_WGSL`]; needs
-/// the `gpu` prelude).
+/// `shaders/medium.wgsl`: the WGSL twin of this module, the WGSL module `scene::medium`
+/// (`scene::shading` imports it).
 pub const MEDIUM_WGSL: &str = include_str!("shaders/medium.wgsl");
+/// [`MEDIUM_WGSL`] as the module `scene::medium`.
+pub static MEDIUM: gpu::wgsl::Module =
+    gpu::wgsl::Module::new(MEDIUM_WGSL, "scene/src/shaders/medium.wgsl", &[]);
 
 /// A homogeneous, scattering medium in an axis-aligned box.
 #[derive(Clone, Debug, PartialEq)]

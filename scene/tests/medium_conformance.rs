@@ -4,7 +4,7 @@
 
 use glam::{Vec3, Vec4};
 use scene::Medium;
-use scene::medium::{MEDIUM_WGSL, MediumGpu, henyey_greenstein};
+use scene::medium::{MEDIUM, MEDIUM_WGSL, MediumGpu, henyey_greenstein};
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -66,14 +66,20 @@ fn cases() -> Vec<(Medium, Vec3, Vec3, f32, f32)> {
         .collect()
 }
 
-fn kernel(mutate: bool) -> String {
-    let medium = if mutate {
-        MEDIUM_WGSL.replace("min(t.y, t_max)", "t.y")
+/// The module `scene::medium` as the techniques import it, or (`mutate`) a copy whose clip
+/// ignores the ray's end.
+fn medium_module(mutate: bool) -> gpu::wgsl::Module {
+    if mutate {
+        MEDIUM.with_source(MEDIUM_WGSL.replace("min(t.y, t_max)", "t.y"))
     } else {
-        MEDIUM_WGSL.to_string()
-    };
+        MEDIUM.clone()
+    }
+}
+
+fn kernel() -> String {
     format!(
-        "{medium}\nstruct Case {{ medium: Medium, origin: vec4f, dir: vec4f }};\n\
+        "#import scene::medium::{{Medium, henyey_greenstein, medium_clip, medium_transmittance}}\n\
+         struct Case {{ medium: Medium, origin: vec4f, dir: vec4f }};\n\
          {header}\n{entry}",
         header = gpu::compute::kernel_header("Case", "vec4f"),
         entry = gpu::compute::kernel_entry(
@@ -98,8 +104,11 @@ fn mismatches(mutate: bool) -> usize {
             dir: d.extend(*cos).to_array(),
         })
         .collect();
+    let (source, medium) = (kernel(), medium_module(mutate));
+    let imports = [&medium];
+    let kernel = gpu::wgsl::Shader::new("medium", &source).importing(&imports);
     let out: Vec<Vec4> =
-        gpu::compute::run_kernel(testkit::context(), &kernel(mutate), "main", &inputs, 2).unwrap();
+        gpu::compute::run_kernel(testkit::context(), kernel, "main", &inputs, 2).unwrap();
     let mut bad = 0;
     for (k, (m, o, d, t_max, cos)) in cases.iter().enumerate() {
         let (gpu_t, gpu_hg) = (out[2 * k], out[2 * k + 1].x);

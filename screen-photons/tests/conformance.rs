@@ -563,14 +563,13 @@ fn the_wgsl_beam_fragments_match_the_twin() {
     }
     let source = |tent: &str| {
         format!(
-            "{medium}\n{photon_structs}\n{constants}\n{beam}\n\
+            "#import scene::medium::Medium\n{photon_structs}\n{constants}\n{beam}\n\
              struct BeamCase {{ medium: Medium, view_proj: mat4x4f, eye: vec4f, forward: vec4f, \
              size: vec4u, origin: vec4f, dir: vec4f, power: vec4f, pixel: vec4f }};\n\
              var<private> shaft: ShaftView;\n\
              var<private> case_medium: Medium;\n\
              fn scene_medium() -> Medium {{ return case_medium; }}\n\
              {header}\n{entry}",
-            medium = scene::medium::MEDIUM_WGSL,
             photon_structs = BEAM_STRUCT,
             constants = screen_photons::technique::beam_constants(),
             beam = screen_photons::technique::BEAM_WGSL
@@ -589,8 +588,11 @@ fn the_wgsl_beam_fragments_match_the_twin() {
         )
     };
     let compare = |tent: &str| {
-        let got: Vec<Vec4> =
-            run_kernel(ctx, &source(tent), "beam_kernel", &cases, 1).expect("kernel");
+        let got: Vec<Vec4> = {
+            let (source, imports) = (source(tent), [&scene::medium::MEDIUM]);
+            let kernel = gpu::wgsl::Shader::new("beam", &source).importing(&imports);
+            run_kernel(ctx, kernel, "beam_kernel", &cases, 1).expect("kernel")
+        };
         let lit = twins.iter().filter(|t| t.max_element() > 0.0).count();
         let bad = got
             .iter()

@@ -1,6 +1,7 @@
 // ---------------------------------------------------------------------------------------------
-// Refractor height maps on camera-facing billboards (Dancsik and Minarik, section 6), after
-// the gpu prelude + scene.wgsl + hit.wgsl + height_search.wgsl + billboard_box.wgsl.
+// Refractor height maps on camera-facing billboards (Dancsik and Minarik, section 6); imports
+// gpu::prelude, scene::shading and gpu::distance_map; after height_search.wgsl +
+// billboard_box.wgsl.
 //
 // Each piece is drawn as the bounding box of its proxy, turned about the vertical axis to face
 // the eye. A fragment casts the eye ray into the box and searches the kind's height map from
@@ -13,6 +14,7 @@
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{fresnel_dielectric, reflect_dir, refract_dir}
 #import gpu::distance_map
+#import scene::shading::{camera, objects, specular_event, specular_shade}
 
 struct PieceGpu {
     // World centre now; w: the kind's layer in height_maps.

@@ -5,6 +5,7 @@
 // Its fragments cast the eye ray into the box and search the height map; the box only bounds
 // where they can hit.
 // ---------------------------------------------------------------------------------------------
+#import scene::shading::camera
 
 // The 36 corners of a box's 12 triangles, as (corner bits, face): bit 0 = x max, 1 = y max,
 // 2 = z max; faces -x, +x, -y, +y, -z, +z.

@@ -1,8 +1,9 @@
 // The refractor height map of one kind (section 6): the representative piece drawn with an
 // orthographic camera looking at its plane of symmetry (its mesh's z = 0 plane) from the front
 // (+z); the nearest surface's distance from the plane (its map-frame z) and its map-frame
-// normal. Texels that see no surface keep the clear value (height = -bounds.height). After the
-// gpu prelude + scene.wgsl.
+// normal. Texels that see no surface keep the clear value (height = -bounds.height). Imports
+// scene::shading.
+#import scene::shading::SceneVertexOut
 
 struct HeightMapPass {
     // World -> map frame, relative to the piece's centre (a rotation and a translation).

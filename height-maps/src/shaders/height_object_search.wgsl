@@ -2,8 +2,8 @@
 // The per-object search of scene's many-object tracer (scene/src/shaders/trace.wgsl) with
 // refractor height maps: section 6's "in the algorithm described in 5.2, the refractor distance
 // map can be replaced by the refractor height map", section 6's last paragraph). After the
-// prelude, the piece
-// table (pieces.wgsl), trace.wgsl's Chord and height_search.wgsl. {B} is the first binding.
+// piece table (pieces.wgsl), trace.wgsl's Chord and height_search.wgsl. Its bindings follow the
+// tracer's, from SEARCH_FIRST_BINDING (pieces.wgsl).
 //
 // A piece's billboard faces the ray's origin (the search from outside) or, for a ray inside
 // the piece, the point it came from (origin - dir): the eye-facing billboard of the
@@ -17,10 +17,10 @@ struct HeightSearchParams {
     _pad1: u32,
 };
 
-@group(2) @binding({B}) var<uniform> height_search: HeightSearchParams;
-@group(2) @binding({B+1}) var height_maps: texture_2d_array<f32>;
+@group(2) @binding(SEARCH_FIRST_BINDING) var<uniform> height_search: HeightSearchParams;
+@group(2) @binding(SEARCH_FIRST_BINDING + 1u) var height_maps: texture_2d_array<f32>;
 // Each kind's bounds: half width, v min, v max, height.
-@group(2) @binding({B+2}) var<storage, read> kind_bounds: array<vec4f>;
+@group(2) @binding(SEARCH_FIRST_BINDING + 2u) var<storage, read> kind_bounds: array<vec4f>;
 
 fn kind_height_bounds(kind: u32) -> HeightBounds {
     let b = kind_bounds[kind];

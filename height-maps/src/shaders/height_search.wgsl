@@ -1,7 +1,7 @@
 // ---------------------------------------------------------------------------------------------
 // The search in a refractor height map (Dancsik and Minarik, section 6): the WGSL twin of
 // height-maps/src/search.rs (same algorithm, constants and names; read that file's header for
-// the method). After the gpu prelude. The includer declares
+// the method). Imports gpu::prelude. The includer declares
 //     height_maps: texture_2d_array<f32>   (Rgba32Float: normal.xyz, height; a layer per kind)
 // and passes each map's layer and bounds.
 // ---------------------------------------------------------------------------------------------

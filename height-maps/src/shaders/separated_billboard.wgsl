@@ -11,6 +11,7 @@
 // distance-map pieces are (shade_piece): reflection and the exits through the height map
 // (chord) looked up in the piece's impostor, the moving piece found from outside.
 // ---------------------------------------------------------------------------------------------
+#import scene::shading::camera
 
 @vertex
 fn separated_billboard_vs(@builtin(vertex_index) vertex: u32,

@@ -1,10 +1,12 @@
-// Caustic mapping (Hu and Qin 2006, section 3.3, figure 23), after the prelude, scene.wgsl and
-// rect.wgsl: each receiver is drawn again over the shaded scene, its fragment projected into
-// its rectangle's caustic texture by the rectangle's parallel projection, and the irradiance
-// found there turned into diffuse radiance (albedo / pi E) and added (additive blending). As in
-// shadow mapping, the fragment is compared with the depth the rectangle's impostor texture
-// holds there: surfaces hidden from the refractor behind the object's own front receive none.
+// Caustic mapping (Hu and Qin 2006, section 3.3, figure 23); imports gpu::prelude and
+// scene::shading; after rect.wgsl: each receiver is drawn again over the shaded scene, its
+// fragment projected into its rectangle's caustic texture by the rectangle's parallel
+// projection, and the irradiance found there turned into diffuse radiance (albedo / pi E) and
+// added (additive blending). As in shadow mapping, the fragment is compared with the depth the
+// rectangle's impostor texture holds there: surfaces hidden from the refractor behind the
+// object's own front receive none.
 #import gpu::prelude::PI
+#import scene::shading::{SceneVertexOut, surface_albedo}
 
 struct CausticMapParams {
     // Side of each caustic texture.

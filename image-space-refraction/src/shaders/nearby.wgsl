@@ -1,7 +1,8 @@
 // Nearby geometry as rectangle impostors (Hu and Qin 2006, section 2.2): the WGSL of the Rust
-// twin `src/nearby.rs` (same algorithms and names; read its comments). After the prelude and
-// refract.wgsl's bindings and rect.wgsl; defines `outgoing_radiance`, which refract.wgsl calls for every ray
-// that leaves the refractor: the nearest rectangle's texel, else the environment map.
+// twin `src/nearby.rs` (same algorithms and names; read its comments). No imports of its own:
+// after refract.wgsl (its imports and bindings) and rect.wgsl; defines `outgoing_radiance`,
+// which refract.wgsl calls for every ray that leaves the refractor: the nearest rectangle's
+// texel, else the environment map.
 
 struct NearbyParams {
     count: u32,

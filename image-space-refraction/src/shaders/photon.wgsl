@@ -7,6 +7,7 @@
 // metal, then to the nearest rectangle impostor (the corrected lookup). It writes which texel
 // of which rectangle it reaches, and its power; a photon that reaches none writes zeros.
 #import gpu::prelude::fresnel_dielectric
+#import scene::shading::{camera, emission_jitter, jittered_point, lights, objects, specular_event}
 
 struct PhotonOut {
     // u, v on the rectangle's texture, texture array layer + 1 (0: no photon), unused.

@@ -1,6 +1,6 @@
 // Image-space refraction through two interfaces (Hu and Qin 2006, section 2.1) and its
-// baselines, after the gpu prelude + scene.wgsl + search.wgsl (+ nearby.wgsl, which defines
-// `outgoing_radiance`).
+// baselines; imports gpu::prelude and scene::shading; after search.wgsl (+ nearby.wgsl, which
+// defines `outgoing_radiance`).
 //
 // Each frame the refractor's front- and back-facing surfaces are drawn from the eye into two
 // buffers (`front_buffer_fs`, `back_buffer_fs`: outward normal, view depth): nothing is
@@ -20,6 +20,7 @@
 // The exit ray T2 (or the reflected ray R) takes the radiance `outgoing_radiance(origin, dir)`
 // gives: the environment map, or with nearby geometry its rectangle impostors first.
 #import gpu::prelude::refract_dir
+#import scene::shading::{SceneVertexIn, SceneVertexOut, SpecularEvent, camera, geometric_facing_normal, objects, specular_event, specular_shade}
 
 struct RefractParams {
     variant: u32,

@@ -1,6 +1,6 @@
 // The two-interface searches of Hu and Qin (2006, section 2.1) and of Wyman (2005): the WGSL
 // of the Rust twin `src/search.rs` (same algorithms, constants and names; read its comments).
-// After the gpu prelude. The includer declares `eye_params: EyeParams` and the two buffers
+// Imports gpu::prelude. The includer declares `eye_params: EyeParams` and the two buffers
 // `front_buffer` and `back_buffer` (texture_2d<f32>, Rgba32Float: outward normal, view depth;
 // depth 0 where the refractor is not).
 #import gpu::prelude::refract_dir

@@ -46,7 +46,7 @@ pub use resources::*;
 pub use settings::*;
 pub use variants::*;
 
-/// WGSL of the searches (`search.rs`'s twin); needs the gpu prelude before it and the
+/// WGSL of the searches (`search.rs`'s twin); imports `gpu::prelude` and needs the
 /// includer's `front_buffer`/`back_buffer` textures.
 pub const SEARCH_WGSL: &str = include_str!("../shaders/search.wgsl");
 const REFRACT_WGSL: &str = include_str!("../shaders/refract.wgsl");

@@ -1,5 +1,5 @@
-// Light-map charts of the caustic receivers (scene's lightmap.rs explains the atlas), after
-// the gpu prelude + scene.wgsl + chart.wgsl + receiver.wgsl (scene::lightmap::RECEIVER_WGSL).
+// Light-map charts of the caustic receivers (scene's lightmap.rs explains the atlas); no imports
+// of its own; after chart.wgsl + receiver.wgsl (scene::lightmap::RECEIVER_WGSL).
 // A diffuse object's triangle belongs to the chart of the signed dominant axis of its
 // object-space normal and is projected onto the two other axes.
 

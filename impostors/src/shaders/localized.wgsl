@@ -1,5 +1,5 @@
-// Localized environment mapping with distance impostors (paper sections 3 and 4), after the
-// gpu prelude + scene.wgsl + hit.wgsl.
+// Localized environment mapping with distance impostors (paper sections 3 and 4); imports
+// gpu::prelude, scene::shading and gpu::distance_map.
 //
 // Specular objects are drawn with scene_vs; each pixel of an object traces its reflected (and
 // for glass its refracted) ray with Hit() in the object's distance impostor and looks the
@@ -20,6 +20,7 @@
 // proxy box falls back to the direction lookup.
 #import gpu::prelude::{box_project, fresnel_dielectric, reflect_dir, refract_dir}
 #import gpu::distance_map
+#import scene::shading::{SceneVertexOut, camera, objects, specular_event, specular_shade}
 
 struct ImpostorParams {
     // Reference point of the environment impostor (world), w unused.

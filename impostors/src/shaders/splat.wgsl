@@ -1,6 +1,6 @@
 // Adds each photon of the caustic map into the accumulation grid (6 faces x grid^2 texels x
 // RGB, fixed point) at the texel of its landing point's direction from the reference point.
-// After the gpu prelude.
+// Imports gpu::prelude.
 #import gpu::prelude::cube_dir_to_face_uv
 
 struct SplatParams {

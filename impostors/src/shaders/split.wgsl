@@ -1,7 +1,7 @@
 // Split layout (paper section 6: "the speed improves by an additional 20 percent if the
 // distance values are separated from the color data"): copies the distance (alpha) of one
 // face of the packed radiance+distance impostor into a one-channel face of its own.
-// After the gpu prelude and fullscreen_vs.
+// After fullscreen_vs.
 
 @group(0) @binding(0) var packed_face: texture_2d<f32>;
 

@@ -36,13 +36,8 @@ impl InteriorMapping {
         wgpu::RenderPipeline,
         Option<wgpu::RenderPipeline>,
     ) {
-        let source = format!(
-            "{}\n{}\n{}",
-            scene::SCENE_WGSL,
-            crate::INTERIOR_WGSL,
-            TECHNIQUE_WGSL
-        );
-        let module = gpu::shader(ctx, gpu::wgsl::Shader::new("interior mapping", &source));
+        let source = format!("{}\n{}", crate::INTERIOR_WGSL, TECHNIQUE_WGSL);
+        let module = scene::shader(ctx, "interior mapping", &source);
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[layout]);
         let writes_depth = !self.prepass;
         let shaded =
@@ -200,6 +195,7 @@ pub(super) fn hull_pipeline(
 ) -> wgpu::RenderPipeline {
     let shade = fragment_entry.is_some();
     let targets = [pass::color_target(gpu::HDR_FORMAT, None)];
+    let vertex = scene::scene_vertex_module(ctx);
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(if shade {
@@ -209,7 +205,7 @@ pub(super) fn hull_pipeline(
             }),
             layout: Some(layout),
             vertex: wgpu::VertexState {
-                module,
+                module: &vertex,
                 entry_point: Some("scene_vs"),
                 compilation_options: Default::default(),
                 buffers: &[Some(Vertex::layout())],

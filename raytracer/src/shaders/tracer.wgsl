@@ -13,10 +13,11 @@
 //   (integer atomics: the sum does not depend on the order threads finish in).
 // * `resolve_fs`: eye radiance plus the photons' into the target.
 //
-// Needs the gpu prelude, scene's medium.wgsl, triangles.wgsl and one traversal (bvh.wgsl or
+// Imports gpu::prelude and scene::medium; after triangles.wgsl and one traversal (bvh.wgsl or
 // ray_query.wgsl, with its binding 1).
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{PI, fresnel_dielectric, fresnel_nk, pcg_hash, ray_sphere, reflect_dir, refract_dir}
+#import scene::medium::{Medium, henyey_greenstein, medium_clip, medium_extinction, medium_present, medium_transmittance, transmittance_of}
 
 struct Params {
     // xyz: the eye.

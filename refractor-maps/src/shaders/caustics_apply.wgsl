@@ -1,8 +1,10 @@
 // Caustics (section 7), the light maps applied: the receiver (the chessboard) adds
 // albedo / pi * E, E = the power per texel of both light maps (static pieces, moving piece)
-// over the texel's area on the surface. After the gpu prelude + scene.wgsl + scene::lightmap's
-// chart.wgsl and receiver.wgsl. Drawn over the finished image (depth equal, additive).
+// over the texel's area on the surface. Imports gpu::prelude and scene::shading; after
+// scene::lightmap's chart.wgsl and receiver.wgsl. Drawn over the finished image (depth equal,
+// additive).
 #import gpu::prelude::PI
+#import scene::shading::{SceneVertexOut, camera, surface_albedo}
 
 struct ReceiverParams {
     chart: Chart,

@@ -2,11 +2,13 @@
 // The per-object search of scene's many-object tracer (trace.wgsl) with refractor distance
 // maps (Dancsik and Minarik, sections 3-4.1): one cube map per kind of piece (outward normal +
 // distance of its own surface from its centre), searched from inside by Hit() for a chord's
-// exit and from outside by hit_from_outside (section 4.1). After the gpu prelude, hit.wgsl and
-// pieces.wgsl. {B} is the search's first binding in @group(2).
+// exit and from outside by hit_from_outside (section 4.1), both in the layered form of Hit():
+// kind k's map is cube k of one cube-map array. After pieces.wgsl; its bindings follow the
+// tracer's in @group(2), from SEARCH_FIRST_BINDING (pieces.wgsl).
 // ---------------------------------------------------------------------------------------------
 
 #import gpu::distance_map
+#import gpu::layered_distance_map
 
 struct DistanceSearch {
     // Refinement steps of Hit() in the refractor maps.
@@ -17,28 +19,27 @@ struct DistanceSearch {
     _pad1: u32,
 };
 
-@group(2) @binding({B}) var<uniform> distance_search: DistanceSearch;
-@group(2) @binding({B+1}) var map_sampler: sampler;
-// {KIND_MAP_BINDINGS}: one `kind_mapK: texture_cube<f32>` per kind at binding {B} + 2 + K.
+@group(2) @binding(SEARCH_FIRST_BINDING) var<uniform> distance_search: DistanceSearch;
+@group(2) @binding(SEARCH_FIRST_BINDING + 1u) var map_sampler: sampler;
+// Kind k's refractor map is cube k of the array.
+@group(2) @binding(SEARCH_FIRST_BINDING + 2u) var kind_maps: texture_cube_array<f32>;
 
 fn kind_sample(kind: u32, dir: vec3f) -> vec4f {
-    switch kind {
-// {SAMPLE_ARMS}
-    }
+    return textureSampleLevel(kind_maps, map_sampler, dir, i32(kind), 0.0);
 }
 
 // Hit() from inside a piece: x and R in the map's frame, relative to its centre.
 fn kind_hit(kind: u32, x: vec3f, R: vec3f) -> vec4f {
-    switch kind {
-// {INSIDE_ARMS}
-    }
+    return layered_distance_map::hit_layered(x, R, kind_maps, i32(kind), map_sampler, 3u,
+                                             distance_map::HIT_FALSE_POSITION,
+                                             distance_search.iterations);
 }
 
 // The search from outside (section 4.1) in the kind's map.
 fn kind_hit_outside(kind: u32, y: vec3f, R: vec3f, bmin: vec3f, bmax: vec3f) -> vec4f {
-    switch kind {
-// {OUTSIDE_ARMS}
-    }
+    return layered_distance_map::hit_from_outside_layered(y, R, kind_maps, i32(kind),
+        map_sampler, 3u, bmin, bmax, distance_map::HIT_FALSE_POSITION,
+        distance_search.iterations, distance_search.epsilon);
 }
 
 // The search from outside: (hit point in the map's frame, ray parameter) or w < 0.

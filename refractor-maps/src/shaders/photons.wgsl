@@ -11,6 +11,7 @@
 // Gaussian quad per photon into the light map.
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{fresnel_dielectric, ray_plane, reflect_dir, refract_dir}
+#import scene::shading::{SceneVertexOut, emission_jitter, jittered_emission, objects, specular_event}
 
 struct PhotonParams {
     // The receiver's light-map chart (the only chart of the atlas).

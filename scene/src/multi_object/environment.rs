@@ -27,7 +27,7 @@
 
 use super::grid::EMPTY;
 use super::pieces::{PIECES_WGSL, PieceGpu, pieces_at};
-use super::tracer::{ObjectSearch, SEARCH_FIRST_BINDING, driver_entries, storage};
+use super::tracer::{ObjectSearch, driver_entries, storage};
 use crate::kinds::Kinds;
 use crate::technique::{Declared, MAP_BUDGET_BYTES, Settings, setting_if};
 use crate::{
@@ -553,12 +553,11 @@ impl Shading {
         label: &str,
     ) -> Self {
         let source = format!(
-            "{}\n{}\n{PIECES_WGSL}\n{}\n{ENVIRONMENT_PIECES_WGSL}\n{extra_wgsl}",
-            crate::SCENE_WGSL,
+            "{}\n{PIECES_WGSL}\n{}\n{ENVIRONMENT_PIECES_WGSL}\n{extra_wgsl}",
             crate::RASTER_WGSL,
-            search.wgsl(SEARCH_FIRST_BINDING),
+            search.wgsl(),
         );
-        let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &source));
+        let module = crate::shader(ctx, label, &source);
         let mut entries =
             driver_entries(bind::texture(wgpu::TextureViewDimension::CubeArray, true));
         entries.extend(search.binding_types());

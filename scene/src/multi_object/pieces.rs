@@ -68,3 +68,20 @@ fn world_box(o: &crate::Object, time: f32) -> (Vec3, Vec3) {
         },
     )
 }
+
+#[cfg(test)]
+mod tests {
+    /// The searches' WGSL places its bindings after the drivers' with the piece table's
+    /// constant: it must be the Rust one.
+    #[test]
+    fn the_wgsl_search_binding_is_the_rust_one() {
+        let declared = format!(
+            "const SEARCH_FIRST_BINDING: u32 = {}u;",
+            super::super::SEARCH_FIRST_BINDING
+        );
+        assert!(
+            super::PIECES_WGSL.contains(&declared),
+            "pieces.wgsl lacks `{declared}`"
+        );
+    }
+}

@@ -22,11 +22,11 @@ use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, GpuError, Target, Uniform, bind};
 
-/// The board grid's nearest-piece search (needs the prelude; the includer defines
+/// The board grid's nearest-piece search (imports `gpu::prelude`; the includer defines
 /// `piece_hit` and `grid_cells`).
 pub const GRID_SEARCH_WGSL: &str = include_str!("../shaders/grid_search.wgsl");
-/// The tracer (after the prelude, `SCENE_WGSL`, `HIT_WGSL`, [`GRID_SEARCH_WGSL`] and
-/// [`PIECES_WGSL`]; with an [`ObjectSearch`]'s WGSL).
+/// The tracer (imports `gpu::prelude`, `scene::shading` and `gpu::distance_map`; after
+/// [`GRID_SEARCH_WGSL`] and [`PIECES_WGSL`]; with an [`ObjectSearch`]'s WGSL).
 pub const TRACE_WGSL: &str = include_str!("../shaders/trace.wgsl");
 
 /// The first `@group(2)` binding of an [`ObjectSearch`]'s own resources (the tracer's take
@@ -55,10 +55,11 @@ const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// functions). Implemented with refractor distance maps (`refractor-maps`) and refractor
 /// height maps (`height-maps`).
 pub trait ObjectSearch {
-    /// WGSL defining `piece_hit`, `piece_hit_normal` and `chord`, after the prelude,
-    /// `SCENE_WGSL`, `HIT_WGSL` and the piece table; its `i`-th resource of
-    /// [`ObjectSearch::binding_types`] at `@group(2) @binding(first_binding + i)`.
-    fn wgsl(&self, first_binding: u32) -> String;
+    /// WGSL defining `piece_hit`, `piece_hit_normal` and `chord`, after the piece table
+    /// (`PIECES_WGSL`); its `i`-th resource of [`ObjectSearch::binding_types`] at
+    /// `@group(2) @binding(SEARCH_FIRST_BINDING + i)` (`SEARCH_FIRST_BINDING` is a WGSL constant
+    /// of the piece table, equal to the Rust one).
+    fn wgsl(&self) -> String;
     /// The binding types of its resources, in order (visible to the fragment stage, and to
     /// the vertex stage in [`super::PieceImpostors`], whose proxies may read them).
     fn binding_types(&self) -> Vec<wgpu::BindingType>;
@@ -149,11 +150,10 @@ impl Tracer {
         label: &str,
     ) -> Result<Self, GpuError> {
         let source = format!(
-            "{}\n{GRID_SEARCH_WGSL}\n{PIECES_WGSL}\n{TRACE_WGSL}\n{}\n{extra_wgsl}",
-            crate::SCENE_WGSL,
-            search.wgsl(SEARCH_FIRST_BINDING),
+            "{GRID_SEARCH_WGSL}\n{PIECES_WGSL}\n{TRACE_WGSL}\n{}\n{extra_wgsl}",
+            search.wgsl(),
         );
-        let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &source));
+        let module = crate::shader(ctx, label, &source);
         let mut entries = driver_entries(bind::texture_cube());
         entries.extend(search.binding_types());
         let layout = bind::layout(ctx, label, wgpu::ShaderStages::FRAGMENT, &entries);

@@ -1,9 +1,10 @@
 // ---------------------------------------------------------------------------------------------
 // Pieces shaded with per-piece environment distance impostors (Dancsik and Minarik, section
-// 5), after the gpu prelude + scene.wgsl + hit.wgsl + the layered Hit()
-// (gpu::distance_map::layered_hit_wgsl) + pieces.wgsl + a per-object search
-// (scene::multi_object::ObjectSearch: refractor distance maps or refractor height maps, its
-// bindings from @group(2) @binding(6); the three functions trace.wgsl's header names).
+// 5); imports gpu::prelude, scene::shading, gpu::distance_map and the layered Hit()
+// (gpu::layered_distance_map, from gpu::distance_map::layered_hit_wgsl); after pieces.wgsl + a
+// per-object search (scene::multi_object::ObjectSearch: refractor distance maps or refractor
+// height maps, its bindings from @group(2) @binding(6); the three functions trace.wgsl's header
+// names).
 //
 // Piece p's environment impostor (rgb radiance, alpha distance from env_centres[p]) is cube p
 // of `impostors`. A piece's first hit (rasterized from its mesh by environment_piece_fs, or
@@ -24,6 +25,7 @@
 #import gpu::prelude::{fresnel_dielectric, fresnel_nk, reflect_dir, refract_dir}
 #import gpu::distance_map
 #import gpu::layered_distance_map
+#import scene::shading::{MATERIAL_METAL, SceneVertexOut, camera, objects, specular_event, specular_shade}
 
 const NO_PIECE: u32 = 0xffffffffu;
 

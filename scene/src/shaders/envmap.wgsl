@@ -1,6 +1,7 @@
 // Classic environment mapping (the baseline): the specular object looks up a cube map taken
 // from its centre with the reflected / refracted direction alone, as if the environment were
 // infinitely far. One refraction only (the ray is not followed through the object).
+#import scene::shading::{SceneVertexOut, camera, specular_event, specular_shade}
 
 @group(2) @binding(0) var env_map: texture_cube<f32>;
 @group(2) @binding(1) var env_sampler: sampler;

@@ -1,7 +1,7 @@
 // ---------------------------------------------------------------------------------------------
 // The nearest piece along a ray through the board grid (Dancsik and Minarik section 4.2). Rust
 // twin: scene/src/multi_object/grid.rs `nearest_piece` (same walk, same stopping rules; see its
-// docs). Needs the gpu prelude (grid_walk) and, from the file that includes it:
+// docs). Imports grid_walk from gpu::prelude and needs, from the file that includes it:
 //   fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f   // (any payload, t) or t < 0: no hit
 //   var<storage, read> grid_cells: array<vec4u>;         // CELL_CAPACITY = 4 pieces per cell
 // ---------------------------------------------------------------------------------------------

@@ -1,7 +1,8 @@
+#define_import_path scene::medium
 // ---------------------------------------------------------------------------------------------
 // A homogeneous scattering medium in an axis-aligned box (scene::medium, its Rust twin): the
 // box clipping, Beer-Lambert transmittance and the Henyey-Greenstein phase function. Pure
-// functions of a `Medium` value (after the gpu prelude); scene.wgsl holds the scene's medium in
+// functions of a `Medium` value (the module scene::medium); scene.wgsl holds the medium in
 // `scene_info.medium` and `scene_medium()` returns it.
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{PI, ray_box}

@@ -4,6 +4,10 @@
 // shader declares `pieces: array<Piece>` at its own binding.
 // ---------------------------------------------------------------------------------------------
 
+// The first @group(2) binding of a per-object search's own resources (Rust:
+// scene::multi_object::SEARCH_FIRST_BINDING; the drivers' resources take 0..6).
+const SEARCH_FIRST_BINDING: u32 = 6u;
+
 struct Piece {
     // World centre now; w: kind (which refractor map).
     centre: vec4f,

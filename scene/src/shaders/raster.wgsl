@@ -1,6 +1,7 @@
 // The shared raster pass: diffuse surfaces shaded like the reference; specular objects drawn
 // as plain grey diffuse when `specular_as_diffuse` is set (the `raster` technique).
 // Output: rgb = radiance, a = distance from the eye (so any view is also a distance impostor).
+#import scene::shading::{MATERIAL_DIFFUSE, SceneVertexOut, camera, geometric_facing_normal, objects, shade_diffuse_ng, shading_normal, surface_albedo}
 
 const PLAIN_GREY: vec3f = vec3f(0.7);
 

@@ -1,8 +1,9 @@
 // Light-map receivers (src/lightmap.rs): object-space addressing of a diffuse object's surface
-// and the light-map power read back from an atlas, after the gpu prelude + scene.wgsl +
-// chart.wgsl. No bindings of its own: the light map is passed in, so every technique that
-// splats photons into light maps (impostors' caustic maps, refractor-maps' photon hits)
-// reads them with these functions.
+// and the light-map power read back from an atlas; imports scene::shading; after chart.wgsl.
+// No bindings of its own: the light map is passed in, so every technique that splats photons
+// into light maps (impostors' caustic maps, refractor-maps' photon hits) reads them with these
+// functions.
+#import scene::shading::objects
 
 // World point -> object space: the linear part's inverse is the normal matrix transposed.
 fn world_to_local(object: u32, p: vec3f) -> vec3f {

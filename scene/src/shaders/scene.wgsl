@@ -1,12 +1,15 @@
+#define_import_path scene::shading
 // ---------------------------------------------------------------------------------------------
 // Shared scene bindings and the diffuse shading model (DESIGN.md): identical to the CPU
 // reference's direct lighting: albedo / pi * I * max(0, n.l) / d^2 * visibility, summed over
 // point lights, no ambient, visibility from one distance shadow map per light (a cube map, or a
 // 2D map fitted to the scene for a light outside it: see light_visibility).
-// Technique shaders are prelude + this file + their own entry points; they draw objects with
-// `scene_vs` (instance index = object index) and shade diffuse surfaces with `shade_diffuse`.
+// The module `scene::shading`: technique shaders import what they use from it; they draw objects
+// with `scene_vs` (scene::SCENE_VS_WGSL, instance index = object index) and shade diffuse
+// surfaces with `shade_diffuse`.
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{PI, fresnel_dielectric, fresnel_nk, hash_to_unit, pcg_hash, reflect_dir, refract_dir}
+#import scene::medium::Medium
 
 struct CameraUniform {
     view_proj: mat4x4f,
@@ -84,8 +87,9 @@ struct SceneVertexOut {
     @location(3) @interpolate(flat) object: u32,
 };
 
-@vertex
-fn scene_vs(v: SceneVertexIn, @builtin(instance_index) object: u32) -> SceneVertexOut {
+// The scene's vertex stage (`scene_vs` in SCENE_VS_WGSL calls it): object `object`'s vertex
+// `v` in world space and clip space.
+fn scene_vertex(v: SceneVertexIn, object: u32) -> SceneVertexOut {
     let o = objects[object];
     let world = (o.model * vec4f(v.position, 1.0)).xyz;
     var out: SceneVertexOut;

@@ -2,7 +2,7 @@
 // at the photon's light-map address, drawn into the light-map atlas with additive blending.
 // The vertex shader reads the caustic map (the paper's vertex texture fetch, "caustcoord" =
 // instance index) and moves quads of empty texels out of the clip volume; the fragment
-// shader weights the photon power with a Gaussian over the quad. After the gpu prelude +
+// shader weights the photon power with a Gaussian over the quad. Imports gpu::prelude; after
 // chart.wgsl + footprint.wgsl.
 #import gpu::prelude::PI
 

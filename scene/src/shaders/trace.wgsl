@@ -1,7 +1,8 @@
 // ---------------------------------------------------------------------------------------------
-// Many-object multi-bounce ray tracing (Dancsik and Minarik, sections 4.1-4.2 and 6), after
-// the gpu prelude + scene.wgsl + hit.wgsl + grid_search.wgsl + pieces.wgsl + the per-object
-// search (scene::multi_object::ObjectSearch: refractor distance maps, refractor height maps).
+// Many-object multi-bounce ray tracing (Dancsik and Minarik, sections 4.1-4.2 and 6); imports
+// gpu::prelude, scene::shading and gpu::distance_map; after grid_search.wgsl + pieces.wgsl, and
+// before the per-object search (scene::multi_object::ObjectSearch: refractor distance maps,
+// refractor height maps).
 //
 // The specular objects are drawn with scene_vs: rasterization finds the first hit. From there
 // each pixel follows the tree of reflected and refracted rays depth first (an explicit stack),
@@ -25,6 +26,7 @@
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{fresnel_dielectric, fresnel_nk, reflect_dir, refract_dir}
 #import gpu::distance_map
+#import scene::shading::{MATERIAL_METAL, SceneVertexOut, camera, objects}
 
 struct TracerParams {
     // xyz: reference point of the environment impostor (world).

@@ -1,6 +1,7 @@
 // The caustic light on the visible diffuse surfaces: albedo / pi * E, E the irradiance the
 // splats left at the pixel (drawn over the raster pass, depth equal, added).
 #import gpu::prelude::PI
+#import scene::shading::{SceneVertexOut, surface_albedo}
 
 @group(3) @binding(0) var irradiance: texture_2d<f32>;
 

@@ -9,6 +9,8 @@
 // ("stack smashing") in the froxel passes, so that one keeps its returns.
 // ---------------------------------------------------------------------------------------------
 
+#import scene::medium::{henyey_greenstein, medium_clip, medium_extinction, medium_transmittance, transmittance_of}
+
 struct ShaftView {
     view_proj: mat4x4f,
     // xyz: the eye; w: a pixel's area on the image plane at unit distance.

@@ -4,6 +4,8 @@
 // plus the in-scattered light (the god rays' blurred bands, the froxels' lookup; none for the
 // variants without shafts).
 // ---------------------------------------------------------------------------------------------
+#import scene::shading::scene_medium
+#import scene::medium::medium_transmittance
 
 @group(3) @binding(0) var inscatter: texture_2d<f32>;
 

@@ -13,6 +13,8 @@
 // against the reference (tests/diagnostics.rs).
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::ray_box
+#import scene::shading::{light_visibility_in, lights, scene_info, scene_medium}
+#import scene::medium::{henyey_greenstein, medium_clip, medium_extinction, medium_present, medium_transmittance, transmittance_of}
 
 struct FroxelParams {
     // The caustic map's light view (world to clip).

@@ -1,5 +1,5 @@
 // ---------------------------------------------------------------------------------------------
-// Photons and receiver points (after the gpu prelude, scene.wgsl, the LDI bindings and
+// Photons and receiver points (after the LDI bindings, which import scene::shading, and
 // ldi.wgsl). No bindings of its own: each pass file declares its @group(3).
 // ---------------------------------------------------------------------------------------------
 

@@ -6,6 +6,8 @@
 // photon loses the medium's transmittance along the way, and each photon ray of the round is
 // kept as a beam for the light shafts (section 3.2) when the variant draws them.
 // ---------------------------------------------------------------------------------------------
+#import scene::shading::{scene_medium, specular_event}
+#import scene::medium::medium_transmittance_between
 
 struct ResolveParams {
     // Specular events allowed after the transfer map.

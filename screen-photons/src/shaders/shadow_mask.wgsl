@@ -6,6 +6,7 @@
 // the reference), and any solid it passes through shadows the point. The part of a ray that leaves the view
 // cannot be tested: occluders off screen cast no shadow (README, "Failure cases").
 // ---------------------------------------------------------------------------------------------
+#import scene::shading::{lights, scene_info}
 
 @group(3) @binding(0) var<storage, read_write> shadow_mask: array<vec4f>;
 

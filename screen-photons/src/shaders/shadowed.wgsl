@@ -1,6 +1,7 @@
 // The diffuse surfaces shaded like the raster pass (raster.wgsl: the reference's rules) with
 // the screen-space visibility of the first four lights instead of their shadow maps.
 #import gpu::prelude::PI
+#import scene::shading::{SceneVertexOut, camera, geometric_facing_normal, light_visibility, lights, scene_info, shading_normal, surface_albedo}
 
 @group(3) @binding(0) var<storage, read> shadow_mask: array<vec4f>;
 

@@ -1,8 +1,10 @@
 // ---------------------------------------------------------------------------------------------
 // God rays (section 3.2): the photon beams of the march drawn as bands into the in-scattering
 // buffer, then blurred by a separable Gaussian (composite.wgsl blends them over the image).
-// The bands' arithmetic is beam.wgsl's (included before this file).
+// The bands' arithmetic is beam.wgsl's (included before this file), whose scene_medium() this
+// file imports (a conformance kernel gives beam.wgsl its own).
 // ---------------------------------------------------------------------------------------------
+#import scene::shading::scene_medium
 
 @group(3) @binding(0) var<storage, read> beams: array<Beam>;
 @group(3) @binding(1) var<uniform> shaft: ShaftView;

@@ -13,6 +13,8 @@
 // traced segment is attenuated by its transmittance (what the eye's own segment loses is
 // composite.wgsl's; light scattered into these rays is not added).
 // ---------------------------------------------------------------------------------------------
+#import scene::shading::{SceneVertexOut, camera, facing_normal, scene_info, scene_medium, shade_diffuse, specular_event, specular_shade, surface_albedo}
+#import scene::medium::{medium_transmittance, medium_transmittance_between}
 
 struct SpecularParams {
     // 0: the paper's monotone layers and tolerance test; 1: the DDA with thickness.

@@ -9,6 +9,7 @@
 // tolerance of LDI layer 0). `sprite`: the plane faces the viewer (screen-aligned point
 // sprites, the naive variant), drawn where C is not hidden.
 // ---------------------------------------------------------------------------------------------
+#import scene::shading::camera
 
 struct SplatParams {
     inv_view_proj: mat4x4f,

@@ -12,6 +12,7 @@
 // share times cos^3 off the view's axis (0 everywhere: no photon).
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::oct_encode
+#import scene::shading::{MATERIAL_GLASS, MATERIAL_METAL, SceneVertexOut, emission_jitter, jittered_emission, objects, specular_event}
 
 struct TransferParams {
     // Light position; w unused.

@@ -93,10 +93,10 @@ pub(super) struct SplatParamsGpu {
     pub(super) _pad: [u32; 2],
 }
 
-/// The shader of one pass: the prelude, scene.wgsl, the LDI bindings and functions, the
-/// photon structs, then the pass's own file.
+/// The shader of one pass: the LDI bindings and functions, the photon structs, then the pass's
+/// own file (importing from `gpu::prelude` and `scene::shading` what they use).
 pub fn pass_source(own: &str) -> String {
-    format!("{SCENE_WGSL}\n{LDI_BINDINGS_WGSL}\n{LDI_WGSL}\n{PHOTON_WGSL}\n{own}")
+    format!("{LDI_BINDINGS_WGSL}\n{LDI_WGSL}\n{PHOTON_WGSL}\n{own}")
 }
 
 pub(super) fn compute_pipeline(
@@ -106,7 +106,7 @@ pub(super) fn compute_pipeline(
     own: &str,
     entry: &str,
 ) -> wgpu::ComputePipeline {
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &pass_source(own)));
+    let module = scene::shader(ctx, label, &pass_source(own));
     gpu::compute::pipeline_with_layout(ctx, label, layout, &module, entry)
 }
 
@@ -141,7 +141,7 @@ pub(super) fn render_pipeline(
     topology: wgpu::PrimitiveTopology,
     targets: &[Option<wgpu::ColorTargetState>],
 ) -> wgpu::RenderPipeline {
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &pass_source(own)));
+    let module = scene::shader(ctx, label, &pass_source(own));
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),

@@ -50,8 +50,8 @@ use gpu::{Context, Target, Uniform, bind};
 use scene::emission::{footprint_declared, jitter_declared};
 use scene::technique::Declared;
 use scene::{
-    CasterShadowMaps, DepthPeeler, Frame, GpuScene, ObjectFilter, RasterTarget, SCENE_WGSL, Scene,
-    Technique, TechniqueError, TechniqueResult, View,
+    CasterShadowMaps, DepthPeeler, Frame, GpuScene, ObjectFilter, RasterTarget, Scene, Technique,
+    TechniqueError, TechniqueResult, View,
 };
 
 mod gpu_types;

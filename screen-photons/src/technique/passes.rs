@@ -100,7 +100,7 @@ fn hdr_pipeline(
     blend: Option<wgpu::BlendState>,
     depth: (bool, wgpu::CompareFunction),
 ) -> wgpu::RenderPipeline {
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &pass_source(own)));
+    let module = scene::shader(ctx, label, &pass_source(own));
     let targets = [pass::color_target(gpu::HDR_FORMAT, blend)];
     scene::scene_pipeline_with(ctx, label, layout, &module, entry, &targets, depth)
 }
@@ -113,7 +113,7 @@ fn transfer_pipeline(
 ) -> wgpu::RenderPipeline {
     let module = gpu::shader(
         ctx,
-        gpu::wgsl::Shader::new("transfer map", &format!("{SCENE_WGSL}\n{TRANSFER_WGSL}")),
+        gpu::wgsl::Shader::new("transfer map", TRANSFER_WGSL).importing(&[&scene::SHADING]),
     );
     let targets = [
         pass::color_target(MAP_FORMAT, None),

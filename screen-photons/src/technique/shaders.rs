@@ -30,6 +30,7 @@ pub(super) const COMPOSITE_WGSL: &str = include_str!("../shaders/composite.wgsl"
 /// The LDI bindings of the technique's passes (`@group(2)`), and the material kind ldi.wgsl
 /// asks for, from the scene's materials (0 diffuse, 1 metal, 2 glass: `MATERIAL_*`).
 pub const LDI_BINDINGS_WGSL: &str = r#"
+#import scene::shading::objects
 @group(2) @binding(0) var<uniform> ldi: LdiParams;
 @group(2) @binding(1) var ldi_layers: texture_2d_array<f32>;
 @group(2) @binding(2) var ldi_surfaces: texture_2d_array<f32>;

@@ -1,6 +1,7 @@
 // The depth pre-pass of thesis 6.3.3: the scene's distance from the eye per pixel, into an
-// R16Float texture ("a 16 bit floating point texture is used here"). Needs the prelude and
-// scene::SCENE_WGSL (scene_vs, the camera at group 0).
+// R16Float texture ("a 16 bit floating point texture is used here"). Imports scene::shading
+// (SceneVertexOut, the camera at group 0); drawn with scene_vs (scene::SCENE_VS_WGSL).
+#import scene::shading::{SceneVertexOut, camera}
 
 @fragment
 fn scene_distance_fs(in: SceneVertexOut) -> @location(0) vec4f {

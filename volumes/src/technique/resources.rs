@@ -65,7 +65,7 @@ impl VolumeTechnique {
         volume_layout: &wgpu::BindGroupLayout,
     ) -> wgpu::RenderPipeline {
         let source = format!("{PATH_LENGTH_WGSL}\n{VOLUMES_WGSL}");
-        let module = gpu::shader(ctx, gpu::wgsl::Shader::new("volumes", &source));
+        let module = scene::shader(ctx, "volumes", &source);
         let layout = ctx
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -204,8 +204,7 @@ pub(super) fn volume_layout(ctx: &Context) -> wgpu::BindGroupLayout {
 /// The depth pre-pass: the scene's distance from the eye into an R16Float target.
 pub(super) fn distance_pipeline(ctx: &Context, scene: &GpuScene) -> wgpu::RenderPipeline {
     let label = "volumes scene distance";
-    let source = format!("{}\n{SCENE_DISTANCE_WGSL}", scene::SCENE_WGSL);
-    let module = gpu::shader(ctx, gpu::wgsl::Shader::new(label, &source));
+    let module = scene::shader(ctx, label, SCENE_DISTANCE_WGSL);
     let layout = scene.pipeline_layout_with(ctx, &[]);
     let entry = "scene_distance_fs";
     scene::scene_pipeline(ctx, label, &layout, &module, entry, DISTANCE_FORMAT)

@@ -1,0 +1,170 @@
+//! The scene's shaders and the pipelines that draw it: the WGSL modules `scene::shading`
+//! ([`SHADING`]: the scene's bindings and the shading model of the CPU reference) and
+//! `scene::medium`, [`shader`] (a shader importing them), the scene's vertex stage
+//! ([`SCENE_VS_WGSL`]) and the pipelines that pair it with a technique's fragment entries.
+
+use gpu::pass;
+use gpu::wgpu;
+use gpu::{Context, Vertex};
+
+/// Scene bindings and the shared diffuse shading model, in WGSL: the module `scene::shading`
+/// ([`SHADING`]), which shaders import what they use from.
+pub const SHADING_WGSL: &str = include_str!("shaders/scene.wgsl");
+/// [`SHADING_WGSL`] as a module (it imports `scene::medium`, [`crate::medium::MEDIUM`]).
+pub static SHADING: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    SHADING_WGSL,
+    "scene/src/shaders/scene.wgsl",
+    &[&crate::medium::MEDIUM],
+);
+/// The scene's vertex stage, `scene_vs`: object `instance_index`'s vertices in world and clip
+/// space. Scene pipelines ([`scene_pipeline`]) take it from its own module, so a technique's
+/// shader holds only its fragment entries.
+pub const SCENE_VS_WGSL: &str =
+    "#import scene::shading::{SceneVertexIn, SceneVertexOut, scene_vertex}
+@vertex
+fn scene_vs(v: SceneVertexIn, @builtin(instance_index) object: u32) -> SceneVertexOut {
+    return scene_vertex(v, object);
+}
+";
+
+/// Composes a shader of the scene's passes: `source` importing from `scene::shading` and
+/// `scene::medium` (and `gpu`'s modules).
+pub fn shader(ctx: &Context, label: &str, source: &str) -> wgpu::ShaderModule {
+    gpu::shader(
+        ctx,
+        gpu::wgsl::Shader::new(label, source).importing(&[&SHADING]),
+    )
+}
+/// The shared raster pass's fragment shaders (`raster_fs`: the diffuse shading model, distance
+/// from the eye in alpha; `shadow_fs`), importing `scene::shading` ([`SHADING`]): a technique
+/// that draws the diffuse scene inside its own passes uses `raster_fs`.
+pub const RASTER_WGSL: &str = include_str!("shaders/raster.wgsl");
+
+/// A render pipeline drawing scene objects with `scene_vs` and the given fragment entry:
+/// depth test less, no culling (surfaces are two-sided, cube faces differ in handedness).
+pub fn scene_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    scene_pipeline_with(
+        ctx,
+        label,
+        layout,
+        module,
+        fragment_entry,
+        &[pass::color_target(format, None)],
+        (true, wgpu::CompareFunction::Less),
+    )
+}
+
+/// [`scene_pipeline`] with its own colour targets (several, or blended) and depth state
+/// (`(write, compare)`): for passes that add to what the raster pass drew, or write several
+/// maps at once. No culling.
+pub fn scene_pipeline_with(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
+    let vertices = [Some(Vertex::layout())];
+    let vertex = scene_vertex_module(ctx);
+    render_pipeline(
+        ctx,
+        label,
+        layout,
+        ((&vertex, "scene_vs"), (module, fragment_entry)),
+        &vertices,
+        targets,
+        depth,
+    )
+}
+
+/// The module of the scene's vertex stage, [`SCENE_VS_WGSL`] (entry `scene_vs`), for a pipeline
+/// whose fragment stage is a technique's own.
+pub fn scene_vertex_module(ctx: &Context) -> wgpu::ShaderModule {
+    shader(ctx, "scene_vs", SCENE_VS_WGSL)
+}
+
+/// [`scene_pipeline_with`] with a vertex entry point of the module's own in place of
+/// `scene_vs` (one that places the scene's vertices as `scene_vs` does and passes more along,
+/// per-vertex data read from a storage buffer by vertex index, say): `(vertex, fragment)`.
+pub fn scene_pipeline_entries(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entries: (&str, &str),
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
+    let vertices = [Some(Vertex::layout())];
+    let stages = ((module, entries.0), (module, entries.1));
+    render_pipeline(ctx, label, layout, stages, &vertices, targets, depth)
+}
+
+/// A pipeline that draws no vertex buffer: the vertex entry makes each vertex from its vertex
+/// and instance indices (a proxy of an object, such as a height map's billboard box, one
+/// instance per object), the fragment entry may write its own depth. One colour target of
+/// `format`, depth written and tested with `Less`, no culling.
+pub fn proxy_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entries: (&str, &str),
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    let targets = [pass::color_target(format, None)];
+    let depth = (true, wgpu::CompareFunction::Less);
+    let stages = ((module, entries.0), (module, entries.1));
+    render_pipeline(ctx, label, layout, stages, &[], &targets, depth)
+}
+
+/// The one render-pipeline descriptor of the scene's pipelines: the vertex and fragment stages
+/// (module and entry each), `buffers` of vertices, the caller's targets and depth state, no
+/// culling.
+fn render_pipeline(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    stages: (Stage<'_>, Stage<'_>),
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: (bool, wgpu::CompareFunction),
+) -> wgpu::RenderPipeline {
+    ctx.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module: stages.0.0,
+                entry_point: Some(stages.0.1),
+                compilation_options: Default::default(),
+                buffers,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: stages.1.0,
+                entry_point: Some(stages.1.1),
+                compilation_options: Default::default(),
+                targets,
+            }),
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(pass::depth_state(depth.0, depth.1)),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: ctx.pipeline_cache(),
+        })
+}
+
+/// A pipeline stage: its module and entry point.
+type Stage<'a> = (&'a wgpu::ShaderModule, &'a str);
