@@ -71,8 +71,11 @@ pub fn hit_layered() -> &'static crate::wgsl::Module {
             constants.join(", "),
             layered_hit_wgsl()
         );
-        crate::wgsl::Module::new("", "gpu::distance_map::layered_hit_wgsl()", &[])
-            .with_source(source)
+        crate::wgsl::Module {
+            source: source.into(),
+            file: "gpu::distance_map::layered_hit_wgsl()",
+            imports: &[],
+        }
     })
 }
 
