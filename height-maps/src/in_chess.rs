@@ -9,7 +9,7 @@
 //! height-map search of [`crate::search`]. Neither crate depends on the other.
 
 use crate::map::{map_bounds, render_height_maps};
-use crate::search::{HEIGHT_SEARCH_WGSL, Steps};
+use crate::search::{SEARCH, Steps};
 use crate::technique::{MapSettings, unsupported};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
@@ -61,7 +61,10 @@ impl HeightSearch {
 
 impl ObjectSearch for HeightSearch {
     fn wgsl(&self) -> String {
-        format!("{HEIGHT_SEARCH_WGSL}\n{HEIGHT_OBJECT_SEARCH_WGSL}")
+        HEIGHT_OBJECT_SEARCH_WGSL.to_string()
+    }
+    fn modules(&self) -> Vec<&'static gpu::wgsl::Module> {
+        vec![&SEARCH]
     }
     fn binding_types(&self) -> Vec<wgpu::BindingType> {
         vec![

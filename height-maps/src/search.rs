@@ -33,9 +33,16 @@
 use glam::{Vec2, Vec3};
 use gpu::prelude::{BIG, ray_box};
 
-/// WGSL of the search (imports `gpu::prelude`; the includer declares the height maps, see the
-/// file's header).
+/// WGSL of the search: the module `height_maps::search` ([`SEARCH`]); its searches read the
+/// maps their caller passes (the twin's `field`).
 pub const HEIGHT_SEARCH_WGSL: &str = include_str!("shaders/height_search.wgsl");
+/// [`HEIGHT_SEARCH_WGSL`] as a module, which the billboards, the object search of the chess
+/// variants and the conformance kernel import.
+pub static SEARCH: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    HEIGHT_SEARCH_WGSL,
+    "height-maps/src/shaders/height_search.wgsl",
+    &[],
+);
 
 /// The steps of a search.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -12,7 +12,7 @@
 //!    (billboard.wgsl), timed as "billboards".
 
 use crate::map::{map_bounds, render_height_maps, upright};
-use crate::search::{HEIGHT_SEARCH_WGSL, Steps};
+use crate::search::{SEARCH, Steps};
 use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, Uniform, bind};
@@ -245,8 +245,8 @@ impl Technique for HeightMaps {
             (s.resolution as u64).pow(2) * 16,
             "resolution",
         )?;
-        let source = format!("{HEIGHT_SEARCH_WGSL}\n{BILLBOARD_BOX_WGSL}\n{BILLBOARD_WGSL}",);
-        let module = scene::shader(ctx, &self.id, &source);
+        let source = format!("{BILLBOARD_BOX_WGSL}\n{BILLBOARD_WGSL}");
+        let module = scene::shader_importing(ctx, &self.id, &source, &[&SEARCH]);
         let layout = bind::layout(
             ctx,
             "height-map billboards",

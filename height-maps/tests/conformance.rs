@@ -15,7 +15,8 @@ use common::*;
 use glam::{Vec3, Vec4};
 use gpu::wgpu::{self, util::DeviceExt};
 use height_maps::search::{
-    HEIGHT_SEARCH_WGSL, HeightField, SampledField, Steps, exit_from_inside, search_from_outside,
+    HEIGHT_SEARCH_WGSL, HeightField, SEARCH, SampledField, Steps, exit_from_inside,
+    search_from_outside,
 };
 
 const RAYS: usize = 1536;
@@ -120,9 +121,11 @@ fn twin(maps: &[SampledField; 2], c: &Case) -> [Vec4; 2] {
     }
 }
 
-fn kernel(search: &str) -> String {
+fn kernel() -> String {
     format!(
-        "@group(0) @binding(2) var height_maps: texture_2d_array<f32>;\n{search}\n\
+        "#import height_maps::search::{{HeightBounds, HeightHit, Steps, exit_from_inside, \
+         search_from_outside}}\n\
+         @group(0) @binding(2) var height_maps: texture_2d_array<f32>;\n\
          struct Case {{ o: vec4f, d: vec4f, bounds: vec4f, steps: vec4u }};\n{}\n{}",
         gpu::compute::kernel_header("Case", "vec4f"),
         gpu::compute::kernel_entry(
@@ -132,9 +135,9 @@ fn kernel(search: &str) -> String {
     let steps = Steps(c.steps.x, c.steps.y);
     var h: HeightHit;
     if (c.d.w > 0.5) {
-        h = exit_from_inside(i32(c.o.w), hb, c.o.xyz, c.d.xyz, steps);
+        h = exit_from_inside(height_maps, i32(c.o.w), hb, c.o.xyz, c.d.xyz, steps);
     } else {
-        h = search_from_outside(i32(c.o.w), hb, c.o.xyz, c.d.xyz, steps);
+        h = search_from_outside(height_maps, i32(c.o.w), hb, c.o.xyz, c.d.xyz, steps);
     }
     outputs[2u * i] = vec4f(0.0);
     outputs[2u * i + 1u] = vec4f(0.0);
@@ -146,7 +149,9 @@ fn kernel(search: &str) -> String {
     )
 }
 
-fn run_gpu(maps: &[SampledField; 2], cases: &[Case], search: &str) -> Vec<Vec4> {
+/// The kernel importing `search` as `height_maps::search` (the module the technique imports,
+/// or a mutated copy of it) on the maps and cases.
+fn run_gpu(maps: &[SampledField; 2], cases: &[Case], search: &gpu::wgsl::Module) -> Vec<Vec4> {
     let ctx = testkit::context();
     let (w, h) = (maps[0].width, maps[0].height);
     let data: Vec<f32> = maps
@@ -176,9 +181,10 @@ fn run_gpu(maps: &[SampledField; 2], cases: &[Case], search: &str) -> Vec<Vec4> 
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     });
+    let kernel = kernel();
     gpu::compute::run_kernel_with(
         ctx,
-        &kernel(search),
+        gpu::wgsl::Shader::new("k_height", &kernel).importing(&[search]),
         "k_height",
         cases,
         2,
@@ -211,7 +217,7 @@ fn the_wgsl_search_matches_its_twin() {
     let _lock = testkit::gpu_lock();
     let maps = maps();
     let cases = cases(&maps);
-    let gpu = run_gpu(&maps, &cases, HEIGHT_SEARCH_WGSL);
+    let gpu = run_gpu(&maps, &cases, &SEARCH);
     let found = cases.iter().filter(|c| twin(&maps, c)[0].y > 0.5).count();
     let bad = mismatches(&maps, &cases, &gpu);
     println!("{} cases, {found} hits, {bad} mismatches", cases.len());
@@ -243,7 +249,7 @@ fn a_mutated_search_is_detected() {
     ] {
         assert!(HEIGHT_SEARCH_WGSL.contains(from), "{what}: not in the WGSL");
         let mutated = HEIGHT_SEARCH_WGSL.replace(from, to);
-        let gpu = run_gpu(&maps, &cases, &mutated);
+        let gpu = run_gpu(&maps, &cases, &SEARCH.with_source(mutated));
         let bad = mismatches(&maps, &cases, &gpu);
         assert!(
             bad * 400 > cases.len(),

@@ -669,12 +669,12 @@ fn caustic_mapping(
         ));
         rect_of_object.push(buffer);
     }
-    let source = format!(
-        "{}\n{}",
-        include_str!("shaders/rect.wgsl"),
-        include_str!("shaders/caustic.wgsl")
+    let module = scene::shader_importing(
+        ctx,
+        "caustic mapping",
+        include_str!("shaders/caustic.wgsl"),
+        &[&crate::nearby::RECT],
     );
-    let module = scene::shader(ctx, "caustic mapping", &source);
     let map_pipeline = scene::scene_pipeline_with(
         ctx,
         "caustic mapping",

@@ -17,6 +17,27 @@
 
 use glam::{Vec2, Vec3};
 
+/// A rectangle impostor's placement, projection and ray hit (`nearby.rs`'s `Rect`): the module
+/// `image_space_refraction::rect`, which the nearby lookups and caustic mapping import.
+pub static RECT: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    include_str!("shaders/rect.wgsl"),
+    "image-space-refraction/src/shaders/rect.wgsl",
+    &[],
+);
+/// The nearby-geometry lookups (`nearby.rs`'s twin) and their resources: the module
+/// `image_space_refraction::nearby`, placed by the definitions [`NEARBY_DEFS`].
+pub static NEARBY: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    include_str!("shaders/nearby.wgsl"),
+    "image-space-refraction/src/shaders/nearby.wgsl",
+    &[&RECT],
+);
+/// Where the technique binds [`NEARBY`]'s resources: `@group(3)` from binding 0 (the
+/// rectangle impostors' group, `rectangles::group_layout`).
+pub const NEARBY_DEFS: [(&str, gpu::wgsl::Def); 2] = [
+    ("NEARBY_GROUP", gpu::wgsl::Def::UInt(3)),
+    ("NEARBY_FIRST_BINDING", gpu::wgsl::Def::UInt(0)),
+];
+
 /// One rectangle impostor (the WGSL `Rect`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rect {

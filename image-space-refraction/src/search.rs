@@ -22,6 +22,16 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec3Swizzles, Vec4, Vec4Swizzles};
 
+/// WGSL of the searches (`search.rs`'s twin): the module `image_space_refraction::search`
+/// ([`SEARCH`]); they read the front and back buffers their caller passes.
+pub const SEARCH_WGSL: &str = include_str!("shaders/search.wgsl");
+/// [`SEARCH_WGSL`] as a module, which refract.wgsl and the conformance kernel import.
+pub static SEARCH: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    SEARCH_WGSL,
+    "image-space-refraction/src/shaders/search.wgsl",
+    &[],
+);
+
 /// Which surface of the refractor a buffer holds (the WGSL `SIDE_FRONT`/`SIDE_BACK`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Side {

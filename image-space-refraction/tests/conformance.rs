@@ -15,7 +15,6 @@ use image_space_refraction::search::{
     self, Buffers, Eye, FrontBack, Iteration, Side, Strategy, exit_direction, hu_qin_exit,
     wyman_exit,
 };
-use image_space_refraction::technique::SEARCH_WGSL;
 
 const W: u32 = 96;
 const H: u32 = 80;
@@ -64,19 +63,23 @@ struct Out {
 
 fn kernel() -> String {
     format!(
-        "{}{BINDINGS}{SEARCH_WGSL}{}",
+        "#import image_space_refraction::search::{{EyeParams, Iteration, eye_project, \
+         exit_direction, hu_qin_exit, projected_direction, silhouette_search, wyman_exit}}\n\
+         {}{BINDINGS}{}",
         kernel_header("Case", "Out"),
         kernel_entry(
             "main",
             r#"
     let c = inputs[i];
     let it = Iteration(1e-4, 16u, 0.1);
-    let exit = hu_qin_exit(eye_params, c.p1.xyz, c.v.xyz, c.t1.xyz, u32(c.v.w), it);
+    let exit = hu_qin_exit(front_buffer, back_buffer, eye_params, c.p1.xyz, c.v.xyz, c.t1.xyz,
+                           u32(c.v.w), it);
     let t2 = exit_direction(exit, c.t1.xyz, c.p1.w);
     let start = eye_project(eye_params, c.p1.xyz).xy;
     let dir = projected_direction(eye_params, c.p1.xyz, c.t1.xyz);
-    let s = silhouette_search(eye_params, start, dir, 1.0);
-    let w = wyman_exit(eye_params, c.p1.xyz, c.v.xyz, c.n1.xyz, c.t1.xyz, c.n1.w);
+    let s = silhouette_search(front_buffer, back_buffer, eye_params, start, dir, 1.0);
+    let w = wyman_exit(front_buffer, back_buffer, eye_params, c.p1.xyz, c.v.xyz, c.n1.xyz,
+                       c.t1.xyz, c.n1.w);
     outputs[i] = Out(vec4f(exit.point, f32(exit.side)), vec4f(t2.xyz, f32(exit.iterations)),
                      vec4f(s.inside, s.outside), vec4f(w.point, w.distance));
 "#
@@ -177,9 +180,11 @@ fn wgsl_searches_match_their_twins() {
     let front = upload(ctx, &buffers.front, "front");
     let back = upload(ctx, &buffers.back, "back");
     let source = kernel();
+    let imports = [&image_space_refraction::search::SEARCH];
+    let kernel = gpu::wgsl::Shader::new("searches", &source).importing(&imports);
     let out: Vec<Out> = run_kernel_with(
         ctx,
-        &source,
+        kernel,
         "main",
         &cases,
         1,
@@ -528,20 +533,13 @@ fn fs(@builtin(position) p: vec4f) -> @builtin(frag_depth) f32 {
     texture
 }
 
-/// nearby.wgsl moved to `@group(0)` after the kernel's two buffers, with a stub for the
-/// environment lookup that `outgoing_radiance` calls.
+/// A kernel importing `image_space_refraction::nearby` (the module the technique imports) with
+/// its resources placed after the kernel's two buffers, [`NEARBY_IN_KERNEL`].
 fn nearby_kernel() -> String {
-    let mut nearby = include_str!("../src/shaders/nearby.wgsl").to_string();
-    for b in 0..4 {
-        let from = format!("@group(3) @binding({b})");
-        assert!(nearby.contains(&from), "nearby.wgsl has no {from}");
-        nearby = nearby.replace(&from, &format!("@group(0) @binding({})", b + 2));
-    }
     format!(
-        "struct Ray {{ origin: vec4f, dir: vec4f }};\n{}{}\n{nearby}\n\
-         fn env_lookup(d: vec3f) -> vec3f {{ return vec3f(0.0); }}\n{}",
+        "#import image_space_refraction::nearby::nearby_hit\n\
+         struct Ray {{ origin: vec4f, dir: vec4f }};\n{}\n{}",
         kernel_header("Ray", "vec4f"),
-        include_str!("../src/shaders/rect.wgsl"),
         kernel_entry(
             "main",
             "    let h = nearby_hit(inputs[i].origin.xyz, inputs[i].dir.xyz);\n    \
@@ -549,6 +547,12 @@ fn nearby_kernel() -> String {
         )
     )
 }
+
+/// nearby.wgsl's resources at `@group(0)` from binding 2, after the kernel's buffers.
+const NEARBY_IN_KERNEL: [(&str, gpu::wgsl::Def); 2] = [
+    ("NEARBY_GROUP", gpu::wgsl::Def::UInt(0)),
+    ("NEARBY_FIRST_BINDING", gpu::wgsl::Def::UInt(2)),
+];
 
 /// `nearby_hit` of nearby.wgsl against the twin, uncorrected and corrected, on two spheres'
 /// impostors and a wall with holes (layers permuted, as the WGSL reads `origin.w`).
@@ -668,9 +672,13 @@ fn nearby_wgsl_matches_its_twin() {
                 contents: bytemuck::bytes_of(&params),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
+        let imports = [&image_space_refraction::nearby::NEARBY];
+        let kernel = gpu::wgsl::Shader::new("nearby", &source)
+            .importing(&imports)
+            .with_defs(&NEARBY_IN_KERNEL);
         let out: Vec<[f32; 4]> = run_kernel_with(
             ctx,
-            &source,
+            kernel,
             "main",
             &rays,
             1,

@@ -21,17 +21,16 @@ use gpu::cube::CubeTarget;
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load, color_target};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, GpuError, Uniform, bind};
-use scene::lightmap::{CHART_WGSL, ChartAtlas, QuadSplatter, RECEIVER_WGSL};
+use scene::lightmap::{ChartAtlas, QuadSplatter};
 use scene::{Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
 
 /// WGSL of the receivers' light-map charts: the chart and atlas uv under a fragment of a
-/// diffuse object (no imports of its own; after `scene::lightmap::CHART_WGSL` and
-/// `scene::lightmap::RECEIVER_WGSL`).
+/// diffuse object (imports `scene::chart` and `scene::receiver`).
 pub const LIGHTMAP_WGSL: &str = include_str!("shaders/lightmap.wgsl");
 /// WGSL of the caustic maps (paper section 5): photon tracing from the light
 /// (`trace_photon`), the caustic-map and receiver-cube shaders of both paths and the apply
 /// passes (imports `gpu::prelude`, `scene::shading` and `gpu::distance_map`, whose `Hit()` it
-/// uses; after `localized.wgsl` and the chart WGSL).
+/// uses, and `scene::chart` and `scene::receiver`; after `localized.wgsl` and lightmap.wgsl).
 pub const CAUSTIC_WGSL: &str = include_str!("shaders/caustic.wgsl");
 const SPLAT_WGSL: &str = include_str!("shaders/splat.wgsl");
 
@@ -106,7 +105,7 @@ pub fn lookup_wgsl(path: Option<CausticPath>) -> String {
     };
     let shaders = match path {
         None => String::new(),
-        Some(_) => format!("{CHART_WGSL}\n{RECEIVER_WGSL}\n{LIGHTMAP_WGSL}\n{CAUSTIC_WGSL}\n"),
+        Some(_) => format!("{LIGHTMAP_WGSL}\n{CAUSTIC_WGSL}\n"),
     };
     format!("{shaders}fn caustic_radiance_at(l: vec3f) -> vec3f {{ {body} }}\n")
 }

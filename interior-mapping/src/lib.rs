@@ -17,8 +17,15 @@ pub mod textures;
 
 pub use technique::{InteriorMapping, PolygonInteriors, Variant};
 
-/// The WGSL twin of [`rooms`] (needs the `gpu` prelude).
+/// The WGSL twin of [`rooms`]: the module `interior_mapping::rooms` ([`ROOMS`]).
 pub const INTERIOR_WGSL: &str = include_str!("shaders/interior.wgsl");
+/// [`INTERIOR_WGSL`] as the module `interior_mapping::rooms`, which the technique's shader and
+/// the conformance kernels import (`#import interior_mapping::rooms::cast_rooms`).
+pub static ROOMS: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    INTERIOR_WGSL,
+    "interior-mapping/src/shaders/interior.wgsl",
+    &[],
+);
 
 /// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.
 pub const FAMILY: scene::Family = scene::Family {

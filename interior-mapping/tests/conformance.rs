@@ -16,6 +16,12 @@ type Input = [[f32; 4]; 4];
 /// (family, t bits, plane, -), (hit point, -) bits, (room, -).
 type Output = [[u32; 4]; 3];
 
+/// A kernel importing `interior_mapping::rooms`, the module the technique's shader imports.
+fn rooms_kernel(source: &str) -> gpu::wgsl::Shader<'_> {
+    static ROOMS: [&gpu::wgsl::Module; 1] = [&interior_mapping::ROOMS];
+    gpu::wgsl::Shader::new("rooms kernel", source).importing(&ROOMS)
+}
+
 /// `cast_rooms` on each case, `main` of the kernel convention of `gpu::compute`.
 fn kernel() -> String {
     kernel_header("array<vec4f, 4>", "array<vec4u, 3>")
@@ -93,9 +99,10 @@ fn wgsl_cast_rooms_matches_twin() {
             ]
         })
         .collect();
-    let source = format!("{}\n{}", interior_mapping::INTERIOR_WGSL, kernel());
-    let results: Vec<Output> = run_kernel(testkit::context(), &source, "main", &input, 1)
-        .unwrap_or_else(|e| panic!("interior conformance kernel: {e}"));
+    let source = format!("#import interior_mapping::rooms::cast_rooms\n{}", kernel());
+    let results: Vec<Output> =
+        run_kernel(testkit::context(), rooms_kernel(&source), "main", &input, 1)
+            .unwrap_or_else(|e| panic!("interior conformance kernel: {e}"));
 
     let mut disagreements = 0;
     for (i, c) in cases.iter().enumerate() {
@@ -185,9 +192,10 @@ fn wgsl_cubemap_room_matches_twin() {
     outputs[i][2] = bitcast<vec4u>(vec4i(hit.room, 0));
     outputs[i][3] = bitcast<vec4u>(vec4f(hit.lookup, 0.0));"#,
         );
-    let source = format!("{}\n{}", interior_mapping::INTERIOR_WGSL, kernel);
-    let results: Vec<CubemapOutput> = run_kernel(testkit::context(), &source, "main", &input, 1)
-        .unwrap_or_else(|e| panic!("cube-map interiors conformance kernel: {e}"));
+    let source = format!("#import interior_mapping::rooms::cubemap_room\n{kernel}");
+    let results: Vec<CubemapOutput> =
+        run_kernel(testkit::context(), rooms_kernel(&source), "main", &input, 1)
+            .unwrap_or_else(|e| panic!("cube-map interiors conformance kernel: {e}"));
     let float3 = |v: [u32; 4]| {
         Vec3::new(
             f32::from_bits(v[0]),

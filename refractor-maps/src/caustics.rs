@@ -786,12 +786,7 @@ fn apply_pass(
             bind::sampler(),
         ],
     );
-    let source = format!(
-        "{}\n{}\n{APPLY_WGSL}",
-        scene::lightmap::CHART_WGSL,
-        scene::lightmap::RECEIVER_WGSL
-    );
-    let module = scene::shader(ctx, "caustics apply", &source);
+    let module = scene::shader(ctx, "caustics apply", APPLY_WGSL);
     let apply_pipeline = scene::scene_pipeline_with(
         ctx,
         "caustics apply",

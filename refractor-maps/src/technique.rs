@@ -464,8 +464,7 @@ impl Technique for RefractorMaps {
             scene::technique::check_map_budget(&self.id, 1, bytes, "photons")?;
         }
         let extra = if self.settings.caustics.is_some() {
-            use scene::lightmap::{CHART_WGSL, RECEIVER_WGSL};
-            format!("{CHART_WGSL}\n{RECEIVER_WGSL}\n{PHOTONS_WGSL}")
+            PHOTONS_WGSL.to_string()
         } else {
             String::new()
         };

@@ -35,7 +35,7 @@ pub use medium::Medium;
 pub use model::*;
 pub use shading::{
     RASTER_WGSL, SCENE_VS_WGSL, SHADING, SHADING_WGSL, proxy_pipeline, scene_pipeline,
-    scene_pipeline_entries, scene_pipeline_with, scene_vertex_module, shader,
+    scene_pipeline_entries, scene_pipeline_with, scene_vertex_module, shader, shader_importing,
 };
 pub use technique::{
     Contained, Declared, Family, Frame, ImageCheck, Param, ParamValue, Settings, Technique,

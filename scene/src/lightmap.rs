@@ -23,16 +23,30 @@ use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, bind};
 
-/// `struct Chart` and `chart_uv` in WGSL (no imports, no bindings).
+/// `struct Chart` and `chart_uv` in WGSL: the module `scene::chart` ([`CHART`]; no bindings).
 pub const CHART_WGSL: &str = include_str!("shaders/chart.wgsl");
+/// [`CHART_WGSL`] as a module (always available to [`crate::shader`]).
+pub static CHART: gpu::wgsl::Module =
+    gpu::wgsl::Module::new(CHART_WGSL, "scene/src/shaders/chart.wgsl", &[]);
 /// `world_to_local`, `normal_to_local`, `texel_area` and `light_map_power` in WGSL: a
-/// receiver's light-map texel area and the power read back from an atlas (imports
-/// `scene::shading`, [`crate::SHADING`]; after [`CHART_WGSL`]; no bindings of its own).
+/// receiver's light-map texel area and the power read back from an atlas, the module
+/// `scene::receiver` ([`RECEIVER`]; imports `scene::shading` and `scene::chart`; no bindings of
+/// its own: the light map is passed in).
 pub const RECEIVER_WGSL: &str = include_str!("shaders/receiver.wgsl");
+/// [`RECEIVER_WGSL`] as a module (always available to [`crate::shader`]).
+pub static RECEIVER: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    RECEIVER_WGSL,
+    "scene/src/shaders/receiver.wgsl",
+    &[&crate::SHADING, &CHART],
+);
 const SPLAT_QUADS_WGSL: &str = include_str!("shaders/splat_quads.wgsl");
-/// `footprint_covariance` and `footprint_cut2` in WGSL, the twin of [`Footprint`] (no
-/// bindings; splat_quads.wgsl includes it).
+/// `footprint_covariance` and `footprint_cut2` in WGSL, the twin of [`Footprint`]: the module
+/// `scene::footprint` ([`FOOTPRINT`]; no bindings), which splat_quads.wgsl and screen-photons'
+/// splats import.
 pub const FOOTPRINT_WGSL: &str = include_str!("shaders/footprint.wgsl");
+/// [`FOOTPRINT_WGSL`] as a module (always available to [`crate::shader`]).
+pub static FOOTPRINT: gpu::wgsl::Module =
+    gpu::wgsl::Module::new(FOOTPRINT_WGSL, "scene/src/shaders/footprint.wgsl", &[]);
 
 /// No chart for this (object, axis): `chart_of` entry.
 pub const NO_CHART: i32 = -1;
@@ -343,8 +357,7 @@ impl QuadSplatter {
                 (vert | wgpu::ShaderStages::FRAGMENT, bind::uniform()),
             ],
         );
-        let source = format!("{CHART_WGSL}\n{FOOTPRINT_WGSL}\n{SPLAT_QUADS_WGSL}");
-        let module = crate::shader(ctx, "light-map splat quads", &source);
+        let module = crate::shader(ctx, "light-map splat quads", SPLAT_QUADS_WGSL);
         // Adds rgb; alpha is unused.
         let add = wgpu::BlendState {
             color: wgpu::BlendComponent {

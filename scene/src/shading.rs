@@ -1,6 +1,7 @@
 //! The scene's shaders and the pipelines that draw it: the WGSL modules `scene::shading`
 //! ([`SHADING`]: the scene's bindings and the shading model of the CPU reference) and
-//! `scene::medium`, [`shader`] (a shader importing them), the scene's vertex stage
+//! `scene::medium`, [`shader`] (a shader importing them; [`shader_importing`] with a technique's
+//! own modules), the scene's vertex stage
 //! ([`SCENE_VS_WGSL`]) and the pipelines that pair it with a technique's fragment entries.
 
 use gpu::pass;
@@ -27,12 +28,37 @@ fn scene_vs(v: SceneVertexIn, @builtin(instance_index) object: u32) -> SceneVert
 }
 ";
 
-/// Composes a shader of the scene's passes: `source` importing from `scene::shading` and
-/// `scene::medium` (and `gpu`'s modules).
+/// The scene's modules every shader [`shader`] composes may import: `scene::shading` (and the
+/// `scene::medium` it imports) and the light-map modules `scene::chart`, `scene::receiver` and
+/// `scene::footprint`.
+const SCENE_MODULES: [&gpu::wgsl::Module; 4] = [
+    &SHADING,
+    &crate::lightmap::CHART,
+    &crate::lightmap::RECEIVER,
+    &crate::lightmap::FOOTPRINT,
+];
+
+/// Composes a shader of the scene's passes: `source` importing from the scene's modules
+/// ([`SCENE_MODULES`]: shading, medium, light-map charts, receivers and footprints) and
+/// `gpu`'s.
 pub fn shader(ctx: &Context, label: &str, source: &str) -> wgpu::ShaderModule {
+    shader_importing(ctx, label, source, &[])
+}
+
+/// [`shader`] importing a technique's own modules too (its searches, `modules`).
+pub fn shader_importing(
+    ctx: &Context,
+    label: &str,
+    source: &str,
+    modules: &[&gpu::wgsl::Module],
+) -> wgpu::ShaderModule {
+    let imports: Vec<&gpu::wgsl::Module> = SCENE_MODULES
+        .into_iter()
+        .chain(modules.iter().copied())
+        .collect();
     gpu::shader(
         ctx,
-        gpu::wgsl::Shader::new(label, source).importing(&[&SHADING]),
+        gpu::wgsl::Shader::new(label, source).importing(&imports),
     )
 }
 /// The shared raster pass's fragment shaders (`raster_fs`: the diffuse shading model, distance

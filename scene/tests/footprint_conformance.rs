@@ -4,14 +4,14 @@
 
 use glam::Vec2;
 use gpu::compute::{kernel_entry, kernel_header, run_kernel};
-use scene::lightmap::{FOOTPRINT_WGSL, Footprint};
+use scene::lightmap::{FOOTPRINT, Footprint};
 
 #[test]
 fn the_wgsl_footprints_match_the_twin() {
     let _lock = testkit::gpu_lock();
     let ctx = testkit::context();
     let source = format!(
-        "{FOOTPRINT_WGSL}\n{}{}",
+        "#import scene::footprint::{{FIXED_CUT2, footprint_covariance, footprint_cut2}}\n{}{}",
         kernel_header("array<vec4f, 2>", "vec4f"),
         kernel_entry(
             "footprint_test",
@@ -34,7 +34,14 @@ fn the_wgsl_footprints_match_the_twin() {
         let of_cell = if i % 8 == 0 { 0.0 } else { 1.0 };
         cases.push([[radius, ex.x, ex.y, ey.x], [ey.y, of_cell, 0.0, 0.0]]);
     }
-    let got: Vec<[f32; 4]> = run_kernel(ctx, &source, "footprint_test", &cases, 1).expect("kernel");
+    let got: Vec<[f32; 4]> = run_kernel(
+        ctx,
+        gpu::wgsl::Shader::new("footprints", &source).importing(&[&FOOTPRINT]),
+        "footprint_test",
+        &cases,
+        1,
+    )
+    .expect("kernel");
     let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * a.abs().max(b.abs()).max(1e-3);
     for (case, got) in cases.iter().zip(&got) {
         let [c0, c1] = case;

@@ -10,9 +10,15 @@
 
 use glam::{Vec2, Vec3};
 
-/// `splat_kernel` and `splat_weight` in WGSL (no bindings): included by the splat pass and the
-/// conformance test.
+/// `splat_kernel` and `splat_weight` in WGSL (no bindings): the module
+/// `screen_photons::splat_weight` ([`WEIGHT`]).
 pub const WEIGHT_WGSL: &str = include_str!("shaders/splat_weight.wgsl");
+/// [`WEIGHT_WGSL`] as a module, which the splat pass and the conformance test import.
+pub static WEIGHT: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    WEIGHT_WGSL,
+    "screen-photons/src/shaders/splat_weight.wgsl",
+    &[],
+);
 use std::f32::consts::PI;
 
 /// The cone kernel of radius `s` at distance `d`.

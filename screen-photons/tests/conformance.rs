@@ -263,12 +263,18 @@ fn the_wgsl_march_finds_the_twins_hits() {
     );
 }
 
+/// A kernel importing `screen_photons::splat_weight`, the module the splat pass imports.
+fn weight_kernel(source: &str) -> gpu::wgsl::Shader<'_> {
+    static WEIGHT: [&gpu::wgsl::Module; 1] = [&screen_photons::splat::WEIGHT];
+    gpu::wgsl::Shader::new("splat weight kernel", source).importing(&WEIGHT)
+}
+
 /// A kernel module over splat_weight.wgsl: `inputs` of `input`, `outputs` of `output`,
 /// entry point `entry` running `body` for element `i`.
 fn weight_kernel_source(input: &str, output: &str, entry: &str, body: &str) -> String {
     format!(
-        "{}\n{}{}",
-        screen_photons::splat::WEIGHT_WGSL,
+        "#import screen_photons::splat_weight::{{footprint_kernel, footprint_matrix, \
+         footprint_reach, footprint_tangent, splat_weight}}\n{}{}",
         kernel_header(input, output),
         kernel_entry(entry, body)
     )
@@ -299,7 +305,8 @@ fn the_wgsl_splat_weight_matches_the_twin() {
             c.extend(n.z).to_array(),
         ]);
     }
-    let got: Vec<[f32; 2]> = run_kernel(ctx, &source, "weight_kernel", &cases, 1).expect("kernel");
+    let got: Vec<[f32; 2]> =
+        run_kernel(ctx, weight_kernel(&source), "weight_kernel", &cases, 1).expect("kernel");
     let mut nonzero = 0;
     for (case, got) in cases.iter().zip(&got) {
         let n = Vec3::new(case[0][3], case[1][3], case[2][3]).normalize();
@@ -352,8 +359,14 @@ fn the_wgsl_footprints_match_the_twins() {
         let u = Vec2::new((f * 2.3).sin(), (f * 0.9).cos()) * 0.1;
         cases.push([[s, ex.x, ex.y, ey.x], [ey.y, u.x, u.y, (f * 1.1).sin()]]);
     }
-    let got: Vec<[f32; 4]> =
-        run_kernel(ctx, &source, "footprint_kernel_test", &cases, 2).expect("kernel");
+    let got: Vec<[f32; 4]> = run_kernel(
+        ctx,
+        weight_kernel(&source),
+        "footprint_kernel_test",
+        &cases,
+        2,
+    )
+    .expect("kernel");
     let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * a.abs().max(b.abs()).max(1e-3);
     let mut inside = 0;
     for (case, got) in cases.iter().zip(got.chunks_exact(2)) {

@@ -15,8 +15,15 @@
 use glam::{Vec2, Vec3};
 use gpu::prelude::{ray_plane, ray_sphere};
 
-/// The WGSL of this module (needs the `gpu` prelude before it).
+/// The WGSL twin of this module: the module `volumes::path_length` ([`PATH_LENGTH`]).
 pub const PATH_LENGTH_WGSL: &str = include_str!("shaders/path_length.wgsl");
+/// [`PATH_LENGTH_WGSL`] as the module `volumes::path_length`, which the technique's shader and
+/// the conformance kernels import.
+pub static PATH_LENGTH: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    PATH_LENGTH_WGSL,
+    "volumes/src/shaders/path_length.wgsl",
+    &[],
+);
 
 /// WGSL code of [`OpacityFn::Linear`] (the `OPACITY` pipeline constant).
 pub const OPACITY_LINEAR: u32 = 0;

@@ -99,7 +99,13 @@ const KERNELS: [(&str, &str); 6] = [
 /// The kernels' WGSL: the binding header of `gpu::compute::run_kernel` for [`Case`] and
 /// [`Output`], the helpers and one entry point per function.
 fn kernels() -> String {
-    let mut source = kernel_header("array<vec4f, 4>", "array<vec4f, 2>");
+    let mut source = String::from(
+        "#import volumes::path_length::{PRIMITIVE_CONSTANT, PRIMITIVE_LINEAR, PRIMITIVE_TEXTURE, \
+         billboard_coords, billboard_path_length, depth_fade, half_thickness, \
+         half_thickness_sphere, opacity_from_length, slice_alpha, sphere_path_length, \
+         visible_length}\n",
+    );
+    source.push_str(&kernel_header("array<vec4f, 4>", "array<vec4f, 2>"));
     source.push_str(HELPERS);
     for (entry, body) in KERNELS {
         source.push_str(&kernel_entry(entry, body));
@@ -117,12 +123,16 @@ fn billboard_axes(n: Vec3, angle: f32) -> (Vec3, Vec3) {
 }
 
 fn run_kernel(entry: &str, cases: &[Case]) -> Vec<Output> {
-    run_kernel_with(PATH_LENGTH_WGSL, entry, cases)
+    run_kernel_with(&PATH_LENGTH, entry, cases)
 }
 
-fn run_kernel_with(path_length_wgsl: &str, entry: &str, cases: &[Case]) -> Vec<Output> {
-    let source = format!("{path_length_wgsl}\n{}", kernels());
-    gpu::compute::run_kernel(testkit::context(), &source, entry, cases, 1)
+/// Runs kernel `entry` importing `path_length` as `volumes::path_length` (the module the
+/// technique's shader imports, or a test's broken copy of it).
+fn run_kernel_with(path_length: &gpu::wgsl::Module, entry: &str, cases: &[Case]) -> Vec<Output> {
+    let source = kernels();
+    let imports = [path_length];
+    let shader = gpu::wgsl::Shader::new(entry, &source).importing(&imports);
+    gpu::compute::run_kernel(testkit::context(), shader, entry, cases, 1)
         .unwrap_or_else(|e| panic!("kernel {entry}: {e}"))
 }
 
@@ -493,7 +503,7 @@ fn mutated_shaders_are_detected() {
             ]
         })
         .collect();
-    let out = run_kernel_with(&broken_log, "k_opacity", &cases);
+    let out = run_kernel_with(&PATH_LENGTH.with_source(broken_log), "k_opacity", &cases);
     let caught = cases
         .iter()
         .zip(&out)
@@ -530,7 +540,7 @@ fn mutated_shaders_are_detected() {
             c
         })
         .collect();
-    let out = run_kernel_with(&broken_slice, "k_slice", &cases);
+    let out = run_kernel_with(&PATH_LENGTH.with_source(broken_slice), "k_slice", &cases);
     let caught = cases
         .iter()
         .zip(&out)

@@ -1,7 +1,7 @@
 // ---------------------------------------------------------------------------------------------
 // Refractor height maps on camera-facing billboards (Dancsik and Minarik, section 6); imports
-// gpu::prelude, scene::shading and gpu::distance_map; after height_search.wgsl +
-// billboard_box.wgsl.
+// gpu::prelude, scene::shading, gpu::distance_map and height_maps::search (given the height
+// maps bound here); after billboard_box.wgsl.
 //
 // Each piece is drawn as the bounding box of its proxy, turned about the vertical axis to face
 // the eye. A fragment casts the eye ray into the box and searches the kind's height map from
@@ -15,6 +15,7 @@
 #import gpu::prelude::{fresnel_dielectric, reflect_dir, refract_dir}
 #import gpu::distance_map
 #import scene::shading::{camera, objects, specular_event, specular_shade}
+#import height_maps::search::{Steps, HeightBounds, Billboard, billboard_facing, dir_to_plane, to_plane, dir_to_world, search_from_outside, exit_from_inside}
 
 struct PieceGpu {
     // World centre now; w: the kind's layer in height_maps.
@@ -87,7 +88,7 @@ fn leave_piece(p: u32, b: Billboard, point: vec3f, dir: vec3f, ior: f32) -> vec3
     var share = 1.0;
     var color = vec3f(0.0);
     for (var s = 0u; s < params.chords; s++) {
-        let e = exit_from_inside(layer, hb, to_plane(b, origin), dir_to_plane(b, d), search_steps());
+        let e = exit_from_inside(height_maps, layer, hb, to_plane(b, origin), dir_to_plane(b, d), search_steps());
         if (!e.found) {
             // Not inside the proxy after all (the entry's offset left it): the ray goes on.
             color += share * environment(origin, d);
@@ -116,7 +117,7 @@ fn billboard_fs(in: BillboardOut) -> BillboardTargets {
     let p = in.piece;
     let dir = normalize(in.world - eye);
     let b = billboard_facing(pieces[p].centre.xyz, eye);
-    let h = search_from_outside(piece_layer(p), piece_bounds(p), to_plane(b, eye), dir_to_plane(b, dir),
+    let h = search_from_outside(height_maps, piece_layer(p), piece_bounds(p), to_plane(b, eye), dir_to_plane(b, dir),
                              search_steps());
     if (!h.found) { discard; }
     let point = eye + dir * h.t;

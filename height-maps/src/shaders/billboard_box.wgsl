@@ -1,11 +1,12 @@
 // ---------------------------------------------------------------------------------------------
-// The billboard's proxy box (Dancsik and Minarik, section 6), after scene.wgsl and
-// height_search.wgsl: a piece is drawn as the bounding box of its height map's proxy, turned
+// The billboard's proxy box (Dancsik and Minarik, section 6), importing scene::shading and
+// height_maps::search: a piece is drawn as the bounding box of its height map's proxy, turned
 // about the vertical to face the eye, 36 vertices (12 triangles) per piece, no vertex buffer.
 // Its fragments cast the eye ray into the box and search the height map; the box only bounds
 // where they can hit.
 // ---------------------------------------------------------------------------------------------
 #import scene::shading::camera
+#import height_maps::search::{HeightBounds, billboard_facing, dir_to_world, height_box_min, height_box_max}
 
 // The 36 corners of a box's 12 triangles, as (corner bits, face): bit 0 = x max, 1 = y max,
 // 2 = z max; faces -x, +x, -y, +y, -z, +z.

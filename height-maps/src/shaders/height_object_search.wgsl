@@ -2,13 +2,14 @@
 // The per-object search of scene's many-object tracer (scene/src/shaders/trace.wgsl) with
 // refractor height maps: section 6's "in the algorithm described in 5.2, the refractor distance
 // map can be replaced by the refractor height map", section 6's last paragraph). After the
-// piece table (pieces.wgsl), trace.wgsl's Chord and height_search.wgsl. Its bindings follow the
+// piece table (pieces.wgsl) and trace.wgsl's Chord; imports height_maps::search. Its bindings follow the
 // tracer's, from SEARCH_FIRST_BINDING (pieces.wgsl).
 //
 // A piece's billboard faces the ray's origin (the search from outside) or, for a ray inside
 // the piece, the point it came from (origin - dir): the eye-facing billboard of the
 // entering ray, near enough, since refraction bends a ray by less than its angle of incidence.
 // ---------------------------------------------------------------------------------------------
+#import height_maps::search::{Steps, HeightBounds, billboard_facing, dir_to_plane, to_plane, dir_to_world, search_from_outside, exit_from_inside}
 
 struct HeightSearchParams {
     linear_steps: u32,
@@ -35,7 +36,7 @@ fn height_search_steps() -> Steps {
 fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {
     let kind = piece_kind(p);
     let b = billboard_facing(pieces[p].centre.xyz, o);
-    let h = search_from_outside(i32(kind), kind_height_bounds(kind), to_plane(b, o),
+    let h = search_from_outside(height_maps, i32(kind), kind_height_bounds(kind), to_plane(b, o),
                                 dir_to_plane(b, d), height_search_steps());
     if (!h.found) { return vec4f(0.0, 0.0, 0.0, -1.0); }
     return vec4f(dir_to_world(b, h.normal), h.t);
@@ -49,7 +50,7 @@ fn piece_hit_normal(p: u32, o: vec3f, d: vec3f, hit: vec4f) -> vec3f {
 fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord {
     let kind = piece_kind(p);
     let b = billboard_facing(pieces[p].centre.xyz, origin - dir);
-    let e = exit_from_inside(i32(kind), kind_height_bounds(kind), to_plane(b, origin),
+    let e = exit_from_inside(height_maps, i32(kind), kind_height_bounds(kind), to_plane(b, origin),
                              dir_to_plane(b, dir), height_search_steps());
     var c: Chord;
     c.exit_point = origin;

@@ -1,10 +1,11 @@
 // ---------------------------------------------------------------------------------------------
 // The search in a refractor height map (Dancsik and Minarik, section 6): the WGSL twin of
 // height-maps/src/search.rs (same algorithm, constants and names; read that file's header for
-// the method). Imports gpu::prelude. The includer declares
-//     height_maps: texture_2d_array<f32>   (Rgba32Float: normal.xyz, height; a layer per kind)
-// and passes each map's layer and bounds.
+// the method). The module height_maps::search; the caller passes the maps, `maps`
+// (texture_2d_array<f32>, Rgba32Float: normal.xyz, height; a layer per kind: the twin's
+// `field`), and each map's layer and bounds.
 // ---------------------------------------------------------------------------------------------
+#define_import_path height_maps::search
 #import gpu::prelude::{BIG, ray_box}
 
 const PARALLEL: f32 = 1e-6;
@@ -64,20 +65,20 @@ fn height_box_max(hb: HeightBounds) -> vec3f {
     return vec3f(hb.half_width, hb.v_max, hb.height);
 }
 
-fn height_texel(layer: i32, i: i32, j: i32) -> vec4f {
-    let size = vec2i(textureDimensions(height_maps));
-    return textureLoad(height_maps, clamp(vec2i(i, j), vec2i(0), size - 1), layer, 0);
+fn height_texel(maps: texture_2d_array<f32>, layer: i32, i: i32, j: i32) -> vec4f {
+    let size = vec2i(textureDimensions(maps));
+    return textureLoad(maps, clamp(vec2i(i, j), vec2i(0), size - 1), layer, 0);
 }
 
 // (normal.xyz, height) at plane point (u, v): bilinear between texel centres, clamped at the
 // edges, empty outside the map (SampledField::sample).
-fn height_sample(layer: i32, hb: HeightBounds, u: f32, v: f32) -> vec4f {
+fn height_sample(maps: texture_2d_array<f32>, layer: i32, hb: HeightBounds, u: f32, v: f32) -> vec4f {
     let c = vec2f((u + hb.half_width) / (2.0 * hb.half_width),
                   (hb.v_max - v) / (hb.v_max - hb.v_min));
     if (c.x < 0.0 || c.y < 0.0 || c.x > 1.0 || c.y > 1.0) {
         return vec4f(0.0, 0.0, 0.0, -hb.height);
     }
-    let size = vec2f(textureDimensions(height_maps));
+    let size = vec2f(textureDimensions(maps));
     let x = c.x * size.x - 0.5;
     let y = c.y * size.y - 0.5;
     let i = floor(x);
@@ -86,13 +87,13 @@ fn height_sample(layer: i32, hb: HeightBounds, u: f32, v: f32) -> vec4f {
     let fy = y - j;
     let ii = i32(i);
     let jj = i32(j);
-    let top = mix(height_texel(layer, ii, jj), height_texel(layer, ii + 1, jj), fx);
-    let bottom = mix(height_texel(layer, ii, jj + 1), height_texel(layer, ii + 1, jj + 1), fx);
+    let top = mix(height_texel(maps, layer, ii, jj), height_texel(maps, layer, ii + 1, jj), fx);
+    let bottom = mix(height_texel(maps, layer, ii, jj + 1), height_texel(maps, layer, ii + 1, jj + 1), fx);
     return mix(top, bottom, fy);
 }
 
-fn height_inside(layer: i32, hb: HeightBounds, p: vec3f) -> bool {
-    return abs(p.z) < height_sample(layer, hb, p.x, p.y).w;
+fn height_inside(maps: texture_2d_array<f32>, layer: i32, hb: HeightBounds, p: vec3f) -> bool {
+    return abs(p.z) < height_sample(maps, layer, hb, p.x, p.y).w;
 }
 
 struct Segments {
@@ -127,35 +128,35 @@ fn select_segment(o: vec3f, d: vec3f, hb: HeightBounds) -> Segments {
     return s;
 }
 
-fn binary_search(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, a0: f32, b0: f32, steps: u32,
+fn binary_search(maps: texture_2d_array<f32>, layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, a0: f32, b0: f32, steps: u32,
                  entering: bool) -> f32 {
     var a = a0;
     var b = b0;
     for (var i = 0u; i < steps; i++) {
         let m = 0.5 * (a + b);
-        if (height_inside(layer, hb, o + d * m) == entering) { b = m; } else { a = m; }
+        if (height_inside(maps, layer, hb, o + d * m) == entering) { b = m; } else { a = m; }
     }
     return 0.5 * (a + b);
 }
 
 // One segment's search for the boundary (from outside when `entering`); a negative result:
 // none on it.
-fn search_segment(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, a: f32, b: f32,
+fn search_segment(maps: texture_2d_array<f32>, layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, a: f32, b: f32,
                   steps: Steps, entering: bool) -> f32 {
     // An entry whose start is inside: the box face is the surface there. An exit's start is
     // taken to be inside.
-    if (entering && height_inside(layer, hb, o + d * a)) { return a; }
+    if (entering && height_inside(maps, layer, hb, o + d * a)) { return a; }
     if (steps.linear == 0u) {
-        if (height_inside(layer, hb, o + d * b) != entering) { return -1.0; }
-        return binary_search(layer, hb, o, d, a, b, steps.binary, entering);
+        if (height_inside(maps, layer, hb, o + d * b) != entering) { return -1.0; }
+        return binary_search(maps, layer, hb, o, d, a, b, steps.binary, entering);
     }
     let dt = (b - a) / f32(steps.linear);
     var previous = a;
     for (var k = 1u; k <= steps.linear; k++) {
         var t = a + dt * f32(k);
         if (k == steps.linear) { t = b; }
-        if (height_inside(layer, hb, o + d * t) == entering) {
-            return binary_search(layer, hb, o, d, previous, t, steps.binary, entering);
+        if (height_inside(maps, layer, hb, o + d * t) == entering) {
+            return binary_search(maps, layer, hb, o, d, previous, t, steps.binary, entering);
         }
         previous = t;
     }
@@ -192,43 +193,43 @@ fn box_face_hit(hb: HeightBounds, o: vec3f, d: vec3f, t: f32) -> HeightHit {
     return h;
 }
 
-fn height_hit(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, t: f32) -> HeightHit {
+fn height_hit(maps: texture_2d_array<f32>, layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, t: f32) -> HeightHit {
     var h: HeightHit;
     h.found = true;
     h.t = t;
     h.point = o + d * t;
-    var n = height_sample(layer, hb, h.point.x, h.point.y).xyz;
+    var n = height_sample(maps, layer, hb, h.point.x, h.point.y).xyz;
     if (h.point.z < 0.0) { n.z = -n.z; }
     h.normal = -normalize(d);
     if (length(n) > 1e-6) { h.normal = normalize(n); }
     return h;
 }
 
-fn search_from_outside(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, steps: Steps) -> HeightHit {
+fn search_from_outside(maps: texture_2d_array<f32>, layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, steps: Steps) -> HeightHit {
     var miss: HeightHit;
     miss.found = false;
     let s = select_segment(o, d, hb);
     if (!s.valid) { return miss; }
     var first_end = s.far;
     if (s.case_id == CASE_IN_FRONT) { first_end = s.plane; }
-    var t = search_segment(layer, hb, o, d, s.near, first_end, steps, true);
+    var t = search_segment(maps, layer, hb, o, d, s.near, first_end, steps, true);
     if (t < 0.0 && s.case_id == CASE_IN_FRONT) {
-        t = search_segment(layer, hb, o, d, s.plane, s.far, steps, true);
+        t = search_segment(maps, layer, hb, o, d, s.plane, s.far, steps, true);
     }
     if (t < 0.0) { return miss; }
-    if (t == s.near && height_inside(layer, hb, o + d * t)) {
+    if (t == s.near && height_inside(maps, layer, hb, o + d * t)) {
         return box_face_hit(hb, o, d, t);
     }
-    return height_hit(layer, hb, o, d, t);
+    return height_hit(maps, layer, hb, o, d, t);
 }
 
-fn exit_from_inside(layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, steps: Steps) -> HeightHit {
+fn exit_from_inside(maps: texture_2d_array<f32>, layer: i32, hb: HeightBounds, o: vec3f, d: vec3f, steps: Steps) -> HeightHit {
     var miss: HeightHit;
     miss.found = false;
     let far = ray_box(o, d, height_box_min(hb), height_box_max(hb)).y;
     if (!(far > 0.0) || far >= BIG) { return miss; }
-    let t = search_segment(layer, hb, o, d, 0.0, far, steps, false);
+    let t = search_segment(maps, layer, hb, o, d, 0.0, far, steps, false);
     // Still inside where the ray leaves the box: out through the box face.
     if (t < 0.0) { return box_face_hit(hb, o, d, far); }
-    return height_hit(layer, hb, o, d, t);
+    return height_hit(maps, layer, hb, o, d, t);
 }

@@ -1,5 +1,5 @@
 // Caustic mapping (Hu and Qin 2006, section 3.3, figure 23); imports gpu::prelude and
-// scene::shading; after rect.wgsl: each receiver is drawn again over the shaded scene, its
+// scene::shading and image_space_refraction::rect: each receiver is drawn again over the shaded scene, its
 // fragment projected into its rectangle's caustic texture by the rectangle's parallel
 // projection, and the irradiance found there turned into diffuse radiance (albedo / pi E) and
 // added (additive blending). As in shadow mapping, the fragment is compared with the depth the
@@ -7,6 +7,7 @@
 // object's own front receive none.
 #import gpu::prelude::PI
 #import scene::shading::{SceneVertexOut, surface_albedo}
+#import image_space_refraction::rect::{Rect, rect_project, rect_depth_of}
 
 struct CausticMapParams {
     // Side of each caustic texture.

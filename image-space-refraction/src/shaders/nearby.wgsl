@@ -1,8 +1,12 @@
 // Nearby geometry as rectangle impostors (Hu and Qin 2006, section 2.2): the WGSL of the Rust
-// twin `src/nearby.rs` (same algorithms and names; read its comments). No imports of its own:
-// after refract.wgsl (its imports and bindings) and rect.wgsl; defines `outgoing_radiance`,
-// which refract.wgsl calls for every ray that leaves the refractor: the nearest rectangle's
-// texel, else the environment map.
+// twin `src/nearby.rs` (same algorithms and names; read its comments). The module
+// image_space_refraction::nearby: its resources (the rectangles, their parameters and their
+// colour and depth textures) are bound at group NEARBY_GROUP from binding NEARBY_FIRST_BINDING
+// (shader definitions: 3 and 0 in the technique, the kernel's slots in the conformance test).
+// `nearby_hit` is the search; the includer's `outgoing_radiance` (nearby_radiance.wgsl) reads
+// the texel it finds.
+#define_import_path image_space_refraction::nearby
+#import image_space_refraction::rect::{Rect, RectHit, rect_depth_of, rect_hit, rect_project}
 
 struct NearbyParams {
     count: u32,
@@ -16,10 +20,10 @@ struct NearbyParams {
     _c: f32,
 };
 
-@group(3) @binding(0) var<storage, read> rects: array<Rect>;
-@group(3) @binding(1) var<uniform> nearby: NearbyParams;
-@group(3) @binding(2) var impostor_color: texture_2d_array<f32>;
-@group(3) @binding(3) var impostor_depth: texture_depth_2d_array;
+@group(#{NEARBY_GROUP}) @binding(#{NEARBY_FIRST_BINDING} + 0u) var<storage, read> rects: array<Rect>;
+@group(#{NEARBY_GROUP}) @binding(#{NEARBY_FIRST_BINDING} + 1u) var<uniform> nearby: NearbyParams;
+@group(#{NEARBY_GROUP}) @binding(#{NEARBY_FIRST_BINDING} + 2u) var impostor_color: texture_2d_array<f32>;
+@group(#{NEARBY_GROUP}) @binding(#{NEARBY_FIRST_BINDING} + 3u) var impostor_depth: texture_depth_2d_array;
 
 fn impostor_texel(r: Rect, uv: vec2f) -> vec2i {
     let size = vec2f(textureDimensions(impostor_depth));
@@ -92,13 +96,4 @@ fn nearby_hit(origin: vec3f, dir: vec3f) -> NearbyHit {
         }
     }
     return best;
-}
-
-fn outgoing_radiance(origin: vec3f, dir: vec3f) -> vec3f {
-    let h = nearby_hit(origin, dir);
-    if (h.hit) {
-        let r = rects[h.rect];
-        return textureLoad(impostor_color, impostor_texel(r, h.uv), i32(r.origin.w), 0).rgb;
-    }
-    return env_lookup(dir);
 }

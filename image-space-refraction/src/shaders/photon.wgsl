@@ -1,5 +1,5 @@
-// The photon buffer (Hu and Qin 2006, section 3.1), after refract.wgsl, rect.wgsl and
-// nearby.wgsl: the refractor drawn from a light (camera = the light's view, eye_params = the
+// The photon buffer (Hu and Qin 2006, section 3.1), after refract.wgsl and
+// nearby_radiance.wgsl: the refractor drawn from a light (camera = the light's view, eye_params = the
 // same view with size.z the pixel size at unit distance and size.w the light's index; the
 // front/back buffers are the light's). Each pixel is one photon: the light's power through the
 // pixel's solid angle, followed through the refractor exactly as an eye ray (the two-interface
@@ -8,6 +8,8 @@
 // of which rectangle it reaches, and its power; a photon that reaches none writes zeros.
 #import gpu::prelude::fresnel_dielectric
 #import scene::shading::{camera, emission_jitter, jittered_point, lights, objects, specular_event}
+#import image_space_refraction::search::{Iteration, hu_qin_exit, exit_direction}
+#import image_space_refraction::nearby::nearby_hit
 
 struct PhotonOut {
     // u, v on the rectangle's texture, texture array layer + 1 (0: no photon), unused.
@@ -37,7 +39,7 @@ fn photon_fs(pixel_in: RefractorOut) -> PhotonOut {
         let t1 = e.refracted.xyz;
         let ior = objects[in.object].material.y;
         let it = Iteration(params.tolerance, params.max_iterations, params.initial_step);
-        let exit = hu_qin_exit(eye_params, in.world, v, t1, params.strategy, it);
+        let exit = hu_qin_exit(front_buffer, back_buffer, eye_params, in.world, v, t1, params.strategy, it);
         let t2 = exit_direction(exit, t1, ior);
         valid = valid && t2.w > 0.5;
         let n = normalize(exit.normal);

@@ -1,3 +1,5 @@
+// The module image_space_refraction::rect.
+#define_import_path image_space_refraction::rect
 // A rectangle impostor (Hu and Qin 2006, section 2.2): its placement, the parallel projection
 // of a point onto its texture and its hit by a ray. Shared by nearby.wgsl (the lookups) and
 // caustic.wgsl (caustic mapping); the Rust twin is `src/nearby.rs`'s `Rect`.

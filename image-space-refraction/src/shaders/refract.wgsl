@@ -1,6 +1,7 @@
 // Image-space refraction through two interfaces (Hu and Qin 2006, section 2.1) and its
-// baselines; imports gpu::prelude and scene::shading; after search.wgsl (+ nearby.wgsl, which
-// defines `outgoing_radiance`).
+// baselines; imports gpu::prelude, scene::shading and image_space_refraction::search (the
+// two-interface searches, given the front and back buffers bound here); followed by
+// environment.wgsl or nearby_radiance.wgsl, which define `outgoing_radiance`.
 //
 // Each frame the refractor's front- and back-facing surfaces are drawn from the eye into two
 // buffers (`front_buffer_fs`, `back_buffer_fs`: outward normal, view depth): nothing is
@@ -21,6 +22,7 @@
 // gives: the environment map, or with nearby geometry its rectangle impostors first.
 #import gpu::prelude::refract_dir
 #import scene::shading::{SceneVertexIn, SceneVertexOut, SpecularEvent, camera, geometric_facing_normal, objects, specular_event, specular_shade}
+#import image_space_refraction::search::{EyeParams, eye_project, Iteration, Exit, hu_qin_exit, wyman_exit, exit_direction}
 
 struct RefractParams {
     variant: u32,
@@ -162,10 +164,10 @@ fn through_refractor(in: RefractorOut, e: SpecularEvent, v: vec3f) -> vec3f {
     }
     var exit: Exit;
     if (params.variant == VARIANT_WYMAN) {
-        exit = wyman_exit(eye_params, p1, v, e.normal, t1, in.d_n);
+        exit = wyman_exit(front_buffer, back_buffer, eye_params, p1, v, e.normal, t1, in.d_n);
     } else {
         let it = Iteration(params.tolerance, params.max_iterations, params.initial_step);
-        exit = hu_qin_exit(eye_params, p1, v, t1, params.strategy, it);
+        exit = hu_qin_exit(front_buffer, back_buffer, eye_params, p1, v, t1, params.strategy, it);
     }
     let t2 = exit_direction(exit, t1, ior);
     // Leaving (w = 1) the ray starts just outside; totally reflected (w = 0) it would stay

@@ -1,8 +1,9 @@
 // The two-interface searches of Hu and Qin (2006, section 2.1) and of Wyman (2005): the WGSL
 // of the Rust twin `src/search.rs` (same algorithms, constants and names; read its comments).
-// Imports gpu::prelude. The includer declares `eye_params: EyeParams` and the two buffers
-// `front_buffer` and `back_buffer` (texture_2d<f32>, Rgba32Float: outward normal, view depth;
-// depth 0 where the refractor is not).
+// The module image_space_refraction::search. The searches read the two buffers the caller
+// passes, `front` and `back` (texture_2d<f32>, Rgba32Float: outward normal, view depth; depth 0
+// where the refractor is not), seen by the eye `e`: the Rust twin's `buffers` and `eye`.
+#define_import_path image_space_refraction::search
 #import gpu::prelude::refract_dir
 
 struct EyeParams {
@@ -37,16 +38,16 @@ fn eye_unproject(e: EyeParams, pixel: vec2f, depth: f32) -> vec3f {
 }
 
 // (outward normal, view depth) of `side` under pixel coordinates p; depth 0: none.
-fn buffer_texel(side: u32, p: vec2f) -> vec4f {
-    let size = vec2i(textureDimensions(back_buffer));
+fn buffer_texel(front: texture_2d<f32>, back: texture_2d<f32>, side: u32, p: vec2f) -> vec4f {
+    let size = vec2i(textureDimensions(back));
     let xy = vec2i(floor(p));
     if (p.x < 0.0 || p.y < 0.0 || any(xy >= size)) { return vec4f(0.0); }
-    if (side == SIDE_FRONT) { return textureLoad(front_buffer, xy, 0); }
-    return textureLoad(back_buffer, xy, 0);
+    if (side == SIDE_FRONT) { return textureLoad(front, xy, 0); }
+    return textureLoad(back, xy, 0);
 }
 
-fn covered(p: vec2f) -> bool {
-    return buffer_texel(SIDE_BACK, p).w > 0.0;
+fn covered(front: texture_2d<f32>, back: texture_2d<f32>, p: vec2f) -> bool {
+    return buffer_texel(front, back, SIDE_BACK, p).w > 0.0;
 }
 
 struct Silhouette {
@@ -55,19 +56,19 @@ struct Silhouette {
     steps: u32,
 };
 
-fn silhouette_search(e: EyeParams, p1: vec2f, t1: vec2f, tolerance: f32) -> Silhouette {
+fn silhouette_search(front: texture_2d<f32>, back: texture_2d<f32>, e: EyeParams, p1: vec2f, t1: vec2f, tolerance: f32) -> Silhouette {
     let initial = 0.75 * max(e.size.x, e.size.y);
     var lo = 0.0;
     var hi = initial;
     var steps = 1u;
-    if (covered(p1 + hi * t1)) {
+    if (covered(front, back, p1 + hi * t1)) {
         lo = hi;
         hi = 2.0 * initial;
     }
     loop {
         if (!(hi - lo > max(tolerance, 1e-3) && steps < MAX_SILHOUETTE_STEPS)) { break; }
         let mid = 0.5 * (lo + hi);
-        if (covered(p1 + mid * t1)) { lo = mid; } else { hi = mid; }
+        if (covered(front, back, p1 + mid * t1)) { lo = mid; } else { hi = mid; }
         steps += 1u;
     }
     return Silhouette(p1 + lo * t1, p1 + hi * t1, steps);
@@ -107,7 +108,7 @@ struct Exit {
     left_silhouette: bool,
 };
 
-fn exit_distance(e: EyeParams, p1: vec3f, t1: vec3f, side: u32, it: Iteration) -> Exit {
+fn exit_distance(front: texture_2d<f32>, back: texture_2d<f32>, e: EyeParams, p1: vec3f, t1: vec3f, side: u32, it: Iteration) -> Exit {
     let flag = select(-1.0, 1.0, side == SIDE_BACK);
     var exit = Exit(p1, -t1, side, 0.0, 0u, false, false);
     var lo = 0.0;
@@ -122,7 +123,7 @@ fn exit_distance(e: EyeParams, p1: vec3f, t1: vec3f, side: u32, it: Iteration) -
         }
         let p2 = p1 + t1 * candidate;
         let q = eye_project(e, p2);
-        let texel = buffer_texel(side, q.xy);
+        let texel = buffer_texel(front, back, side, q.xy);
         if (texel.w <= 0.0) {
             exit.left_silhouette = true;
             hi = min(hi, candidate);
@@ -147,34 +148,34 @@ fn exit_distance(e: EyeParams, p1: vec3f, t1: vec3f, side: u32, it: Iteration) -
     return exit;
 }
 
-fn side_by_angle(e: EyeParams, p1: vec3f, v: vec3f, t1: vec3f) -> u32 {
+fn side_by_angle(front: texture_2d<f32>, back: texture_2d<f32>, e: EyeParams, p1: vec3f, v: vec3f, t1: vec3f) -> u32 {
     let dir = projected_direction(e, p1, t1);
     if (all(dir == vec2f(0.0))) { return SIDE_BACK; }
     let start = eye_project(e, p1).xy;
-    let s = silhouette_search(e, start, dir, 1.0);
-    let f = buffer_texel(SIDE_FRONT, s.inside);
-    let b = buffer_texel(SIDE_BACK, s.inside);
+    let s = silhouette_search(front, back, e, start, dir, 1.0);
+    let f = buffer_texel(front, back, SIDE_FRONT, s.inside);
+    let b = buffer_texel(front, back, SIDE_BACK, s.inside);
     if (b.w <= 0.0) { return SIDE_BACK; }
     let depth = select(b.w, 0.5 * (f.w + b.w), f.w > 0.0);
     let pe = eye_unproject(e, s.inside, depth);
     return exit_side(v, p1, t1, pe);
 }
 
-fn hu_qin_exit(e: EyeParams, p1: vec3f, v: vec3f, t1: vec3f, strategy: u32, it: Iteration) -> Exit {
+fn hu_qin_exit(front: texture_2d<f32>, back: texture_2d<f32>, e: EyeParams, p1: vec3f, v: vec3f, t1: vec3f, strategy: u32, it: Iteration) -> Exit {
     if (strategy == STRATEGY_BACK_FIRST) {
-        let back = exit_distance(e, p1, t1, SIDE_BACK, it);
-        if (back.left_silhouette) {
-            return exit_distance(e, p1, t1, SIDE_FRONT, it);
+        let back_exit = exit_distance(front, back, e, p1, t1, SIDE_BACK, it);
+        if (back_exit.left_silhouette) {
+            return exit_distance(front, back, e, p1, t1, SIDE_FRONT, it);
         }
-        return back;
+        return back_exit;
     }
-    let side = side_by_angle(e, p1, v, t1);
-    return exit_distance(e, p1, t1, side, it);
+    let side = side_by_angle(front, back, e, p1, v, t1);
+    return exit_distance(front, back, e, p1, t1, side, it);
 }
 
-fn wyman_exit(e: EyeParams, p1: vec3f, v: vec3f, n1: vec3f, t1: vec3f, d_n: f32) -> Exit {
+fn wyman_exit(front: texture_2d<f32>, back: texture_2d<f32>, e: EyeParams, p1: vec3f, v: vec3f, n1: vec3f, t1: vec3f, d_n: f32) -> Exit {
     let q1 = eye_project(e, p1);
-    let b1 = buffer_texel(SIDE_BACK, q1.xy);
+    let b1 = buffer_texel(front, back, SIDE_BACK, q1.xy);
     var d_v = 0.0;
     if (b1.w > 0.0) { d_v = max(b1.w - q1.z, 0.0) / max(dot(v, e.forward.xyz), 1e-4); }
     let inward = -n1;
@@ -183,7 +184,7 @@ fn wyman_exit(e: EyeParams, p1: vec3f, v: vec3f, n1: vec3f, t1: vec3f, d_n: f32)
     let ratio = select(1.0, theta_t / theta_i, theta_i > 1e-4);
     let d = ratio * d_v + (1.0 - ratio) * d_n;
     let point = p1 + t1 * d;
-    let texel = buffer_texel(SIDE_BACK, eye_project(e, point).xy);
+    let texel = buffer_texel(front, back, SIDE_BACK, eye_project(e, point).xy);
     let hit = texel.w > 0.0;
     return Exit(point, select(t1, texel.xyz, hit), SIDE_BACK, d, 0u, hit, !hit);
 }

@@ -46,15 +46,10 @@ pub use resources::*;
 pub use settings::*;
 pub use variants::*;
 
-/// WGSL of the searches (`search.rs`'s twin); imports `gpu::prelude` and needs the
-/// includer's `front_buffer`/`back_buffer` textures.
-pub const SEARCH_WGSL: &str = include_str!("../shaders/search.wgsl");
 const REFRACT_WGSL: &str = include_str!("../shaders/refract.wgsl");
 const ENVIRONMENT_WGSL: &str = include_str!("../shaders/environment.wgsl");
 const NEARBY_WGSL: &str = concat!(
-    include_str!("../shaders/rect.wgsl"),
-    "\n",
-    include_str!("../shaders/nearby.wgsl"),
+    include_str!("../shaders/nearby_radiance.wgsl"),
     "\n",
     include_str!("../shaders/photon.wgsl")
 );

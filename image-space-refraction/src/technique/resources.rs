@@ -120,8 +120,17 @@ pub(super) fn pipelines(
     layouts: &[&wgpu::BindGroupLayout],
     radiance_wgsl: &str,
 ) -> Pipelines {
-    let source = format!("{SEARCH_WGSL}\n{REFRACT_WGSL}\n{radiance_wgsl}");
-    let module = scene::shader(ctx, "image-space refraction", &source);
+    let source = format!("{REFRACT_WGSL}\n{radiance_wgsl}");
+    let module = gpu::shader(
+        ctx,
+        gpu::wgsl::Shader::new("image-space refraction", &source)
+            .importing(&[
+                &scene::SHADING,
+                &crate::search::SEARCH,
+                &crate::nearby::NEARBY,
+            ])
+            .with_defs(&crate::nearby::NEARBY_DEFS),
+    );
     let buffers_layout = scene.pipeline_layout_with(ctx, &[]);
     let buffer_pipeline = |entry: &str| {
         scene::scene_pipeline_with(

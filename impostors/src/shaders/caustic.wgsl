@@ -1,5 +1,5 @@
 // Caustics with distance impostors (paper section 5); imports gpu::prelude, scene::shading and
-// gpu::distance_map; after localized.wgsl + chart.wgsl + receiver.wgsl + lightmap.wgsl.
+// gpu::distance_map, scene::chart and scene::receiver; after localized.wgsl + lightmap.wgsl.
 //
 // 1. The caustic generator is drawn from the light (camera.eye = light) into a small
 //    *caustic map*; each pixel is one photon: the light ray refracts (glass: in, then out
@@ -21,6 +21,8 @@
 #import gpu::prelude::{PI, cube_dir_to_face_uv, reflect_dir}
 #import gpu::distance_map
 #import scene::shading::{BACKGROUND_DISTANCE, MATERIAL_DIFFUSE, SceneVertexOut, camera, emission_jitter, facing_normal, jittered_emission, objects, specular_event, surface_albedo}
+#import scene::chart::chart_uv
+#import scene::receiver::{world_to_local, texel_area, light_map_power}
 
 struct CausticParams {
     // Light position (w unused) and RGB intensity (W/sr).

@@ -1,7 +1,9 @@
-// Light-map charts of the caustic receivers (scene's lightmap.rs explains the atlas); no imports
-// of its own; after chart.wgsl + receiver.wgsl (scene::lightmap::RECEIVER_WGSL).
+// Light-map charts of the caustic receivers (scene's lightmap.rs explains the atlas); imports
+// scene::chart and scene::receiver.
 // A diffuse object's triangle belongs to the chart of the signed dominant axis of its
 // object-space normal and is projected onto the two other axes.
+#import scene::chart::{Chart, signed_axis, chart_uv}
+#import scene::receiver::{world_to_local, normal_to_local}
 
 @group(3) @binding(2) var<storage, read> charts: array<Chart>;
 @group(3) @binding(3) var<storage, read> chart_of: array<i32>;

@@ -1,7 +1,8 @@
+#define_import_path interior_mapping::rooms
 // ---------------------------------------------------------------------------------------------
 // Interior mapping ray cast (van Dongen 2008, sections 5.2.1-5.2.2, 5.4.3): the WGSL twin of
-// interior-mapping/src/rooms.rs (same algorithm, same constants; see its docs). Needs the gpu
-// prelude (BIG, hash_to_unit). Grid space: plane k of family a at (k + offset) * size[a].
+// interior-mapping/src/rooms.rs (same algorithm, same constants; see its docs): the module
+// interior_mapping::rooms, importing gpu::prelude. Grid space: plane k of family a at (k + offset) * size[a].
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{BIG, box_project, hash_to_unit, pcg_hash}
 

@@ -1,11 +1,12 @@
 // Interior mapping techniques (van Dongen 2008, chapter 5 and the appendix's pixel shader).
-// Source = interior.wgsl + this file, importing gpu::prelude and scene::shading. The hull of
+// Imports gpu::prelude, scene::shading and interior_mapping::rooms (interior.wgsl). The hull of
 // each building is drawn with scene_vs; per pixel the ray from the eye through the hull point
 // is cast in object space against the room planes (cast_rooms), the nearest plane is textured
 // by family and shaded with the scene's diffuse model (shade_diffuse, shadow maps included),
 // and the result shows through the windows of the facade.
 #import gpu::prelude::{PI, cube_dir_to_face_uv, fresnel_dielectric, hash_to_unit, pcg_hash, ray_box, reflect_dir}
 #import scene::shading::{SceneVertexOut, camera, facing_normal, light_visibility, lights, objects, scene_info, shade_diffuse, surface_albedo}
+#import interior_mapping::rooms::{RoomHit, cast_rooms, plane_uv, room_hash, cubemap_room}
 
 struct BuildingGpu {
     world_to_object: mat4x4f,

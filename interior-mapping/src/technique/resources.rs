@@ -36,8 +36,8 @@ impl InteriorMapping {
         wgpu::RenderPipeline,
         Option<wgpu::RenderPipeline>,
     ) {
-        let source = format!("{}\n{}", crate::INTERIOR_WGSL, TECHNIQUE_WGSL);
-        let module = scene::shader(ctx, "interior mapping", &source);
+        let module =
+            scene::shader_importing(ctx, "interior mapping", TECHNIQUE_WGSL, &[&crate::ROOMS]);
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[layout]);
         let writes_depth = !self.prepass;
         let shaded =

@@ -1,10 +1,12 @@
 // Caustics (section 7), the light maps applied: the receiver (the chessboard) adds
 // albedo / pi * E, E = the power per texel of both light maps (static pieces, moving piece)
-// over the texel's area on the surface. Imports gpu::prelude and scene::shading; after
-// scene::lightmap's chart.wgsl and receiver.wgsl. Drawn over the finished image (depth equal,
+// over the texel's area on the surface. Imports gpu::prelude, scene::shading,
+// scene::chart and scene::receiver. Drawn over the finished image (depth equal,
 // additive).
 #import gpu::prelude::PI
 #import scene::shading::{SceneVertexOut, camera, surface_albedo}
+#import scene::chart::{Chart, signed_axis, chart_uv}
+#import scene::receiver::{world_to_local, normal_to_local, texel_area, light_map_power}
 
 struct ReceiverParams {
     chart: Chart,

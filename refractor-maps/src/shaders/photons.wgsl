@@ -1,6 +1,6 @@
 // ---------------------------------------------------------------------------------------------
 // Caustics (Dancsik and Minarik, section 7): the photon map of each piece, appended to the
-// tracer (trace.wgsl and what it includes) + scene::lightmap's chart.wgsl and receiver.wgsl.
+// tracer (trace.wgsl and what it includes), importing scene::chart and scene::receiver.
 //
 // Each piece is drawn from the light into its own tile of a photon map: rasterization finds
 // where the light's ray meets the piece, then the photon refracts in (the Fresnel-transmitted
@@ -12,6 +12,8 @@
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{fresnel_dielectric, ray_plane, reflect_dir, refract_dir}
 #import scene::shading::{SceneVertexOut, emission_jitter, jittered_emission, objects, specular_event}
+#import scene::chart::{Chart, chart_uv}
+#import scene::receiver::world_to_local
 
 struct PhotonParams {
     // The receiver's light-map chart (the only chart of the atlas).

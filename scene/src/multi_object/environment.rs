@@ -557,7 +557,7 @@ impl Shading {
             crate::RASTER_WGSL,
             search.wgsl(),
         );
-        let module = crate::shader(ctx, label, &source);
+        let module = crate::shader_importing(ctx, label, &source, &search.modules());
         let mut entries =
             driver_entries(bind::texture(wgpu::TextureViewDimension::CubeArray, true));
         entries.extend(search.binding_types());

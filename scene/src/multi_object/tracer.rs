@@ -60,6 +60,11 @@ pub trait ObjectSearch {
     /// `@group(2) @binding(SEARCH_FIRST_BINDING + i)` (`SEARCH_FIRST_BINDING` is a WGSL constant
     /// of the piece table, equal to the Rust one).
     fn wgsl(&self) -> String;
+    /// The WGSL modules [`ObjectSearch::wgsl`] imports besides `gpu`'s and the scene's (its
+    /// search routines' module), which the shaders it joins are composed with.
+    fn modules(&self) -> Vec<&'static gpu::wgsl::Module> {
+        Vec::new()
+    }
     /// The binding types of its resources, in order (visible to the fragment stage, and to
     /// the vertex stage in [`super::PieceImpostors`], whose proxies may read them).
     fn binding_types(&self) -> Vec<wgpu::BindingType>;
@@ -153,7 +158,7 @@ impl Tracer {
             "{GRID_SEARCH_WGSL}\n{PIECES_WGSL}\n{TRACE_WGSL}\n{}\n{extra_wgsl}",
             search.wgsl(),
         );
-        let module = crate::shader(ctx, label, &source);
+        let module = crate::shader_importing(ctx, label, &source, &search.modules());
         let mut entries = driver_entries(bind::texture_cube());
         entries.extend(search.binding_types());
         let layout = bind::layout(ctx, label, wgpu::ShaderStages::FRAGMENT, &entries);

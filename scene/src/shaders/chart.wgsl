@@ -1,3 +1,4 @@
+#define_import_path scene::chart
 // Light-map charts (src/lightmap.rs): the atlas rectangle and projection of one chart, and the
 // pure functions shared by every pass that addresses the light-map atlas. No bindings.
 

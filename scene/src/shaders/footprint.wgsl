@@ -1,3 +1,4 @@
+#define_import_path scene::footprint
 // A photon's Gaussian footprint on the light-map atlas (no bindings): the covariance and cut
 // that splat_quads.wgsl's quads weight with. lightmap.rs's `Footprint` is the twin; the
 // conformance test runs this file against it. The cell's edges come from lattice_cell_edge,

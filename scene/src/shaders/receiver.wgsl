@@ -1,9 +1,12 @@
+#define_import_path scene::receiver
 // Light-map receivers (src/lightmap.rs): object-space addressing of a diffuse object's surface
-// and the light-map power read back from an atlas; imports scene::shading; after chart.wgsl.
+// and the light-map power read back from an atlas: the module scene::receiver, importing
+// scene::shading and scene::chart.
 // No bindings of its own: the light map is passed in, so every technique that splats photons
 // into light maps (impostors' caustic maps, refractor-maps' photon hits) reads them with these
 // functions.
 #import scene::shading::objects
+#import scene::chart::Chart
 
 // World point -> object space: the linear part's inverse is the normal matrix transposed.
 fn world_to_local(object: u32, p: vec3f) -> vec3f {

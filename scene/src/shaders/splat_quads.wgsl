@@ -2,9 +2,11 @@
 // at the photon's light-map address, drawn into the light-map atlas with additive blending.
 // The vertex shader reads the caustic map (the paper's vertex texture fetch, "caustcoord" =
 // instance index) and moves quads of empty texels out of the clip volume; the fragment
-// shader weights the photon power with a Gaussian over the quad. Imports gpu::prelude; after
-// chart.wgsl + footprint.wgsl.
+// shader weights the photon power with a Gaussian over the quad. Imports gpu::prelude,
+// scene::chart and scene::footprint.
 #import gpu::prelude::PI
+#import scene::chart::Chart
+#import scene::footprint::{FIXED_CUT2, footprint_cut2, footprint_covariance, lattice_cell_edge}
 
 // Photon footprints (photon differentials, Schjoth et al. 2007, in their finite-difference
 // form): the photons leave the light on a lattice (the photon map's texels), so each photon

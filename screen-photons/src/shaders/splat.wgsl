@@ -10,6 +10,8 @@
 // sprites, the naive variant), drawn where C is not hidden.
 // ---------------------------------------------------------------------------------------------
 #import scene::shading::camera
+#import scene::footprint::lattice_cell_edge
+#import screen_photons::splat_weight::{splat_weight, footprint_reach, footprint_matrix, footprint_kernel, footprint_tangent}
 
 struct SplatParams {
     inv_view_proj: mat4x4f,

@@ -1,3 +1,4 @@
+#define_import_path screen_photons::splat_weight
 // The splat kernel and weight (section 3.1): the WGSL twin of `src/splat.rs`.
 #import gpu::prelude::PI
 

@@ -99,6 +99,12 @@ pub fn pass_source(own: &str) -> String {
     format!("{LDI_BINDINGS_WGSL}\n{LDI_WGSL}\n{PHOTON_WGSL}\n{own}")
 }
 
+/// A pass's shader module: [`pass_source`] importing the scene's modules and the splat
+/// weights' (`screen_photons::splat_weight`).
+pub(super) fn pass_shader(ctx: &Context, label: &str, own: &str) -> wgpu::ShaderModule {
+    scene::shader_importing(ctx, label, &pass_source(own), &[&crate::splat::WEIGHT])
+}
+
 pub(super) fn compute_pipeline(
     ctx: &Context,
     label: &str,
@@ -106,7 +112,7 @@ pub(super) fn compute_pipeline(
     own: &str,
     entry: &str,
 ) -> wgpu::ComputePipeline {
-    let module = scene::shader(ctx, label, &pass_source(own));
+    let module = pass_shader(ctx, label, own);
     gpu::compute::pipeline_with_layout(ctx, label, layout, &module, entry)
 }
 
@@ -141,7 +147,7 @@ pub(super) fn render_pipeline(
     topology: wgpu::PrimitiveTopology,
     targets: &[Option<wgpu::ColorTargetState>],
 ) -> wgpu::RenderPipeline {
-    let module = scene::shader(ctx, label, &pass_source(own));
+    let module = pass_shader(ctx, label, own);
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),

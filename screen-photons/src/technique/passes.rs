@@ -100,7 +100,7 @@ fn hdr_pipeline(
     blend: Option<wgpu::BlendState>,
     depth: (bool, wgpu::CompareFunction),
 ) -> wgpu::RenderPipeline {
-    let module = scene::shader(ctx, label, &pass_source(own));
+    let module = pass_shader(ctx, label, own);
     let targets = [pass::color_target(gpu::HDR_FORMAT, blend)];
     scene::scene_pipeline_with(ctx, label, layout, &module, entry, &targets, depth)
 }
@@ -134,14 +134,17 @@ fn transfer_pipeline(
 
 /// The splats' pass: a quad per receiver point, added into the irradiance buffer.
 fn splat_pipeline(ctx: &Context, layout: &wgpu::PipelineLayout) -> wgpu::RenderPipeline {
-    let source = format!(
-        "{}\n{}\n{SPLAT_WGSL}",
-        scene::lightmap::FOOTPRINT_WGSL,
-        crate::splat::WEIGHT_WGSL
-    );
     let topology = wgpu::PrimitiveTopology::TriangleList;
     let entries = ("splat_vs", "splat_fs");
-    bufferless_pipeline(ctx, "splats", layout, &source, entries, topology, Some(ADD))
+    bufferless_pipeline(
+        ctx,
+        "splats",
+        layout,
+        SPLAT_WGSL,
+        entries,
+        topology,
+        Some(ADD),
+    )
 }
 
 impl Passes {

@@ -1,7 +1,8 @@
+#define_import_path volumes::path_length
 // ---------------------------------------------------------------------------------------------
 // Visible path length through the volume primitives of van Dongen's thesis, section 6.3.3, and the
-// path-length-to-opacity functions of figure 6.21. Needs the `gpu` prelude (ray_sphere,
-// ray_plane). Every function has a Rust twin of the same name in `volumes::path_length`,
+// path-length-to-opacity functions of figure 6.21: the module volumes::path_length, importing
+// gpu::prelude (ray_sphere, ray_plane). Every function has a Rust twin of the same name in `volumes::path_length`,
 // checked against it on the GPU by `volumes/tests/conformance.rs`.
 //
 // Conventions: a ray is o + t d with d unit length, so t is a distance in metres; `t_scene` is

@@ -1,6 +1,6 @@
 // ---------------------------------------------------------------------------------------------
-// Billboards, slices and ray-traced volumes (thesis chapter 6.3). Needs the `gpu` prelude and
-// path_length.wgsl before it.
+// Billboards, slices and ray-traced volumes (thesis chapter 6.3). Imports gpu::prelude,
+// scene::shading and volumes::path_length.
 //
 // Every volume is drawn as camera-facing quads from one instanced draw: instance i is slice
 // (i % SLICES) of volume (i / SLICES); volumes are sorted back to front on the CPU and slices
@@ -9,6 +9,7 @@
 // (One, OneMinusSrcAlpha) on rgb; the destination alpha is left as it is.
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{BIG, ray_plane}
+#import volumes::path_length::{PRIMITIVE_SPHERE, PRIMITIVE_TEXTURE, opacity_from_length, depth_fade, sphere_path_length, billboard_coords, half_thickness, billboard_path_length, slice_alpha}
 
 // 1 for billboards and ray-traced volumes, N for N slices (thesis 6.3.2).
 override SLICES: u32 = 1u;

@@ -24,7 +24,7 @@
 //! point colour buffer" (16 bits were enough, 6.3.2).
 
 use crate::path_length::{
-    OpacityFn, PATH_LENGTH_WGSL, Primitive, THICKNESS_TEXTURE_SIZE, bake_thickness,
+    OpacityFn, PATH_LENGTH, Primitive, THICKNESS_TEXTURE_SIZE, bake_thickness,
 };
 use glam::Vec3;
 use gpu::pass::{self, Load};

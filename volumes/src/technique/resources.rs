@@ -64,8 +64,7 @@ impl VolumeTechnique {
         ctx: &Context,
         volume_layout: &wgpu::BindGroupLayout,
     ) -> wgpu::RenderPipeline {
-        let source = format!("{PATH_LENGTH_WGSL}\n{VOLUMES_WGSL}");
-        let module = scene::shader(ctx, "volumes", &source);
+        let module = scene::shader_importing(ctx, "volumes", VOLUMES_WGSL, &[&PATH_LENGTH]);
         let layout = ctx
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
