@@ -262,17 +262,11 @@ pub fn draw(path: &Path, title: &str, scene: &ParetoScene) -> Result<()> {
             other
         }
     };
-    let mut front: Vec<&ParetoPoint> = scene.points.iter().filter(|p| p.on_front).collect();
-    front.sort_by(|a, b| a.frame_ms.total_cmp(&b.frame_ms));
-    let mut stairs = Vec::new();
-    for (i, p) in front.iter().enumerate() {
-        if i > 0 {
-            stairs.push((p.frame_ms, front[i - 1].error));
-        }
-        stairs.push((p.frame_ms, p.error));
-    }
     chart
-        .draw_series(LineSeries::new(stairs, front_colour.stroke_width(2)))
+        .draw_series(LineSeries::new(
+            staircase(&scene.points),
+            front_colour.stroke_width(2),
+        ))
         .map_err(err)?;
     for (number, &i) in order.iter().enumerate() {
         let p = &scene.points[i];
@@ -295,27 +289,53 @@ pub fn draw(path: &Path, title: &str, scene: &ParetoScene) -> Result<()> {
         }
     }
     if text {
-        let header = ("sans-serif", 14).into_font().color(&BLACK);
-        legend
-            .draw_text("#  technique: ms, FLIP", &header, (8, 20))
-            .map_err(err)?;
-        for (number, &i) in order.iter().enumerate() {
-            let p = &scene.points[i];
-            let style = ("sans-serif", 13).into_font().color(&colour(p));
-            let line = format!(
-                "{}  {}: {:.3} ms, {:.4}{}",
-                number + 1,
-                p.technique,
-                p.frame_ms,
-                p.measured_error,
-                if p.on_front { "  (front)" } else { "" }
-            );
-            legend
-                .draw_text(&line, &style, (8, 44 + 17 * number as i32))
-                .map_err(err)?;
-        }
+        draw_legend(&legend, scene, &order, &colour)?;
     }
     root.present().map_err(err)?;
+    Ok(())
+}
+
+/// The Pareto front as a staircase: from each point on the front, level to the next faster
+/// one's time, then down to its error.
+fn staircase(points: &[ParetoPoint]) -> Vec<(f64, f64)> {
+    let mut front: Vec<&ParetoPoint> = points.iter().filter(|p| p.on_front).collect();
+    front.sort_by(|a, b| a.frame_ms.total_cmp(&b.frame_ms));
+    let mut stairs = Vec::new();
+    for (i, p) in front.iter().enumerate() {
+        if i > 0 {
+            stairs.push((p.frame_ms, front[i - 1].error));
+        }
+        stairs.push((p.frame_ms, p.error));
+    }
+    stairs
+}
+
+/// The panel on the right: each point's number, technique, time and error, fastest first.
+fn draw_legend(
+    legend: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    scene: &ParetoScene,
+    order: &[usize],
+    colour: &dyn Fn(&ParetoPoint) -> RGBColor,
+) -> Result<()> {
+    let header = ("sans-serif", 14).into_font().color(&BLACK);
+    legend
+        .draw_text("#  technique: ms, FLIP", &header, (8, 20))
+        .map_err(err)?;
+    for (number, &i) in order.iter().enumerate() {
+        let p = &scene.points[i];
+        let style = ("sans-serif", 13).into_font().color(&colour(p));
+        let line = format!(
+            "{}  {}: {:.3} ms, {:.4}{}",
+            number + 1,
+            p.technique,
+            p.frame_ms,
+            p.measured_error,
+            if p.on_front { "  (front)" } else { "" }
+        );
+        legend
+            .draw_text(&line, &style, (8, 44 + 17 * number as i32))
+            .map_err(err)?;
+    }
     Ok(())
 }
 

@@ -72,31 +72,10 @@ fn finite(v: Option<f64>) -> Option<f64> {
 }
 
 fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool) -> Result<()> {
-    let numeric: Option<Vec<f64>> = points
-        .iter()
-        .map(|p| p.value.parse::<f64>().ok().filter(|v| v.is_finite()))
-        .collect();
-    let categorical = numeric.is_none();
-    let xs: Vec<f64> = numeric.unwrap_or_else(|| (0..points.len()).map(|i| i as f64).collect());
-    let (mut x0, mut x1) = xs
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
-    if !x0.is_finite() {
-        (x0, x1) = (0.0, 1.0);
-    }
-    let pad = if x1 > x0 { (x1 - x0) * 0.05 } else { 0.5 };
-    let (x0, x1) = (x0 - pad, x1 + pad);
-    let labels: Vec<String> = points.iter().map(|p| p.value.clone()).collect();
-    let category = |x: &f64| -> String {
-        let i = x.round();
-        if (x - i).abs() < 1e-6 && i >= 0.0 {
-            labels.get(i as usize).cloned().unwrap_or_default()
-        } else {
-            String::new()
-        }
-    };
+    let axis = XAxis::of(points);
+    let (x0, x1) = axis.range;
+    let xs = &axis.xs;
+    let category = |x: &f64| axis.category(x);
     let xy = |f: fn(&PlotPoint) -> Option<f64>| -> Vec<(f64, f64)> {
         xs.iter()
             .zip(points)
@@ -118,7 +97,6 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
     let (top, bottom) = root.split_vertically(root.dim_in_pixel().1 / 2);
     let flip_colour = RGBColor(200, 40, 40);
     let rmse_colour = RGBColor(40, 80, 200);
-    let time_colour = RGBColor(30, 140, 60);
 
     // Top panel: error.
     let mut chart = ChartBuilder::on(&top)
@@ -133,9 +111,9 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
         let mut mesh = chart.configure_mesh();
         if text {
             mesh.x_desc(param).y_desc("FLIP mean");
-            if categorical {
+            if axis.categorical {
                 mesh.x_label_formatter(&category)
-                    .x_labels(labels.len().max(2));
+                    .x_labels(axis.labels.len().max(2));
             }
         } else {
             mesh.x_labels(0).y_labels(0);
@@ -189,8 +167,71 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
             .map_err(err)?;
     }
 
-    // Bottom panel: median frame time (no right axis; the margin keeps x aligned with the top).
-    let mut chart = ChartBuilder::on(&bottom)
+    draw_time_panel(&bottom, &axis, &time, param, text)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// The x axis both panels share: where each point sits (its value, or its index when some
+/// value is not a number: a categorical parameter), the padded range, and the labels.
+struct XAxis {
+    xs: Vec<f64>,
+    range: (f64, f64),
+    labels: Vec<String>,
+    categorical: bool,
+}
+
+impl XAxis {
+    fn of(points: &[PlotPoint]) -> Self {
+        let numeric: Option<Vec<f64>> = points
+            .iter()
+            .map(|p| p.value.parse::<f64>().ok().filter(|v| v.is_finite()))
+            .collect();
+        let categorical = numeric.is_none();
+        let xs: Vec<f64> = numeric.unwrap_or_else(|| (0..points.len()).map(|i| i as f64).collect());
+        let (mut x0, mut x1) = xs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        if !x0.is_finite() {
+            (x0, x1) = (0.0, 1.0);
+        }
+        let pad = if x1 > x0 { (x1 - x0) * 0.05 } else { 0.5 };
+        Self {
+            xs,
+            range: (x0 - pad, x1 + pad),
+            labels: points.iter().map(|p| p.value.clone()).collect(),
+            categorical,
+        }
+    }
+
+    /// The label of a category's position (empty between categories).
+    fn category(&self, x: &f64) -> String {
+        let i = x.round();
+        if (x - i).abs() < 1e-6 && i >= 0.0 {
+            self.labels.get(i as usize).cloned().unwrap_or_default()
+        } else {
+            String::new()
+        }
+    }
+}
+
+/// The bottom panel: median frame time (no right axis; the margin keeps x aligned with the
+/// top panel's).
+fn draw_time_panel(
+    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    axis: &XAxis,
+    time: &[(f64, f64)],
+    param: &str,
+    text: bool,
+) -> Result<()> {
+    let (x0, x1) = axis.range;
+    let categorical = axis.categorical;
+    let category = |x: &f64| axis.category(x);
+    let label_area = |n: u32| if text { n } else { 4 };
+    let time_colour = RGBColor(30, 140, 60);
+    let mut chart = ChartBuilder::on(area)
         .margin(12)
         .margin_right(12 + label_area(70))
         .x_label_area_size(label_area(40))
@@ -203,7 +244,7 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
             mesh.x_desc(param).y_desc("frame ms (median)");
             if categorical {
                 mesh.x_label_formatter(&category)
-                    .x_labels(labels.len().max(2));
+                    .x_labels(axis.labels.len().max(2));
             }
         } else {
             mesh.x_labels(0).y_labels(0);
@@ -211,7 +252,7 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
         mesh.draw().map_err(err)?;
     }
     chart
-        .draw_series(LineSeries::new(time.clone(), time_colour.stroke_width(2)))
+        .draw_series(LineSeries::new(time.to_vec(), time_colour.stroke_width(2)))
         .map_err(err)?;
     chart
         .draw_series(
@@ -219,7 +260,6 @@ fn draw(path: &Path, title: &str, param: &str, points: &[PlotPoint], text: bool)
                 .map(|&p| Circle::new(p, 4, time_colour.filled())),
         )
         .map_err(err)?;
-    root.present().map_err(err)?;
     Ok(())
 }
 

@@ -18,81 +18,10 @@ const BUNNY_HEIGHT: f32 = 0.6;
 /// `refraction-bunny` with the bunny's index of refraction `ior` (in
 /// [`Material::IOR_RANGE`]).
 pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
-    if !Material::IOR_RANGE.contains(&ior) {
-        let r = Material::IOR_RANGE;
-        return Err(SceneError::BadParam(format!(
-            "ior={ior} is outside [{}, {}]",
-            r.start(),
-            r.end()
-        )));
-    }
+    super::check_ior(ior)?;
     let mesh = bunny_mesh()?;
 
-    // Room: floor y = 0 from z = -1.2 to 2.5, checker wall at z = -1.2 facing +z. The wall
-    // is 6 x 3 m so that it fills the background of the camera path; the texture repeats
-    // 3 x 1.5 times (8 x 8 cells each), so a cell is 0.25 m.
-    let id = Mat4::IDENTITY;
-    let wall_material = Material::Diffuse {
-        albedo: Vec3::ONE,
-        texture: Some(0),
-    };
-    let mut objects = vec![
-        Object::new(
-            "floor",
-            quad(
-                Vec3::new(-3.0, 0.0, 2.5),
-                Vec3::X * 6.0,
-                Vec3::NEG_Z * 3.7,
-                Vec2::ONE,
-            ),
-            Material::diffuse(0.6, 0.6, 0.58),
-            id,
-        ),
-        Object::new(
-            "checker wall",
-            quad(
-                Vec3::new(-3.0, 0.0, -1.2),
-                Vec3::X * 6.0,
-                Vec3::Y * 3.0,
-                Vec2::new(3.0, 1.5),
-            ),
-            wall_material,
-            id,
-        ),
-    ];
-    let bx = |name: &str, size: Vec3, at: Vec3, yaw: f32, m: Material| {
-        let mesh = cuboid(
-            Vec3::new(-size.x * 0.5, 0.0, -size.z * 0.5),
-            Vec3::new(size.x * 0.5, size.y, size.z * 0.5),
-        );
-        Object::new(
-            name,
-            mesh,
-            m,
-            Mat4::from_rotation_translation(Quat::from_rotation_y(yaw), at),
-        )
-    };
-    objects.push(bx(
-        "red box",
-        Vec3::new(0.3, 0.4, 0.3),
-        Vec3::new(-0.7, 0.0, -0.25),
-        0.3,
-        Material::diffuse(0.75, 0.15, 0.12),
-    ));
-    objects.push(bx(
-        "blue box",
-        Vec3::new(0.35, 0.7, 0.35),
-        Vec3::new(0.55, 0.0, -0.75),
-        -0.25,
-        Material::diffuse(0.15, 0.25, 0.75),
-    ));
-    objects.push(bx(
-        "yellow box",
-        Vec3::new(0.2, 0.2, 0.2),
-        Vec3::new(0.5, 0.0, 0.3),
-        0.6,
-        Material::diffuse(0.8, 0.7, 0.2),
-    ));
+    let mut objects = room();
 
     // The bunny: 0.6 m tall, standing on the floor just behind the origin; over the camera
     // path it slides 0.15 m to the right and back.
@@ -156,6 +85,75 @@ pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
         medium: None,
         background: Vec3::ZERO,
     })
+}
+
+/// The room: floor y = 0 from z = -1.2 to 2.5, checker wall at z = -1.2 facing +z (6 x 3 m, so
+/// that it fills the background of the camera path; the texture repeats 3 x 1.5 times, 8 x 8
+/// cells each, so a cell is 0.25 m), and three boxes around the bunny.
+fn room() -> Vec<Object> {
+    let id = Mat4::IDENTITY;
+    let wall_material = Material::Diffuse {
+        albedo: Vec3::ONE,
+        texture: Some(0),
+    };
+    let mut objects = vec![
+        Object::new(
+            "floor",
+            quad(
+                Vec3::new(-3.0, 0.0, 2.5),
+                Vec3::X * 6.0,
+                Vec3::NEG_Z * 3.7,
+                Vec2::ONE,
+            ),
+            Material::diffuse(0.6, 0.6, 0.58),
+            id,
+        ),
+        Object::new(
+            "checker wall",
+            quad(
+                Vec3::new(-3.0, 0.0, -1.2),
+                Vec3::X * 6.0,
+                Vec3::Y * 3.0,
+                Vec2::new(3.0, 1.5),
+            ),
+            wall_material,
+            id,
+        ),
+    ];
+    let bx = |name: &str, size: Vec3, at: Vec3, yaw: f32, m: Material| {
+        let mesh = cuboid(
+            Vec3::new(-size.x * 0.5, 0.0, -size.z * 0.5),
+            Vec3::new(size.x * 0.5, size.y, size.z * 0.5),
+        );
+        Object::new(
+            name,
+            mesh,
+            m,
+            Mat4::from_rotation_translation(Quat::from_rotation_y(yaw), at),
+        )
+    };
+    objects.push(bx(
+        "red box",
+        Vec3::new(0.3, 0.4, 0.3),
+        Vec3::new(-0.7, 0.0, -0.25),
+        0.3,
+        Material::diffuse(0.75, 0.15, 0.12),
+    ));
+    objects.push(bx(
+        "blue box",
+        Vec3::new(0.35, 0.7, 0.35),
+        Vec3::new(0.55, 0.0, -0.75),
+        -0.25,
+        Material::diffuse(0.15, 0.25, 0.75),
+    ));
+    objects.push(bx(
+        "yellow box",
+        Vec3::new(0.2, 0.2, 0.2),
+        Vec3::new(0.5, 0.0, 0.3),
+        0.6,
+        Material::diffuse(0.8, 0.7, 0.2),
+    ));
+    objects
 }
 
 #[cfg(test)]

@@ -195,14 +195,7 @@ fn knight_outline() -> Vec<Ring> {
 /// `chess` with glass of index `ior`, the pieces' `material` (one of [`MATERIAL_HELP`]) and
 /// `slices` vertices round each cross-section of a piece.
 pub fn chess(material: &str, ior: f32, slices: u32) -> Result<Scene, SceneError> {
-    if !Material::IOR_RANGE.contains(&ior) {
-        let r = Material::IOR_RANGE;
-        return Err(SceneError::BadParam(format!(
-            "ior={ior} is outside [{}, {}]",
-            r.start(),
-            r.end()
-        )));
-    }
+    super::check_ior(ior)?;
     let glass = (
         Material::glass(ior),
         Roles::REFRACTOR | Roles::CAUSTIC_CASTER,

@@ -58,22 +58,7 @@ pub fn city(
     rooms_per_building: f32,
     interiors: f32,
 ) -> Result<Scene, SceneError> {
-    if !(2..=super::MAX_BUILDINGS).contains(&buildings) {
-        return Err(SceneError::BadParam(format!(
-            "buildings={buildings} is not in 2..={}",
-            super::MAX_BUILDINGS
-        )));
-    }
-    if !(1.0..=1e8).contains(&rooms_per_building) {
-        return Err(SceneError::BadParam(format!(
-            "rooms_per_building={rooms_per_building} is not in 1..=1e8"
-        )));
-    }
-    if interiors != 0.0 && interiors != 1.0 {
-        return Err(SceneError::BadParam(format!(
-            "interiors={interiors} is not 0 or 1"
-        )));
-    }
+    check_params(buildings, rooms_per_building, interiors)?;
     // Hull 20 x 40 x 20 m; rooms split it into n x n^2 x n (more floors than rooms per side
     // would be odd, so rooms are distributed in proportion to the hull's extent).
     let hull = Vec3::new(20.0, 40.0, 20.0);
@@ -126,22 +111,7 @@ pub fn city(
         o.building = Some(Building { room_size });
         objects.push(o);
         if with_rooms {
-            for (family, name, texture) in [
-                (1u32, "floors", 1usize),
-                (4, "ceilings", 2),
-                (0, "walls x", 3),
-                (2, "walls z", 4),
-            ] {
-                let mesh = room_planes(lo, hi, room_size, family);
-                let material = Material::Diffuse {
-                    albedo: Vec3::ONE,
-                    texture: Some(texture),
-                };
-                objects.push(
-                    Object::new(&format!("building {b} {name}"), mesh, material, transform)
-                        .with_roles(Roles::BUILDING),
-                );
-            }
+            objects.extend(room_plane_objects(b, (lo, hi), room_size, transform));
         }
     }
     let street_x = spacing * 0.5;
@@ -176,6 +146,60 @@ pub fn city(
         medium: None,
         background: Vec3::new(0.35, 0.45, 0.6),
     })
+}
+
+/// `city`'s parameters checked: 2..=[`super::MAX_BUILDINGS`] buildings, 1..=1e8 rooms per
+/// building, interiors 0 or 1.
+fn check_params(
+    buildings: usize,
+    rooms_per_building: f32,
+    interiors: f32,
+) -> Result<(), SceneError> {
+    if !(2..=super::MAX_BUILDINGS).contains(&buildings) {
+        return Err(SceneError::BadParam(format!(
+            "buildings={buildings} is not in 2..={}",
+            super::MAX_BUILDINGS
+        )));
+    }
+    if !(1.0..=1e8).contains(&rooms_per_building) {
+        return Err(SceneError::BadParam(format!(
+            "rooms_per_building={rooms_per_building} is not in 1..=1e8"
+        )));
+    }
+    if interiors != 0.0 && interiors != 1.0 {
+        return Err(SceneError::BadParam(format!(
+            "interiors={interiors} is not 0 or 1"
+        )));
+    }
+    Ok(())
+}
+
+/// The real interior of building `b` (hull `lo`..`hi`, placed by `transform`): its floors,
+/// ceilings and the two families of walls, each one object with its room texture.
+fn room_plane_objects(
+    b: usize,
+    (lo, hi): (Vec3, Vec3),
+    room_size: Vec3,
+    transform: Mat4,
+) -> Vec<Object> {
+    let mut objects = Vec::new();
+    for (family, name, texture) in [
+        (1u32, "floors", 1usize),
+        (4, "ceilings", 2),
+        (0, "walls x", 3),
+        (2, "walls z", 4),
+    ] {
+        let mesh = room_planes(lo, hi, room_size, family);
+        let material = Material::Diffuse {
+            albedo: Vec3::ONE,
+            texture: Some(texture),
+        };
+        objects.push(
+            Object::new(&format!("building {b} {name}"), mesh, material, transform)
+                .with_roles(Roles::BUILDING),
+        );
+    }
+    objects
 }
 
 /// Whether a point with room-unit coordinates `h` (along the face) and `v` (height) is in a

@@ -91,49 +91,7 @@ const HALL_HALF: f32 = 30.0;
 
 /// `hu-qin` with the options `o`.
 pub fn hu_qin(o: &HuQin) -> Result<Scene, SceneError> {
-    let (refractor, ior, gold_sphere) = (o.refractor.as_str(), o.ior, o.gold_sphere);
-    if !Material::IOR_RANGE.contains(&ior) {
-        let r = Material::IOR_RANGE;
-        return Err(SceneError::BadParam(format!(
-            "ior={ior} is outside [{}, {}]",
-            r.start(),
-            r.end()
-        )));
-    }
-    let (mesh, morph) = match refractor {
-        "sphere" => (uv_sphere(SPHERE_RADIUS, 32, 64), None),
-        "teapot" => (teapot(), None),
-        "bunny" => {
-            let mut mesh = bunny_mesh()?;
-            for p in &mut mesh.positions {
-                *p *= BUNNY_HEIGHT;
-            }
-            (mesh, None)
-        }
-        "morph" => {
-            let sphere = uv_sphere(SPHERE_RADIUS, 32, 64);
-            let morph = peanut_target(&sphere);
-            (sphere, Some(morph))
-        }
-        other => {
-            return Err(SceneError::BadParam(format!(
-                "unknown refractor \"{other}\" ({REFRACTOR_HELP})"
-            )));
-        }
-    };
-    let (lo, hi) = mesh.bounds();
-    let (material, role) = match o.metal {
-        true => (Material::gold(), Roles::REFLECTOR),
-        false => (Material::glass(ior), Roles::REFRACTOR),
-    };
-    let mut glass = Object::new(
-        refractor,
-        mesh,
-        material,
-        Mat4::from_translation(REFRACTOR_CENTRE - (lo + hi) * 0.5),
-    )
-    .with_roles(role | Roles::CAUSTIC_CASTER);
-    glass.morph = morph;
+    let glass = refractor(o)?;
 
     // Floor y = 0 from z = -1.4 to 2.6; checker wall at z = -1.4 facing +z, 6 x 3 m, the
     // texture repeated 3 x 1.5 times (8 x 8 cells each): 0.25 m cells.
@@ -166,65 +124,7 @@ pub fn hu_qin(o: &HuQin) -> Result<Scene, SceneError> {
         ),
     ];
 
-    // The nearby meshes, 0.65-0.75 m from the refractor, turned to show the camera faces the
-    // light reaches: a red box behind it on the left, a green cylinder and a blue sphere just
-    // behind it (seen through it from the camera), a yellow box behind it on the right, past
-    // the caustic.
-    let placed = |name: &str, mesh: Mesh, at: Vec3, yaw: f32, m: Material| {
-        Object::new(
-            name,
-            mesh,
-            m,
-            Mat4::from_rotation_translation(Quat::from_rotation_y(yaw), at),
-        )
-    };
-    let block = |x: f32, y: f32, z: f32| {
-        cuboid(
-            Vec3::new(-x * 0.5, 0.0, -z * 0.5),
-            Vec3::new(x * 0.5, y, z * 0.5),
-        )
-    };
-    objects.push(placed(
-        "red box",
-        block(0.25, 0.4, 0.25),
-        Vec3::new(-0.5, 0.0, -0.45),
-        0.4,
-        Material::diffuse(0.75, 0.12, 0.1),
-    ));
-    objects.push(placed(
-        "green cylinder",
-        cylinder(0.08, 0.45, 32),
-        Vec3::new(0.17, 0.0, -0.7),
-        0.0,
-        Material::diffuse(0.15, 0.6, 0.2),
-    ));
-    let small_sphere = placed(
-        if gold_sphere {
-            "gold sphere"
-        } else {
-            "blue sphere"
-        },
-        uv_sphere(0.12, 16, 32),
-        Vec3::new(-0.17, 0.12, -0.65),
-        0.0,
-        if gold_sphere {
-            Material::gold()
-        } else {
-            Material::diffuse(0.12, 0.22, 0.75)
-        },
-    );
-    objects.push(if gold_sphere {
-        small_sphere.with_roles(Roles::REFLECTOR)
-    } else {
-        small_sphere
-    });
-    objects.push(placed(
-        "yellow box",
-        block(0.2, 0.3, 0.2),
-        Vec3::new(0.62, 0.0, -0.42),
-        -0.4,
-        Material::diffuse(0.8, 0.68, 0.15),
-    ));
+    objects.extend(nearby_meshes(o.gold_sphere));
     objects.push(glass);
     if o.distant {
         // Only the refractor stays (the caustic caster; not the gold sphere), in the middle of
@@ -270,6 +170,112 @@ pub fn hu_qin(o: &HuQin) -> Result<Scene, SceneError> {
         medium: None,
         background: Vec3::new(0.25, 0.3, 0.4),
     })
+}
+
+/// The refractor (or, with `metal`, the gold reflector): its mesh (and morph), centred at
+/// [`REFRACTOR_CENTRE`].
+fn refractor(o: &HuQin) -> Result<Object, SceneError> {
+    let (refractor, ior) = (o.refractor.as_str(), o.ior);
+    super::check_ior(ior)?;
+    let (mesh, morph) = match refractor {
+        "sphere" => (uv_sphere(SPHERE_RADIUS, 32, 64), None),
+        "teapot" => (teapot(), None),
+        "bunny" => {
+            let mut mesh = bunny_mesh()?;
+            for p in &mut mesh.positions {
+                *p *= BUNNY_HEIGHT;
+            }
+            (mesh, None)
+        }
+        "morph" => {
+            let sphere = uv_sphere(SPHERE_RADIUS, 32, 64);
+            let morph = peanut_target(&sphere);
+            (sphere, Some(morph))
+        }
+        other => {
+            return Err(SceneError::BadParam(format!(
+                "unknown refractor \"{other}\" ({REFRACTOR_HELP})"
+            )));
+        }
+    };
+    let (lo, hi) = mesh.bounds();
+    let (material, role) = match o.metal {
+        true => (Material::gold(), Roles::REFLECTOR),
+        false => (Material::glass(ior), Roles::REFRACTOR),
+    };
+    let mut glass = Object::new(
+        refractor,
+        mesh,
+        material,
+        Mat4::from_translation(REFRACTOR_CENTRE - (lo + hi) * 0.5),
+    )
+    .with_roles(role | Roles::CAUSTIC_CASTER);
+    glass.morph = morph;
+    Ok(glass)
+}
+
+/// The nearby meshes, 0.65-0.75 m from the refractor, turned to show the camera faces the
+/// light reaches: a red box behind it on the left, a green cylinder and a blue (or gold)
+/// sphere just behind it (seen through it from the camera), a yellow box behind it on the
+/// right, past the caustic.
+fn nearby_meshes(gold_sphere: bool) -> Vec<Object> {
+    let mut meshes = Vec::new();
+    let placed = |name: &str, mesh: Mesh, at: Vec3, yaw: f32, m: Material| {
+        Object::new(
+            name,
+            mesh,
+            m,
+            Mat4::from_rotation_translation(Quat::from_rotation_y(yaw), at),
+        )
+    };
+    let block = |x: f32, y: f32, z: f32| {
+        cuboid(
+            Vec3::new(-x * 0.5, 0.0, -z * 0.5),
+            Vec3::new(x * 0.5, y, z * 0.5),
+        )
+    };
+    meshes.push(placed(
+        "red box",
+        block(0.25, 0.4, 0.25),
+        Vec3::new(-0.5, 0.0, -0.45),
+        0.4,
+        Material::diffuse(0.75, 0.12, 0.1),
+    ));
+    meshes.push(placed(
+        "green cylinder",
+        cylinder(0.08, 0.45, 32),
+        Vec3::new(0.17, 0.0, -0.7),
+        0.0,
+        Material::diffuse(0.15, 0.6, 0.2),
+    ));
+    let small_sphere = placed(
+        if gold_sphere {
+            "gold sphere"
+        } else {
+            "blue sphere"
+        },
+        uv_sphere(0.12, 16, 32),
+        Vec3::new(-0.17, 0.12, -0.65),
+        0.0,
+        if gold_sphere {
+            Material::gold()
+        } else {
+            Material::diffuse(0.12, 0.22, 0.75)
+        },
+    );
+    meshes.push(if gold_sphere {
+        small_sphere.with_roles(Roles::REFLECTOR)
+    } else {
+        small_sphere
+    });
+    meshes.push(placed(
+        "yellow box",
+        block(0.2, 0.3, 0.2),
+        Vec3::new(0.62, 0.0, -0.42),
+        -0.4,
+        Material::diffuse(0.8, 0.68, 0.15),
+    ));
+    meshes
 }
 
 /// The lights: the key light left of, above and in front of the refractor (its caustic falls

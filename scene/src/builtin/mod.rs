@@ -166,8 +166,28 @@ pub const MAX_BUILDINGS: usize = 4096;
 /// Most particles in `smoke`'s cloud (each one is a volume every renderer visits).
 pub const MAX_PARTICLES: usize = 1024;
 
+/// A refractor's index of refraction checked against [`crate::Material::IOR_RANGE`].
+fn check_ior(ior: f32) -> Result<(), SceneError> {
+    let r = crate::Material::IOR_RANGE;
+    if r.contains(&ior) {
+        return Ok(());
+    }
+    Err(SceneError::BadParam(format!(
+        "ior={ior} is outside [{}, {}]",
+        r.start(),
+        r.end()
+    )))
+}
+
 /// The registry: every built-in scene, in the order `harness list` shows them.
 fn registry() -> Vec<Builtin> {
+    let mut all = room_and_object_scenes();
+    all.extend(outdoor_and_water_scenes());
+    all
+}
+
+/// The Cornell rooms, the bunny, the chess board and the city (the papers' scenes).
+fn room_and_object_scenes() -> Vec<Builtin> {
     let material = |default| word("material", default, cornell::MATERIAL_HELP);
     let sphere_x = || real("sphere_x", "0", (-0.6, 0.6), "sphere centre x (m)");
     let ior = crate::Material::IOR_RANGE;
@@ -262,6 +282,13 @@ fn registry() -> Vec<Builtin> {
                 )
             },
         },
+    ]
+}
+
+/// The smoke, the pools and Hu and Qin's scene.
+fn outdoor_and_water_scenes() -> Vec<Builtin> {
+    let ior = crate::Material::IOR_RANGE;
+    vec![
         Builtin {
             info: SceneInfo {
                 name: "smoke",

@@ -191,32 +191,7 @@ pub fn pool(view: &str, murk: Option<Murk>) -> Result<Scene, SceneError> {
         ),
     ];
 
-    // The ladder on the right wall: two rails 12 cm off the wall and five rungs, from near the
-    // floor to above the water; the sun, on the +x side, throws its shadow into the pool.
-    let (x0, x1) = (hx - 0.16, hx - 0.12);
-    let (za, zb) = (-0.85, -0.35);
-    let mut parts = vec![
-        cuboid(
-            Vec3::new(x0, -1.35, za - 0.02),
-            Vec3::new(x1, 0.55, za + 0.02),
-        ),
-        cuboid(
-            Vec3::new(x0, -1.35, zb - 0.02),
-            Vec3::new(x1, 0.55, zb + 0.02),
-        ),
-    ];
-    for y in [-1.1, -0.8, -0.5, -0.2, 0.1] {
-        parts.push(cuboid(
-            Vec3::new(x0 - 0.01, y, za),
-            Vec3::new(x1, y + 0.03, zb),
-        ));
-    }
-    objects.push(Object::new(
-        "ladder",
-        merge(&parts),
-        Material::diffuse(0.7, 0.7, 0.72),
-        id,
-    ));
+    objects.push(ladder(hx));
     objects.push(Object::new(
         "ball",
         uv_sphere(0.3, 24, 48),
@@ -254,6 +229,36 @@ pub fn pool(view: &str, murk: Option<Murk>) -> Result<Scene, SceneError> {
         medium: murk.filter(|m| m.extinction > 0.0).map(water_medium),
         background: Vec3::new(0.35, 0.5, 0.75),
     })
+}
+
+/// The ladder on the right wall (at x = `hx`): two rails 12 cm off the wall and five rungs,
+/// from near the floor to above the water; the sun, on the +x side, throws its shadow into
+/// the pool.
+fn ladder(hx: f32) -> Object {
+    let (x0, x1) = (hx - 0.16, hx - 0.12);
+    let (za, zb) = (-0.85, -0.35);
+    let mut parts = vec![
+        cuboid(
+            Vec3::new(x0, -1.35, za - 0.02),
+            Vec3::new(x1, 0.55, za + 0.02),
+        ),
+        cuboid(
+            Vec3::new(x0, -1.35, zb - 0.02),
+            Vec3::new(x1, 0.55, zb + 0.02),
+        ),
+    ];
+    for y in [-1.1, -0.8, -0.5, -0.2, 0.1] {
+        parts.push(cuboid(
+            Vec3::new(x0 - 0.01, y, za),
+            Vec3::new(x1, y + 0.03, zb),
+        ));
+    }
+    Object::new(
+        "ladder",
+        merge(&parts),
+        Material::diffuse(0.7, 0.7, 0.72),
+        Mat4::IDENTITY,
+    )
 }
 
 /// Keys of a camera path.

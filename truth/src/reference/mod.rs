@@ -204,6 +204,11 @@ use scene::{Camera, Material, Medium, Scene};
 use std::f32::consts::FRAC_1_PI;
 use std::time::Instant;
 
+mod eye;
+mod light_trace;
+use eye::*;
+use light_trace::*;
+
 /// Eye-tree branches whose accumulated throughput is below this in every channel are
 /// dropped (documented bias below 1e-4 of the radiance behind them).
 pub const MIN_THROUGHPUT: f32 = 1e-4;
@@ -310,62 +315,23 @@ pub fn render(
         medium: scene.medium.as_ref(),
         max_depth: opts.max_depth,
     };
-    let forward = camera.basis().0;
-    let spp = opts.samples_per_pixel.max(1);
-    let volumes: Vec<(Vec3, f32)> = scene
-        .volumes
-        .iter()
-        .map(|v| (v.center + v.motion.offset(time), v.radius))
-        .collect();
-
+    let eye_pass = EyePass {
+        tracer: &tracer,
+        camera,
+        forward: camera.basis().0,
+        volumes: scene
+            .volumes
+            .iter()
+            .map(|v| (v.center + v.motion.offset(time), v.radius))
+            .collect(),
+        width,
+        height,
+        spp: opts.samples_per_pixel.max(1),
+    };
     // Eye pass, one row per task; rows come back in order.
     let rows: Vec<Row> = (0..height)
         .into_par_iter()
-        .map(|y| {
-            let mut counts = Counts::default();
-            let mut pixels = Vec::with_capacity(width as usize);
-            let mut ids = Vec::with_capacity(width as usize);
-            let mut mask = Vec::with_capacity(width as usize);
-            let mut depths = Vec::with_capacity(width as usize);
-            for x in 0..width {
-                let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
-                let dir = camera.ray_dir(px, py, width, height);
-                counts.camera += 1;
-                let centre_hit = bvh.closest_hit(camera.eye, dir, f32::INFINITY);
-                let t_hit = centre_hit.map_or(f32::INFINITY, |h| h.t);
-                let special = centre_hit.is_some_and(|h| !scene.objects[h.object].roles.is_empty());
-                let in_volume = volumes.iter().any(|&(c, r)| {
-                    let s = ray_sphere(camera.eye, dir, c, r);
-                    s.x <= s.y && s.y > 0.0 && s.x < t_hit
-                });
-                ids.push(centre_hit.map_or(-1, |h| h.object as i32));
-                depths.push(t_hit * dir.dot(forward));
-                mask.push(special || in_volume);
-                let l = if spp == 1 {
-                    let behind = match &centre_hit {
-                        Some(h) => tracer.shade(h, dir, 0, Vec3::ONE, &mut counts),
-                        None => scene.background,
-                    };
-                    tracer.through_media(camera.eye, dir, t_hit, behind, true, &mut counts)
-                } else {
-                    let mut sum = Vec3::ZERO;
-                    for i in 0..spp {
-                        let o = pixel_sample(i, spp);
-                        let d = camera.ray_dir(x as f32 + o.x, y as f32 + o.y, width, height);
-                        sum += tracer.radiance(camera.eye, d, 0, Vec3::ONE, &mut counts);
-                    }
-                    sum / spp as f32
-                };
-                pixels.push([l.x, l.y, l.z, 1.0]);
-            }
-            Row {
-                pixels,
-                ids,
-                mask,
-                depths,
-                counts,
-            }
-        })
+        .map(|y| eye_pass.row(y))
         .collect();
 
     let mut image = HdrImage {
@@ -419,6 +385,80 @@ pub fn render(
             },
             photons_stored,
         },
+    }
+}
+
+/// The eye pass of one image, a row at a time: each pixel's radiance (one ray through its
+/// centre, or `spp` jittered ones), object id, view depth and mask.
+struct EyePass<'a> {
+    tracer: &'a Tracer<'a>,
+    camera: &'a Camera,
+    /// The camera's unit forward axis (depths are along it).
+    forward: Vec3,
+    /// The volumes' spheres at the frame's time: a pixel whose ray meets one is masked.
+    volumes: Vec<(Vec3, f32)>,
+    width: u32,
+    height: u32,
+    spp: u32,
+}
+
+impl EyePass<'_> {
+    fn row(&self, y: u32) -> Row {
+        let mut counts = Counts::default();
+        let mut pixels = Vec::with_capacity(self.width as usize);
+        let mut ids = Vec::with_capacity(self.width as usize);
+        let mut mask = Vec::with_capacity(self.width as usize);
+        let mut depths = Vec::with_capacity(self.width as usize);
+        for x in 0..self.width {
+            let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+            let dir = self.camera.ray_dir(px, py, self.width, self.height);
+            counts.camera += 1;
+            let centre_hit = self
+                .tracer
+                .bvh
+                .closest_hit(self.camera.eye, dir, f32::INFINITY);
+            let t_hit = centre_hit.map_or(f32::INFINITY, |h| h.t);
+            let special =
+                centre_hit.is_some_and(|h| !self.tracer.scene.objects[h.object].roles.is_empty());
+            let in_volume = self.volumes.iter().any(|&(c, r)| {
+                let s = ray_sphere(self.camera.eye, dir, c, r);
+                s.x <= s.y && s.y > 0.0 && s.x < t_hit
+            });
+            ids.push(centre_hit.map_or(-1, |h| h.object as i32));
+            depths.push(t_hit * dir.dot(self.forward));
+            mask.push(special || in_volume);
+            let l = if self.spp == 1 {
+                let behind = match &centre_hit {
+                    Some(h) => self.tracer.shade(h, dir, 0, Vec3::ONE, &mut counts),
+                    None => self.tracer.scene.background,
+                };
+                self.tracer
+                    .through_media(self.camera.eye, dir, t_hit, behind, true, &mut counts)
+            } else {
+                let mut sum = Vec3::ZERO;
+                for i in 0..self.spp {
+                    let o = pixel_sample(i, self.spp);
+                    let d = self.camera.ray_dir(
+                        x as f32 + o.x,
+                        y as f32 + o.y,
+                        self.width,
+                        self.height,
+                    );
+                    sum += self
+                        .tracer
+                        .radiance(self.camera.eye, d, 0, Vec3::ONE, &mut counts);
+                }
+                sum / self.spp as f32
+            };
+            pixels.push([l.x, l.y, l.z, 1.0]);
+        }
+        Row {
+            pixels,
+            ids,
+            mask,
+            depths,
+            counts,
+        }
     }
 }
 
@@ -814,256 +854,6 @@ impl Tracer<'_> {
                 },
             }
         }
-    }
-}
-
-/// The pinhole camera as the light pass sees it: where a point lands on the image and
-/// what one pixel's importance is.
-struct Eye<'a> {
-    camera: Camera,
-    /// Media between a landed photon and the eye attenuate it, as they attenuate the eye
-    /// pass's view of the same point.
-    media: &'a Media,
-    /// So does the scattering medium.
-    medium: Option<&'a Medium>,
-    forward: Vec3,
-    width: u32,
-    height: u32,
-    /// Area of one pixel on the image plane at unit distance.
-    pixel_area: f32,
-}
-
-impl<'a> Eye<'a> {
-    fn new(
-        camera: &Camera,
-        width: u32,
-        height: u32,
-        media: &'a Media,
-        medium: Option<&'a Medium>,
-    ) -> Self {
-        let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
-        let aspect = width as f32 / height as f32;
-        Eye {
-            camera: *camera,
-            media,
-            medium,
-            forward: (camera.target - camera.eye).normalize(),
-            width,
-            height,
-            pixel_area: (2.0 * tan_half) * (2.0 * tan_half) * aspect
-                / (width as f32 * height as f32),
-        }
-    }
-
-    /// The pixel index and radiance a photon of `power` landed at `s` adds (see the module
-    /// docs for the derivation), or None if the eye does not see it.
-    fn connect(
-        &self,
-        bvh: &SceneBvh,
-        s: &Surface,
-        albedo: Vec3,
-        photon_dir: Vec3,
-        power: Vec3,
-        rays: &mut u64,
-    ) -> Option<(usize, Vec3)> {
-        let to_eye = self.camera.eye - s.p;
-        let d2 = to_eye.length_squared();
-        if d2 <= 0.0 {
-            return None;
-        }
-        let w_c = to_eye / d2.sqrt();
-        let cos_surface = s.ng.dot(w_c); // eye on the lit side?
-        let cos_camera = self.forward.dot(-w_c); // cos theta_c
-        if cos_surface <= 0.0 || cos_camera <= 0.0 {
-            return None;
-        }
-        let px = self.camera.project(s.p, self.width, self.height)?;
-        if !(px.x >= 0.0 && px.y >= 0.0 && px.x < self.width as f32 && px.y < self.height as f32) {
-            return None;
-        }
-        let (x, y) = (
-            (px.x as u32).min(self.width - 1),
-            (px.y as u32).min(self.height - 1),
-        );
-        *rays += 1;
-        let origin = s.above();
-        let seg = self.camera.eye - origin;
-        let len = seg.length();
-        if bvh.any_hit(origin, seg / len, len) {
-            return None;
-        }
-        // Irradiance measured with the shading normal, like the direct term.
-        let w_i = -photon_dir;
-        let cos_i_g = s.ng.dot(w_i).max(1e-6);
-        let correction = (s.ns.dot(w_i).max(0.0) / cos_i_g).min(MAX_SHADING_CORRECTION);
-        let importance = 1.0 / (self.pixel_area * cos_camera * cos_camera * cos_camera);
-        let seen = self.media.transmittance(self.camera.eye, -w_c, d2.sqrt())
-            * self.medium.map_or(Vec3::ONE, |m| {
-                m.transmittance(self.camera.eye, -w_c, d2.sqrt())
-            });
-        let value =
-            power * albedo * FRAC_1_PI * (correction * cos_surface / d2 * importance * seen);
-        Some(((y * self.width + x) as usize, value))
-    }
-}
-
-/// SplitMix64 (Steele, Lea, Flood 2014): tiny, fast, and good enough for sampling.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1) with 24 bits.
-    fn next_f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / 16_777_216.0)
-    }
-}
-
-fn chunk_seed(seed: u64, emitter: usize, chunk: u64) -> u64 {
-    let mut m = SplitMix64(seed);
-    let a = m.next_u64() ^ (emitter as u64).wrapping_mul(0xd1b5_4a32_d192_ed03);
-    let mut m = SplitMix64(a);
-    m.next_u64() ^ chunk.wrapping_mul(0x8cb9_2ba7_2f3d_8dd7)
-}
-
-struct ChunkResult {
-    splats: Vec<(usize, Vec3)>,
-    /// The chunk's photon beams on the image (empty when the scene has no scattering medium).
-    beams: Vec<Vec3>,
-    deposited: Vec<Vec3>,
-    rays: u64,
-}
-
-/// Chunks traced in parallel before their results are added up in order: bounds the memory of
-/// the chunks' beam images (a whole image each).
-const CHUNKS_PER_BATCH: usize = 32;
-
-/// The light pass. `depths` (view depth of each pixel's first surface, [`view_depths`]) hides
-/// photon beams behind surfaces; it is only read when the scene has a scattering medium.
-#[allow(clippy::too_many_arguments)]
-fn light_trace_with(
-    scene: &Scene,
-    bvh: &SceneBvh,
-    camera: &Camera,
-    time: f32,
-    width: u32,
-    height: u32,
-    opts: &ReferenceOptions,
-    setup: &PhotonSetup,
-    depths: &[f32],
-) -> LightTrace {
-    let n_lights = scene.lights.len();
-    let pixels = (width * height) as usize;
-    let emitters = emitters(scene, time, &setup.targets, opts.photons);
-    let mut emitted = vec![Vec3::ZERO; n_lights];
-    for e in &emitters {
-        emitted[e.light] += scene.lights[e.light].intensity * e.solid_angle;
-    }
-    // Work units: (emitter, first photon, count), in a fixed order.
-    let mut work = Vec::new();
-    for (ei, e) in emitters.iter().enumerate() {
-        let mut first = 0;
-        while first < e.photons {
-            work.push((ei, first, PHOTON_CHUNK.min(e.photons - first)));
-            first += PHOTON_CHUNK;
-        }
-    }
-    let media = Media::new(scene, time);
-    let medium = scene.medium.as_ref();
-    let tracer = Tracer {
-        scene,
-        bvh,
-        media: &media,
-        medium,
-        max_depth: opts.max_depth,
-    };
-    let eye = Eye::new(camera, width, height, &media, medium);
-    let beams = medium.map(|m| BeamSplatter::new(m, camera, width, height, depths));
-    let trace_chunk = |&(ei, first, count): &(usize, u64, u64)| {
-        let e = &emitters[ei];
-        let light = &scene.lights[e.light];
-        let mut rng = SplitMix64(chunk_seed(opts.seed, ei, first));
-        let mut out = ChunkResult {
-            splats: Vec::new(),
-            beams: if beams.is_some() {
-                vec![Vec3::ZERO; pixels]
-            } else {
-                Vec::new()
-            },
-            deposited: vec![Vec3::ZERO; n_lights],
-            rays: 0,
-        };
-        for _ in 0..count {
-            let (u, v) = (rng.next_f32(), rng.next_f32());
-            let w = e.sample(u, v);
-            // Balance heuristic over the cones of this light that contain w.
-            let power = light.intensity / balance_density(&emitters, ei, w);
-            let (mut rays, mut eye_rays) = (0, 0);
-            let beam_image = &mut out.beams;
-            tracer.trace_photon(
-                light.position,
-                w,
-                power,
-                setup.min_specular_bounces,
-                &mut rng,
-                &mut rays,
-                |_hit, s, albedo, dir, p| {
-                    out.deposited[e.light] += p;
-                    if let Some(splat) = eye.connect(bvh, s, albedo, dir, p, &mut eye_rays) {
-                        out.splats.push(splat);
-                    }
-                },
-                |origin, dir, length, p| {
-                    if let Some(b) = &beams {
-                        b.splat(origin, dir, length, p, beam_image);
-                    }
-                },
-            );
-            out.rays += rays + eye_rays;
-        }
-        out
-    };
-
-    // Ordered reduction (see "Determinism"), a batch of chunks at a time, in f64: a pixel of a
-    // bright caustic sums tens of thousands of photons at high counts, and an f32 sum drifts
-    // by ~n * 2^-24 of its value (1e-3 at 20 000 photons), which the GPU tracer's convergence
-    // study (raytracer/README.md) showed as an error floor.
-    let mut radiance = vec![DVec3::ZERO; pixels];
-    let mut beam_radiance = vec![DVec3::ZERO; if beams.is_some() { pixels } else { 0 }];
-    let mut deposited = vec![Vec3::ZERO; n_lights];
-    let (mut rays, mut stored) = (0, 0);
-    for batch in work.chunks(CHUNKS_PER_BATCH) {
-        let results: Vec<ChunkResult> = batch.par_iter().map(trace_chunk).collect();
-        for r in results {
-            for (i, v) in &r.splats {
-                radiance[*i] += v.as_dvec3();
-            }
-            for (sum, v) in beam_radiance.iter_mut().zip(&r.beams) {
-                *sum += v.as_dvec3();
-            }
-            stored += r.splats.len() as u64;
-            for (d, x) in deposited.iter_mut().zip(&r.deposited) {
-                *d += *x;
-            }
-            rays += r.rays;
-        }
-    }
-    for (sum, v) in radiance.iter_mut().zip(&beam_radiance) {
-        *sum += *v;
-    }
-    LightTrace {
-        radiance: radiance.iter().map(|v| v.as_vec3()).collect(),
-        beam_radiance: beam_radiance.iter().map(|v| v.as_vec3()).collect(),
-        deposited,
-        emitted,
-        photons_traced: emitters.iter().map(|e| e.photons).sum(),
-        photons_stored: stored,
-        rays,
     }
 }
 
