@@ -7,10 +7,10 @@
 //! in the crate and read with the glTF importer ([`super::assets::bunny_mesh`]).
 
 use super::assets::bunny_mesh;
-use super::textures::checker_texture;
-use crate::mesh::{cuboid, quad};
+use super::textures::{floor_and_checker_wall, wall_checker};
+use crate::mesh::cuboid;
 use crate::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError};
-use glam::{Mat4, Quat, Vec2, Vec3};
+use glam::{Mat4, Quat, Vec3};
 
 /// Height of the bunny in the scene, metres.
 const BUNNY_HEIGHT: f32 = 0.6;
@@ -65,13 +65,7 @@ pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
     Ok(Scene {
         name: String::new(),
         objects,
-        textures: vec![checker_texture(
-            "wall checker",
-            64,
-            8,
-            [210, 205, 190],
-            [70, 80, 110],
-        )],
+        textures: vec![wall_checker()],
         lights: vec![PointLight {
             name: "key light".into(),
             position: Vec3::new(0.3, 2.5, 1.6),
@@ -91,35 +85,7 @@ pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
 /// that it fills the background of the camera path; the texture repeats 3 x 1.5 times, 8 x 8
 /// cells each, so a cell is 0.25 m), and three boxes around the bunny.
 fn room() -> Vec<Object> {
-    let id = Mat4::IDENTITY;
-    let wall_material = Material::Diffuse {
-        albedo: Vec3::ONE,
-        texture: Some(0),
-    };
-    let mut objects = vec![
-        Object::new(
-            "floor",
-            quad(
-                Vec3::new(-3.0, 0.0, 2.5),
-                Vec3::X * 6.0,
-                Vec3::NEG_Z * 3.7,
-                Vec2::ONE,
-            ),
-            Material::diffuse(0.6, 0.6, 0.58),
-            id,
-        ),
-        Object::new(
-            "checker wall",
-            quad(
-                Vec3::new(-3.0, 0.0, -1.2),
-                Vec3::X * 6.0,
-                Vec3::Y * 3.0,
-                Vec2::new(3.0, 1.5),
-            ),
-            wall_material,
-            id,
-        ),
-    ];
+    let mut objects = floor_and_checker_wall(2.5, 3.7, -1.2).to_vec();
     let bx = |name: &str, size: Vec3, at: Vec3, yaw: f32, m: Material| {
         let mesh = cuboid(
             Vec3::new(-size.x * 0.5, 0.0, -size.z * 0.5),

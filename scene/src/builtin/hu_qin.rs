@@ -30,7 +30,7 @@
 //! polished gold (figure 26: reflective caustics).
 
 use super::assets::bunny_mesh;
-use super::textures::checker_texture;
+use super::textures::{floor_and_checker_wall, wall_checker};
 use crate::mesh::{Ring, cuboid, cylinder, loft, merge, quad, smooth_normals, tube, uv_sphere};
 use crate::{
     Camera, CameraPath, Material, Mesh, Morph, Object, PointLight, Roles, Scene, SceneError,
@@ -95,34 +95,7 @@ pub fn hu_qin(o: &HuQin) -> Result<Scene, SceneError> {
 
     // Floor y = 0 from z = -1.4 to 2.6; checker wall at z = -1.4 facing +z, 6 x 3 m, the
     // texture repeated 3 x 1.5 times (8 x 8 cells each): 0.25 m cells.
-    let id = Mat4::IDENTITY;
-    let mut objects = vec![
-        Object::new(
-            "floor",
-            quad(
-                Vec3::new(-3.0, 0.0, 2.6),
-                Vec3::X * 6.0,
-                Vec3::NEG_Z * 4.0,
-                Vec2::ONE,
-            ),
-            Material::diffuse(0.6, 0.6, 0.58),
-            id,
-        ),
-        Object::new(
-            "checker wall",
-            quad(
-                Vec3::new(-3.0, 0.0, -1.4),
-                Vec3::X * 6.0,
-                Vec3::Y * 3.0,
-                Vec2::new(3.0, 1.5),
-            ),
-            Material::Diffuse {
-                albedo: Vec3::ONE,
-                texture: Some(0),
-            },
-            id,
-        ),
-    ];
+    let mut objects = floor_and_checker_wall(2.6, 4.0, -1.4).to_vec();
 
     objects.extend(nearby_meshes(o.gold_sphere));
     objects.push(glass);
@@ -148,13 +121,7 @@ pub fn hu_qin(o: &HuQin) -> Result<Scene, SceneError> {
     Ok(Scene {
         name: String::new(),
         objects,
-        textures: vec![checker_texture(
-            "wall checker",
-            64,
-            8,
-            [210, 205, 190],
-            [70, 80, 110],
-        )],
+        textures: vec![wall_checker()],
         // Left of, above and in front of the refractor: its caustic falls on the floor to its
         // right and a little behind it, in view.
         lights: lights(o)?,

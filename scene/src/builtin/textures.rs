@@ -1,7 +1,9 @@
 //! Texture helpers shared by the built-in scenes (every scene file may use them; they use no
 //! scene file).
 
-use crate::Texture;
+use crate::mesh::quad;
+use crate::{Material, Object, Texture};
+use glam::{Mat4, Vec2, Vec3};
 
 /// A `size` x `size` sRGB RGBA8 texture (alpha 255) whose texel `(i, j)` (row `j` from the
 /// top) has the sRGB colour `texel(i, j)`.
@@ -30,4 +32,41 @@ pub fn checker_texture(name: &str, size: u32, cells: u32, a: [u8; 3], b: [u8; 3]
             b
         }
     })
+}
+
+/// The floor and checker wall the bunny and Hu and Qin's scenes stand in front of: the floor
+/// y = 0, 6 m wide, from z = `near_z` back `depth` metres (to the wall); the wall 6 x 3 m at
+/// z = `wall_z` facing +z, textured with [`wall_checker`] (texture 0) repeated 3 x 1.5 times:
+/// 0.25 m cells.
+pub fn floor_and_checker_wall(near_z: f32, depth: f32, wall_z: f32) -> [Object; 2] {
+    let floor = quad(
+        Vec3::new(-3.0, 0.0, near_z),
+        Vec3::X * 6.0,
+        Vec3::NEG_Z * depth,
+        Vec2::ONE,
+    );
+    let wall = quad(
+        Vec3::new(-3.0, 0.0, wall_z),
+        Vec3::X * 6.0,
+        Vec3::Y * 3.0,
+        Vec2::new(3.0, 1.5),
+    );
+    let checker = Material::Diffuse {
+        albedo: Vec3::ONE,
+        texture: Some(0),
+    };
+    [
+        Object::new(
+            "floor",
+            floor,
+            Material::diffuse(0.6, 0.6, 0.58),
+            Mat4::IDENTITY,
+        ),
+        Object::new("checker wall", wall, checker, Mat4::IDENTITY),
+    ]
+}
+
+/// The wall's checker: 8 x 8 cells, light beige and dark blue-grey, 64 texels square.
+pub fn wall_checker() -> Texture {
+    checker_texture("wall checker", 64, 8, [210, 205, 190], [70, 80, 110])
 }
