@@ -209,10 +209,7 @@ impl DepthPeeler {
             })
             .collect();
 
-        let module = gpu::shader(
-            ctx,
-            gpu::wgsl::Shader::new("depth peel", PEEL_WGSL).importing(&[&crate::SHADING]),
-        );
+        let module = crate::shader(ctx, "depth peel", PEEL_WGSL);
         let layout = gpu_scene.pipeline_layout_with(ctx, &[&peel_layout]);
         let pipeline = scene_pipeline_with(
             ctx,

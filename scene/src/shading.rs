@@ -52,13 +52,26 @@ pub fn shader_importing(
     source: &str,
     modules: &[&gpu::wgsl::Module],
 ) -> wgpu::ShaderModule {
+    shader_of(
+        ctx,
+        gpu::wgsl::Shader::new(label, source).importing(modules),
+    )
+}
+
+/// Composes `shader` (its own imports and definitions) with the scene's modules
+/// ([`SCENE_MODULES`]) offered too: what [`shader`] and [`shader_importing`] do, for a shader
+/// that also needs definitions.
+pub fn shader_of(ctx: &Context, shader: gpu::wgsl::Shader<'_>) -> wgpu::ShaderModule {
     let imports: Vec<&gpu::wgsl::Module> = SCENE_MODULES
         .into_iter()
-        .chain(modules.iter().copied())
+        .chain(shader.imports.iter().copied())
         .collect();
     gpu::shader(
         ctx,
-        gpu::wgsl::Shader::new(label, source).importing(&imports),
+        gpu::wgsl::Shader {
+            imports: &imports,
+            ..shader
+        },
     )
 }
 /// The shared raster pass's fragment shaders (`raster_fs`: the diffuse shading model, distance

@@ -121,14 +121,10 @@ pub(super) fn pipelines(
     radiance_wgsl: &str,
 ) -> Pipelines {
     let source = format!("{REFRACT_WGSL}\n{radiance_wgsl}");
-    let module = gpu::shader(
+    let module = scene::shader_of(
         ctx,
         gpu::wgsl::Shader::new("image-space refraction", &source)
-            .importing(&[
-                &scene::SHADING,
-                &crate::search::SEARCH,
-                &crate::nearby::NEARBY,
-            ])
+            .importing(&[&crate::search::SEARCH, &crate::nearby::NEARBY])
             .with_defs(&crate::nearby::NEARBY_DEFS),
     );
     let buffers_layout = scene.pipeline_layout_with(ctx, &[]);

@@ -111,10 +111,7 @@ fn transfer_pipeline(
     scene: &GpuScene,
     own: &wgpu::BindGroupLayout,
 ) -> wgpu::RenderPipeline {
-    let module = gpu::shader(
-        ctx,
-        gpu::wgsl::Shader::new("transfer map", TRANSFER_WGSL).importing(&[&scene::SHADING]),
-    );
+    let module = scene::shader(ctx, "transfer map", TRANSFER_WGSL);
     let targets = [
         pass::color_target(MAP_FORMAT, None),
         pass::color_target(MAP_FORMAT, None),
