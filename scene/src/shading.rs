@@ -207,3 +207,30 @@ fn render_pipeline(
 
 /// A pipeline stage: its module and entry point.
 type Stage<'a> = (&'a wgpu::ShaderModule, &'a str);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The value of `const NAME: f32 = value;` in `source`.
+    fn wgsl_f32(source: &str, name: &str) -> f32 {
+        let prefix = format!("const {name}: f32 = ");
+        let line = source
+            .lines()
+            .find_map(|line| line.trim().strip_prefix(prefix.as_str()))
+            .unwrap_or_else(|| panic!("no `{prefix}…` in the WGSL"));
+        line.trim_end_matches(';').parse().expect("a number")
+    }
+
+    /// The constants the WGSL modules spell out for the passes that import them are the Rust
+    /// ones, bit for bit.
+    #[test]
+    fn the_wgsl_constants_are_the_rust_ones() {
+        let medium = crate::medium::MEDIUM_WGSL;
+        let eye_clearance = wgsl_f32(medium, "EYE_CLEARANCE");
+        assert_eq!(eye_clearance, crate::medium::EYE_CLEARANCE);
+        assert_eq!(wgsl_f32(SHADING_WGSL, "CAMERA_NEAR"), crate::Camera::NEAR);
+        let background = wgsl_f32(SHADING_WGSL, "BACKGROUND_DISTANCE");
+        assert_eq!(background, crate::BACKGROUND_DISTANCE);
+    }
+}

@@ -31,6 +31,25 @@
 //! shadow ray ([`Side::Any`]) stops at anything. Samples closer than
 //! `t_skip` to the ray's origin are skipped (the surface the ray starts on).
 
+/// `shaders/ldi.wgsl`, the WGSL of this module.
+pub const LDI_WGSL: &str = include_str!("shaders/ldi.wgsl");
+
+/// [`LDI_WGSL`] as the module `screen_photons::ldi`, which the technique's passes and the
+/// conformance kernel import. Its bindings are placed by the definitions `LDI_GROUP` and
+/// `LDI_FIRST_BINDING` ([`LDI_DEFS`] in the technique); an object's material kind comes from
+/// the scene's materials unless the shader overrides `ldi_kind`.
+pub static LDI: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    LDI_WGSL,
+    "screen-photons/src/shaders/ldi.wgsl",
+    &[&scene::SHADING],
+);
+
+/// Where the technique's passes bind the LDI: `@group(2)`, from `@binding(0)`.
+pub const LDI_DEFS: [(&str, gpu::wgsl::Def); 2] = [
+    ("LDI_GROUP", gpu::wgsl::Def::UInt(2)),
+    ("LDI_FIRST_BINDING", gpu::wgsl::Def::UInt(0)),
+];
+
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// One texel of one LDI layer: what `scene::DepthPeeler` writes.
@@ -173,14 +192,14 @@ pub struct Segment {
     pub origin: Vec3,
     pub dir: Vec3,
     /// Ray parameters of the visible part's ends.
-    pub t0: f32,
-    pub t1: f32,
+    pub t_start: f32,
+    pub t_end: f32,
     /// Clip-space `w` at the ends (the perspective-correct interpolation needs them).
-    pub w0: f32,
-    pub w1: f32,
+    pub w_start: f32,
+    pub w_end: f32,
     /// Pixel coordinates of the ends.
-    pub p0: Vec2,
-    pub p1: Vec2,
+    pub p_start: Vec2,
+    pub p_end: Vec2,
     /// Samples (fragments of the line): one per pixel along the major axis, at least 1.
     pub steps: u32,
 }
@@ -246,12 +265,12 @@ pub fn clip(
     Some(Segment {
         origin,
         dir,
-        t0,
-        t1,
-        w0: c0.w,
-        w1: c1.w,
-        p0,
-        p1,
+        t_start: t0,
+        t_end: t1,
+        w_start: c0.w,
+        w_end: c1.w,
+        p_start: p0,
+        p_end: p1,
         steps,
     })
 }
@@ -260,8 +279,8 @@ impl Segment {
     /// The ray parameter at screen fraction `s` of the projected segment: `1/w` is linear in
     /// screen space, so the fraction `u` of the clipped ray is `s w0 / ((1 - s) w1 + s w0)`.
     pub fn t_at(&self, s: f32) -> f32 {
-        let u = s * self.w0 / ((1.0 - s) * self.w1 + s * self.w0);
-        self.t0 + u * (self.t1 - self.t0)
+        let u = s * self.w_start / ((1.0 - s) * self.w_end + s * self.w_start);
+        self.t_start + u * (self.t_end - self.t_start)
     }
 
     /// Screen fraction of sample `k`.
@@ -271,7 +290,7 @@ impl Segment {
 
     /// The pixel of sample `k` (clamped to the screen).
     pub fn pixel(&self, eye: &Eye, k: u32) -> (u32, u32) {
-        let p = self.p0 + (self.p1 - self.p0) * self.fraction(k);
+        let p = self.p_start + (self.p_end - self.p_start) * self.fraction(k);
         (
             (p.x.floor().max(0.0) as u32).min(eye.width - 1),
             (p.y.floor().max(0.0) as u32).min(eye.height - 1),
@@ -595,7 +614,7 @@ pub fn first_hit_brute(
         if t < state.t_skip {
             continue;
         }
-        let p = seg.p0 + (seg.p1 - seg.p0) * s;
+        let p = seg.p_start + (seg.p_end - seg.p_start) * s;
         let x = (p.x.floor().max(0.0) as u32).min(eye.width - 1);
         let y = (p.y.floor().max(0.0) as u32).min(eye.height - 1);
         let d = (seg.origin + seg.dir * t - eye.position).length();
@@ -686,7 +705,7 @@ mod tests {
         let e = eye();
         let seg = clip(&e, Vec3::new(-50.0, 0.0, 0.0), Vec3::X, (0.0, 100.0), 100.0).unwrap();
         assert_eq!(seg.steps, 64);
-        assert!(seg.p0.x.abs() < 1e-3 && (seg.p1.x - 64.0).abs() < 1e-3);
+        assert!(seg.p_start.x.abs() < 1e-3 && (seg.p_end.x - 64.0).abs() < 1e-3);
         let (x0, _) = seg.pixel(&e, 0);
         let (x1, _) = seg.pixel(&e, 63);
         assert_eq!((x0, x1), (0, 63));
@@ -707,7 +726,7 @@ mod tests {
             let t = seg.t_at(s);
             let p = seg.origin + seg.dir * t;
             let c = e.view_proj * p.extend(1.0);
-            let expect = seg.p0 + (seg.p1 - seg.p0) * s;
+            let expect = seg.p_start + (seg.p_end - seg.p_start) * s;
             assert!((e.pixel(c) - expect).length() < 1e-3, "{s}");
         }
     }

@@ -29,6 +29,17 @@
 //! over its part inside the medium's box, attenuated by the exact transmittance from the eye.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
+
+/// `shaders/beam.wgsl`: [`beam_band`] and [`beam_fragment`] in WGSL, with the same arguments.
+pub const BEAM_WGSL: &str = include_str!("shaders/beam.wgsl");
+
+/// [`BEAM_WGSL`] as the module `screen_photons::beam` (no bindings), which the god-ray pass and
+/// the conformance test import.
+pub static BEAM: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    BEAM_WGSL,
+    "screen-photons/src/shaders/beam.wgsl",
+    &[&scene::SHADING],
+);
 use scene::Medium;
 use scene::medium::{henyey_greenstein, transmittance_of};
 
@@ -86,13 +97,13 @@ pub struct Beam {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BeamBand {
     /// The beam's parameter range drawn.
-    pub s0: f32,
-    pub s1: f32,
+    pub s_start: f32,
+    pub s_end: f32,
     /// Where the beam enters the medium (its transmittance counts from there).
     pub s_enter: f32,
     /// The projected end points (pixels).
-    pub p0: Vec2,
-    pub p1: Vec2,
+    pub p_start: Vec2,
+    pub p_end: Vec2,
     /// True when the projection runs more along x than along y.
     pub x_major: bool,
 }
@@ -125,11 +136,11 @@ pub fn beam_band(view: &ShaftView, medium: &Medium, beam: &Beam) -> Option<BeamB
     let (p0, p1) = (view.pixel_of_clip(clip(s0)), view.pixel_of_clip(clip(s1)));
     let d = (p1 - p0).abs();
     Some(BeamBand {
-        s0,
-        s1,
+        s_start: s0,
+        s_end: s1,
         s_enter: inside.x,
-        p0,
-        p1,
+        p_start: p0,
+        p_end: p1,
         x_major: d.x >= d.y,
     })
 }
@@ -165,7 +176,7 @@ pub fn beam_fragment(
         return Vec3::ZERO;
     }
     let s = (ndc * c0.w - a0) / denom;
-    if !(s >= band.s0 && s <= band.s1) {
+    if !(s >= band.s_start && s <= band.s_end) {
         return Vec3::ZERO;
     }
     // ds / d(major pixel): d s / d ndc = (c0.w ad - a0 cd.w) / denom^2, d ndc / d pixel = 2 / size.
@@ -327,10 +338,10 @@ mod tests {
     /// estimator with no visibility), for a beam wholly in view.
     fn integral(view: &ShaftView, m: &Medium, beam: &Beam, band: &BeamBand) -> Vec3 {
         let n = 200_000;
-        let ds = (band.s1 - band.s0) / n as f32;
+        let ds = (band.s_end - band.s_start) / n as f32;
         (0..n)
             .map(|i| {
-                let s = band.s0 + (i as f32 + 0.5) * ds;
+                let s = band.s_start + (i as f32 + 0.5) * ds;
                 let x = beam.origin + beam.dir * s;
                 let to_eye = view.eye - x;
                 let d = to_eye.length();
@@ -373,7 +384,7 @@ mod tests {
             let want = integral(&view, &m, &beam, &band);
             let rel = ((sum - want) / want).abs().max_element();
             // One pixel column at each end is where the midpoint rule over columns differs.
-            let columns = (band.p1 - band.p0).abs().max_element();
+            let columns = (band.p_end - band.p_start).abs().max_element();
             assert!(
                 rel < 2.0 / columns,
                 "{sum} vs {want} over {columns} columns"
@@ -391,7 +402,7 @@ mod tests {
             power: Vec3::ONE,
         };
         let band = beam_band(&view, &m, &beam).unwrap();
-        let mid = (band.p0 + band.p1) * 0.5;
+        let mid = (band.p_start + band.p_end) * 0.5;
         let pixel = mid.floor() + Vec2::splat(0.5);
         let seen = beam_fragment(&view, &m, &beam, &band, pixel, f32::INFINITY);
         assert!(seen.max_element() > 0.0);

@@ -6,7 +6,7 @@ use gpu::compute::{kernel_entry, kernel_header, run_kernel, run_kernel_with};
 use gpu::wgpu::{self, util::DeviceExt};
 use scene::Camera;
 use screen_photons::march::{self, Eye, Ldi, RayState, Side, Sphere};
-use screen_photons::technique::{LDI_WGSL, LdiParamsGpu};
+use screen_photons::technique::LdiParamsGpu;
 
 const TOLERANCE: f32 = 0.03;
 const THICKNESS: f32 = 0.1;
@@ -46,16 +46,14 @@ fn spheres() -> Vec<Sphere> {
     ]
 }
 
-/// The kernel's bindings for ldi.wgsl: the LDI at @group(0) from binding 2, the specular flag
-/// of each object from a buffer.
+/// The kernel's side of `screen_photons::ldi`: the march's names, the LDI placed at @group(0)
+/// from binding 2 (the definitions [`KERNEL_LDI_DEFS`]), and each object's material kind from
+/// a buffer of the kernel's own (it overrides `ldi_kind`, which reads the scene's materials).
 const KERNEL_BINDINGS: &str = r#"
-@group(0) @binding(2) var<uniform> ldi: LdiParams;
-@group(0) @binding(3) var ldi_layers: texture_2d_array<f32>;
-@group(0) @binding(4) var ldi_surfaces: texture_2d_array<f32>;
-@group(0) @binding(5) var refractor_layers: texture_2d_array<f32>;
-@group(0) @binding(6) var refractor_surfaces: texture_2d_array<f32>;
+#import screen_photons::ldi
+#import screen_photons::ldi::{LDI_REFRACTORS, LDI_SCENE, LdiHit, clip_segment, march_dda, march_monotone, march_shadow, march_tolerance, scene_range}
 @group(0) @binding(7) var<storage, read> kinds: array<u32>;
-fn ldi_kind(object: u32) -> u32 { return kinds[object]; }
+override fn screen_photons::ldi::ldi_kind(object: u32) -> u32 { return kinds[object]; }
 
 struct RayCase {
     // xyz origin, w: mode (0 DDA, 1 tolerance in order, 2 monotone in layer 1 of the
@@ -65,6 +63,12 @@ struct RayCase {
     dir: vec4f,
 };
 "#;
+
+/// The kernel's LDI: `@group(0)` from `@binding(2)` (0 and 1 are its inputs and outputs).
+const KERNEL_LDI_DEFS: [(&str, gpu::wgsl::Def); 2] = [
+    ("LDI_GROUP", gpu::wgsl::Def::UInt(0)),
+    ("LDI_FIRST_BINDING", gpu::wgsl::Def::UInt(2)),
+];
 
 const MARCH_BODY: &str = r#"
     let c = inputs[i];
@@ -233,12 +237,16 @@ fn the_wgsl_march_finds_the_twins_hits() {
 
     let cases = cases(&eye, &scene_ldi);
     let source = format!(
-        "{KERNEL_BINDINGS}\n{LDI_WGSL}\n{}{}",
+        "{KERNEL_BINDINGS}\n{}{}",
         kernel_header("RayCase", "vec4f"),
         kernel_entry("march_kernel", MARCH_BODY)
     );
+    let imports = [&march::LDI];
+    let kernel = gpu::wgsl::Shader::new("march kernel", &source)
+        .importing(&imports)
+        .with_defs(&KERNEL_LDI_DEFS);
     let gpu_hits: Vec<[f32; 4]> =
-        run_kernel_with(ctx, &source, "march_kernel", &cases, 1, &extra).expect("kernel");
+        run_kernel_with(ctx, kernel, "march_kernel", &cases, 1, &extra).expect("kernel");
     let mut same = 0;
     let mut hits = 0;
     for (case, got) in cases.iter().zip(&gpu_hits) {
@@ -510,7 +518,7 @@ struct BeamCase {
 /// and the pixels of each beam's band; and a mutated tent is detected.
 #[test]
 fn the_wgsl_beam_fragments_match_the_twin() {
-    use screen_photons::shafts::{Beam, ShaftView, beam_band, beam_fragment};
+    use screen_photons::shafts::{self, Beam, ShaftView, beam_band, beam_fragment};
     let _lock = testkit::gpu_lock();
     let ctx = testkit::context();
     let mut state = 0x2545_f491_4f6c_dd1du64;
@@ -552,7 +560,7 @@ fn the_wgsl_beam_fragments_match_the_twin() {
         // Pixels along and beside the band.
         for _ in 0..16 {
             let f = rnd(0.0, 1.0);
-            let p = band.p0 + (band.p1 - band.p0) * f;
+            let p = band.p_start + (band.p_end - band.p_start) * f;
             let pixel = (p + Vec3::new(rnd(-2.0, 2.0), rnd(-2.0, 2.0), 0.0).truncate()).floor()
                 + glam::Vec2::splat(0.5);
             let surface = if rnd(0.0, 1.0) < 0.2 {
@@ -574,35 +582,32 @@ fn the_wgsl_beam_fragments_match_the_twin() {
             });
         }
     }
-    let source = |tent: &str| {
-        format!(
-            "#import scene::medium::Medium\n{photon_structs}\n{constants}\n{beam}\n\
-             struct BeamCase {{ medium: Medium, view_proj: mat4x4f, eye: vec4f, forward: vec4f, \
-             size: vec4u, origin: vec4f, dir: vec4f, power: vec4f, pixel: vec4f }};\n\
-             var<private> shaft: ShaftView;\n\
-             var<private> case_medium: Medium;\n\
-             fn scene_medium() -> Medium {{ return case_medium; }}\n\
-             {header}\n{entry}",
-            photon_structs = BEAM_STRUCT,
-            constants = screen_photons::technique::beam_constants(),
-            beam = screen_photons::technique::BEAM_WGSL
-                .replace("max(1.0 - abs(across) / BAND_HALF_WIDTH, 0.0)", tent),
-            header = kernel_header("BeamCase", "vec4f"),
-            entry = kernel_entry(
-                "beam_kernel",
-                "    let c = inputs[i];\n    \
-                 case_medium = c.medium;\n    \
-                 shaft = ShaftView(c.view_proj, c.eye, c.forward, c.size);\n    \
-                 let b = Beam(c.origin, c.dir, c.power);\n    \
-                 let band = beam_band(b);\n    \
-                 outputs[i] = vec4f(beam_fragment(b, band, c.pixel.xy, c.pixel.z), \
-                 select(0.0, 1.0, band.ok));",
-            ),
-        )
+    let source = format!(
+        "#import scene::medium::Medium\n\
+         #import screen_photons::beam::{{Beam, ShaftView, beam_band, beam_fragment}}\n\
+         struct BeamCase {{ medium: Medium, view_proj: mat4x4f, eye: vec4f, forward: vec4f, \
+         size: vec4u, origin: vec4f, dir: vec4f, power: vec4f, pixel: vec4f }};\n\
+         {header}\n{entry}",
+        header = kernel_header("BeamCase", "vec4f"),
+        entry = kernel_entry(
+            "beam_kernel",
+            "    let c = inputs[i];\n    \
+             let shaft = ShaftView(c.view_proj, c.eye, c.forward, c.size);\n    \
+             let b = Beam(c.origin, c.dir, c.power);\n    \
+             let band = beam_band(shaft, c.medium, b);\n    \
+             outputs[i] = vec4f(beam_fragment(shaft, c.medium, b, band, c.pixel.xy, c.pixel.z), \
+             select(0.0, 1.0, band.ok));",
+        ),
+    );
+    // The module with `tent` as the band's profile (a mutation test's broken copy).
+    let beam_module = |tent: &str| {
+        let text = shafts::BEAM_WGSL.replace("max(1.0 - abs(across) / BAND_HALF_WIDTH, 0.0)", tent);
+        shafts::BEAM.with_source(text)
     };
     let compare = |tent: &str| {
         let got: Vec<Vec4> = {
-            let (source, imports) = (source(tent), [&scene::medium::MEDIUM]);
+            let beam = beam_module(tent);
+            let imports = [&beam];
             let kernel = gpu::wgsl::Shader::new("beam", &source).importing(&imports);
             run_kernel(ctx, kernel, "beam_kernel", &cases, 1).expect("kernel")
         };
@@ -627,6 +632,3 @@ fn the_wgsl_beam_fragments_match_the_twin() {
     let (bad, _) = compare("max(1.0 - abs(across) / (2.0 * BAND_HALF_WIDTH), 0.0)");
     assert!(bad > 500, "a wider tent went unnoticed ({bad} differ)");
 }
-
-/// The `Beam` struct of photon.wgsl (the rest of that file needs the LDI bindings).
-const BEAM_STRUCT: &str = "struct Beam { origin: vec4f, dir: vec4f, power: vec4f };";

@@ -164,15 +164,15 @@ proptest! {
             return Ok(());
         };
         prop_assert!(seg.steps >= 1 && seg.steps <= march::max_steps(&eye));
-        prop_assert!(seg.t0 >= 0.0 && seg.t0 < seg.t1 && seg.t1 <= 50.0);
-        for p in [seg.p0, seg.p1] {
+        prop_assert!(seg.t_start >= 0.0 && seg.t_start < seg.t_end && seg.t_end <= 50.0);
+        for p in [seg.p_start, seg.p_end] {
             prop_assert!(p.x >= -1e-2 && p.x <= W as f32 + 1e-2 && p.y >= -1e-2 && p.y <= H as f32 + 1e-2, "{}", p);
         }
         for k in 0..seg.steps {
             let (x, y) = seg.pixel(&eye, k);
             prop_assert!(x < W && y < H);
             let t = seg.t_at(seg.fraction(k));
-            prop_assert!(t >= seg.t0 - 1e-3 * seg.t1.abs().max(1.0) && t <= seg.t1 + 1e-3 * seg.t1.abs().max(1.0));
+            prop_assert!(t >= seg.t_start - 1e-3 * seg.t_end.abs().max(1.0) && t <= seg.t_end + 1e-3 * seg.t_end.abs().max(1.0));
         }
     }
 
@@ -193,7 +193,7 @@ proptest! {
         let seg = march::clip(&eye, p, dir, (0.0, 12.0), 2.0 * TOLERANCE).unwrap();
         prop_assert!(march::monotone_holds(&ldi, &eye, &seg, 1, THICKNESS, TOLERANCE));
         let hit = march::march_monotone(&ldi, &eye, &seg, 1, TOLERANCE).expect("an exit");
-        let step = (seg.t1 - seg.t0) / seg.steps as f32;
+        let step = (seg.t_end - seg.t_start) / seg.steps as f32;
         prop_assert!((hit.t - exact).abs() <= 2.0 * step + 0.05, "t {} exact {} step {}", hit.t, exact, step);
     }
 }
@@ -332,7 +332,7 @@ fn the_line_march_hits_near_the_crossing_on_a_fine_screen() {
         let Some(hit) = march::march_lines(&ldi, &eye, &seg, tolerance, st).0 else {
             continue;
         };
-        let step = (seg.t1 - seg.t0) / seg.steps as f32;
+        let step = (seg.t_end - seg.t_start) / seg.steps as f32;
         let first = (0..seg.steps)
             .find_map(|k| march::test_sample(&ldi, &eye, &seg, k, Test::Tolerance(tolerance), st))
             .unwrap();

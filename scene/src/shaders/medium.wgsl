@@ -7,6 +7,9 @@
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{PI, ray_box}
 
+// The medium within this distance of the eye is not counted (scene::medium::EYE_CLEARANCE).
+const EYE_CLEARANCE: f32 = 0.1;
+
 struct Medium {
     // xyz: the box's lower corner; w: 1 when the scene has a medium, 0 when not.
     min: vec4f,

@@ -53,6 +53,8 @@ const MATERIAL_METAL: f32 = 1.0;
 const MATERIAL_GLASS: f32 = 2.0;
 // Distance written for texels that see no geometry (fits Rgba16Float).
 const BACKGROUND_DISTANCE: f32 = 60000.0;
+// The eye's near plane (scene::Camera::NEAR).
+const CAMERA_NEAR: f32 = 0.01;
 
 @group(0) @binding(0) var<uniform> camera: CameraUniform;
 @group(1) @binding(0) var<storage, read> objects: array<ObjectGpu>;

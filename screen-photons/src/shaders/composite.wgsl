@@ -6,6 +6,8 @@
 // ---------------------------------------------------------------------------------------------
 #import scene::shading::scene_medium
 #import scene::medium::medium_transmittance
+#import screen_photons::ldi::{ldi, ldi_point}
+#import screen_photons::photon::surface_distance
 
 @group(3) @binding(0) var inscatter: texture_2d<f32>;
 

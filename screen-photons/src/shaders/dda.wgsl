@@ -3,6 +3,8 @@
 // paper's single-shader alternative (section 2.1), the lines' tolerance test walked in order
 // (`march_tolerance`: from the first hit on to the sample nearest the crossing, the one the
 // line raster and its reduction keep), stopping there.
+#import screen_photons::ldi::{LDI_SCENE, side_of, no_hit, march_dda, march_tolerance}
+#import screen_photons::photon::{Photon, pack_hit, photon_is_inside, photon_segment}
 
 @group(3) @binding(0) var<storage, read> photons: array<Photon>;
 @group(3) @binding(1) var<storage, read_write> hits: array<vec4f>;

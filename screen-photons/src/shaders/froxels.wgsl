@@ -15,6 +15,9 @@
 #import gpu::prelude::ray_box
 #import scene::shading::{light_visibility_in, lights, scene_info, scene_medium}
 #import scene::medium::{henyey_greenstein, medium_clip, medium_extinction, medium_present, medium_transmittance, transmittance_of}
+#import screen_photons::ldi::ldi
+#import screen_photons::photon::surface_distance
+#import screen_photons::beam::Beam
 
 struct FroxelParams {
     // The caustic map's light view (world to clip).

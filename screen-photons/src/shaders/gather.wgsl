@@ -1,5 +1,6 @@
 // The transfer map's pixels into the photon buffer (photon i = pixel (i % width, i / width)).
 #import gpu::prelude::oct_decode
+#import screen_photons::photon::{Photon, Receiver}
 
 // The flux of a unit weight: the light's intensity times a pixel's solid angle on its axis.
 struct GatherParams {

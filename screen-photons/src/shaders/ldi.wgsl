@@ -2,16 +2,21 @@
 // The screen-space march of a ray over a layered depth image (LDI): the WGSL twin of
 // `src/march.rs` (same algorithm, names and constants; see its documentation).
 //
-// The includer declares:
-//   var<uniform> ldi: LdiParams;
-//   var ldi_layers: texture_2d_array<f32>;    // xyz authored normal, w distance (0 = empty)
-//   var ldi_surfaces: texture_2d_array<f32>;  // x object index, yz uv, w 1
-//   var refractor_layers, refractor_surfaces  // the same for the LDI of the refractors alone
-//   fn ldi_kind(object: u32) -> u32;           // 0 diffuse, 1 metal, 2 glass
+// Its inputs are its own bindings, at @group(#{LDI_GROUP}) from @binding(#{LDI_FIRST_BINDING})
+// (the technique's passes: group 2 from 0, `LDI_DEFS`; the conformance kernel: group 0 from 2):
+//   ldi: LdiParams
+//   ldi_layers: texture_2d_array<f32>    // xyz authored normal, w distance (0 = empty)
+//   ldi_surfaces: texture_2d_array<f32>  // x object index, yz uv, w 1
+//   refractor_layers, refractor_surfaces // the same for the LDI of the refractors alone
+// and `ldi_kind(object)`, an object's material kind (0 diffuse, 1 metal, 2 glass): the scene's
+// materials, unless the shader overrides it (`override fn screen_photons::ldi::ldi_kind`, as the
+// conformance kernel does with kinds of its own).
 // Every function reading an LDI takes `which`: LDI_SCENE (all objects) or LDI_REFRACTORS.
-// (the technique's passes at @group(2), the conformance kernel at @group(0)).
 // ---------------------------------------------------------------------------------------------
+#define_import_path screen_photons::ldi
+
 #import gpu::prelude::ray_box
+#import scene::shading::objects
 
 struct LdiParams {
     // World to clip of the eye the LDI was peeled from (depth in [0, 1]).
@@ -28,6 +33,19 @@ struct LdiParams {
     bounds_min: vec4f,
     bounds_max: vec4f,
 };
+
+@group(#{LDI_GROUP}) @binding(#{LDI_FIRST_BINDING} + 0u) var<uniform> ldi: LdiParams;
+@group(#{LDI_GROUP}) @binding(#{LDI_FIRST_BINDING} + 1u) var ldi_layers: texture_2d_array<f32>;
+@group(#{LDI_GROUP}) @binding(#{LDI_FIRST_BINDING} + 2u) var ldi_surfaces: texture_2d_array<f32>;
+@group(#{LDI_GROUP}) @binding(#{LDI_FIRST_BINDING} + 3u) var refractor_layers: texture_2d_array<f32>;
+@group(#{LDI_GROUP}) @binding(#{LDI_FIRST_BINDING} + 4u) var refractor_surfaces: texture_2d_array<f32>;
+
+virtual fn ldi_kind(object: u32) -> u32 {
+    // The material kind of `object` (scene::shading's MATERIAL_*: 0 diffuse, 1 metal, 2
+    // glass). Not after a line comment: naga_oil 0.23's `virtual` rewrite also takes the
+    // whitespace before it, which would join this line to the comment.
+    return u32(objects[object].material.x);
+}
 
 struct LdiTexel {
     distance: f32,
@@ -68,12 +86,12 @@ fn ldi_texel(which: u32, x: u32, y: u32, layer: u32) -> LdiTexel {
 struct Segment {
     origin: vec3f,
     dir: vec3f,
-    t0: f32,
-    t1: f32,
-    w0: f32,
-    w1: f32,
-    p0: vec2f,
-    p1: vec2f,
+    t_start: f32,
+    t_end: f32,
+    w_start: f32,
+    w_end: f32,
+    p_start: vec2f,
+    p_end: vec2f,
     steps: u32,
     // false: no part of the ray is in view.
     visible: bool,
@@ -114,13 +132,13 @@ fn clip_segment(origin: vec3f, dir: vec3f, t_min: f32, t_max: f32) -> Segment {
     let c0 = a + b * t0;
     let c1 = a + b * t1;
     if (!(c0.w > 0.0 && c1.w > 0.0)) { return s; }
-    s.t0 = t0;
-    s.t1 = t1;
-    s.w0 = c0.w;
-    s.w1 = c1.w;
-    s.p0 = ldi_pixel_of(c0);
-    s.p1 = ldi_pixel_of(c1);
-    let span = abs(s.p1 - s.p0);
+    s.t_start = t0;
+    s.t_end = t1;
+    s.w_start = c0.w;
+    s.w_end = c1.w;
+    s.p_start = ldi_pixel_of(c0);
+    s.p_end = ldi_pixel_of(c1);
+    let span = abs(s.p_end - s.p_start);
     // At least one sample per 2 * tolerance of ray length (the minimum line length).
     let along = ceil((t1 - t0) / (2.0 * ldi.tests.x));
     s.steps = clamp(u32(min(max(ceil(max(span.x, span.y)), along), 1e6)), 1u, ldi.size.w);
@@ -130,8 +148,8 @@ fn clip_segment(origin: vec3f, dir: vec3f, t_min: f32, t_max: f32) -> Segment {
 
 // The ray parameter at screen fraction s (1/w is linear in screen space).
 fn segment_t_at(s: Segment, f: f32) -> f32 {
-    let u = f * s.w0 / ((1.0 - f) * s.w1 + f * s.w0);
-    return s.t0 + u * (s.t1 - s.t0);
+    let u = f * s.w_start / ((1.0 - f) * s.w_end + f * s.w_start);
+    return s.t_start + u * (s.t_end - s.t_start);
 }
 
 fn segment_fraction(s: Segment, k: u32) -> f32 {
@@ -139,7 +157,7 @@ fn segment_fraction(s: Segment, k: u32) -> f32 {
 }
 
 fn segment_pixel(s: Segment, k: u32) -> vec2u {
-    let p = s.p0 + (s.p1 - s.p0) * segment_fraction(s, k);
+    let p = s.p_start + (s.p_end - s.p_start) * segment_fraction(s, k);
     return min(vec2u(max(floor(p), vec2f(0.0))), ldi.size.xy - vec2u(1u));
 }
 
@@ -168,7 +186,7 @@ fn point_on_surface(origin: vec3f, dir: vec3f, t: f32, texel: LdiTexel, x: u32, 
 
 // The ray length one sample spans.
 fn segment_step(s: Segment) -> f32 {
-    return (s.t1 - s.t0) / f32(s.steps);
+    return (s.t_end - s.t_start) / f32(s.steps);
 }
 
 fn segment_distance(s: Segment, t: f32) -> f32 {

@@ -6,6 +6,8 @@
 // the first hit of each row, moved on to the nearest sample of its run (the paper's reduction,
 // as a scan per row; see reduce.wgsl).
 // ---------------------------------------------------------------------------------------------
+#import screen_photons::ldi::{ldi, LDI_SCENE, Segment, side_of, TEST_TOLERANCE, test_sample}
+#import screen_photons::photon::{Photon, photon_is_inside, photon_segment}
 
 struct Batch {
     // First photon of the batch, rows of the buffer, width of the buffer (samples).
@@ -43,8 +45,8 @@ fn line_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) row: u32) -> 
     let width = f32(batch.width);
     let rows = f32(batch.rows);
     out.position = vec4f(2.0 * x / width - 1.0, 1.0 - 2.0 * (f32(row) + 0.5) / rows, 0.5, 1.0);
-    out.ends = vec4f(s.t0, s.t1, s.w0, s.w1);
-    out.pixels = vec4f(s.p0, s.p1);
+    out.ends = vec4f(s.t_start, s.t_end, s.w_start, s.w_end);
+    out.pixels = vec4f(s.p_start, s.p_end);
     out.steps = s.steps;
     return out;
 }
@@ -55,12 +57,12 @@ fn line_fs(in: LineOut) -> @location(0) vec4f {
     var s: Segment;
     s.origin = p.origin.xyz;
     s.dir = p.dir.xyz;
-    s.t0 = in.ends.x;
-    s.t1 = in.ends.y;
-    s.w0 = in.ends.z;
-    s.w1 = in.ends.w;
-    s.p0 = in.pixels.xy;
-    s.p1 = in.pixels.zw;
+    s.t_start = in.ends.x;
+    s.t_end = in.ends.y;
+    s.w_start = in.ends.z;
+    s.w_end = in.ends.w;
+    s.p_start = in.pixels.xy;
+    s.p_end = in.pixels.zw;
     s.steps = max(in.steps, 1u);
     s.visible = true;
     let k = min(u32(in.position.x), s.steps - 1u);

@@ -1,7 +1,11 @@
 // ---------------------------------------------------------------------------------------------
-// Photons and receiver points (after the LDI bindings, which import scene::shading, and
-// ldi.wgsl). No bindings of its own: each pass file declares its @group(3).
+// Photons and receiver points: the structs the photon passes share, and their helpers
+// over the LDI (`screen_photons::ldi`). No bindings of its own: each pass file declares its
+// @group(3).
 // ---------------------------------------------------------------------------------------------
+#define_import_path screen_photons::photon
+
+#import screen_photons::ldi::{LdiHit, Segment, clip_segment, ldi_layers, scene_range}
 
 // A photon after its last specular event so far: the transfer map's entry (section 2).
 struct Photon {
@@ -37,17 +41,6 @@ fn photon_segment(p: Photon) -> Segment {
     let range = scene_range(p.origin.xyz, p.dir.xyz);
     return clip_segment(p.origin.xyz, p.dir.xyz, range.x, range.y);
 }
-
-// A photon ray of one march round, for the light shafts (section 3.2): written by the resolve.
-struct Beam {
-    // xyz: where the photon left its last specular surface; w: 1 for a beam, 0 for none.
-    origin: vec4f,
-    // xyz: unit direction; w: length to its first hit (or to where it leaves the scene).
-    dir: vec4f,
-    // rgb: flux at the origin (W); w: how the photon ended there: 1 on a diffuse surface, 2
-    // where it left the scene's box (the view lost it), 0 at a specular surface (it goes on).
-    power: vec4f,
-};
 
 // The distance to the first surface seen in pixel (x, y) (infinite where there is none).
 fn surface_distance(x: u32, y: u32) -> f32 {

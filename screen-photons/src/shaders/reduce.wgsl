@@ -9,6 +9,7 @@
 // shrinking reads no more texels than the halving reads and needs no barriers: on a software
 // rasterizer, 4096 barrier-synchronised workgroups per batch cost more than the lines
 // themselves.
+#import screen_photons::ldi::ldi
 
 struct Batch {
     first: u32,

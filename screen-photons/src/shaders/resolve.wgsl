@@ -8,6 +8,9 @@
 // ---------------------------------------------------------------------------------------------
 #import scene::shading::{scene_medium, specular_event}
 #import scene::medium::medium_transmittance_between
+#import screen_photons::ldi::{ldi, LDI_SCENE, ldi_texel, scene_range, point_on_surface, segment_step}
+#import screen_photons::photon::{Photon, Receiver, photon_is_inside, photon_segment}
+#import screen_photons::beam::Beam
 
 struct ResolveParams {
     // Specular events allowed after the transfer map.

@@ -7,6 +7,7 @@
 // cannot be tested: occluders off screen cast no shadow (README, "Failure cases").
 // ---------------------------------------------------------------------------------------------
 #import scene::shading::{lights, scene_info}
+#import screen_photons::ldi::{ldi, LDI_SCENE, ldi_texel, scene_range, clip_segment, ldi_point, march_shadow}
 
 @group(3) @binding(0) var<storage, read_write> shadow_mask: array<vec4f>;
 

@@ -2,6 +2,7 @@
 // the screen-space visibility of the first four lights instead of their shadow maps.
 #import gpu::prelude::PI
 #import scene::shading::{SceneVertexOut, camera, geometric_facing_normal, light_visibility, lights, scene_info, shading_normal, surface_albedo}
+#import screen_photons::ldi::ldi
 
 @group(3) @binding(0) var<storage, read> shadow_mask: array<vec4f>;
 

@@ -1,10 +1,12 @@
 // ---------------------------------------------------------------------------------------------
 // God rays (section 3.2): the photon beams of the march drawn as bands into the in-scattering
 // buffer, then blurred by a separable Gaussian (composite.wgsl blends them over the image).
-// The bands' arithmetic is beam.wgsl's (included before this file), whose scene_medium() this
-// file imports (a conformance kernel gives beam.wgsl its own).
+// The bands' arithmetic is screen_photons::beam's (beam.wgsl), given this pass's view and the
+// scene's medium.
 // ---------------------------------------------------------------------------------------------
 #import scene::shading::scene_medium
+#import screen_photons::beam::{BAND_HALF_WIDTH, Beam, ShaftView, beam_band, beam_fragment}
+#import screen_photons::photon::surface_distance
 
 @group(3) @binding(0) var<storage, read> beams: array<Beam>;
 @group(3) @binding(1) var<uniform> shaft: ShaftView;
@@ -20,13 +22,13 @@ struct BandOut {
 fn band_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> BandOut {
     var out: BandOut;
     out.beam = i;
-    let band = beam_band(beams[i]);
+    let band = beam_band(shaft, scene_medium(), beams[i]);
     let corner = array<vec2f, 6>(
         vec2f(0.0, -1.0), vec2f(1.0, -1.0), vec2f(1.0, 1.0),
         vec2f(0.0, -1.0), vec2f(1.0, 1.0), vec2f(0.0, 1.0),
     )[v];
     let across = select(vec2f(1.0, 0.0), vec2f(0.0, 1.0), band.x_major) * BAND_HALF_WIDTH;
-    let p = mix(band.p0, band.p1, corner.x) + across * corner.y;
+    let p = mix(band.p_start, band.p_end, corner.x) + across * corner.y;
     let size = vec2f(shaft.size.xy);
     out.position = select(
         vec4f(2.0, 2.0, 0.0, 1.0),
@@ -39,9 +41,10 @@ fn band_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ba
 @fragment
 fn band_fs(in: BandOut) -> @location(0) vec4f {
     let b = beams[in.beam];
-    let band = beam_band(b);
+    let m = scene_medium();
+    let band = beam_band(shaft, m, b);
     let xy = vec2u(in.position.xy);
-    let l = beam_fragment(b, band, in.position.xy, surface_distance(xy.x, xy.y));
+    let l = beam_fragment(shaft, m, b, band, in.position.xy, surface_distance(xy.x, xy.y));
     return vec4f(l, 0.0);
 }
 

@@ -15,6 +15,7 @@
 // ---------------------------------------------------------------------------------------------
 #import scene::shading::{SceneVertexOut, camera, facing_normal, scene_info, scene_medium, shade_diffuse, specular_event, specular_shade, surface_albedo}
 #import scene::medium::{medium_transmittance, medium_transmittance_between}
+#import screen_photons::ldi::{ldi, ldi_surfaces, refractor_surfaces, LdiTexel, LDI_SCENE, LDI_REFRACTORS, ldi_texel, Segment, scene_range, clip_segment, point_on_surface, segment_step, SIDE_INSIDE, side_of, LdiHit, march_dda, march_tolerance, march_monotone}
 
 struct SpecularParams {
     // 0: the paper's monotone layers and tolerance test; 1: the DDA with thickness.

@@ -12,6 +12,8 @@
 #import scene::shading::camera
 #import scene::footprint::lattice_cell_edge
 #import screen_photons::splat_weight::{splat_weight, footprint_reach, footprint_matrix, footprint_kernel, footprint_tangent}
+#import screen_photons::ldi::ldi_layers
+#import screen_photons::photon::Receiver
 
 struct SplatParams {
     inv_view_proj: mat4x4f,

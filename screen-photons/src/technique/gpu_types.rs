@@ -93,16 +93,23 @@ pub(super) struct SplatParamsGpu {
     pub(super) _pad: [u32; 2],
 }
 
-/// The shader of one pass: the LDI bindings and functions, the photon structs, then the pass's
-/// own file (importing from `gpu::prelude` and `scene::shading` what they use).
-pub fn pass_source(own: &str) -> String {
-    format!("{LDI_BINDINGS_WGSL}\n{LDI_WGSL}\n{PHOTON_WGSL}\n{own}")
-}
+/// The modules a pass may import beside the scene's: the LDI and its march
+/// (`screen_photons::ldi`), the photon structs (`screen_photons::photon`), the splat weights
+/// (`screen_photons::splat_weight`) and the photon beams (`screen_photons::beam`).
+pub const PASS_MODULES: [&gpu::wgsl::Module; 4] = [
+    &crate::march::LDI,
+    &PHOTON,
+    &crate::splat::WEIGHT,
+    &crate::shafts::BEAM,
+];
 
-/// A pass's shader module: [`pass_source`] importing the scene's modules and the splat
-/// weights' (`screen_photons::splat_weight`).
+/// A pass's shader module: its own file, composed with the scene's modules and
+/// [`PASS_MODULES`], the LDI bound at `@group(2)` ([`crate::march::LDI_DEFS`]).
 pub(super) fn pass_shader(ctx: &Context, label: &str, own: &str) -> wgpu::ShaderModule {
-    scene::shader_importing(ctx, label, &pass_source(own), &[&crate::splat::WEIGHT])
+    let shader = gpu::wgsl::Shader::new(label, own)
+        .importing(&PASS_MODULES)
+        .with_defs(&crate::march::LDI_DEFS);
+    scene::shader_of(ctx, shader)
 }
 
 pub(super) fn compute_pipeline(
@@ -188,15 +195,6 @@ pub(super) const ADD: wgpu::BlendState = wgpu::BlendState {
         operation: wgpu::BlendOperation::Add,
     },
 };
-
-/// The constants beam.wgsl expects from its includer.
-pub fn beam_constants() -> String {
-    format!(
-        "const CAMERA_NEAR: f32 = {:?};\nconst EYE_CLEARANCE: f32 = {:?};",
-        scene::Camera::NEAR,
-        scene::medium::EYE_CLEARANCE
-    )
-}
 
 /// The target times the source, alpha kept: the image times the medium's transmittance.
 pub(super) const MULTIPLY_RGB_KEEP_ALPHA: wgpu::BlendState = wgpu::BlendState {

@@ -41,10 +41,7 @@ impl MediumPasses {
         let with =
             |own: &wgpu::BindGroupLayout| scene.pipeline_layout_with(ctx, &[ldi_layout, own]);
         let fullscreen = gpu::fullscreen::FULLSCREEN_VS_WGSL;
-        let shafts = format!(
-            "{fullscreen}\n{}\n{BEAM_WGSL}\n{SHAFTS_WGSL}",
-            beam_constants()
-        );
+        let shafts = format!("{fullscreen}\n{SHAFTS_WGSL}");
         let composite = format!("{fullscreen}\n{COMPOSITE_WGSL}");
         let froxels = format!("{fullscreen}\n{FROXELS_WGSL}");
         let hdr = |blend| [pass::color_target(gpu::HDR_FORMAT, Some(blend))];

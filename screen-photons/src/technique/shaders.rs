@@ -2,10 +2,15 @@
 
 use super::*;
 
-/// The LDI functions (the twin of [`crate::march`]).
-pub const LDI_WGSL: &str = include_str!("../shaders/ldi.wgsl");
-/// Photon and receiver structs shared by the photon passes.
+/// Photon, receiver and beam structs shared by the photon passes: the module
+/// `screen_photons::photon` ([`PHOTON`]).
 pub const PHOTON_WGSL: &str = include_str!("../shaders/photon.wgsl");
+/// [`PHOTON_WGSL`] as a module (no bindings; its helpers read the LDI).
+pub static PHOTON: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    PHOTON_WGSL,
+    "screen-photons/src/shaders/photon.wgsl",
+    &[&crate::march::LDI],
+);
 /// The splat kernel and weights (also run by the conformance test).
 pub const SPLAT_WGSL: &str = include_str!("../shaders/splat.wgsl");
 pub(super) const TRANSFER_WGSL: &str = include_str!("../shaders/transfer.wgsl");
@@ -18,29 +23,11 @@ pub(super) const APPLY_WGSL: &str = include_str!("../shaders/apply.wgsl");
 pub(super) const SPECULAR_WGSL: &str = include_str!("../shaders/specular.wgsl");
 pub(super) const SHADOW_MASK_WGSL: &str = include_str!("../shaders/shadow_mask.wgsl");
 pub(super) const SHADOWED_WGSL: &str = include_str!("../shaders/shadowed.wgsl");
-/// A photon beam on the image: the twin of [`crate::shafts`]'s `beam_band` and
-/// `beam_fragment` (pure functions; run by the conformance test).
-pub const BEAM_WGSL: &str = include_str!("../shaders/beam.wgsl");
-/// God-ray bands and their blur (after [`BEAM_WGSL`]).
+/// God-ray bands and their blur (importing `screen_photons::beam`, [`crate::shafts::BEAM`]).
 pub(super) const SHAFTS_WGSL: &str = include_str!("../shaders/shafts.wgsl");
 /// The froxel grid (the twin of [`crate::shafts`]'s slices and integration).
 pub const FROXELS_WGSL: &str = include_str!("../shaders/froxels.wgsl");
 pub(super) const COMPOSITE_WGSL: &str = include_str!("../shaders/composite.wgsl");
-
-/// The LDI bindings of the technique's passes (`@group(2)`), and the material kind ldi.wgsl
-/// asks for, from the scene's materials (0 diffuse, 1 metal, 2 glass: `MATERIAL_*`).
-pub const LDI_BINDINGS_WGSL: &str = r#"
-#import scene::shading::objects
-@group(2) @binding(0) var<uniform> ldi: LdiParams;
-@group(2) @binding(1) var ldi_layers: texture_2d_array<f32>;
-@group(2) @binding(2) var ldi_surfaces: texture_2d_array<f32>;
-@group(2) @binding(3) var refractor_layers: texture_2d_array<f32>;
-@group(2) @binding(4) var refractor_surfaces: texture_2d_array<f32>;
-
-fn ldi_kind(object: u32) -> u32 {
-    return u32(objects[object].material.x);
-}
-"#;
 
 /// Photon buffers, line rows and transfer maps: 32-bit float (the irradiance buffer adds
 /// many photons per pixel).
