@@ -24,8 +24,8 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 
 use naga_oil::compose::{
-    ComposableModuleDescriptor, Composer, ComposerError, NagaModuleDescriptor, ShaderDefValue,
-    ShaderLanguage,
+    ComposableModuleDescriptor, Composer, ComposerError, ImportDefinition, NagaModuleDescriptor,
+    ShaderDefValue, ShaderLanguage,
 };
 
 /// A WGSL module other shaders import: its text (starting with `#define_import_path`), the file
@@ -88,6 +88,10 @@ pub struct Shader<'a> {
     pub imports: &'a [&'a Module],
     /// Values for its `#{NAME}`s and `#ifdef`s.
     pub defs: &'a [(&'a str, Def)],
+    /// Modules whose `override fn`s replace a module's `virtual fn` everywhere in the shader
+    /// (naga_oil's additional imports: an override takes effect only in the shader itself or
+    /// in a module given so, not in one reached by `#import`).
+    pub overrides: &'a [&'a Module],
 }
 
 impl<'a> Shader<'a> {
@@ -98,6 +102,7 @@ impl<'a> Shader<'a> {
             source,
             imports: &[],
             defs: &[],
+            overrides: &[],
         }
     }
 
@@ -109,6 +114,12 @@ impl<'a> Shader<'a> {
     /// The same shader with definitions.
     pub fn with_defs(self, defs: &'a [(&'a str, Def)]) -> Self {
         Self { defs, ..self }
+    }
+
+    /// The same shader with `overrides`' `override fn`s in effect (a per-object search that
+    /// supplies the functions a shared driver declares `virtual`).
+    pub fn overriding(self, overrides: &'a [&'a Module]) -> Self {
+        Self { overrides, ..self }
     }
 }
 
@@ -135,9 +146,18 @@ pub fn compose(shader: &Shader<'_>) -> Result<naga::Module, String> {
     for module in crate::gpu_modules()
         .into_iter()
         .chain(shader.imports.iter().copied())
+        .chain(shader.overrides.iter().copied())
     {
         cache.add(module)?;
     }
+    let additional_imports: Vec<ImportDefinition> = shader
+        .overrides
+        .iter()
+        .map(|module| ImportDefinition {
+            import: module.name(),
+            items: Vec::new(),
+        })
+        .collect();
     let shader_defs = shader
         .defs
         .iter()
@@ -150,6 +170,7 @@ pub fn compose(shader: &Shader<'_>) -> Result<naga::Module, String> {
             source: &source,
             file_path: shader.label,
             shader_defs,
+            additional_imports: &additional_imports,
             ..Default::default()
         })
         .map_err(|error| cache.report(error))
@@ -357,5 +378,68 @@ fn main() { let x = u.x; }
         let module = compose(&Shader::new("defs", source).with_defs(&defs)).expect("composes");
         let (_, global) = module.global_variables.iter().next().expect("one global");
         assert_eq!(global.binding.as_ref().map(|b| b.group), Some(3));
+    }
+
+    static HOOKED: Module = Module::new(
+        "#define_import_path probe::hooked
+virtual fn kind(i: u32) -> u32 { return 7u; }
+fn twice_kind(i: u32) -> u32 { return 2u * kind(i); }
+",
+        "hooked.wgsl",
+        &[],
+    );
+
+    static OVERRIDING: Module = Module::new(
+        "#define_import_path probe::overriding
+#import probe::hooked
+override fn probe::hooked::kind(i: u32) -> u32 { return i + 1u; }
+",
+        "overriding.wgsl",
+        &[&HOOKED],
+    );
+
+    /// A module given as an override replaces the virtual function for every caller, the
+    /// module's own included; without it the module's own body is called.
+    #[test]
+    fn an_override_module_replaces_a_virtual_function() {
+        let source = "#import probe::hooked::twice_kind
+@compute @workgroup_size(1)
+fn main() { let k = twice_kind(3u); }
+";
+        let calls_of_twice_kind = |module: &naga::Module| {
+            let (_, twice) = module
+                .functions
+                .iter()
+                .find(|(_, f)| {
+                    f.name
+                        .as_deref()
+                        .is_some_and(|n| n.starts_with("twice_kind"))
+                })
+                .expect("twice_kind");
+            twice
+                .body
+                .iter()
+                .find_map(|statement| match statement {
+                    naga::Statement::Call { function, .. } => {
+                        module.functions[*function].name.clone()
+                    }
+                    _ => None,
+                })
+                .expect("a call")
+        };
+        let imports = [&HOOKED];
+        let plain = Shader::new("plain", source).importing(&imports);
+        let plain = compose(&plain).expect("composes");
+        let overrides = [&OVERRIDING];
+        let overridden = Shader::new("overridden", source)
+            .importing(&imports)
+            .overriding(&overrides);
+        let overridden = compose(&overridden).expect("composes");
+        let (before, after) = (
+            calls_of_twice_kind(&plain),
+            calls_of_twice_kind(&overridden),
+        );
+        assert!(!before.contains("_vrt_"), "{before}");
+        assert!(after.contains("_vrt_"), "{after}");
     }
 }

@@ -21,7 +21,15 @@ use scene::{
     Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
 };
 
-const HEIGHT_OBJECT_SEARCH_WGSL: &str = include_str!("shaders/height_object_search.wgsl");
+/// The height-map search of the many-object drivers: the module `height_maps::object_search`,
+/// which overrides `scene::pieces`' per-object search.
+pub const HEIGHT_OBJECT_SEARCH_WGSL: &str = include_str!("shaders/height_object_search.wgsl");
+/// [`HEIGHT_OBJECT_SEARCH_WGSL`] as a module.
+pub static OBJECT_SEARCH: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    HEIGHT_OBJECT_SEARCH_WGSL,
+    "height-maps/src/shaders/height_object_search.wgsl",
+    &[&scene::multi_object::PIECES, &SEARCH],
+);
 
 /// The per-object search of the many-object tracer with refractor height maps: each piece's
 /// map on a billboard facing the ray's origin.
@@ -60,11 +68,8 @@ impl HeightSearch {
 }
 
 impl ObjectSearch for HeightSearch {
-    fn wgsl(&self) -> String {
-        HEIGHT_OBJECT_SEARCH_WGSL.to_string()
-    }
-    fn modules(&self) -> Vec<&'static gpu::wgsl::Module> {
-        vec![&SEARCH]
+    fn module(&self) -> &'static gpu::wgsl::Module {
+        &OBJECT_SEARCH
     }
     fn binding_types(&self) -> Vec<wgpu::BindingType> {
         vec![
@@ -204,7 +209,7 @@ impl Technique for HeightMapsInChess {
         let maps = render_height_maps(frame, scene, &kinds.representative, s.resolution)?;
         let search = HeightSearch::new(ctx, &scene.scene, &kinds, &maps, s.steps);
         let settings = self.tracer_settings();
-        let tracer = Tracer::new(ctx, scene, kinds, &search, &settings, "", &id)?;
+        let tracer = Tracer::new(ctx, scene, kinds, &search, &settings, &id)?;
         // The board grid at the scene's time: a scene whose pieces cannot be put in a grid is
         // refused here, not at the first frame.
         tracer

@@ -14,7 +14,7 @@
 
 use crate::in_chess::HeightSearch;
 use crate::map::render_height_maps;
-use crate::technique::{BILLBOARD_BOX_VERTICES, BILLBOARD_BOX_WGSL, MapSettings, unsupported};
+use crate::technique::{BILLBOARD_BOX, BILLBOARD_BOX_VERTICES, MapSettings, unsupported};
 use gpu::Target;
 use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
 use scene::technique::Declared;
@@ -23,6 +23,8 @@ use scene::{
 };
 
 const SEPARATED_BILLBOARD_WGSL: &str = include_str!("shaders/separated_billboard.wgsl");
+/// The modules of its own the billboards' proxy imports (besides the drivers' and the search's).
+static SEPARATED_BILLBOARD_IMPORTS: [&gpu::wgsl::Module; 1] = [&BILLBOARD_BOX];
 
 /// Parameters of a [`HeightMapsSeparated`] variant.
 #[derive(Clone, Debug, PartialEq)]
@@ -158,20 +160,14 @@ impl Technique for HeightMapsSeparated {
         let maps = render_height_maps(frame, scene, &kinds.representative, m.resolution)?;
         let search = HeightSearch::new(frame.gpu, &scene.scene, &kinds, &maps, m.steps);
         let billboards = PieceSurface::Proxy {
+            source: SEPARATED_BILLBOARD_WGSL,
+            imports: &SEPARATED_BILLBOARD_IMPORTS,
             vertex: "separated_billboard_vs",
             fragment: "separated_billboard_fs",
             vertices: BILLBOARD_BOX_VERTICES,
         };
         let impostors = PieceImpostors::new(
-            frame,
-            scene,
-            kinds,
-            &search,
-            billboards,
-            &settings,
-            all_maps,
-            &format!("{BILLBOARD_BOX_WGSL}\n{SEPARATED_BILLBOARD_WGSL}"),
-            &self.id,
+            frame, scene, kinds, &search, billboards, &settings, all_maps, &self.id,
         )?;
         self.state = Some((impostors, search));
         Ok(())

@@ -23,8 +23,14 @@ use scene::{
 };
 
 const BILLBOARD_WGSL: &str = include_str!("shaders/billboard.wgsl");
-/// The billboard's proxy box (turned to face the eye), after the height search.
+/// The billboard's proxy box (turned to face the eye): the module `height_maps::billboard_box`.
 pub(crate) const BILLBOARD_BOX_WGSL: &str = include_str!("shaders/billboard_box.wgsl");
+/// [`BILLBOARD_BOX_WGSL`] as a module, which both billboard shaders import.
+pub static BILLBOARD_BOX: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    BILLBOARD_BOX_WGSL,
+    "height-maps/src/shaders/billboard_box.wgsl",
+    &[&SEARCH, &scene::SHADING],
+);
 /// Vertices of a billboard's box (`BOX_CORNERS` in billboard_box.wgsl): 12 triangles.
 pub(crate) const BILLBOARD_BOX_VERTICES: u32 = 36;
 
@@ -245,8 +251,7 @@ impl Technique for HeightMaps {
             (s.resolution as u64).pow(2) * 16,
             "resolution",
         )?;
-        let source = format!("{BILLBOARD_BOX_WGSL}\n{BILLBOARD_WGSL}");
-        let module = scene::shader_importing(ctx, &self.id, &source, &[&SEARCH]);
+        let module = scene::shader_importing(ctx, &self.id, BILLBOARD_WGSL, &[&BILLBOARD_BOX]);
         let layout = bind::layout(
             ctx,
             "height-map billboards",

@@ -288,8 +288,9 @@ pub(crate) struct Caustics {
 }
 
 impl Caustics {
-    /// The caustic passes; `trace_module` is the tracer's module with [`PHOTONS_WGSL`]
-    /// appended, `tracer_layout` its `@group(2)`.
+    /// The caustic passes; `trace_module` is [`PHOTONS_WGSL`] composed over the tracer's
+    /// bindings with its search (`scene::multi_object::driver_shader`), `tracer_layout` the
+    /// tracer's `@group(2)`.
     pub(crate) fn new(
         ctx: &Context,
         scene: &GpuScene,

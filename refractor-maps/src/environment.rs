@@ -145,7 +145,6 @@ impl Technique for EnvironmentMaps {
             PieceSurface::Mesh,
             &settings,
             all_maps,
-            "",
             &self.id,
         )?;
         self.state = Some((impostors, search));

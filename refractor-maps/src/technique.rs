@@ -15,13 +15,21 @@ use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Target, Uniform};
 use scene::multi_object::grid::ALL_CELLS;
-use scene::multi_object::{ObjectSearch, Tracer, TracerSettings, pieces_centre};
+use scene::multi_object::{ObjectSearch, Tracer, TracerSettings, driver_shader, pieces_centre};
 use scene::technique::check_param;
 use scene::{Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View};
 
 pub use scene::multi_object::{MAX_DEPTH, Search};
 
-const DISTANCE_SEARCH_WGSL: &str = include_str!("shaders/distance_search.wgsl");
+/// The refractor-map search of the many-object drivers: the module
+/// `refractor_maps::distance_search`, which overrides `scene::pieces`' per-object search.
+pub const DISTANCE_SEARCH_WGSL: &str = include_str!("shaders/distance_search.wgsl");
+/// [`DISTANCE_SEARCH_WGSL`] as a module.
+pub static DISTANCE_SEARCH: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    DISTANCE_SEARCH_WGSL,
+    "refractor-maps/src/shaders/distance_search.wgsl",
+    &[&scene::multi_object::PIECES],
+);
 
 pub use crate::pieces::MAP_FORMAT;
 /// Parameters of a [`RefractorMaps`] variant (settable by name through
@@ -228,8 +236,8 @@ fn cube_array_of(frame: &mut Frame, cubes: &[CubeTarget]) -> wgpu::Texture {
 }
 
 impl ObjectSearch for DistanceSearch {
-    fn wgsl(&self) -> String {
-        DISTANCE_SEARCH_WGSL.to_string()
+    fn module(&self) -> &'static gpu::wgsl::Module {
+        &DISTANCE_SEARCH
     }
     fn binding_types(&self) -> Vec<wgpu::BindingType> {
         vec![
@@ -463,24 +471,11 @@ impl Technique for RefractorMaps {
             let bytes = Caustics::bytes(c, kinds.pieces.len(), scene.scene.lights.len());
             scene::technique::check_map_budget(&self.id, 1, bytes, "photons")?;
         }
-        let extra = if self.settings.caustics.is_some() {
-            PHOTONS_WGSL.to_string()
-        } else {
-            String::new()
-        };
         let maps = crate::pieces::render_kind_maps(frame, scene, &kinds, res)?;
         let search = DistanceSearch::new(frame, maps, &self.settings.maps);
         let tracer_settings = self.tracer_settings();
         let reference = pieces_centre(&scene.scene, &kinds);
-        let tracer = Tracer::new(
-            ctx,
-            scene,
-            kinds,
-            &search,
-            &tracer_settings,
-            &extra,
-            &self.id,
-        )?;
+        let tracer = Tracer::new(ctx, scene, kinds, &search, &tracer_settings, &self.id)?;
         let caustics = match &self.settings.caustics {
             None => None,
             Some(c) => {
@@ -490,11 +485,12 @@ impl Technique for RefractorMaps {
                         self.id
                     ))
                 })?;
+                let photons = driver_shader(ctx, "photon map", PHOTONS_WGSL, &[], &search);
                 let caustics = Caustics::new(
                     ctx,
                     scene,
                     tracer.kinds(),
-                    tracer.module(),
+                    &photons,
                     tracer.layout(),
                     c,
                     receiver,

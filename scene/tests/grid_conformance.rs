@@ -1,8 +1,9 @@
 //! GPU conformance of the board grid's nearest-piece search (`scene/src/shaders/grid_search.wgsl`)
 //! against its Rust twin (`scene::multi_object::grid::nearest_piece`), on worlds of disjoint
-//! spheres: the WGSL file is compiled with a `piece_hit` that intersects the spheres exactly
-//! (the prelude's `ray_sphere`, itself conformance-tested in `gpu`), and the twin is given the
-//! same hit function in Rust.
+//! spheres: the kernel imports the module `scene::grid_search` as the tracer does and overrides
+//! `scene::pieces::piece_hit` with one that intersects the spheres exactly (the prelude's
+//! `ray_sphere`, itself conformance-tested in `gpu`), and the twin is given the same hit
+//! function in Rust.
 //!
 //! Tolerance: the piece must be the same and t within abs 1e-4 + rel 1e-4, except where the
 //! ray grazes a sphere (half chord below 1e-3: the GPU may round a tangent hit into a miss)
@@ -13,8 +14,8 @@ mod grid_common;
 
 use glam::{Vec3, Vec4};
 use grid_common::*;
-use scene::multi_object::GRID_SEARCH_WGSL;
 use scene::multi_object::grid::{ALL_CELLS, BoardGrid, EMPTY, nearest_piece, nearest_piece_brute};
+use scene::multi_object::{GRID_SEARCH, GRID_SEARCH_WGSL};
 
 const WORLDS: u64 = 6;
 const RAYS_PER_WORLD: usize = 512;
@@ -116,16 +117,24 @@ fn rays(spheres: &[Sphere], seed: u64) -> Vec<(Vec3, Vec3, u32, u32)> {
     out
 }
 
-/// The kernel: the spheres and the grid cells in storage buffers, `piece_hit` by ray_sphere,
-/// grid_search.wgsl as given (`search` lets the mutation test swap in a broken copy).
-fn kernel(spheres: &[Sphere], grid: &BoardGrid, search: &str) -> String {
+/// Where the kernel binds the grid's cells: `@group(0) @binding(3)` (after its inputs, outputs
+/// and spheres).
+const KERNEL_GRID_DEFS: [(&str, gpu::wgsl::Def); 2] = [
+    ("GRID_GROUP", gpu::wgsl::Def::UInt(0)),
+    ("GRID_CELLS_BINDING", gpu::wgsl::Def::UInt(3)),
+];
+
+/// The kernel: the spheres in a storage buffer, `piece_hit` by ray_sphere, the grid's cells
+/// bound where [`KERNEL_GRID_DEFS`] says.
+fn kernel(spheres: &[Sphere], grid: &BoardGrid) -> String {
     format!(
         "#import gpu::prelude::ray_sphere
+#import scene::pieces
+#import scene::grid_search::{{Grid, PieceHit, nearest_piece, nearest_piece_brute}}
 struct Case {{ o: vec4f, d: vec4f }};
 {header}
 @group(0) @binding(2) var<storage, read> spheres: array<vec4f>;
-@group(0) @binding(3) var<storage, read> grid_cells: array<vec4u>;
-fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {{
+override fn scene::pieces::piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {{
     let s = spheres[p];
     let t = ray_sphere(o, d, s.xyz, s.w);
     if (t.x > t.y) {{ return vec4f(0.0, 0.0, 0.0, -1.0); }}
@@ -133,7 +142,6 @@ fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {{
     if (t.y > 0.0) {{ return vec4f(0.0, 0.0, 0.0, t.y); }}
     return vec4f(0.0, 0.0, 0.0, -1.0);
 }}
-{search}
 {entry}",
         header = gpu::compute::kernel_header("Case", "vec4f"),
         entry = gpu::compute::kernel_entry(
@@ -173,8 +181,9 @@ fn buffer(ctx: &gpu::Context, bytes: &[u8]) -> gpu::wgpu::Buffer {
         })
 }
 
-/// Runs every world through the kernel built from `search` and returns the failures.
-fn check(search: &str) -> Vec<String> {
+/// Runs every world through the kernel importing `search` (the module, or a mutation test's
+/// broken copy) and returns the failures.
+fn check(search: &gpu::wgsl::Module) -> Vec<String> {
     let ctx = testkit::context();
     let mut failures = Vec::new();
     let (mut cases, mut excused) = (0usize, 0usize);
@@ -204,9 +213,14 @@ fn check(search: &str) -> Vec<String> {
             has_dynamic_offset: false,
             min_binding_size: None,
         };
+        let source = kernel(&spheres, &grid);
+        let imports = [search];
+        let shader = gpu::wgsl::Shader::new("grid kernel", &source)
+            .importing(&imports)
+            .with_defs(&KERNEL_GRID_DEFS);
         let out: Vec<Vec4> = gpu::compute::run_kernel_with(
             ctx,
-            &kernel(&spheres, &grid, search),
+            shader,
             "k_nearest",
             &inputs,
             1,
@@ -259,7 +273,7 @@ fn check(search: &str) -> Vec<String> {
 #[test]
 fn grid_search_conforms() {
     let _lock = testkit::gpu_lock();
-    let failures = check(GRID_SEARCH_WGSL);
+    let failures = check(&GRID_SEARCH);
     assert!(
         failures.is_empty(),
         "{} failures, first: {:#?}",
@@ -281,6 +295,7 @@ fn mutations_are_detected() {
     ] {
         let mutated = GRID_SEARCH_WGSL.replacen(from, to, 1);
         assert_ne!(mutated, GRID_SEARCH_WGSL, "the mutation {from} must apply");
-        assert!(!check(&mutated).is_empty(), "{from} -> {to} went unnoticed");
+        let broken = GRID_SEARCH.with_source(mutated);
+        assert!(!check(&broken).is_empty(), "{from} -> {to} went unnoticed");
     }
 }

@@ -16,6 +16,7 @@
 #import gpu::distance_map
 #import scene::shading::{camera, objects, specular_event, specular_shade}
 #import height_maps::search::{Steps, HeightBounds, Billboard, billboard_facing, dir_to_plane, to_plane, dir_to_world, search_from_outside, exit_from_inside}
+#import height_maps::billboard_box::{BillboardOut, BillboardTargets, billboard_out, faces_eye, frag_depth_of}
 
 struct PieceGpu {
     // World centre now; w: the kind's layer in height_maps.

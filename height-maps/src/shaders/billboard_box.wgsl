@@ -5,6 +5,8 @@
 // Its fragments cast the eye ray into the box and search the height map; the box only bounds
 // where they can hit.
 // ---------------------------------------------------------------------------------------------
+#define_import_path height_maps::billboard_box
+
 #import scene::shading::camera
 #import height_maps::search::{HeightBounds, billboard_facing, dir_to_world, height_box_min, height_box_max}
 

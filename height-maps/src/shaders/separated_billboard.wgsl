@@ -1,8 +1,9 @@
 // ---------------------------------------------------------------------------------------------
 // The paper's section-5.2 pipeline with refractor height maps (Dancsik and Minarik, section 6:
 // "in the algorithm described in 5.2, the refractor distance map can be replaced by the
-// refractor height map"), after scene's environment_pieces.wgsl with the height-map search
-// (height_object_search.wgsl) and billboard_box.wgsl.
+// refractor height map"): the proxy entry points of scene's section-5 driver
+// (scene::environment_pieces), composed with the height-map search (height_maps::object_search)
+// and the billboard's box (height_maps::billboard_box).
 //
 // Each piece is its billboard's proxy box, turned to face the eye (the camera, or the centre
 // of the impostor being built); the billboard decides visibility: a fragment casts the eye
@@ -12,6 +13,10 @@
 // (chord) looked up in the piece's impostor, the moving piece found from outside.
 // ---------------------------------------------------------------------------------------------
 #import scene::shading::camera
+#import scene::environment_pieces::shade_piece
+#import scene::pieces::{piece_hit, piece_hit_normal, piece_kind, pieces}
+#import height_maps::object_search::kind_height_bounds
+#import height_maps::billboard_box::{BillboardOut, BillboardTargets, billboard_out, faces_eye, frag_depth_of}
 
 @vertex
 fn separated_billboard_vs(@builtin(vertex_index) vertex: u32,

@@ -1,22 +1,25 @@
 // ---------------------------------------------------------------------------------------------
-// The per-object search of scene's many-object tracer (trace.wgsl) with refractor distance
-// maps (Dancsik and Minarik, sections 3-4.1): one cube map per kind of piece (outward normal +
-// distance of its own surface from its centre), searched from inside by Hit() for a chord's
-// exit and from outside by hit_from_outside (section 4.1), both in the layered form of Hit():
-// kind k's map is cube k of one cube-map array. After pieces.wgsl; its bindings follow the
-// tracer's in @group(2), from SEARCH_FIRST_BINDING (pieces.wgsl).
+// The per-object search of scene's many-object drivers (the tracer, the section-5 impostors)
+// with refractor distance maps (Dancsik and Minarik, sections 3-4.1): one cube map per kind of
+// piece (outward normal + distance of its own surface from its centre), searched from inside
+// by Hit() for a chord's exit and from outside by hit_from_outside (section 4.1), both in the
+// layered form of Hit(): kind k's map is cube k of one cube-map array. It overrides
+// scene::pieces' piece_hit, piece_hit_normal and chord; its bindings follow the driver's in
+// @group(2), from SEARCH_FIRST_BINDING (scene::pieces).
 // ---------------------------------------------------------------------------------------------
+#define_import_path refractor_maps::distance_search
 
 #import gpu::distance_map
 #import gpu::layered_distance_map
+#import scene::pieces::{Chord, SEARCH_FIRST_BINDING, from_map, piece_kind, pieces, to_map}
 
 struct DistanceSearch {
     // Refinement steps of Hit() in the refractor maps.
     iterations: u32,
     // A search from outside is accepted within this distance of the ray (metres).
     epsilon: f32,
-    _pad0: u32,
-    _pad1: u32,
+    _pad_a: u32,
+    _pad_b: u32,
 };
 
 @group(2) @binding(SEARCH_FIRST_BINDING) var<uniform> distance_search: DistanceSearch;
@@ -43,7 +46,7 @@ fn kind_hit_outside(kind: u32, y: vec3f, R: vec3f, bmin: vec3f, bmax: vec3f) -> 
 }
 
 // The search from outside: (hit point in the map's frame, ray parameter) or w < 0.
-fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {
+override fn scene::pieces::piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {
     let pc = pieces[p];
     return kind_hit_outside(piece_kind(p), to_map(p, o - pc.centre.xyz), to_map(p, d),
                             pc.box_min.xyz, pc.box_max.xyz);
@@ -58,13 +61,13 @@ fn piece_normal(p: u32, l: vec3f, fallback: vec3f) -> vec3f {
 }
 
 // The normal at piece_hit's answer: the map's normal in the direction of the hit point.
-fn piece_hit_normal(p: u32, o: vec3f, d: vec3f, hit: vec4f) -> vec3f {
+override fn scene::pieces::piece_hit_normal(p: u32, o: vec3f, d: vec3f, hit: vec4f) -> vec3f {
     return piece_normal(p, hit.xyz, -d);
 }
 
 // One chord inside piece p from `origin` along `dir`: the exit point by Hit() in the piece's
 // refractor map and the outward normal stored there (turned to agree with the leaving ray).
-fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord {
+override fn scene::pieces::chord(p: u32, origin: vec3f, dir: vec3f) -> Chord {
     let pc = pieces[p];
     let R = to_map(p, dir);
     let h = kind_hit(piece_kind(p), to_map(p, origin - pc.centre.xyz), R);

@@ -1,6 +1,7 @@
 // ---------------------------------------------------------------------------------------------
-// Caustics (Dancsik and Minarik, section 7): the photon map of each piece, appended to the
-// tracer (trace.wgsl and what it includes), importing scene::chart and scene::receiver.
+// Caustics (Dancsik and Minarik, section 7): the photon map of each piece, over the tracer's
+// bindings (scene::trace) with the refractor-map search, importing scene::chart and
+// scene::receiver.
 //
 // Each piece is drawn from the light into its own tile of a photon map: rasterization finds
 // where the light's ray meets the piece, then the photon refracts in (the Fresnel-transmitted
@@ -14,6 +15,9 @@
 #import scene::shading::{SceneVertexOut, emission_jitter, jittered_emission, objects, specular_event}
 #import scene::chart::{Chart, chart_uv}
 #import scene::receiver::world_to_local
+#import scene::trace::{SURFACE_OFFSET, piece_of_object}
+#import scene::pieces::chord
+#import scene::grid_search::GRID_EMPTY
 
 struct PhotonParams {
     // The receiver's light-map chart (the only chart of the atlas).

@@ -26,8 +26,8 @@
 //! visibility), both in the eye pass and when pieces are drawn into each other's impostors.
 
 use super::grid::EMPTY;
-use super::pieces::{PIECES_WGSL, PieceGpu, pieces_at};
-use super::tracer::{ObjectSearch, driver_entries, storage};
+use super::pieces::{PIECES, PieceGpu, pieces_at};
+use super::tracer::{ObjectSearch, driver_entries, driver_shader, storage};
 use crate::kinds::Kinds;
 use crate::technique::{Declared, MAP_BUDGET_BYTES, Settings, setting_if};
 use crate::{
@@ -39,9 +39,17 @@ use gpu::pass::{self, Load};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
 
-/// The impostors' shading (`shade_piece`, `environment_piece_fs`); see its header for what
-/// it needs before it.
+/// The section-5 driver's bindings and shading (`shade_piece`), the module
+/// `scene::environment_pieces` ([`ENVIRONMENT_PIECES`]).
 pub const ENVIRONMENT_PIECES_WGSL: &str = include_str!("../shaders/environment_pieces.wgsl");
+/// [`ENVIRONMENT_PIECES_WGSL`] as a module.
+pub static ENVIRONMENT_PIECES: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    ENVIRONMENT_PIECES_WGSL,
+    "scene/src/shaders/environment_pieces.wgsl",
+    &[&PIECES, &crate::SHADING],
+);
+/// The pieces' meshes shaded by [`ENVIRONMENT_PIECES`]: `environment_piece_fs`.
+pub const ENVIRONMENT_PIECE_FS_WGSL: &str = include_str!("../shaders/environment_piece_fs.wgsl");
 
 /// Format of the impostors (radiance + distance).
 pub const IMPOSTOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -128,7 +136,7 @@ impl Settings for ImpostorSettings {
 
 /// How a piece's first hit is found, in the eye pass and when pieces are drawn into
 /// impostors.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub enum PieceSurface {
     /// The piece's mesh is rasterized (`environment_piece_fs`).
     Mesh,
@@ -136,6 +144,11 @@ pub enum PieceSurface {
     /// drawn without a vertex buffer: the fragment finds the hit (discarding a miss), writes
     /// its depth and returns `shade_piece`'s answer.
     Proxy {
+        /// The entry points' WGSL, importing from `scene::environment_pieces`,
+        /// `scene::pieces`, the search's module and `imports`.
+        source: &'static str,
+        /// Modules of the caller's own that `source` imports.
+        imports: &'static [&'static gpu::wgsl::Module],
         /// The vertex entry point.
         vertex: &'static str,
         /// The fragment entry point.
@@ -222,8 +235,7 @@ impl PieceImpostors {
     }
 
     /// The impostors of `scene`'s specular objects (`kinds`), shaded through `search`, the
-    /// pieces drawn as `surface` (with `extra_wgsl` appended to the module: a proxy's entry
-    /// points); separated, the static impostors are built here, timed as "static impostors".
+    /// pieces drawn as `surface`; separated, the static impostors are built here, timed as "static impostors".
     /// `map_bytes` is what the caller's own maps take (see [`PieceImpostors::check`]).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
@@ -234,13 +246,12 @@ impl PieceImpostors {
         surface: PieceSurface,
         settings: &ImpostorSettings,
         map_bytes: u64,
-        extra_wgsl: &str,
         label: &str,
     ) -> TechniqueResult<Self> {
         Self::check(&scene.scene, &kinds, settings, map_bytes, label)?;
         let ctx = frame.gpu;
         let n = kinds.pieces.len();
-        let shading = Shading::new(ctx, scene, search, surface, extra_wgsl, label);
+        let shading = Shading::new(ctx, scene, search, surface, label);
         let time = scene.time();
         let centres = kinds
             .pieces
@@ -549,15 +560,17 @@ impl Shading {
         scene: &GpuScene,
         search: &dyn ObjectSearch,
         surface: PieceSurface,
-        extra_wgsl: &str,
         label: &str,
     ) -> Self {
-        let source = format!(
-            "{}\n{PIECES_WGSL}\n{}\n{ENVIRONMENT_PIECES_WGSL}\n{extra_wgsl}",
-            crate::RASTER_WGSL,
-            search.wgsl(),
-        );
-        let module = crate::shader_importing(ctx, label, &source, &search.modules());
+        let (source, imports) = match surface {
+            PieceSurface::Mesh => (ENVIRONMENT_PIECE_FS_WGSL, &[][..]),
+            PieceSurface::Proxy {
+                source, imports, ..
+            } => (source, imports),
+        };
+        let module = driver_shader(ctx, label, source, imports, search);
+        // The diffuse objects drawn into the atlas: the shared raster pass's shading.
+        let raster = crate::shader(ctx, "impostor diffuse", crate::RASTER_WGSL);
         let mut entries =
             driver_entries(bind::texture(wgpu::TextureViewDimension::CubeArray, true));
         entries.extend(search.binding_types());
@@ -597,7 +610,7 @@ impl Shading {
                 ctx,
                 "impostor diffuse",
                 &pipeline_layout,
-                &module,
+                &raster,
                 "raster_fs",
                 IMPOSTOR_FORMAT,
             ),

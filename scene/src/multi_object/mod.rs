@@ -23,11 +23,13 @@ pub mod pieces;
 mod tracer;
 
 pub use environment::{
-    ENVIRONMENT_PIECES_WGSL, IMPOSTOR_FORMAT, ImpostorSettings, MAX_ENV_DEPTH, PieceImpostors,
-    PieceSurface,
+    ENVIRONMENT_PIECE_FS_WGSL, ENVIRONMENT_PIECES, ENVIRONMENT_PIECES_WGSL, IMPOSTOR_FORMAT,
+    ImpostorSettings, MAX_ENV_DEPTH, PieceImpostors, PieceSurface,
 };
+pub use pieces::{PIECES, PIECES_WGSL};
 
 pub use tracer::{
-    EnvironmentImpostor, GRID_SEARCH_WGSL, MAX_DEPTH, ObjectSearch, SEARCH_FIRST_BINDING, Search,
-    TRACE_WGSL, Tracer, TracerSettings, pieces_centre, raster_diffuse, storage,
+    DRIVER_MODULES, EnvironmentImpostor, GRID_DEFS, GRID_SEARCH, GRID_SEARCH_WGSL, MAX_DEPTH,
+    ObjectSearch, SEARCH_FIRST_BINDING, Search, TRACE, TRACE_FS_WGSL, TRACE_WGSL, Tracer,
+    TracerSettings, driver_shader, pieces_centre, raster_diffuse, storage,
 };

@@ -6,9 +6,13 @@ use crate::Scene;
 use crate::kinds::{Kinds, linear, rotation_between};
 use glam::{Mat3, Vec2, Vec3};
 
-/// WGSL of the piece table (`Piece`, `to_map`, `from_map`, `piece_kind`, `piece_object`);
-/// the including shader declares `pieces: array<Piece>`.
+/// WGSL of the piece table (`Piece`, its binding `pieces`, `to_map`, `from_map`, `piece_kind`,
+/// `piece_object`) and of the per-object search's three virtual functions, which an
+/// [`super::ObjectSearch`]'s module overrides: the module `scene::pieces` ([`PIECES`]).
 pub const PIECES_WGSL: &str = include_str!("../shaders/pieces.wgsl");
+/// [`PIECES_WGSL`] as a module.
+pub static PIECES: gpu::wgsl::Module =
+    gpu::wgsl::Module::new(PIECES_WGSL, "scene/src/shaders/pieces.wgsl", &[]);
 
 /// One piece as the shaders read it (`Piece` in pieces.wgsl).
 #[repr(C)]

@@ -13,7 +13,7 @@
 //! moving piece changes cells.
 
 use super::grid::{ALL_CELLS, BoardGrid, EMPTY};
-use super::pieces::{PIECES_WGSL, PieceGpu, pieces_at};
+use super::pieces::{PIECES, PieceGpu, pieces_at};
 use crate::kinds::Kinds;
 use crate::{Frame, GpuScene, ObjectFilter, RasterTarget, Scene, TechniqueError, View};
 use glam::Vec3;
@@ -22,12 +22,65 @@ use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, GpuError, Target, Uniform, bind};
 
-/// The board grid's nearest-piece search (imports `gpu::prelude`; the includer defines
-/// `piece_hit` and `grid_cells`).
+/// The board grid's nearest-piece search, the module `scene::grid_search` ([`GRID_SEARCH`]):
+/// each candidate searched by `scene::pieces`' `piece_hit`, the grid's cells at the binding
+/// [`GRID_DEFS`] place.
 pub const GRID_SEARCH_WGSL: &str = include_str!("../shaders/grid_search.wgsl");
-/// The tracer (imports `gpu::prelude`, `scene::shading` and `gpu::distance_map`; after
-/// [`GRID_SEARCH_WGSL`] and [`PIECES_WGSL`]; with an [`ObjectSearch`]'s WGSL).
+/// [`GRID_SEARCH_WGSL`] as a module.
+pub static GRID_SEARCH: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    GRID_SEARCH_WGSL,
+    "scene/src/shaders/grid_search.wgsl",
+    &[&PIECES],
+);
+/// Where the tracer binds the grid's cells: `@group(2) @binding(2)`.
+pub const GRID_DEFS: [(&str, gpu::wgsl::Def); 2] = [
+    ("GRID_GROUP", gpu::wgsl::Def::UInt(2)),
+    ("GRID_CELLS_BINDING", gpu::wgsl::Def::UInt(2)),
+];
+/// The tracer's bindings and paths, the module `scene::trace` ([`TRACE`]), which its eye pass
+/// ([`TRACE_FS_WGSL`]) and a technique's own passes over its bindings import.
 pub const TRACE_WGSL: &str = include_str!("../shaders/trace.wgsl");
+/// [`TRACE_WGSL`] as a module.
+pub static TRACE: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    TRACE_WGSL,
+    "scene/src/shaders/trace.wgsl",
+    &[&GRID_SEARCH, &PIECES, &crate::SHADING],
+);
+/// The tracer's eye pass, `trace_fs`.
+pub const TRACE_FS_WGSL: &str = include_str!("../shaders/trace_fs.wgsl");
+
+/// The modules of the many-object drivers (the piece table and search, the grid, the tracer,
+/// the section-5 impostors' shading), which a shader over a driver's bindings imports from.
+pub const DRIVER_MODULES: [&gpu::wgsl::Module; 4] = [
+    &PIECES,
+    &GRID_SEARCH,
+    &TRACE,
+    &super::environment::ENVIRONMENT_PIECES,
+];
+
+/// Composes `source`, entry points over a driver's bindings (the tracer's eye pass, a
+/// technique's own passes such as refractor-maps' photons, a proxy's entries), with the
+/// drivers' modules and `imports` of its own, `search`'s module overriding the per-object
+/// search.
+pub fn driver_shader(
+    ctx: &Context,
+    label: &str,
+    source: &str,
+    imports: &[&gpu::wgsl::Module],
+    search: &dyn ObjectSearch,
+) -> wgpu::ShaderModule {
+    let modules: Vec<&gpu::wgsl::Module> = DRIVER_MODULES
+        .iter()
+        .copied()
+        .chain(imports.iter().copied())
+        .collect();
+    let overrides = [search.module()];
+    let shader = gpu::wgsl::Shader::new(label, source)
+        .importing(&modules)
+        .with_defs(&GRID_DEFS)
+        .overriding(&overrides);
+    crate::shader_of(ctx, shader)
+}
 
 /// The first `@group(2)` binding of an [`ObjectSearch`]'s own resources (the tracer's take
 /// 0..6).
@@ -51,20 +104,16 @@ pub(super) fn driver_entries(env_map: wgpu::BindingType) -> Vec<wgpu::BindingTyp
 /// Format of the environment impostor.
 const ENV_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-/// The search in one object's map that the tracer calls (trace.wgsl's header names the three
-/// functions). Implemented with refractor distance maps (`refractor-maps`) and refractor
-/// height maps (`height-maps`).
+/// The search in one object's map that the many-object drivers call: a WGSL module that
+/// overrides `scene::pieces`' `piece_hit`, `piece_hit_normal` and `chord` (pieces.wgsl says
+/// what each answers), with its own resources after the driver's. Implemented with refractor
+/// distance maps (`refractor-maps`) and refractor height maps (`height-maps`).
 pub trait ObjectSearch {
-    /// WGSL defining `piece_hit`, `piece_hit_normal` and `chord`, after the piece table
-    /// (`PIECES_WGSL`); its `i`-th resource of [`ObjectSearch::binding_types`] at
-    /// `@group(2) @binding(SEARCH_FIRST_BINDING + i)` (`SEARCH_FIRST_BINDING` is a WGSL constant
-    /// of the piece table, equal to the Rust one).
-    fn wgsl(&self) -> String;
-    /// The WGSL modules [`ObjectSearch::wgsl`] imports besides `gpu`'s and the scene's (its
-    /// search routines' module), which the shaders it joins are composed with.
-    fn modules(&self) -> Vec<&'static gpu::wgsl::Module> {
-        Vec::new()
-    }
+    /// The module holding its overrides; its `i`-th resource of
+    /// [`ObjectSearch::binding_types`] at `@group(2) @binding(SEARCH_FIRST_BINDING + i)`
+    /// (`SEARCH_FIRST_BINDING` is a constant of `scene::pieces`, equal to the Rust one). The
+    /// module's own imports name what else it needs (its search routines' module).
+    fn module(&self) -> &'static gpu::wgsl::Module;
     /// The binding types of its resources, in order (visible to the fragment stage, and to
     /// the vertex stage in [`super::PieceImpostors`], whose proxies may read them).
     fn binding_types(&self) -> Vec<wgpu::BindingType>;
@@ -135,30 +184,23 @@ pub struct Tracer {
     kinds: Kinds,
     env: EnvironmentImpostor,
     layout: wgpu::BindGroupLayout,
-    module: wgpu::ShaderModule,
     pipeline: wgpu::RenderPipeline,
     /// The piece of each scene object, [`EMPTY`] for a diffuse one.
     piece_of_object: wgpu::Buffer,
 }
 
 impl Tracer {
-    /// The tracer of `scene`'s specular objects (`kinds`) searched with `search`; `extra_wgsl`
-    /// is appended to the module (entry points of a technique's own passes over the same
-    /// bindings, such as photon maps).
+    /// The tracer of `scene`'s specular objects (`kinds`) searched with `search` (a technique's
+    /// own passes over the tracer's bindings compose their shaders with [`driver_shader`]).
     pub fn new(
         ctx: &Context,
         scene: &GpuScene,
         kinds: Kinds,
         search: &dyn ObjectSearch,
         settings: &TracerSettings,
-        extra_wgsl: &str,
         label: &str,
     ) -> Result<Self, GpuError> {
-        let source = format!(
-            "{GRID_SEARCH_WGSL}\n{PIECES_WGSL}\n{TRACE_WGSL}\n{}\n{extra_wgsl}",
-            search.wgsl(),
-        );
-        let module = crate::shader_importing(ctx, label, &source, &search.modules());
+        let module = driver_shader(ctx, label, TRACE_FS_WGSL, &[], search);
         let mut entries = driver_entries(bind::texture_cube());
         entries.extend(search.binding_types());
         let layout = bind::layout(ctx, label, wgpu::ShaderStages::FRAGMENT, &entries);
@@ -179,7 +221,6 @@ impl Tracer {
             kinds,
             env,
             layout,
-            module,
             pipeline,
             piece_of_object: storage(ctx, "piece of object", &piece_of_object),
         })
@@ -193,11 +234,6 @@ impl Tracer {
     /// The tracer's `@group(2)` layout (its bindings, then the search's).
     pub fn layout(&self) -> &wgpu::BindGroupLayout {
         &self.layout
-    }
-
-    /// The tracer's shader module (with the search and the extra WGSL).
-    pub fn module(&self) -> &wgpu::ShaderModule {
-        &self.module
     }
 
     /// The `@group(2)` at `time`: parameters, the piece table, the board grid, the environment

@@ -1,10 +1,9 @@
 // ---------------------------------------------------------------------------------------------
 // Pieces shaded with per-piece environment distance impostors (Dancsik and Minarik, section
-// 5); imports gpu::prelude, scene::shading, gpu::distance_map and the layered Hit()
-// (gpu::layered_distance_map, from gpu::distance_map::layered_hit_wgsl); after pieces.wgsl + a
-// per-object search (scene::multi_object::ObjectSearch: refractor distance maps or refractor
-// height maps, its bindings from @group(2) @binding(6); the three functions trace.wgsl's header
-// names).
+// 5): the section-5 driver's bindings (@group(2), 0..6) and its shading, for the entry points
+// that import it (environment_piece_fs.wgsl; a proxy's, such as a height map's billboard).
+// The per-object search is scene::pieces' piece_hit, piece_hit_normal and chord, which the
+// search's module overrides (scene::multi_object::ObjectSearch).
 //
 // Piece p's environment impostor (rgb radiance, alpha distance from env_centres[p]) is cube p
 // of `impostors`. A piece's first hit (rasterized from its mesh by environment_piece_fs, or
@@ -22,10 +21,13 @@
 // (camera.eye = the cube's centre): alpha is the distance from the eye, as a distance
 // impostor needs.
 // ---------------------------------------------------------------------------------------------
+#define_import_path scene::environment_pieces
+
 #import gpu::prelude::{fresnel_dielectric, fresnel_nk, reflect_dir, refract_dir}
 #import gpu::distance_map
 #import gpu::layered_distance_map
-#import scene::shading::{MATERIAL_METAL, SceneVertexOut, camera, objects, specular_event, specular_shade}
+#import scene::shading::{MATERIAL_METAL, objects, specular_event, specular_shade}
+#import scene::pieces::{chord, piece_hit, piece_hit_normal, piece_object}
 
 const NO_PIECE: u32 = 0xffffffffu;
 
@@ -34,12 +36,12 @@ struct EnvParams {
     mover: u32,
     // Hit() refinement steps in the impostors.
     env_iterations: u32,
-    _pad0: u32,
-    _pad1: u32,
+    _pad_a: u32,
+    _pad_b: u32,
 };
 
 @group(2) @binding(0) var<uniform> env: EnvParams;
-@group(2) @binding(1) var<storage, read> pieces: array<Piece>;
+// @binding(1): the piece table (scene::pieces).
 // Reference point of each piece's impostor (world; w unused).
 @group(2) @binding(2) var<storage, read> env_centres: array<vec4f>;
 @group(2) @binding(3) var<storage, read> piece_of_object: array<u32>;
@@ -132,10 +134,4 @@ fn shade_piece(p: u32, world: vec3f, normal: vec3f, eye: vec3f) -> vec4f {
         }
     }
     return vec4f(specular_shade(e, reflected, refracted), distance(world, eye));
-}
-
-// The pieces' meshes rasterized: the first hit is the mesh's (refractor distance maps).
-@fragment
-fn environment_piece_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    return shade_piece(piece_of_object[in.object], in.world, in.normal, camera.eye.xyz);
 }

@@ -1,11 +1,16 @@
 // ---------------------------------------------------------------------------------------------
 // The nearest piece along a ray through the board grid (Dancsik and Minarik section 4.2). Rust
 // twin: scene/src/multi_object/grid.rs `nearest_piece` (same walk, same stopping rules; see its
-// docs). Imports grid_walk from gpu::prelude and needs, from the file that includes it:
-//   fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f   // (any payload, t) or t < 0: no hit
-//   var<storage, read> grid_cells: array<vec4u>;         // CELL_CAPACITY = 4 pieces per cell
+// docs). Each candidate is searched by scene::pieces' piece_hit (the per-object search); the
+// grid's cells (CELL_CAPACITY = 4 pieces per cell) are its own binding, at @group(#{GRID_GROUP})
+// @binding(#{GRID_CELLS_BINDING}) (the tracer's: group 2, binding 2, `GRID_DEFS`).
 // ---------------------------------------------------------------------------------------------
+#define_import_path scene::grid_search
+
 #import gpu::prelude::{grid_walk, grid_walk_next}
+#import scene::pieces::piece_hit
+
+@group(#{GRID_GROUP}) @binding(#{GRID_CELLS_BINDING}) var<storage, read> grid_cells: array<vec4u>;
 
 const GRID_EMPTY: u32 = 0xffffffffu;
 

@@ -1,8 +1,13 @@
 // ---------------------------------------------------------------------------------------------
 // The piece table the many-object shaders read (Rust: scene/src/multi_object/pieces.rs
-// `PieceGpu`), and the answer of a per-object search from inside (`Chord`). The including
-// shader declares `pieces: array<Piece>` at its own binding.
+// `PieceGpu`), at both drivers' @group(2) @binding(1), and the per-object search they call: a
+// search (scene::multi_object::ObjectSearch: refractor distance maps, refractor height maps) is
+// a module that overrides the three virtual functions below (`override fn
+// scene::pieces::piece_hit`, ...), composed as an override of the driver's shader
+// (gpu::wgsl::Shader::overriding), with its own bindings from @group(2)
+// @binding(SEARCH_FIRST_BINDING). Without a search every piece is missed.
 // ---------------------------------------------------------------------------------------------
+#define_import_path scene::pieces
 
 // The first @group(2) binding of a per-object search's own resources (Rust:
 // scene::multi_object::SEARCH_FIRST_BINDING; the drivers' resources take 0..6).
@@ -19,6 +24,8 @@ struct Piece {
     box_min: vec4f,
     box_max: vec4f,
 };
+
+@group(2) @binding(1) var<storage, read> pieces: array<Piece>;
 
 // A world direction (or offset from the centre) in piece p's map frame.
 fn to_map(p: u32, v: vec3f) -> vec3f {
@@ -46,3 +53,20 @@ struct Chord {
     // Outward unit normal, turned to agree with the leaving ray.
     normal: vec3f,
 };
+
+virtual fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f {
+    // The search from outside: (a payload of the search's own, t), t < 0 when piece p is
+    // missed along o + t d.
+    return vec4f(0.0, 0.0, 0.0, -1.0);
+}
+
+virtual fn piece_hit_normal(p: u32, o: vec3f, d: vec3f, hit: vec4f) -> vec3f {
+    // The unit outward normal (world) at piece_hit's answer `hit`.
+    return -d;
+}
+
+virtual fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord {
+    // The search from inside: where the ray leaves piece p, and the outward normal there
+    // (agreeing with the ray).
+    return Chord(origin, dir);
+}

@@ -1,8 +1,9 @@
 // ---------------------------------------------------------------------------------------------
-// Many-object multi-bounce ray tracing (Dancsik and Minarik, sections 4.1-4.2 and 6); imports
-// gpu::prelude, scene::shading and gpu::distance_map; after grid_search.wgsl + pieces.wgsl, and
-// before the per-object search (scene::multi_object::ObjectSearch: refractor distance maps,
-// refractor height maps).
+// Many-object multi-bounce ray tracing (Dancsik and Minarik, sections 4.1-4.2 and 6): the
+// tracer's bindings (@group(2), 0..6) and its paths, for the entry points that import it
+// (trace_fs.wgsl; a technique's own passes over the same bindings, such as refractor-maps'
+// photons). The per-object search is scene::pieces' piece_hit, piece_hit_normal and chord,
+// which the search's module overrides (scene::multi_object::ObjectSearch).
 //
 // The specular objects are drawn with scene_vs: rasterization finds the first hit. From there
 // each pixel follows the tree of reflected and refracted rays depth first (an explicit stack),
@@ -15,18 +16,14 @@
 //     diffuse environment: Hit() in one distance impostor of the diffuse scene (rgb radiance +
 //     distance, captured each frame from env_reference without the specular objects). A ray
 //     inside glass at the depth bound leaves without splitting again (leave_piece).
-//
-// The per-object search defines, with its own bindings from @group(2) @binding(6):
-//   fn piece_hit(p: u32, o: vec3f, d: vec3f) -> vec4f
-//       the search from outside: (a payload of its own, t), t < 0 when piece p is missed;
-//   fn piece_hit_normal(p: u32, o: vec3f, d: vec3f, hit: vec4f) -> vec3f
-//       the unit outward normal (world) at that hit (`hit` is piece_hit's answer);
-//   fn chord(p: u32, origin: vec3f, dir: vec3f) -> Chord
-//       the search from inside: where the ray leaves piece p and the outward normal there.
 // ---------------------------------------------------------------------------------------------
+#define_import_path scene::trace
+
 #import gpu::prelude::{fresnel_dielectric, fresnel_nk, reflect_dir, refract_dir}
 #import gpu::distance_map
 #import scene::shading::{MATERIAL_METAL, SceneVertexOut, camera, objects}
+#import scene::pieces::{chord, piece_hit_normal, piece_object}
+#import scene::grid_search::{GRID_EMPTY, Grid, PieceHit, nearest_piece, nearest_piece_brute}
 
 struct TracerParams {
     // xyz: reference point of the environment impostor (world).
@@ -41,14 +38,13 @@ struct TracerParams {
     piece_count: u32,
     // Refinement steps of Hit() in the environment impostor.
     env_iterations: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
+    _pad_a: u32,
+    _pad_b: u32,
+    _pad_c: u32,
 };
 
 @group(2) @binding(0) var<uniform> tracer: TracerParams;
-@group(2) @binding(1) var<storage, read> pieces: array<Piece>;
-@group(2) @binding(2) var<storage, read> grid_cells: array<vec4u>;
+// @binding(1): the piece table (scene::pieces), @binding(2): the grid's cells (scene::grid_search).
 // The piece of each scene object (GRID_EMPTY for a diffuse one).
 @group(2) @binding(3) var<storage, read> piece_of_object: array<u32>;
 @group(2) @binding(4) var env_sampler: sampler;
@@ -191,8 +187,9 @@ fn leave_piece(r: PathRay) -> vec3f {
     return color;
 }
 
-@fragment
-fn trace_fs(in: SceneVertexOut) -> @location(0) vec4f {
+// The colour of the pixel whose first interface is the rasterized fragment `in` of a piece
+// (its world point and interpolated normal), and in alpha its distance from the eye.
+fn trace_pixel(in: SceneVertexOut) -> vec4f {
     let eye = camera.eye.xyz;
     let dir = normalize(in.world - eye);
     let p = piece_of_object[in.object];
