@@ -103,9 +103,10 @@ impl Vertex {
 
 /// The modules of `gpu` every shader may import without naming them: `gpu::prelude`,
 /// `gpu::distance_map` and `gpu::layered_distance_map`.
-pub(crate) fn gpu_modules() -> [&'static wgsl::Module; 3] {
+pub(crate) fn gpu_modules() -> [&'static wgsl::Module; 4] {
     [
         &prelude::PRELUDE,
+        &fullscreen::FULLSCREEN,
         &distance_map::HIT,
         distance_map::hit_layered(),
     ]

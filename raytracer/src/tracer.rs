@@ -168,28 +168,17 @@ pub struct GpuTracer {
 /// How rays find their nearest triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Traversal {
-    /// The scene's BVH flattened into storage buffers, traversed by `shaders/bvh.wgsl` (the
-    /// twin of [`crate::bvh::FlatBvh`]): runs on every adapter.
+    /// The scene's BVH flattened into storage buffers, traversed by `raytracer::bvh`
+    /// (`shaders/bvh.wgsl`, the twin of [`crate::bvh::FlatBvh`]): runs on every adapter.
     Bvh,
     /// The hardware's acceleration structures (one BLAS of every world triangle, one TLAS
-    /// instance) and wgpu's ray queries (`shaders/ray_query.wgsl`): needs
+    /// instance) and wgpu's ray queries (`raytracer::ray_query`, `shaders/ray_query.wgsl`):
+    /// needs
     /// `wgpu::Features::EXPERIMENTAL_RAY_QUERY`.
     RayQuery,
 }
 
 impl Traversal {
-    /// The declaration of binding 1 (the structure rays traverse).
-    fn binding_wgsl(self) -> &'static str {
-        match self {
-            Traversal::Bvh => {
-                "@group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;\n"
-            }
-            Traversal::RayQuery => {
-                "@group(0) @binding(1) var scene_tlas: acceleration_structure;\n"
-            }
-        }
-    }
-
     fn binding_type(self) -> wgpu::BindingType {
         match self {
             Traversal::Bvh => bind::storage(true),
@@ -216,26 +205,55 @@ enum Structure {
     },
 }
 
-/// The tracer's WGSL for `traversal`, complete (prelude included): the `enable` directive ray
-/// queries need must precede every declaration.
-pub fn tracer_wgsl(traversal: Traversal) -> String {
-    let (enable, traverse) = match traversal {
-        Traversal::Bvh => ("", include_str!("shaders/bvh.wgsl")),
-        Traversal::RayQuery => (
-            "enable wgpu_ray_query;\n",
-            include_str!("shaders/ray_query.wgsl"),
-        ),
-    };
-    format!(
-        "{enable}{}\n{}{}\n{}",
-        include_str!("shaders/triangles.wgsl"),
-        traversal.binding_wgsl(),
-        traverse,
-        include_str!("shaders/tracer.wgsl")
-    )
+/// The scene's triangles as the traversals see them: the module `raytracer::triangles`.
+pub static TRIANGLES: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    include_str!("shaders/triangles.wgsl"),
+    "raytracer/src/shaders/triangles.wgsl",
+    &[],
+);
+/// The BVH traversal (the twin of [`crate::bvh::FlatBvh`]): the module `raytracer::bvh`.
+pub static BVH: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    include_str!("shaders/bvh.wgsl"),
+    "raytracer/src/shaders/bvh.wgsl",
+    &[&TRIANGLES],
+);
+/// The hardware's ray queries: the module `raytracer::ray_query`.
+pub static RAY_QUERY: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    include_str!("shaders/ray_query.wgsl"),
+    "raytracer/src/shaders/ray_query.wgsl",
+    &[&TRIANGLES],
+);
+/// `trace_closest` and `trace_any` by one traversal's `trace`: the module `raytracer::queries`
+/// (the BVH's, or the ray queries' with the definition `RAY_QUERY`).
+pub static QUERIES: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    include_str!("shaders/queries.wgsl"),
+    "raytracer/src/shaders/queries.wgsl",
+    &[&BVH, &RAY_QUERY],
+);
+/// The tracer's passes (`eye_pass`, `photon_pass`).
+pub const TRACER_WGSL: &str = include_str!("shaders/tracer.wgsl");
+/// Where the tracer binds the traversal's structure (binding 1) and the triangles (2 and 3).
+pub const TRACE_FIRST_BINDING: (&str, gpu::wgsl::Def) =
+    ("TRACE_FIRST_BINDING", gpu::wgsl::Def::UInt(1));
+
+impl Traversal {
+    /// The tracer's shader for this traversal.
+    fn shader(self, ctx: &Context) -> wgpu::ShaderModule {
+        let ray_query = ("RAY_QUERY", gpu::wgsl::Def::Bool(true));
+        let defs: &[_] = match self {
+            Traversal::Bvh => &[TRACE_FIRST_BINDING],
+            Traversal::RayQuery => &[TRACE_FIRST_BINDING, ray_query],
+        };
+        let imports = [&QUERIES];
+        let shader = gpu::wgsl::Shader::new("ray tracer", TRACER_WGSL)
+            .importing(&imports)
+            .with_defs(defs);
+        scene::shader_of(ctx, shader)
+    }
 }
 
 const RESOLVE_WGSL: &str = r#"
+#import gpu::fullscreen::FullscreenOut
 // width, height, 1 when photons were traced, frames the photon sum holds.
 struct ResolveParams { size: vec4u, };
 @group(0) @binding(0) var<uniform> resolve: ResolveParams;
@@ -295,7 +313,7 @@ impl GpuTracer {
             wgpu::ShaderStages::FRAGMENT,
             &[bind::uniform(), bind::storage(true), bind::storage(true)],
         );
-        let module = scene::shader(ctx, "ray tracer", &tracer_wgsl(traversal));
+        let module = traversal.shader(ctx);
         let pipeline = |entry: &str| gpu::compute::pipeline(ctx, entry, &[&layout], &module, entry);
         let (eye_pipeline, photon_pipeline) = (pipeline("eye_pass"), pipeline("photon_pass"));
         let resolve_pipeline = gpu::fullscreen::pipeline(

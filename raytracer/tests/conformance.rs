@@ -1,5 +1,6 @@
-//! GPU conformance: `shaders/bvh.wgsl`'s traversal (`trace_closest`, `trace_any`,
-//! `surface_hit`) runs in a compute kernel over the same flattened BVH as its Rust twin
+//! GPU conformance: the BVH traversal (`raytracer::queries`' `trace_closest` and `trace_any` over
+//! `raytracer::bvh`, `raytracer::triangles`' `surface_hit`, the modules the tracer imports) runs
+//! in a compute kernel over the same flattened BVH as its Rust twin
 //! (`raytracer::bvh::FlatBvh`) and must find the same triangle at the same distance, on camera
 //! rays of built-in scenes, axis-parallel rays and rays aimed at triangle edges.
 
@@ -8,10 +9,11 @@ use gpu::compute::{kernel_entry, kernel_header, run_kernel_with};
 use gpu::wgpu::{self, util::DeviceExt};
 use raytracer::bvh::{FlatBvh, RayGpu, TraceResultGpu};
 
-const BINDINGS: &str = r#"
-@group(0) @binding(2) var<storage, read> bvh_nodes: array<BvhNode>;
-@group(0) @binding(3) var<storage, read> bvh_triangles: array<BvhTriangle>;
-@group(0) @binding(4) var<storage, read> bvh_attributes: array<BvhAttributes>;
+/// The kernel's imports; the nodes, triangles and attributes bound from binding 2 (after its
+/// inputs and outputs).
+const IMPORTS: &str = r#"
+#import raytracer::triangles::{NO_HIT, bvh_triangles, hit_barycentrics, surface_hit}
+#import raytracer::queries::{trace_any, trace_closest}
 "#;
 
 const BODY: &str = r#"
@@ -43,14 +45,15 @@ fn gpu_trace(bvh: &FlatBvh, rays: &[RayGpu]) -> Vec<TraceResultGpu> {
     let ctx = testkit::context();
     let _lock = testkit::gpu_lock();
     let source = format!(
-        "{TYPES}\n{}\n{BINDINGS}\n{}\n{}",
+        "{IMPORTS}\n{TYPES}\n{}\n{}",
         kernel_header("Ray", "TraceResult"),
-        concat!(
-            include_str!("../src/shaders/triangles.wgsl"),
-            include_str!("../src/shaders/bvh.wgsl")
-        ),
         kernel_entry("trace_rays", BODY)
     );
+    let imports = [&raytracer::tracer::QUERIES];
+    let defs = [("TRACE_FIRST_BINDING", gpu::wgsl::Def::UInt(2))];
+    let kernel = gpu::wgsl::Shader::new("trace_rays", &source)
+        .importing(&imports)
+        .with_defs(&defs);
     let (nodes, triangles, attributes) =
         (bvh.nodes.clone(), bvh.triangle_gpu(), bvh.attributes_gpu());
     let buffer = |contents: &[u8]| {
@@ -66,7 +69,7 @@ fn gpu_trace(bvh: &FlatBvh, rays: &[RayGpu]) -> Vec<TraceResultGpu> {
     let attributes = buffer(bytemuck::cast_slice(&attributes));
     run_kernel_with(
         ctx,
-        &source,
+        kernel,
         "trace_rays",
         rays,
         1,

@@ -1,7 +1,7 @@
 // Split layout (paper section 6: "the speed improves by an additional 20 percent if the
 // distance values are separated from the color data"): copies the distance (alpha) of one
 // face of the packed radiance+distance impostor into a one-channel face of its own.
-// After fullscreen_vs.
+#import gpu::fullscreen::FullscreenOut
 
 @group(0) @binding(0) var packed_face: texture_2d<f32>;
 

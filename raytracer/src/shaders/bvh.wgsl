@@ -1,9 +1,12 @@
 // ---------------------------------------------------------------------------------------------
-// Ray queries on the scene's BVH (raytracer::bvh, its Rust twin): a binary tree in `bvh_nodes`,
-// triangles in leaf order (triangles.wgsl, which must come first). The including shader declares
-// `bvh_nodes` and the triangles' buffers (its own group and bindings). Same traversal order,
-// slab test and triangle test as the twin, so the GPU finds the same nearest triangle as the CPU reference.
+// Ray queries on the scene's BVH (raytracer::bvh, its Rust twin): a binary tree in `bvh_nodes`
+// (@group(0) @binding(#{TRACE_FIRST_BINDING})), triangles in leaf order (raytracer::triangles). Same traversal
+// order, slab test and triangle test as the twin, so the GPU finds the same nearest triangle as
+// the CPU reference.
 // ---------------------------------------------------------------------------------------------
+#define_import_path raytracer::bvh
+
+#import raytracer::triangles::{BvhTriangle, NO_HIT, TraceHit, bvh_triangles}
 
 struct BvhNode {
     min: vec3f,
@@ -13,6 +16,8 @@ struct BvhNode {
     // Inner node: first child (the second follows). Leaf: first triangle.
     first: u32,
 };
+
+@group(0) @binding(#{TRACE_FIRST_BINDING}) var<storage, read> bvh_nodes: array<BvhNode>;
 
 const BVH_STACK_SIZE: u32 = 48u;
 const BOX_SLACK: f32 = 1.000001;
@@ -43,13 +48,13 @@ fn slab(n: BvhNode, o: vec3f, d: vec3f, inv: vec3f, t_max: f32) -> f32 {
 // The reference's triangle test (scene::bvh::intersect): Möller-Trumbore with an inside test
 // that keeps hits exactly on shared edges. t in [0, t_max], or -1.
 fn intersect_triangle(tri: BvhTriangle, o: vec3f, d: vec3f, t_max: f32) -> f32 {
-    let c = tri.v0 - o;
+    let c = tri.va - o;
     let r = cross(d, c);
     let det = dot(tri.ng, d);
     if (det == 0.0) { return -1.0; }
     let inv_det = 1.0 / det;
-    let u = dot(r, tri.e2) * inv_det;
-    let v = dot(r, tri.e1) * inv_det;
+    let u = dot(r, tri.c_minus_a) * inv_det;
+    let v = dot(r, tri.a_minus_b) * inv_det;
     if (u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
         let t = dot(tri.ng, c) * inv_det;
         if (t >= 0.0 && t <= t_max) { return t; }

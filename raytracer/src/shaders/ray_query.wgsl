@@ -2,10 +2,16 @@
 // The same queries through the hardware's ray queries (wgpu's experimental `ray_query`): one
 // BLAS of every world triangle, in the order of `bvh_triangles` (so the committed
 // intersection's primitive index names the triangle), under one TLAS instance with the
-// identity transform. The including shader starts with `enable wgpu_ray_query;` and declares
-// `scene_tlas` (an `acceleration_structure`) and the triangles' buffers. The hardware decides
-// the hit (its own watertight test); the distance is the hardware's, the attributes ours.
+// identity transform, `scene_tlas` at @group(0) @binding(#{TRACE_FIRST_BINDING}). The hardware decides the hit (its
+// own watertight test); the distance is the hardware's, the attributes ours
+// (raytracer::triangles).
 // ---------------------------------------------------------------------------------------------
+enable wgpu_ray_query;
+#define_import_path raytracer::ray_query
+
+#import raytracer::triangles::{NO_HIT, TraceHit}
+
+@group(0) @binding(#{TRACE_FIRST_BINDING}) var scene_tlas: acceleration_structure;
 
 const RAY_FLAG_OPAQUE: u32 = 0x01u;
 const RAY_FLAG_TERMINATE_ON_FIRST_HIT: u32 = 0x04u;

@@ -1,6 +1,8 @@
 // ---------------------------------------------------------------------------------------------
 // The exact GPU ray tracer: the CPU reference's model (truth::reference, whose module docs
-// derive every formula used here) in compute shaders over the scene's BVH (bvh.wgsl).
+// derive every formula used here) in compute shaders over the scene's BVH (raytracer::bvh) or
+// the hardware's ray queries (raytracer::ray_query, with the definition RAY_QUERY), asked
+// through raytracer::queries.
 //
 // * `eye_pass`: one thread per pixel follows the Whitted tree of its centre ray with an
 //   explicit stack of pending rays (WGSL has no recursion). The tree is linear in what its
@@ -13,11 +15,11 @@
 //   (integer atomics: the sum does not depend on the order threads finish in).
 // * `resolve_fs`: eye radiance plus the photons' into the target.
 //
-// Imports gpu::prelude and scene::medium; after triangles.wgsl and one traversal (bvh.wgsl or
-// ray_query.wgsl, with its binding 1).
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{PI, fresnel_dielectric, fresnel_nk, pcg_hash, ray_sphere, reflect_dir, refract_dir}
-#import scene::medium::{Medium, henyey_greenstein, medium_clip, medium_extinction, medium_present, medium_transmittance, transmittance_of}
+#import scene::medium::{EYE_CLEARANCE, Medium, henyey_greenstein, medium_clip, medium_extinction, medium_present, medium_transmittance, transmittance_of}
+#import raytracer::triangles::{NO_HIT, SurfaceHit, surface_hit}
+#import raytracer::queries::{trace_any, trace_closest}
 
 struct Params {
     // xyz: the eye.
@@ -44,9 +46,7 @@ struct Params {
 
 @group(0) @binding(0) var<uniform> params: Params;
 // Binding 1: the traversal's structure (`bvh_nodes`, or `scene_tlas` for ray queries), declared
-// with it (tracer.rs: TRAVERSAL_BINDINGS).
-@group(0) @binding(2) var<storage, read> bvh_triangles: array<BvhTriangle>;
-@group(0) @binding(3) var<storage, read> bvh_attributes: array<BvhAttributes>;
+// by its module; bindings 2 and 3: the triangles (raytracer::triangles).
 // Lights, volumes, emitters, objects, the texture table and the sRGB decoding table, at
 // `params.offsets` (RayTracerTables in tracer.rs writes them).
 @group(0) @binding(4) var<storage, read> tables: array<vec4f>;
@@ -77,7 +77,6 @@ const TRANSMITTANCE_CUTOFF: f32 = 1e-6;
 const MAX_VOLUMES: u32 = 64u;
 // Scattering medium (truth::scattering).
 const INSCATTER_STEPS: u32 = 64u;
-const EYE_CLEARANCE: f32 = 0.1;
 
 // ---- Scene tables ---------------------------------------------------------------------------
 

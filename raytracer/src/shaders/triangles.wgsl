@@ -2,28 +2,39 @@
 // The scene's triangles as every traversal of the ray tracer sees them (raytracer::bvh): their
 // intersection data in `bvh_triangles` (obvhs' RtTriangle layout), their shading attributes in
 // `bvh_attributes`, a query's result (`TraceHit`) and the hit with what shading needs
-// (`surface_hit`). The including shader declares the two storage buffers; a traversal
-// (bvh.wgsl: the BVH in software; ray_query.wgsl: the hardware's) defines `trace`.
+// (`surface_hit`). A traversal (raytracer::bvh: the BVH in software; raytracer::ray_query: the
+// hardware's) answers `trace` with a TraceHit (raytracer::queries). The traversal's structure is
+// bound at @group(0) @binding(#{TRACE_FIRST_BINDING}) (the tracer: 1, `TRACE_DEFS`), the
+// triangles and their attributes at the next two bindings.
+//
+// The fields are obvhs' under names without a trailing digit (naga_oil's modules cannot keep
+// those): the vertices v0, v1, v2 are a, b, c, so v0 is `va`, e1 = v0 - v1 is `a_minus_b`,
+// e2 = v2 - v0 is `c_minus_a`, n0 is `na` and uv01 is `uv_ab` (raytracer::bvh's TriangleGpu and
+// AttributesGpu keep obvhs' names).
 // ---------------------------------------------------------------------------------------------
+#define_import_path raytracer::triangles
 
 struct BvhTriangle {
-    v0: vec3f,
-    // e1 = v0 - v1, e2 = v2 - v0, ng = e1 x e2 (computed on the CPU).
-    e1: vec3f,
-    e2: vec3f,
+    va: vec3f,
+    // a - b, c - a and ng = (a - b) x (c - a) (computed on the CPU).
+    a_minus_b: vec3f,
+    c_minus_a: vec3f,
     ng: vec3f,
 };
 
 struct BvhAttributes {
-    n0: vec3f,
+    na: vec3f,
     object: u32,
-    n1: vec3f,
+    nb: vec3f,
     triangle: u32,
-    n2: vec3f,
+    nc: vec3f,
     geometric_normal: vec3f,
-    uv01: vec4f,
-    uv2: vec2f,
+    uv_ab: vec4f,
+    uv_c: vec2f,
 };
+
+@group(0) @binding(#{TRACE_FIRST_BINDING} + 1u) var<storage, read> bvh_triangles: array<BvhTriangle>;
+@group(0) @binding(#{TRACE_FIRST_BINDING} + 2u) var<storage, read> bvh_attributes: array<BvhAttributes>;
 
 const NO_HIT: u32 = 0xffffffffu;
 
@@ -36,8 +47,8 @@ struct TraceHit {
 // Barycentrics (u, v), weights (1 - u - v, u, v) of (v0, v1, v2): obvhs'
 // RtTriangle::compute_barycentric.
 fn hit_barycentrics(tri: BvhTriangle, o: vec3f, d: vec3f) -> vec2f {
-    let r = cross(d, tri.v0 - o);
-    return vec2f(dot(r, tri.e2), dot(r, tri.e1)) / dot(tri.ng, d);
+    let r = cross(d, tri.va - o);
+    return vec2f(dot(r, tri.c_minus_a), dot(r, tri.a_minus_b)) / dot(tri.ng, d);
 }
 
 // A hit with what shading needs (scene::bvh::Hit).
@@ -56,23 +67,13 @@ fn surface_hit(h: TraceHit, o: vec3f, d: vec3f) -> SurfaceHit {
     let a = bvh_attributes[h.triangle];
     let b = hit_barycentrics(bvh_triangles[h.triangle], o, d);
     let w = 1.0 - b.x - b.y;
-    let n = a.n0 * w + a.n1 * b.x + a.n2 * b.y;
+    let n = a.na * w + a.nb * b.x + a.nc * b.y;
     var s: SurfaceHit;
     s.t = h.t;
     s.object = a.object;
     s.position = o + d * h.t;
     s.normal = select(a.geometric_normal, normalize(n), dot(n, n) > 0.0);
     s.geometric_normal = a.geometric_normal;
-    s.uv = a.uv01.xy * w + a.uv01.zw * b.x + a.uv2 * b.y;
+    s.uv = a.uv_ab.xy * w + a.uv_ab.zw * b.x + a.uv_c * b.y;
     return s;
 }
-
-// The two queries every traversal answers through its `trace`.
-fn trace_closest(o: vec3f, d: vec3f, t_max: f32) -> TraceHit {
-    return trace(o, d, t_max, false);
-}
-
-fn trace_any(o: vec3f, d: vec3f, t_max: f32) -> bool {
-    return trace(o, d, t_max, true).triangle != NO_HIT;
-}
-

@@ -8,6 +8,7 @@
 #import scene::medium::medium_transmittance
 #import screen_photons::ldi::{ldi, ldi_point}
 #import screen_photons::photon::surface_distance
+#import gpu::fullscreen::FullscreenOut
 
 @group(3) @binding(0) var inscatter: texture_2d<f32>;
 

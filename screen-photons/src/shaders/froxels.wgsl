@@ -18,6 +18,7 @@
 #import screen_photons::ldi::ldi
 #import screen_photons::photon::surface_distance
 #import screen_photons::beam::Beam
+#import gpu::fullscreen::FullscreenOut
 
 struct FroxelParams {
     // The caustic map's light view (world to clip).

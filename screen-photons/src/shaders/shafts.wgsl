@@ -7,6 +7,7 @@
 #import scene::shading::scene_medium
 #import screen_photons::beam::{BAND_HALF_WIDTH, Beam, ShaftView, beam_band, beam_fragment}
 #import screen_photons::photon::surface_distance
+#import gpu::fullscreen::FullscreenOut
 
 @group(3) @binding(0) var<storage, read> beams: array<Beam>;
 @group(3) @binding(1) var<uniform> shaft: ShaftView;

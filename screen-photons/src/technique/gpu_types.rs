@@ -144,7 +144,8 @@ pub(super) fn bufferless_pipeline(
     )
 }
 
-/// [`bufferless_pipeline`] with the caller's targets.
+/// [`bufferless_pipeline`] with the caller's targets. The vertex entry
+/// [`gpu::fullscreen::VERTEX_ENTRY`] is the full-screen triangle's own shader.
 pub(super) fn render_pipeline(
     ctx: &Context,
     label: &str,
@@ -155,12 +156,14 @@ pub(super) fn render_pipeline(
     targets: &[Option<wgpu::ColorTargetState>],
 ) -> wgpu::RenderPipeline {
     let module = pass_shader(ctx, label, own);
+    let fullscreen =
+        (vs == gpu::fullscreen::VERTEX_ENTRY).then(|| gpu::fullscreen::vertex_module(ctx));
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),
             layout: Some(layout),
             vertex: wgpu::VertexState {
-                module: &module,
+                module: fullscreen.as_ref().unwrap_or(&module),
                 entry_point: Some(vs),
                 compilation_options: Default::default(),
                 buffers: &[],

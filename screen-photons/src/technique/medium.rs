@@ -40,10 +40,7 @@ impl MediumPasses {
         let engine_shadows = engine_shadows(ctx, scene, variant);
         let with =
             |own: &wgpu::BindGroupLayout| scene.pipeline_layout_with(ctx, &[ldi_layout, own]);
-        let fullscreen = gpu::fullscreen::FULLSCREEN_VS_WGSL;
-        let shafts = format!("{fullscreen}\n{SHAFTS_WGSL}");
-        let composite = format!("{fullscreen}\n{COMPOSITE_WGSL}");
-        let froxels = format!("{fullscreen}\n{FROXELS_WGSL}");
+        let (shafts, composite, froxels) = (SHAFTS_WGSL, COMPOSITE_WGSL, FROXELS_WGSL);
         let hdr = |blend| [pass::color_target(gpu::HDR_FORMAT, Some(blend))];
         let triangles = wgpu::PrimitiveTopology::TriangleList;
         Self {
@@ -51,7 +48,7 @@ impl MediumPasses {
                 ctx,
                 "god-ray bands",
                 &with(&shafts_layout),
-                &shafts,
+                shafts,
                 ("band_vs", "band_fs"),
                 triangles,
                 Some(ADD),
@@ -60,8 +57,8 @@ impl MediumPasses {
                 ctx,
                 "god-ray blur",
                 &with(&shafts_layout),
-                &shafts,
-                ("fullscreen_vs", "blur_fs"),
+                shafts,
+                (gpu::fullscreen::VERTEX_ENTRY, "blur_fs"),
                 triangles,
                 None,
             ),
@@ -69,8 +66,8 @@ impl MediumPasses {
                 ctx,
                 "medium transmittance",
                 &with(&composite_layout),
-                &composite,
-                ("fullscreen_vs", "attenuate_fs"),
+                composite,
+                (gpu::fullscreen::VERTEX_ENTRY, "attenuate_fs"),
                 triangles,
                 &hdr(MULTIPLY_RGB_KEEP_ALPHA),
             ),
@@ -78,8 +75,8 @@ impl MediumPasses {
                 ctx,
                 "medium in-scattering",
                 &with(&composite_layout),
-                &composite,
-                ("fullscreen_vs", "inscatter_fs"),
+                composite,
+                (gpu::fullscreen::VERTEX_ENTRY, "inscatter_fs"),
                 triangles,
                 &hdr(ADD_RGB_KEEP_ALPHA),
             ),
@@ -87,7 +84,7 @@ impl MediumPasses {
                 ctx,
                 "froxel caustic map",
                 &with(&froxel_layout),
-                &froxels,
+                froxels,
                 ("caustic_map_vs", "caustic_map_fs"),
                 wgpu::PrimitiveTopology::PointList,
                 &[
@@ -99,22 +96,22 @@ impl MediumPasses {
                 ctx,
                 "froxel scattering",
                 &with(&froxel_layout),
-                &froxels,
+                froxels,
                 "froxel_scatter_main",
             ),
             froxel_integrate: compute_pipeline(
                 ctx,
                 "froxel integration",
                 &with(&froxel_layout),
-                &froxels,
+                froxels,
                 "froxel_integrate_main",
             ),
             froxel_lookup: bufferless_pipeline(
                 ctx,
                 "froxel lookup",
                 &with(&froxel_layout),
-                &froxels,
-                ("fullscreen_vs", "froxel_lookup_fs"),
+                froxels,
+                (gpu::fullscreen::VERTEX_ENTRY, "froxel_lookup_fs"),
                 triangles,
                 None,
             ),

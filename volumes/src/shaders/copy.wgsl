@@ -1,6 +1,9 @@
 // Full-screen copies between the intermediate colour buffers and the target (the vertex stage
-// is gpu::fullscreen's). The including code defines `const COPY_ALPHA: bool`: false writes
-// alpha 1 (the final image, like the reference).
+// is gpu::fullscreen's). The definition COPY_ALPHA: false writes alpha 1 (the final image,
+// like the reference).
+#import gpu::fullscreen::FullscreenOut
+
+const COPY_ALPHA: bool = #{COPY_ALPHA};
 
 @group(0) @binding(0) var copy_source: texture_2d<f32>;
 

@@ -2,6 +2,7 @@
 //! buffers are `mod.rs`'s `ensure_buffers`).
 
 use super::*;
+use gpu::wgsl::Def;
 
 const VOLUMES_WGSL: &str = include_str!("../shaders/volumes.wgsl");
 const COPY_WGSL: &str = include_str!("../shaders/copy.wgsl");
@@ -129,23 +130,18 @@ impl VolumeTechnique {
         ctx: &Context,
         copy_layout: &wgpu::BindGroupLayout,
     ) -> (Option<wgpu::RenderPipeline>, wgpu::RenderPipeline) {
-        let copy_source =
-            |keep_alpha: bool| format!("const COPY_ALPHA: bool = {keep_alpha};\n{COPY_WGSL}");
+        let [keep_alpha, opaque] = [true, false].map(|keep| [("COPY_ALPHA", Def::Bool(keep))]);
+        let copy = |label, defs| gpu::wgsl::Shader::new(label, COPY_WGSL).with_defs(defs);
         let layouts = [Some(copy_layout)];
         let to_bytes = (self.buffer_format() == BYTE_BUFFER_FORMAT).then(|| {
-            let source = copy_source(true);
             let label = "volumes to 8-bit";
-            gpu::fullscreen::pipeline(ctx, label, &source, &layouts, BYTE_BUFFER_FORMAT, None)
+            let shader = copy(label, &keep_alpha);
+            gpu::fullscreen::pipeline(ctx, label, shader, &layouts, BYTE_BUFFER_FORMAT, None)
         });
-        let source = copy_source(false);
-        let resolve = gpu::fullscreen::pipeline(
-            ctx,
-            "volumes resolve",
-            &source,
-            &layouts,
-            gpu::HDR_FORMAT,
-            None,
-        );
+        let label = "volumes resolve";
+        let shader = copy(label, &opaque);
+        let resolve =
+            gpu::fullscreen::pipeline(ctx, label, shader, &layouts, gpu::HDR_FORMAT, None);
         (to_bytes, resolve)
     }
 
