@@ -47,6 +47,7 @@ fn ctx() -> &'static gpu::Context {
 /// One compute kernel per prelude function. A case reads four `vec4` arguments (as raw bits)
 /// and writes two `vec4` results (as raw bits).
 const KERNELS: &str = r#"
+#import gpu::prelude::{box_project, cube_dir_to_face_uv, cube_face_uv_to_dir, fresnel_dielectric, fresnel_nk, grid_walk, grid_walk_next, hash_to_unit, luminance, oct_decode, oct_encode, pcg_hash, ray_box, ray_plane, ray_sphere, reflect_dir, refract_dir}
 @group(0) @binding(0) var<storage, read> cases: array<vec4u>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4u>;
 
@@ -217,10 +218,13 @@ fn arg(c: &Case, k: usize) -> Vec4 {
     float4(c[k])
 }
 
-/// Runs kernel `entry` of `KERNELS` compiled after `prelude` on `cases`.
+/// Runs kernel `entry` of `KERNELS`, importing the module `gpu::prelude` with the text
+/// `prelude` (the prelude's own, or a mutation test's broken copy), on `cases`.
 fn run_kernel(prelude: &str, entry: &str, cases: &[Case]) -> Vec<Output> {
-    let source = format!("{prelude}\n{KERNELS}");
-    gpu::compute::run_kernel(ctx(), &source, entry, cases, 1)
+    let module = p::PRELUDE.with_source(prelude.to_string());
+    let imports = [&module];
+    let kernel = gpu::wgsl::Shader::new("prelude kernels", KERNELS).importing(&imports);
+    gpu::compute::run_kernel(ctx(), kernel, entry, cases, 1)
         .unwrap_or_else(|e| panic!("kernel {entry}: {e}"))
 }
 

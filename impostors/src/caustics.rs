@@ -25,13 +25,24 @@ use scene::lightmap::{ChartAtlas, QuadSplatter};
 use scene::{Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
 
 /// WGSL of the receivers' light-map charts: the chart and atlas uv under a fragment of a
-/// diffuse object (imports `scene::chart` and `scene::receiver`).
+/// diffuse object; the module `impostors::lightmap` ([`LIGHTMAP`]).
 pub const LIGHTMAP_WGSL: &str = include_str!("shaders/lightmap.wgsl");
+/// [`LIGHTMAP_WGSL`] as a module.
+pub static LIGHTMAP: gpu::wgsl::Module =
+    gpu::wgsl::Module::new(LIGHTMAP_WGSL, "impostors/src/shaders/lightmap.wgsl", &[]);
 /// WGSL of the caustic maps (paper section 5): photon tracing from the light
-/// (`trace_photon`), the caustic-map and receiver-cube shaders of both paths and the apply
-/// passes (imports `gpu::prelude`, `scene::shading` and `gpu::distance_map`, whose `Hit()` it
-/// uses, and `scene::chart` and `scene::receiver`; after `localized.wgsl` and lightmap.wgsl).
+/// (`trace_photon`), what the caustic passes of both paths share, and the caustics the
+/// localized lookups see, which it overrides (`caustic_radiance_at`: the light map's, or the
+/// grid's with the definition `CAUSTIC_GRID`); the module `impostors::caustic` ([`CAUSTIC`]).
 pub const CAUSTIC_WGSL: &str = include_str!("shaders/caustic.wgsl");
+/// [`CAUSTIC_WGSL`] as a module.
+pub static CAUSTIC: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    CAUSTIC_WGSL,
+    "impostors/src/shaders/caustic.wgsl",
+    &[&crate::technique::LOCALIZED, &LIGHTMAP],
+);
+/// The caustic passes' entry points (the caustic map, the receiver cube, the apply).
+const CAUSTIC_PASSES_WGSL: &str = include_str!("shaders/caustic_passes.wgsl");
 const SPLAT_WGSL: &str = include_str!("shaders/splat.wgsl");
 
 /// Format of the caustic map's two targets (photon address, photon power).
@@ -96,18 +107,25 @@ impl CausticSettings {
     }
 }
 
-/// The WGSL that `localized.wgsl`'s lookups call for the caustics they see.
-pub fn lookup_wgsl(path: Option<CausticPath>) -> String {
-    let body = match path {
-        None => "return vec3f(0.0);",
-        Some(CausticPath::LightMap) => "return caustic_radiance_lightmap(l);",
-        Some(CausticPath::Grid) => "return caustic_radiance_grid(l);",
+/// A shader of the caustic variants: `source`'s entry points with `impostors::caustic`
+/// overriding the localized lookups' caustics for `path`.
+pub fn caustic_shader(
+    ctx: &Context,
+    label: &str,
+    source: &str,
+    path: CausticPath,
+) -> wgpu::ShaderModule {
+    let grid = [("CAUSTIC_GRID", gpu::wgsl::Def::Bool(true))];
+    let defs: &[_] = match path {
+        CausticPath::LightMap => &[],
+        CausticPath::Grid => &grid,
     };
-    let shaders = match path {
-        None => String::new(),
-        Some(_) => format!("{LIGHTMAP_WGSL}\n{CAUSTIC_WGSL}\n"),
-    };
-    format!("{shaders}fn caustic_radiance_at(l: vec3f) -> vec3f {{ {body} }}\n")
+    let modules = [&CAUSTIC];
+    let shader = gpu::wgsl::Shader::new(label, source)
+        .importing(&modules)
+        .with_defs(defs)
+        .overriding(&modules);
+    scene::shader_of(ctx, shader)
 }
 
 /// The uniform block `CausticParams` of caustic.wgsl.
@@ -209,7 +227,6 @@ impl Caustics {
         ctx: &Context,
         scene: &GpuScene,
         impostor_layout: &wgpu::BindGroupLayout,
-        localized_source: &str,
         settings: &CausticSettings,
     ) -> Result<Self, GpuError> {
         if settings.path == CausticPath::LightMap {
@@ -260,7 +277,7 @@ impl Caustics {
             apply_pipeline,
             localized_pipeline,
             receiver_pipeline,
-        ] = caustic_pipelines(ctx, scene, layouts, localized_source, settings.path);
+        ] = caustic_pipelines(ctx, scene, layouts, settings.path);
         let splat = match settings.path {
             CausticPath::Grid => splat_compute(ctx),
             CausticPath::LightMap => Splatter::Quads(QuadSplatter::new(ctx, LIGHT_MAP_FORMAT)),
@@ -707,7 +724,7 @@ fn splat_compute(ctx: &Context) -> Splatter {
     Splatter::Compute { pipeline, layout }
 }
 
-/// The caustic passes' pipelines from the localized module with caustics: the caustic map
+/// The caustic passes' pipelines (their shaders with the caustics of `path`): the caustic map
 /// (photon landing points and power), the apply onto the receivers, the localized lookup
 /// with caustics, and the receivers' pass. `layouts`: the impostor's `@group(2)`, the
 /// caustics' `@group(3)`, and the receiver pass's empty `@group(2)` and `@group(3)`.
@@ -720,10 +737,15 @@ fn caustic_pipelines(
         empty_layout,
         receiver_layout,
     ]: [&wgpu::BindGroupLayout; 4],
-    localized_source: &str,
     path: CausticPath,
 ) -> [wgpu::RenderPipeline; 4] {
-    let module = scene::shader(ctx, "impostors caustics", localized_source);
+    let module = caustic_shader(ctx, "impostors caustics", CAUSTIC_PASSES_WGSL, path);
+    let localized = caustic_shader(
+        ctx,
+        "localized lookup with caustics",
+        crate::technique::LOCALIZED_FS_WGSL,
+        path,
+    );
     let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, group3_layout]);
     let (map_entry, apply_entry) = match path {
         CausticPath::LightMap => ("caustic_uv_fs", "lightmap_apply_fs"),
@@ -755,7 +777,7 @@ fn caustic_pipelines(
         ctx,
         "localized lookup with caustics",
         &layout,
-        &module,
+        &localized,
         "localized_fs",
         &[color_target(gpu::HDR_FORMAT, None)],
         less,

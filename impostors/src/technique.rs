@@ -12,7 +12,7 @@
 //! photons into a grid indexed by direction from the reference point (compute, atomics) and
 //! adds the resulting caustic radiance to the diffuse surfaces (README.md, "Caustics").
 
-use crate::caustics::{self, CausticPath, CausticSettings, Caustics, GeneratorMaps};
+use crate::caustics::{CausticPath, CausticSettings, Caustics, GeneratorMaps};
 use glam::Vec3;
 use gpu::bind::UniformGroups;
 use gpu::cube::CubeTarget;
@@ -27,7 +27,14 @@ use scene::{
 };
 
 /// WGSL of the localized lookups (imports `gpu::prelude`, `gpu::distance_map`, `scene::shading`).
-const LOCALIZED_WGSL: &str = include_str!("shaders/localized.wgsl");
+/// Localized environment mapping (sections 3 and 4): the module `impostors::localized`
+/// ([`LOCALIZED`]); its lookups' caustics are a virtual function the caustic variants override.
+pub const LOCALIZED_WGSL: &str = include_str!("shaders/localized.wgsl");
+/// [`LOCALIZED_WGSL`] as a module.
+pub static LOCALIZED: gpu::wgsl::Module =
+    gpu::wgsl::Module::new(LOCALIZED_WGSL, "impostors/src/shaders/localized.wgsl", &[]);
+/// The localized pass's entry points (`localized_fs`, `refractor_map_fs`).
+pub(crate) const LOCALIZED_FS_WGSL: &str = include_str!("shaders/localized_fs.wgsl");
 const SPLIT_WGSL: &str = include_str!("shaders/split.wgsl");
 
 /// Format of the environment impostor (radiance + distance in alpha) and the refractor map.
@@ -352,18 +359,11 @@ impl Technique for Impostor {
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         let layout = impostor_layout(ctx);
-        // The plain localized pass (and the refractor map) from a module without caustics;
-        // caustic variants draw with their own module, whose lookups add the caustics.
-        let source_with = |path| format!("{}\n{}", LOCALIZED_WGSL, caustics::lookup_wgsl(path));
-        let module = scene::shader(ctx, &self.id, &source_with(None));
+        // The plain localized pass (and the refractor map) from a shader without caustics;
+        // caustic variants draw with their own shader, whose lookups add the caustics.
+        let module = scene::shader_importing(ctx, &self.id, LOCALIZED_FS_WGSL, &[&LOCALIZED]);
         let caustic = match &self.settings.caustics {
-            Some(c) => Some(Caustics::new(
-                ctx,
-                scene,
-                &layout,
-                &source_with(Some(c.path)),
-                c,
-            )?),
+            Some(c) => Some(Caustics::new(ctx, scene, &layout, c)?),
             None => None,
         };
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);

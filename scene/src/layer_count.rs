@@ -26,9 +26,10 @@ use gpu::{Context, GpuError, Uniform, bind};
 
 use crate::{GpuScene, ObjectFilter, scene_pipeline_with};
 
-/// The counter's bindings, at `@group(#{COUNT_GROUP})`: the same four buffers for the count's fragment
-/// stage and the two compute passes.
-const BINDINGS_WGSL: &str = r#"
+/// The counter's bindings, at `@group(#{COUNT_GROUP})`: the same four buffers for the count's
+/// fragment stage and the two compute passes; the module `scene::layer_count` ([`BINDINGS`]).
+const BINDINGS_WGSL: &str = r#"#define_import_path scene::layer_count
+
 struct CountParams {
     width: u32,
     height: u32,
@@ -42,11 +43,15 @@ struct CountParams {
 @group(#{COUNT_GROUP}) @binding(3) var<storage, read_write> args: array<u32>;
 "#;
 
+/// [`BINDINGS_WGSL`] as a module, which the count and the reduce import.
+static BINDINGS: gpu::wgsl::Module =
+    gpu::wgsl::Module::new(BINDINGS_WGSL, "scene/src/layer_count.rs", &[]);
+
 /// A shader of the counter, its bindings at `@group(group)`.
 fn counter_shader(ctx: &Context, label: &str, source: &str, group: u32) -> wgpu::ShaderModule {
     let (defs, imports) = (
         [("COUNT_GROUP", gpu::wgsl::Def::UInt(group))],
-        [&crate::SHADING],
+        [&crate::SHADING, &BINDINGS],
     );
     let shader = gpu::wgsl::Shader::new(label, source).importing(&imports);
     gpu::shader(ctx, shader.with_defs(&defs))
@@ -54,6 +59,7 @@ fn counter_shader(ctx: &Context, label: &str, source: &str, group: u32) -> wgpu:
 
 const COUNT_WGSL: &str = r#"
 #import scene::shading::SceneVertexOut
+#import scene::layer_count::{count_params, counts}
 // Every fragment of every selected surface, whatever its depth, adds one to its pixel.
 @fragment
 fn count_fs(in: SceneVertexOut) {
@@ -63,6 +69,7 @@ fn count_fs(in: SceneVertexOut) {
 "#;
 
 const REDUCE_WGSL: &str = r#"
+#import scene::layer_count::{args, complexity, count_params, counts}
 // The texture reduce-max of the paper, as one atomic maximum per covered pixel. The
 // invocations stride over the pixels: a dispatch has at most 65 535 workgroups, fewer than
 // 4K images have groups of 64 pixels.
@@ -198,8 +205,7 @@ impl LayerCounter {
                 args.as_entire_binding(),
             ],
         );
-        let count_source = format!("{BINDINGS_WGSL}\n{COUNT_WGSL}");
-        let count_module = counter_shader(ctx, "depth complexity count", &count_source, 2);
+        let count_module = counter_shader(ctx, "depth complexity count", COUNT_WGSL, 2);
         let count_pipeline = scene_pipeline_with(
             ctx,
             "depth complexity count",
@@ -209,8 +215,7 @@ impl LayerCounter {
             &[],
             (false, wgpu::CompareFunction::Always),
         );
-        let reduce_source = format!("{BINDINGS_WGSL}\n{REDUCE_WGSL}");
-        let reduce_module = counter_shader(ctx, "depth complexity max", &reduce_source, 0);
+        let reduce_module = counter_shader(ctx, "depth complexity max", REDUCE_WGSL, 0);
         let compute = |entry| {
             gpu::compute::pipeline(ctx, "depth complexity", &[&layout], &reduce_module, entry)
         };

@@ -131,20 +131,19 @@ pub fn scene_vertex_module(ctx: &Context) -> wgpu::ShaderModule {
     shader(ctx, "scene_vs", SCENE_VS_WGSL)
 }
 
-/// [`scene_pipeline_with`] with a vertex entry point of the module's own in place of
-/// `scene_vs` (one that places the scene's vertices as `scene_vs` does and passes more along,
-/// per-vertex data read from a storage buffer by vertex index, say): `(vertex, fragment)`.
+/// [`scene_pipeline_with`] with a vertex stage of the caller's own in place of `scene_vs` (one
+/// that places the scene's vertices as `scene_vs` does and passes more along, per-vertex data
+/// read from a storage buffer by vertex index, say): `(vertex, fragment)` stages, each a module
+/// and its entry point.
 pub fn scene_pipeline_entries(
     ctx: &Context,
     label: &str,
     layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
+    stages: (Stage<'_>, Stage<'_>),
     targets: &[Option<wgpu::ColorTargetState>],
     depth: (bool, wgpu::CompareFunction),
 ) -> wgpu::RenderPipeline {
     let vertices = [Some(Vertex::layout())];
-    let stages = ((module, entries.0), (module, entries.1));
     render_pipeline(ctx, label, layout, stages, &vertices, targets, depth)
 }
 
@@ -206,7 +205,8 @@ fn render_pipeline(
 }
 
 /// A pipeline stage: its module and entry point.
-type Stage<'a> = (&'a wgpu::ShaderModule, &'a str);
+/// A pipeline stage: a shader module and its entry point.
+pub type Stage<'a> = (&'a wgpu::ShaderModule, &'a str);
 
 #[cfg(test)]
 mod tests {

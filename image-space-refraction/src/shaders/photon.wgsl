@@ -1,5 +1,5 @@
-// The photon buffer (Hu and Qin 2006, section 3.1), after refract.wgsl and
-// nearby_radiance.wgsl: the refractor drawn from a light (camera = the light's view, eye_params = the
+// The photon buffer (Hu and Qin 2006, section 3.1), over image_space_refraction::refract's
+// bindings: the refractor drawn from a light (camera = the light's view, eye_params = the
 // same view with size.z the pixel size at unit distance and size.w the light's index; the
 // front/back buffers are the light's). Each pixel is one photon: the light's power through the
 // pixel's solid angle, followed through the refractor exactly as an eye ray (the two-interface
@@ -9,7 +9,8 @@
 #import gpu::prelude::fresnel_dielectric
 #import scene::shading::{camera, emission_jitter, jittered_point, lights, objects, specular_event}
 #import image_space_refraction::search::{Iteration, hu_qin_exit, exit_direction}
-#import image_space_refraction::nearby::nearby_hit
+#import image_space_refraction::nearby::{nearby, nearby_hit, rects}
+#import image_space_refraction::refract::{RefractorOut, SURFACE_OFFSET, back_buffer, eye_params, front_buffer, params}
 
 struct PhotonOut {
     // u, v on the rectangle's texture, texture array layer + 1 (0: no photon), unused.

@@ -1,7 +1,8 @@
 // Image-space refraction through two interfaces (Hu and Qin 2006, section 2.1) and its
-// baselines; imports gpu::prelude, scene::shading and image_space_refraction::search (the
-// two-interface searches, given the front and back buffers bound here); followed by
-// environment.wgsl or nearby_radiance.wgsl, which define `outgoing_radiance`.
+// baselines: the module image_space_refraction::refract (its bindings at @group(2) and the
+// refractor's shading), whose entry points are refract_passes.wgsl's and photon.wgsl's. The
+// two-interface searches are image_space_refraction::search's, given the front and back
+// buffers bound here.
 //
 // Each frame the refractor's front- and back-facing surfaces are drawn from the eye into two
 // buffers (`front_buffer_fs`, `back_buffer_fs`: outward normal, view depth): nothing is
@@ -19,8 +20,11 @@
 //                          plane at the opaque depth behind the pixel, and the opaque scene's
 //                          colour is read where that point projects.
 // The exit ray T2 (or the reflected ray R) takes the radiance `outgoing_radiance(origin, dir)`
-// gives: the environment map, or with nearby geometry its rectangle impostors first.
-#import gpu::prelude::refract_dir
+// gives: the environment map (or the room probe, box-projected), or with nearby geometry its
+// rectangle impostors first (image_space_refraction::nearby_radiance overrides it).
+#define_import_path image_space_refraction::refract
+
+#import gpu::prelude::{box_project, refract_dir}
 #import scene::shading::{SceneVertexIn, SceneVertexOut, SpecularEvent, camera, geometric_facing_normal, objects, specular_event, specular_shade}
 #import image_space_refraction::search::{EyeParams, eye_project, Iteration, Exit, hu_qin_exit, wyman_exit, exit_direction}
 
@@ -74,22 +78,6 @@ struct RefractorOut {
     @location(4) d_n: f32,
 };
 
-@vertex
-fn refractor_vs(v: SceneVertexIn, @builtin(instance_index) object: u32,
-                @builtin(vertex_index) vertex: u32) -> RefractorOut {
-    // scene_vs's placement (an entry point cannot be called).
-    let o = objects[object];
-    let world = (o.model * vec4f(v.position, 1.0)).xyz;
-    var out: RefractorOut;
-    out.clip = camera.view_proj * vec4f(world, 1.0);
-    out.world = world;
-    out.normal = (o.normal_matrix * vec4f(v.normal, 0.0)).xyz;
-    out.uv = v.uv;
-    out.object = object;
-    out.d_n = normal_thickness[vertex];
-    return out;
-}
-
 // ---- front and back buffers -----------------------------------------------------------------
 
 // Outward normal and view depth of a fragment on the wanted side; the side is the authored
@@ -103,20 +91,21 @@ fn buffer_fragment(in: SceneVertexOut, want_front: bool) -> vec4f {
     return vec4f(n, (camera.view_proj * vec4f(in.world, 1.0)).w);
 }
 
-@fragment
-fn front_buffer_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    return buffer_fragment(in, true);
-}
-
-@fragment
-fn back_buffer_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    return buffer_fragment(in, false);
-}
-
 // ---- the refractor --------------------------------------------------------------------------
 
 fn env_lookup(dir: vec3f) -> vec3f {
     return textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb;
+}
+
+virtual fn outgoing_radiance(origin: vec3f, dir: vec3f) -> vec3f {
+    // Radiance along a ray leaving the refractor, without nearby geometry: the environment
+    // map in the ray's direction (the paper's distant environment), or the room probe where
+    // the ray leaves its proxy box (the engine's parallax-corrected lookup).
+    if (params.probe.w > 0.5) {
+        let l = box_project(origin, dir, params.probe.xyz, params.box_min.xyz, params.box_max.xyz);
+        return env_lookup(l.xyz);
+    }
+    return env_lookup(dir);
 }
 
 // HDRP's RefractionModelSphere / RefractionModelBox, then its EstimateRaycast: see the header.
@@ -178,19 +167,3 @@ fn through_refractor(in: RefractorOut, e: SpecularEvent, v: vec3f) -> vec3f {
     return outgoing_radiance(origin, t2.xyz);
 }
 
-@fragment
-fn refract_fs(in: RefractorOut) -> @location(0) vec4f {
-    let eye = camera.eye.xyz;
-    let v = normalize(in.world - eye);
-    let e = specular_event(in.object, in.normal, in.world, eye, v);
-    let reflected = outgoing_radiance(in.world, e.reflected);
-    var refracted = reflected;
-    if (e.refracted.w > 0.5) {
-        if (e.entering) {
-            refracted = through_refractor(in, e, v);
-        } else {
-            refracted = outgoing_radiance(in.world, e.refracted.xyz);
-        }
-    }
-    return vec4f(specular_shade(e, reflected, refracted), distance(in.world, eye));
-}

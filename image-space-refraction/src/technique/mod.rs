@@ -46,13 +46,19 @@ pub use resources::*;
 pub use settings::*;
 pub use variants::*;
 
-const REFRACT_WGSL: &str = include_str!("../shaders/refract.wgsl");
-const ENVIRONMENT_WGSL: &str = include_str!("../shaders/environment.wgsl");
-const NEARBY_WGSL: &str = concat!(
-    include_str!("../shaders/nearby_radiance.wgsl"),
-    "\n",
-    include_str!("../shaders/photon.wgsl")
+/// The refractor's bindings and shading: the module `image_space_refraction::refract`
+/// ([`REFRACT`]).
+pub const REFRACT_WGSL: &str = include_str!("../shaders/refract.wgsl");
+/// [`REFRACT_WGSL`] as a module.
+pub static REFRACT: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    REFRACT_WGSL,
+    "image-space-refraction/src/shaders/refract.wgsl",
+    &[&crate::search::SEARCH],
 );
+/// The entry points of the refractor's passes (its vertex stage, the buffers, the eye's view).
+const REFRACT_PASSES_WGSL: &str = include_str!("../shaders/refract_passes.wgsl");
+/// The photon buffer's entry point (with nearby geometry).
+const PHOTON_WGSL: &str = include_str!("../shaders/photon.wgsl");
 
 /// Most specular objects of a scene the technique renders with a map per object (the room
 /// probe, `Settings::room_probe`, serves any number). The paper's scenes have one
@@ -349,14 +355,14 @@ impl Technique for Refraction {
         let layout = group_layout(ctx);
         let nearby_layout = rectangles::group_layout(ctx);
         let made = match self.settings.nearby {
-            Some(_) => pipelines(ctx, scene, &[&layout, &nearby_layout], NEARBY_WGSL),
-            None => pipelines(ctx, scene, &[&layout], ENVIRONMENT_WGSL),
+            Some(_) => pipelines(ctx, scene, &[&layout, &nearby_layout], true),
+            None => pipelines(ctx, scene, &[&layout], false),
         };
         let impostor_pipeline = self
             .settings
             .nearby
             .filter(|n| n.recursive)
-            .map(|_| pipelines(ctx, scene, &[&layout], ENVIRONMENT_WGSL).refract);
+            .map(|_| pipelines(ctx, scene, &[&layout], false).refract);
         let rectangles = self.rectangles_of(ctx, scene, &specular)?;
         let maps = self.object_maps(ctx, scene, &specular, probe.as_ref(), room_probe)?;
         // Every variant's vertex stage reads it; only Wyman's baseline fills it.

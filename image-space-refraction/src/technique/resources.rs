@@ -112,21 +112,29 @@ pub(super) fn group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
     )
 }
 
-/// The buffer pipelines (front, back) and the refractor's pipeline, from one module whose
-/// `outgoing_radiance` is `radiance_wgsl`.
+/// The buffer pipelines (front, back) and the refractor's pipeline; with `nearby` (its
+/// `@group(3)` last in `layouts`) the rays leaving the refractor meet the rectangle impostors
+/// first (`image_space_refraction::nearby_radiance` overriding `outgoing_radiance`), and the
+/// photon pass is made.
 pub(super) fn pipelines(
     ctx: &Context,
     scene: &GpuScene,
     layouts: &[&wgpu::BindGroupLayout],
-    radiance_wgsl: &str,
+    nearby: bool,
 ) -> Pipelines {
-    let source = format!("{REFRACT_WGSL}\n{radiance_wgsl}");
-    let module = scene::shader_of(
-        ctx,
-        gpu::wgsl::Shader::new("image-space refraction", &source)
-            .importing(&[&crate::search::SEARCH, &crate::nearby::NEARBY])
-            .with_defs(&crate::nearby::NEARBY_DEFS),
-    );
+    let overrides: &[&gpu::wgsl::Module] = match nearby {
+        true => &[&crate::nearby::NEARBY_RADIANCE],
+        false => &[],
+    };
+    let imports = [&REFRACT, &crate::search::SEARCH, &crate::nearby::NEARBY];
+    let shader = |label, source| {
+        let shader = gpu::wgsl::Shader::new(label, source)
+            .importing(&imports)
+            .with_defs(&crate::nearby::NEARBY_DEFS)
+            .overriding(overrides);
+        scene::shader_of(ctx, shader)
+    };
+    let module = shader("image-space refraction", REFRACT_PASSES_WGSL);
     let buffers_layout = scene.pipeline_layout_with(ctx, &[]);
     let buffer_pipeline = |entry: &str| {
         scene::scene_pipeline_with(
@@ -140,25 +148,24 @@ pub(super) fn pipelines(
         )
     };
     let refract_layout = scene.pipeline_layout_with(ctx, layouts);
-    let refractor_pipeline = |fragment: &str, targets: &[Option<wgpu::ColorTargetState>]| {
+    let refractor_pipeline = |fragment: (&wgpu::ShaderModule, &str), targets: &[_]| {
         scene::scene_pipeline_entries(
             ctx,
-            fragment,
+            fragment.1,
             &refract_layout,
-            &module,
-            ("refractor_vs", fragment),
+            ((&module, "refractor_vs"), fragment),
             targets,
             (true, wgpu::CompareFunction::Less),
         )
     };
     let refract = refractor_pipeline(
-        "refract_fs",
+        (&module, "refract_fs"),
         &[gpu::pass::color_target(gpu::HDR_FORMAT, None)],
     );
-    // Only the nearby module (`layouts` with @group(3)) has photon_fs.
-    let photon = (layouts.len() > 1).then(|| {
+    let photon = nearby.then(|| {
+        let photons = shader("image-space refraction photons", PHOTON_WGSL);
         refractor_pipeline(
-            "photon_fs",
+            (&photons, "photon_fs"),
             &[
                 gpu::pass::color_target(BUFFER_FORMAT, None),
                 gpu::pass::color_target(BUFFER_FORMAT, None),

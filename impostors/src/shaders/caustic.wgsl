@@ -18,11 +18,15 @@
 // 3. Reflections and refractions see the caustics too (paper figure 11): env_lookup adds
 //    caustic_radiance_at(l), which reads the caustic at the surface the impostor shows in
 //    direction l (receiver cube: albedo, chart, texel area, cosine).
+#define_import_path impostors::caustic
+
 #import gpu::prelude::{PI, cube_dir_to_face_uv, reflect_dir}
 #import gpu::distance_map
 #import scene::shading::{BACKGROUND_DISTANCE, MATERIAL_DIFFUSE, SceneVertexOut, camera, emission_jitter, facing_normal, jittered_emission, objects, specular_event, surface_albedo}
 #import scene::chart::chart_uv
 #import scene::receiver::{world_to_local, texel_area, light_map_power}
+#import impostors::localized::{MAX_SEGMENTS, MODE_DOUBLE, SURFACE_OFFSET, env_distance, env_sampler, params, refractor_chord}
+#import impostors::lightmap::charts
 
 struct CausticParams {
     // Light position (w unused) and RGB intensity (W/sr).
@@ -41,8 +45,8 @@ struct CausticParams {
     // (jittered_emission in scene.wgsl), 0 from its centre.
     lightmap: f32,
     jitter: u32,
-    _pad0: u32,
-    _pad1: u32,
+    _pad_a: u32,
+    _pad_b: u32,
 };
 
 @group(3) @binding(0) var<uniform> caustic: CausticParams;
@@ -137,19 +141,6 @@ struct PhotonTargets {
     @location(1) power: vec4f,
 };
 
-// Grid path: the photon's landing point.
-@fragment
-fn caustic_map_fs(in: SceneVertexOut) -> PhotonTargets {
-    var out: PhotonTargets;
-    out.address = vec4f(0.0);
-    out.power = vec4f(0.0);
-    let photon = trace_photon(emitted_photon(in));
-    if (!photon.alive) { return out; }
-    out.address = vec4f(params.reference.xyz + photon.l * photon.distance, 1.0);
-    out.power = vec4f(photon.power, 0.0);
-    return out;
-}
-
 // The receiver-cube texel (nearest) in direction `l` from the reference point.
 fn receiver_texel(l: vec3f) -> vec3i {
     let fuv = cube_dir_to_face_uv(l);
@@ -159,64 +150,12 @@ fn receiver_texel(l: vec3f) -> vec3i {
     return vec3i(i, j, i32(fuv.x));
 }
 
-// Light-map path (the paper's caustic map): the light-map address of the landing point. The
-// receiver cube names the chart (the paper's texture id); the uv is computed from the landing
-// point itself, so it is not quantised to the cube's texels.
-@fragment
-fn caustic_uv_fs(in: SceneVertexOut) -> PhotonTargets {
-    var out: PhotonTargets;
-    out.address = vec4f(0.0);
-    out.power = vec4f(0.0);
-    let photon = trace_photon(emitted_photon(in));
-    if (!photon.alive) { return out; }
-    let t = receiver_texel(photon.l);
-    let info = textureLoad(receiver_info, t.xy, t.z, 0);
-    let chart = i32(round(info.x));
-    if (chart < 0) { return out; } // landed on a surface without a light map
-    let landing = params.reference.xyz + photon.l * photon.distance;
-    let uv = chart_uv(charts[chart], world_to_local(u32(round(info.y)), landing));
-    out.address = vec4f(uv, f32(chart), 1.0);
-    out.power = vec4f(photon.power, 0.0);
-    return out;
-}
-
 // Receiver cube (rendered from the reference point with the environment impostor): what the
 // caustic lookups need to know about the surface seen in each direction.
 struct ReceiverTargets {
     @location(0) info: vec4f,
     @location(1) albedo: vec4f,
 };
-
-@fragment
-fn receiver_fs(in: SceneVertexOut) -> ReceiverTargets {
-    let chart = fragment_chart(in.object, in.world, in.normal);
-    var out: ReceiverTargets;
-    let to_surface = normalize(in.world - camera.eye.xyz);
-    let n = facing_normal(in.normal, in.world, camera.eye.xyz);
-    let diffuse = objects[in.object].material.x == MATERIAL_DIFFUSE;
-    out.info = vec4f(-1.0, f32(in.object), 0.0, 0.0);
-    if (diffuse) {
-        var inv_area = 0.0;
-        if (chart.index >= 0) {
-            inv_area = 1.0 / texel_area(charts[chart.index], in.object, chart.local_normal);
-        }
-        out.info = vec4f(f32(chart.index), f32(in.object), inv_area, abs(dot(n, to_surface)));
-    }
-    out.albedo = vec4f(surface_albedo(in.object, in.uv), 1.0);
-    return out;
-}
-
-// Light-map path, direct view: diffuse surfaces add albedo / pi * E, E = power per texel /
-// the texel's area on the surface.
-@fragment
-fn lightmap_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    let chart = fragment_chart(in.object, in.world, in.normal);
-    if (chart.index < 0) { return vec4f(0.0); }
-    let c = charts[chart.index];
-    let power = light_map_power(light_map, light_map_sampler, caustic.lightmap, c, chart.uv);
-    let irradiance = power / texel_area(c, in.object, chart.local_normal);
-    return vec4f(surface_albedo(in.object, in.uv) / PI * irradiance, 0.0);
-}
 
 fn grid_power(face: u32, i: i32, j: i32) -> vec3f {
     let base = 3u * ((face * caustic.grid + u32(j)) * caustic.grid + u32(i));
@@ -255,19 +194,6 @@ fn grid_irradiance(d: vec3f, cos_s: f32) -> vec3f {
     return power / area;
 }
 
-// Grid path, direct view: only where the reference point sees this surface (the grid is
-// indexed by its view).
-@fragment
-fn caustic_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    let d = in.world - params.reference.xyz;
-    let dist = length(d);
-    let seen = textureSampleLevel(env_distance, env_sampler, d, 0.0)[params.distance_channel];
-    if (dist < 1e-4 || abs(seen - dist) > 0.02 * dist + 0.01) { return vec4f(0.0); }
-    let n = facing_normal(in.normal, in.world, params.reference.xyz);
-    let irradiance = grid_irradiance(d, abs(dot(n, d / dist)));
-    return vec4f(surface_albedo(in.object, in.uv) / PI * irradiance, 0.0);
-}
-
 // Caustic radiance of the surface the impostor shows in direction l, for reflections and
 // refractions (light-map path).
 fn caustic_radiance_lightmap(l: vec3f) -> vec3f {
@@ -294,4 +220,12 @@ fn caustic_radiance_grid(l: vec3f) -> vec3f {
     let shown = textureSampleLevel(env_distance, env_sampler, l, 0.0)[params.distance_channel];
     let albedo = textureLoad(receiver_albedo, t.xy, t.z, 0).rgb;
     return albedo / PI * grid_irradiance(normalize(l) * shown, info.w);
+}
+
+override fn impostors::localized::caustic_radiance_at(l: vec3f) -> vec3f {
+#ifdef CAUSTIC_GRID
+    return caustic_radiance_grid(l);
+#else
+    return caustic_radiance_lightmap(l);
+#endif
 }

@@ -1,7 +1,9 @@
-// Light-map charts of the caustic receivers (scene's lightmap.rs explains the atlas); imports
-// scene::chart and scene::receiver.
+// Light-map charts of the caustic receivers (scene's lightmap.rs explains the atlas): the module
+// impostors::lightmap, its chart tables at the caustic passes' @group(3), bindings 2 and 3.
 // A diffuse object's triangle belongs to the chart of the signed dominant axis of its
 // object-space normal and is projected onto the two other axes.
+#define_import_path impostors::lightmap
+
 #import scene::chart::{Chart, signed_axis, chart_uv}
 #import scene::receiver::{world_to_local, normal_to_local}
 

@@ -1,5 +1,6 @@
-// Localized environment mapping with distance impostors (paper sections 3 and 4); imports
-// gpu::prelude, scene::shading and gpu::distance_map.
+// Localized environment mapping with distance impostors (paper sections 3 and 4): the module
+// impostors::localized, whose entry points are localized_fs.wgsl's. Its lookups add
+// caustic_radiance_at(l), none here: the caustic variants override it (impostors::caustic).
 //
 // Specular objects are drawn with scene_vs; each pixel of an object traces its reflected (and
 // for glass its refracted) ray with Hit() in the object's distance impostor and looks the
@@ -18,6 +19,8 @@
 // map, captured at `reference` (the probe), is looked up toward the exit point (box_project of
 // the prelude); the distances are unused. Lookup 2: a box-projected variant on a scene with no
 // proxy box falls back to the direction lookup.
+#define_import_path impostors::localized
+
 #import gpu::prelude::{box_project, fresnel_dielectric, reflect_dir, refract_dir}
 #import gpu::distance_map
 #import scene::shading::{SceneVertexOut, camera, objects, specular_event, specular_shade}
@@ -38,8 +41,8 @@ struct ImpostorParams {
     refractor_iterations: u32,
     // LOOKUP_HIT or LOOKUP_BOX.
     lookup: u32,
-    _pad1: u32,
-    _pad2: u32,
+    _pad_b: u32,
+    _pad_c: u32,
     // Proxy box of the box-projected lookup (world), w unused.
     proxy_min: vec4f,
     proxy_max: vec4f,
@@ -136,27 +139,8 @@ fn through_refractor(x: vec3f, t: vec3f, ior: f32) -> vec3f {
     return color;
 }
 
-@fragment
-fn localized_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    let eye = camera.eye.xyz;
-    let v = normalize(in.world - eye);
-    let e = specular_event(in.object, in.normal, in.world, eye, v);
-    let reflected = env_lookup(in.world, e.reflected);
-    var refracted = reflected;
-    if (e.refracted.w > 0.5) {
-        if (params.mode == MODE_DOUBLE && e.entering) {
-            let o = objects[in.object];
-            refracted = through_refractor(in.world - e.normal * SURFACE_OFFSET, e.refracted.xyz, o.material.y);
-        } else {
-            refracted = env_lookup(in.world, e.refracted.xyz);
-        }
-    }
-    return vec4f(specular_shade(e, reflected, refracted), distance(in.world, eye));
-}
-
-// Refractor map: the object's own surface seen from its centre (camera.eye): outward unit
-// normal and distance. Drawn without culling and with the nearest surface kept (depth test).
-@fragment
-fn refractor_map_fs(in: SceneVertexOut) -> @location(0) vec4f {
-    return vec4f(normalize(in.normal), distance(in.world, camera.eye.xyz));
+virtual fn caustic_radiance_at(l: vec3f) -> vec3f {
+    // The caustic radiance of the surface the impostor shows in direction l: none without
+    // caustics (impostors::caustic overrides this).
+    return vec3f(0.0);
 }
