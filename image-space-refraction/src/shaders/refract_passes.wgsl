@@ -2,21 +2,20 @@
 // vertex stage, its front and back buffers, and the refractor shaded from the eye. The nearby
 // variants compose this file with image_space_refraction::nearby_radiance overriding the
 // radiance that leaves the refractor.
-#import scene::shading::{SceneVertexIn, SceneVertexOut, camera, objects, specular_event, specular_shade}
+#import scene::shading::{SceneVertexIn, SceneVertexOut, camera, scene_vertex, specular_event, specular_shade}
 #import image_space_refraction::refract::{RefractorOut, buffer_fragment, normal_thickness, outgoing_radiance, through_refractor}
 
 @vertex
 fn refractor_vs(v: SceneVertexIn, @builtin(instance_index) object: u32,
                 @builtin(vertex_index) vertex: u32) -> RefractorOut {
-    // scene_vs's placement (an entry point cannot be called).
-    let o = objects[object];
-    let world = (o.model * vec4f(v.position, 1.0)).xyz;
+    // scene_vs's placement, and Wyman's d_N of this vertex.
+    let placed = scene_vertex(v, object);
     var out: RefractorOut;
-    out.clip = camera.view_proj * vec4f(world, 1.0);
-    out.world = world;
-    out.normal = (o.normal_matrix * vec4f(v.normal, 0.0)).xyz;
-    out.uv = v.uv;
-    out.object = object;
+    out.clip = placed.clip;
+    out.world = placed.world;
+    out.normal = placed.normal;
+    out.uv = placed.uv;
+    out.object = placed.object;
     out.d_n = normal_thickness[vertex];
     return out;
 }
