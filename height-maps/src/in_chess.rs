@@ -13,10 +13,11 @@ use crate::search::{SEARCH, Steps};
 use crate::technique::{MapSettings, unsupported};
 use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
-use scene::Settings as _;
 use scene::multi_object::grid::ALL_CELLS;
-use scene::multi_object::{MAX_DEPTH, ObjectSearch, Search, Tracer, TracerSettings, storage};
-use scene::technique::check_param;
+use scene::multi_object::{
+    MAX_DEPTH, ObjectSearch, Search, Tracer, TracerSettings, max_cells_declared, storage,
+};
+use scene::technique::{Declared, declared_params, declared_set};
 use scene::{
     Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
 };
@@ -92,8 +93,8 @@ impl ObjectSearch for HeightSearch {
 pub struct InChessSettings {
     /// Interfaces at which a path splits.
     pub depth: u32,
-    /// Occupied grid cells a ray examines at most.
-    pub max_cells: u32,
+    /// The search for the next piece: the board grid, `max_cells` occupied cells at most.
+    pub search: Search,
     /// The maps and their searches.
     pub maps: MapSettings,
 }
@@ -102,9 +103,32 @@ impl Default for InChessSettings {
     fn default() -> Self {
         Self {
             depth: 4,
-            max_cells: ALL_CELLS,
+            search: Search::Grid {
+                max_cells: ALL_CELLS,
+            },
             maps: MapSettings::default(),
         }
+    }
+}
+
+/// The variant's parameters: its own (`depth`, `max_cells`), then the maps'.
+impl scene::Settings for InChessSettings {
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "depth",
+            (1.0, MAX_DEPTH as f64),
+            "interfaces at which a path splits into reflection and refraction",
+            |s| Some(&mut s.depth),
+        ),
+        max_cells_declared(|s| s.search.grid_setting()),
+    ];
+    fn params(&self) -> Vec<Param> {
+        let mut params = declared_params(self);
+        params.extend(self.maps.params());
+        params
+    }
+    fn set(&mut self, name: &str, value: f64) -> bool {
+        declared_set(self, name, value) || self.maps.set(name, value)
     }
 }
 
@@ -127,9 +151,7 @@ impl HeightMapsInChess {
     fn tracer_settings(&self) -> TracerSettings {
         TracerSettings {
             depth: self.settings.depth,
-            search: Search::Grid {
-                max_cells: self.settings.max_cells,
-            },
+            search: self.settings.search,
             env_resolution: self.settings.maps.env_resolution,
             env_iterations: self.settings.maps.env_iterations,
         }
@@ -155,40 +177,7 @@ impl Technique for HeightMapsInChess {
     fn representative(&self) -> bool {
         true
     }
-    fn params(&self) -> Vec<Param> {
-        let s = &self.settings;
-        let mut p = vec![
-            Param::new(
-                "depth",
-                s.depth as f64,
-                (1.0, MAX_DEPTH as f64),
-                true,
-                "interfaces at which a path splits into reflection and refraction",
-            ),
-            Param::new(
-                "max_cells",
-                s.max_cells.min(1 << 20) as f64,
-                (1.0, (1 << 20) as f64),
-                true,
-                "occupied grid cells a ray examines at most (1: the paper's first non-empty \
-                 square)",
-            ),
-        ];
-        p.extend(s.maps.params());
-        p
-    }
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id(), &self.params(), name, value)?;
-        let s = &mut self.settings;
-        match name {
-            "depth" => s.depth = value as u32,
-            "max_cells" => s.max_cells = value as u32,
-            name if s.maps.set(name, value) => {}
-            _ => unreachable!("check_param accepted an undeclared parameter"),
-        }
-        self.state = None;
-        Ok(())
-    }
+    scene::declared_params!(settings, state);
     fn supports(&self, scene: &Scene) -> bool {
         unsupported(&self.id(), scene).is_none()
     }

@@ -27,9 +27,10 @@ use glam::Vec3;
 use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Uniform, bind};
-use scene::emission::{PHOTON_FOOTPRINT_PARAM, PHOTON_JITTER_PARAM, footprint_param, jitter_param};
+use scene::emission::{footprint_declared, jitter_declared};
 use scene::lightmap::{ChartAtlas, ChartGpu, QuadSplatter};
-use scene::{Frame, GpuScene, Material, ObjectFilter, Param, Scene, TechniqueError};
+use scene::technique::Declared;
+use scene::{Frame, GpuScene, Material, ObjectFilter, Scene, TechniqueError};
 
 /// The photon map shader (after the tracer and `scene::lightmap`'s chart and receiver WGSL).
 pub const PHOTONS_WGSL: &str = include_str!("shaders/photons.wgsl");
@@ -74,57 +75,37 @@ impl Default for CausticSettings {
     }
 }
 
-impl CausticSettings {
-    /// The declared parameters.
-    pub(crate) fn params(&self) -> Vec<Param> {
-        vec![
-            Param::new(
-                "photons",
-                self.photons as f64,
-                (4.0, 512.0),
-                true,
-                "photon-map tile side: photons x photons photons per piece and light",
-            ),
-            Param::new(
-                "lightmap_resolution",
-                self.lightmap_resolution as f64,
-                (16.0, 4096.0),
-                true,
-                "side of the caustic light maps (texels)",
-            ),
-            Param::new(
-                "splat_radius",
-                self.splat_radius as f64,
-                (0.5, 16.0),
-                false,
-                "radius of a photon's Gaussian splat in light-map texels",
-            ),
-            footprint_param(self.footprint),
-            jitter_param(self.jitter),
-            Param::new(
-                "caustics_separated",
-                self.separated as u32 as f64,
-                (0.0, 1.0),
-                true,
-                "1: static pieces' light map made once, the moving piece's every frame; 0: every \
-                 piece's photons every frame",
-            ),
-        ]
-    }
-
-    /// Sets parameter `name` if it is one of these (already checked against its range).
-    pub(crate) fn set(&mut self, name: &str, value: f64) -> bool {
-        match name {
-            "photons" => self.photons = value as u32,
-            "lightmap_resolution" => self.lightmap_resolution = value as u32,
-            "splat_radius" => self.splat_radius = value as f32,
-            "caustics_separated" => self.separated = value != 0.0,
-            PHOTON_JITTER_PARAM => self.jitter = value != 0.0,
-            PHOTON_FOOTPRINT_PARAM => self.footprint = value != 0.0,
-            _ => return false,
-        }
-        true
-    }
+/// The caustics' parameters, each declared once.
+impl scene::Settings for CausticSettings {
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "photons",
+            (4.0, 512.0),
+            "photon-map tile side: photons x photons photons per piece and light",
+            |s| Some(&mut s.photons),
+        ),
+        Declared::new(
+            "lightmap_resolution",
+            (16.0, 4096.0),
+            "side of the caustic light maps (texels)",
+            |s| Some(&mut s.lightmap_resolution),
+        ),
+        Declared::new(
+            "splat_radius",
+            (0.5, 16.0),
+            "radius of a photon's Gaussian splat in light-map texels",
+            |s| Some(&mut s.splat_radius),
+        ),
+        footprint_declared(|s| Some(&mut s.footprint)),
+        jitter_declared(|s| Some(&mut s.jitter)),
+        Declared::new(
+            "caustics_separated",
+            (0.0, 1.0),
+            "1: static pieces' light map made once, the moving piece's every frame; 0: every \
+             piece's photons every frame",
+            |s| Some(&mut s.separated),
+        ),
+    ];
 }
 
 /// The surface the photons land on: a planar diffuse object.

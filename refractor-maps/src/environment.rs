@@ -55,8 +55,7 @@ impl scene::Settings for EnvSettings {
     const DECLARED: &'static [Declared<Self>] = &[];
     fn params(&self) -> Vec<Param> {
         let mut params = self.impostors.params();
-        let env_map = "cube face size of each piece's environment impostor (texels)";
-        params.extend(self.maps.params(env_map));
+        params.extend(self.maps.params());
         params
     }
     fn set(&mut self, name: &str, value: f64) -> bool {

@@ -15,8 +15,9 @@ use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Target, Uniform};
 use scene::multi_object::grid::ALL_CELLS;
+use scene::multi_object::max_cells_declared;
 use scene::multi_object::{ObjectSearch, Tracer, TracerSettings, driver_shader, pieces_centre};
-use scene::technique::check_param;
+use scene::technique::{Declared, declared_params, declared_set};
 use scene::{Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View};
 
 pub use scene::multi_object::{MAX_DEPTH, Search};
@@ -73,60 +74,44 @@ impl Maps {
             epsilon: 0.004,
         }
     }
+}
 
-    /// The declared parameters; `env_map` names the environment impostor(s) in the help.
-    pub(crate) fn params(&self, env_map: &'static str) -> Vec<Param> {
-        vec![
-            Param::new(
-                "resolution",
-                self.resolution as f64,
-                (4.0, 4096.0),
-                true,
-                "cube face size of each kind's refractor map (texels)",
-            ),
-            Param::new(
-                "env_resolution",
-                self.env_resolution as f64,
-                (4.0, 4096.0),
-                true,
-                env_map,
-            ),
-            Param::new(
-                "iterations",
-                self.iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the refractor maps",
-            ),
-            Param::new(
-                "env_iterations",
-                self.env_iterations as f64,
-                (0.0, 64.0),
-                true,
-                "Hit() refinement steps in the environment impostor(s)",
-            ),
-            Param::new(
-                "epsilon",
-                self.epsilon as f64,
-                (1e-6, 1.0),
-                false,
-                "a search from outside is accepted within this distance of the ray (metres)",
-            ),
-        ]
-    }
-
-    /// Sets parameter `name` if it is one of these (already checked against its range).
-    pub(crate) fn set(&mut self, name: &str, value: f64) -> bool {
-        match name {
-            "resolution" => self.resolution = value as u32,
-            "env_resolution" => self.env_resolution = value as u32,
-            "iterations" => self.iterations = value as u32,
-            "env_iterations" => self.env_iterations = value as u32,
-            "epsilon" => self.epsilon = value as f32,
-            _ => return false,
-        }
-        true
-    }
+/// The maps' parameters, each declared once (`env_resolution` is the tracer's one impostor of
+/// the diffuse scene, or each piece's impostor in the section-5 variants).
+impl scene::Settings for Maps {
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "resolution",
+            (4.0, 4096.0),
+            "cube face size of each kind's refractor map (texels)",
+            |s| Some(&mut s.resolution),
+        ),
+        Declared::new(
+            "env_resolution",
+            (4.0, 4096.0),
+            "cube face size of the environment impostor(s): the diffuse scene's in the tracer, \
+             each piece's in the section-5 variants (texels)",
+            |s| Some(&mut s.env_resolution),
+        ),
+        Declared::new(
+            "iterations",
+            (0.0, 64.0),
+            "Hit() refinement steps in the refractor maps",
+            |s| Some(&mut s.iterations),
+        ),
+        Declared::new(
+            "env_iterations",
+            (0.0, 64.0),
+            "Hit() refinement steps in the environment impostor(s)",
+            |s| Some(&mut s.env_iterations),
+        ),
+        Declared::new(
+            "epsilon",
+            (1e-6, 1.0),
+            "a search from outside is accepted within this distance of the ray (metres)",
+            |s| Some(&mut s.epsilon),
+        ),
+    ];
 }
 
 impl Default for Settings {
@@ -252,6 +237,33 @@ impl ObjectSearch for DistanceSearch {
             gpu::bind::sampler_resource(&self.sampler),
             gpu::bind::view(&self.maps),
         ]
+    }
+}
+
+/// The variant's parameters: its own (`depth`, and `max_cells` with the grid search), then
+/// the maps' and, with caustics, the caustics' (each declared once by its own settings).
+impl scene::Settings for Settings {
+    const DECLARED: &'static [Declared<Self>] = &[
+        Declared::new(
+            "depth",
+            (1.0, MAX_DEPTH as f64),
+            "interfaces at which a path splits into reflection and refraction",
+            |s| Some(&mut s.depth),
+        ),
+        max_cells_declared(|s| s.search.grid_setting()),
+    ];
+    fn params(&self) -> Vec<Param> {
+        let mut params = declared_params(self);
+        params.extend(self.maps.params());
+        if let Some(caustics) = &self.caustics {
+            params.extend(caustics.params());
+        }
+        params
+    }
+    fn set(&mut self, name: &str, value: f64) -> bool {
+        declared_set(self, name, value)
+            || self.maps.set(name, value)
+            || self.caustics.as_mut().is_some_and(|c| c.set(name, value))
     }
 }
 
@@ -393,51 +405,7 @@ pub fn variants() -> Vec<Box<dyn Technique>> {
 
 impl Technique for RefractorMaps {
     scene::named_variant!();
-    fn params(&self) -> Vec<Param> {
-        let s = &self.settings;
-        let mut p = vec![Param::new(
-            "depth",
-            s.depth as f64,
-            (1.0, MAX_DEPTH as f64),
-            true,
-            "interfaces at which a path splits into reflection and refraction",
-        )];
-        p.extend(
-            s.maps
-                .params("cube face size of the diffuse environment impostor (texels)"),
-        );
-        if let Some(c) = &s.caustics {
-            p.extend(c.params());
-        }
-        if let Search::Grid { max_cells } = s.search {
-            p.push(Param::new(
-                "max_cells",
-                max_cells.min(1 << 20) as f64,
-                (1.0, (1 << 20) as f64),
-                true,
-                "occupied grid cells a ray examines at most (1: the paper's first non-empty \
-                 square; large: every cell along the ray)",
-            ));
-        }
-        p
-    }
-    fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
-        check_param(&self.id, &self.params(), name, value)?;
-        let s = &mut self.settings;
-        match name {
-            "depth" => s.depth = value as u32,
-            name if s.maps.set(name, value) => {}
-            name if s.caustics.as_mut().is_some_and(|c| c.set(name, value)) => {}
-            "max_cells" => {
-                s.search = Search::Grid {
-                    max_cells: value as u32,
-                }
-            }
-            _ => unreachable!("check_param accepted an undeclared parameter"),
-        }
-        self.state = None;
-        Ok(())
-    }
+    scene::declared_params!(settings, state);
     fn required_features(&self) -> wgpu::Features {
         match self.settings.caustics {
             // Photons are added into 32-bit float light maps by blending.

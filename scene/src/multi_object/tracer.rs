@@ -121,6 +121,52 @@ pub trait ObjectSearch {
     fn resources(&self) -> Vec<wgpu::BindingResource<'_>>;
 }
 
+/// The largest `max_cells` a parameter names: more cells than any board has, so it reads as
+/// every cell ([`super::grid::ALL_CELLS`]).
+pub const MAX_CELLS_PARAM_MAX: u32 = 1 << 20;
+
+/// The parameter `max_cells` of a grid search, declared once for every family whose settings
+/// hold a [`Search`] (`setting` finds it; settings whose search is not the grid's lack it).
+pub const fn max_cells_declared<S>(
+    setting: fn(&mut S) -> Option<&mut dyn crate::technique::ParamValue>,
+) -> crate::technique::Declared<S> {
+    crate::technique::Declared::new(
+        "max_cells",
+        (1.0, MAX_CELLS_PARAM_MAX as f64),
+        "occupied grid cells a ray examines at most (1: the paper's first non-empty square; \
+         large: every cell along the ray)",
+        setting,
+    )
+}
+
+/// A grid search as the parameter `max_cells` (every cell reads as [`MAX_CELLS_PARAM_MAX`]).
+impl crate::technique::ParamValue for Search {
+    fn read(&self) -> f64 {
+        match self {
+            Search::Grid { max_cells } => (*max_cells).min(MAX_CELLS_PARAM_MAX) as f64,
+            _ => 0.0,
+        }
+    }
+    fn write(&mut self, value: f64) {
+        *self = Search::Grid {
+            max_cells: value as u32,
+        };
+    }
+    fn integer(&self) -> bool {
+        true
+    }
+}
+
+impl Search {
+    /// The grid search as a [`max_cells_declared`] setting; `None` for the other searches.
+    pub fn grid_setting(&mut self) -> Option<&mut dyn crate::technique::ParamValue> {
+        match self {
+            Search::Grid { .. } => Some(self),
+            _ => None,
+        }
+    }
+}
+
 /// How a ray that leaves a piece finds the next one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Search {
