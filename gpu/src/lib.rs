@@ -102,7 +102,7 @@ impl Vertex {
 }
 
 /// The modules of `gpu` every shader may import without naming them: `gpu::prelude`,
-/// `gpu::distance_map` and `gpu::layered_distance_map`.
+/// `gpu::fullscreen`, `gpu::distance_map` and `gpu::layered_distance_map`.
 pub(crate) fn gpu_modules() -> [&'static wgsl::Module; 4] {
     [
         &prelude::PRELUDE,

@@ -16,7 +16,7 @@ use crate::in_chess::HeightSearch;
 use crate::map::render_height_maps;
 use crate::technique::{BILLBOARD_BOX, BILLBOARD_BOX_VERTICES, MapSettings, unsupported};
 use gpu::Target;
-use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
+use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface, piece_impostor_help};
 use scene::technique::Declared;
 use scene::{
     Frame, GpuScene, Kinds, Param, Scene, Technique, TechniqueError, TechniqueResult, View,
@@ -65,12 +65,7 @@ impl scene::Settings for SeparatedSettings {
     const DECLARED: &'static [Declared<Self>] = &[];
     fn params(&self) -> Vec<Param> {
         let mut params = self.impostors.params();
-        params.extend(self.maps.params().into_iter().map(|mut param| {
-            if param.name == "env_resolution" {
-                param.help = "cube face size of each piece's environment impostor (texels)";
-            }
-            param
-        }));
+        params.extend(piece_impostor_help(self.maps.params()));
         params
     }
     fn set(&mut self, name: &str, value: f64) -> bool {

@@ -31,14 +31,6 @@ pub static NEARBY: gpu::wgsl::Module = gpu::wgsl::Module::new(
     "image-space-refraction/src/shaders/nearby.wgsl",
     &[&RECT],
 );
-/// The radiance leaving the refractor with nearby geometry (the nearest rectangle impostor's
-/// texel, else the environment): the module `image_space_refraction::nearby_radiance`, which
-/// overrides `image_space_refraction::refract`'s `outgoing_radiance`.
-pub static NEARBY_RADIANCE: gpu::wgsl::Module = gpu::wgsl::Module::new(
-    include_str!("shaders/nearby_radiance.wgsl"),
-    "image-space-refraction/src/shaders/nearby_radiance.wgsl",
-    &[&NEARBY, &crate::technique::REFRACT],
-);
 /// Where the technique binds [`NEARBY`]'s resources: `@group(3)` from binding 0 (the
 /// rectangle impostors' group, `rectangles::group_layout`).
 pub const NEARBY_DEFS: [(&str, gpu::wgsl::Def); 2] = [

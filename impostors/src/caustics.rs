@@ -28,8 +28,11 @@ use scene::{Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
 /// diffuse object; the module `impostors::lightmap` ([`LIGHTMAP`]).
 pub const LIGHTMAP_WGSL: &str = include_str!("shaders/lightmap.wgsl");
 /// [`LIGHTMAP_WGSL`] as a module.
-pub static LIGHTMAP: gpu::wgsl::Module =
-    gpu::wgsl::Module::new(LIGHTMAP_WGSL, "impostors/src/shaders/lightmap.wgsl", &[]);
+pub static LIGHTMAP: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    LIGHTMAP_WGSL,
+    "impostors/src/shaders/lightmap.wgsl",
+    &[&scene::lightmap::CHART, &scene::lightmap::RECEIVER],
+);
 /// WGSL of the caustic maps (paper section 5): photon tracing from the light
 /// (`trace_photon`), what the caustic passes of both paths share, and the caustics the
 /// localized lookups see, which it overrides (`caustic_radiance_at`: the light map's, or the
@@ -39,7 +42,7 @@ pub const CAUSTIC_WGSL: &str = include_str!("shaders/caustic.wgsl");
 pub static CAUSTIC: gpu::wgsl::Module = gpu::wgsl::Module::new(
     CAUSTIC_WGSL,
     "impostors/src/shaders/caustic.wgsl",
-    &[&crate::technique::LOCALIZED, &LIGHTMAP],
+    &[&crate::localized::LOCALIZED, &LIGHTMAP],
 );
 /// The caustic passes' entry points (the caustic map, the receiver cube, the apply).
 const CAUSTIC_PASSES_WGSL: &str = include_str!("shaders/caustic_passes.wgsl");
@@ -743,7 +746,7 @@ fn caustic_pipelines(
     let localized = caustic_shader(
         ctx,
         "localized lookup with caustics",
-        crate::technique::LOCALIZED_FS_WGSL,
+        crate::localized::LOCALIZED_FS_WGSL,
         path,
     );
     let layout = scene.pipeline_layout_with(ctx, &[impostor_layout, group3_layout]);

@@ -19,6 +19,7 @@
 #![warn(missing_docs)]
 
 pub mod caustics;
+pub mod localized;
 pub mod technique;
 pub mod variants;
 

@@ -13,6 +13,7 @@
 //! adds the resulting caustic radiance to the diffuse surfaces (README.md, "Caustics").
 
 use crate::caustics::{CausticPath, CausticSettings, Caustics, GeneratorMaps};
+use crate::localized::{LOCALIZED, LOCALIZED_FS_WGSL};
 use glam::Vec3;
 use gpu::bind::UniformGroups;
 use gpu::cube::CubeTarget;
@@ -26,15 +27,6 @@ use scene::{
     Frame, GpuScene, Material, ObjectFilter, RasterTarget, Scene, Technique, TechniqueResult, View,
 };
 
-/// WGSL of the localized lookups (imports `gpu::prelude`, `gpu::distance_map`, `scene::shading`).
-/// Localized environment mapping (sections 3 and 4): the module `impostors::localized`
-/// ([`LOCALIZED`]); its lookups' caustics are a virtual function the caustic variants override.
-pub const LOCALIZED_WGSL: &str = include_str!("shaders/localized.wgsl");
-/// [`LOCALIZED_WGSL`] as a module.
-pub static LOCALIZED: gpu::wgsl::Module =
-    gpu::wgsl::Module::new(LOCALIZED_WGSL, "impostors/src/shaders/localized.wgsl", &[]);
-/// The localized pass's entry points (`localized_fs`, `refractor_map_fs`).
-pub(crate) const LOCALIZED_FS_WGSL: &str = include_str!("shaders/localized_fs.wgsl");
 const SPLIT_WGSL: &str = include_str!("shaders/split.wgsl");
 
 /// Format of the environment impostor (radiance + distance in alpha) and the refractor map.
@@ -379,7 +371,7 @@ impl Technique for Impostor {
         let split_pipeline = gpu::fullscreen::pipeline(
             ctx,
             "impostor split copy",
-            SPLIT_WGSL,
+            gpu::wgsl::Shader::new("impostor split copy", SPLIT_WGSL),
             &[Some(&split_layout)],
             SPLIT_DISTANCE_FORMAT,
             None,

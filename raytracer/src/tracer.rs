@@ -319,7 +319,7 @@ impl GpuTracer {
         let resolve_pipeline = gpu::fullscreen::pipeline(
             ctx,
             "ray tracer resolve",
-            RESOLVE_WGSL,
+            gpu::wgsl::Shader::new("ray tracer resolve", RESOLVE_WGSL),
             &[Some(&resolve_layout)],
             gpu::HDR_FORMAT,
             None,

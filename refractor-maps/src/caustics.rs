@@ -32,7 +32,8 @@ use scene::lightmap::{ChartAtlas, ChartGpu, QuadSplatter};
 use scene::technique::Declared;
 use scene::{Frame, GpuScene, Material, ObjectFilter, Scene, TechniqueError};
 
-/// The photon map shader (after the tracer and `scene::lightmap`'s chart and receiver WGSL).
+/// The photon map's entry point, over the tracer's bindings (`scene::trace`, `scene::pieces`)
+/// with the refractor-map search, importing `scene::chart` and `scene::receiver`.
 pub const PHOTONS_WGSL: &str = include_str!("shaders/photons.wgsl");
 const APPLY_WGSL: &str = include_str!("shaders/caustics_apply.wgsl");
 
@@ -269,14 +270,14 @@ pub(crate) struct Caustics {
 }
 
 impl Caustics {
-    /// The caustic passes; `trace_module` is [`PHOTONS_WGSL`] composed over the tracer's
+    /// The caustic passes; `photon_module` is [`PHOTONS_WGSL`] composed over the tracer's
     /// bindings with its search (`scene::multi_object::driver_shader`), `tracer_layout` the
     /// tracer's `@group(2)`.
     pub(crate) fn new(
         ctx: &Context,
         scene: &GpuScene,
         kinds: &Kinds,
-        trace_module: &wgpu::ShaderModule,
+        photon_module: &wgpu::ShaderModule,
         tracer_layout: &wgpu::BindGroupLayout,
         settings: &CausticSettings,
         receiver: Receiver,
@@ -293,7 +294,7 @@ impl Caustics {
             ctx,
             "photon map",
             &scene.pipeline_layout_with(ctx, &[tracer_layout, &photon_layout]),
-            trace_module,
+            photon_module,
             "photon_fs",
             &[
                 pass::color_target(PHOTON_FORMAT, None),

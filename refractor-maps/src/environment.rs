@@ -17,7 +17,7 @@ use crate::pieces::{Kinds, render_kind_maps};
 use crate::technique::{DistanceSearch, MAP_FORMAT, Maps, check_kinds};
 use gpu::Target;
 use gpu::cube::CubeTarget;
-use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface};
+use scene::multi_object::{ImpostorSettings, PieceImpostors, PieceSurface, piece_impostor_help};
 use scene::technique::Declared;
 use scene::{Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View};
 
@@ -55,7 +55,7 @@ impl scene::Settings for EnvSettings {
     const DECLARED: &'static [Declared<Self>] = &[];
     fn params(&self) -> Vec<Param> {
         let mut params = self.impostors.params();
-        params.extend(self.maps.params());
+        params.extend(piece_impostor_help(self.maps.params()));
         params
     }
     fn set(&mut self, name: &str, value: f64) -> bool {

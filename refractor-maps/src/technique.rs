@@ -77,7 +77,8 @@ impl Maps {
 }
 
 /// The maps' parameters, each declared once (`env_resolution` is the tracer's one impostor of
-/// the diffuse scene, or each piece's impostor in the section-5 variants).
+/// the diffuse scene; the section-5 variants name each piece's impostor in its help,
+/// `scene::multi_object::PIECE_IMPOSTOR_HELP`).
 impl scene::Settings for Maps {
     const DECLARED: &'static [Declared<Self>] = &[
         Declared::new(
@@ -89,8 +90,7 @@ impl scene::Settings for Maps {
         Declared::new(
             "env_resolution",
             (4.0, 4096.0),
-            "cube face size of the environment impostor(s): the diffuse scene's in the tracer, \
-             each piece's in the section-5 variants (texels)",
+            "cube face size of the diffuse environment impostor (texels)",
             |s| Some(&mut s.env_resolution),
         ),
         Declared::new(

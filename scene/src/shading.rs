@@ -204,7 +204,6 @@ fn render_pipeline(
         })
 }
 
-/// A pipeline stage: its module and entry point.
 /// A pipeline stage: a shader module and its entry point.
 pub type Stage<'a> = (&'a wgpu::ShaderModule, &'a str);
 

@@ -36,7 +36,7 @@ pub const LDI_WGSL: &str = include_str!("shaders/ldi.wgsl");
 
 /// [`LDI_WGSL`] as the module `screen_photons::ldi`, which the technique's passes and the
 /// conformance kernel import. Its bindings are placed by the definitions `LDI_GROUP` and
-/// `LDI_FIRST_BINDING` ([`LDI_DEFS`] in the technique); an object's material kind comes from
+/// `LDI_FIRST_BINDING` ([`LDI_DEFS`] for the technique's passes); an object's material kind comes from
 /// the scene's materials unless the shader overrides `ldi_kind`.
 pub static LDI: gpu::wgsl::Module = gpu::wgsl::Module::new(
     LDI_WGSL,

@@ -1,7 +1,7 @@
 // ---------------------------------------------------------------------------------------------
 // Refractor height maps on camera-facing billboards (Dancsik and Minarik, section 6); imports
 // gpu::prelude, scene::shading, gpu::distance_map and height_maps::search (given the height
-// maps bound here); after billboard_box.wgsl.
+// maps bound here) and height_maps::billboard_box.
 //
 // Each piece is drawn as the bounding box of its proxy, turned about the vertical axis to face
 // the eye. A fragment casts the eye ray into the box and searches the kind's height map from

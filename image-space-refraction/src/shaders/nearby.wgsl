@@ -3,8 +3,8 @@
 // image_space_refraction::nearby: its resources (the rectangles, their parameters and their
 // colour and depth textures) are bound at group NEARBY_GROUP from binding NEARBY_FIRST_BINDING
 // (shader definitions: 3 and 0 in the technique, the kernel's slots in the conformance test).
-// `nearby_hit` is the search; the includer's `outgoing_radiance` (nearby_radiance.wgsl) reads
-// the texel it finds.
+// `nearby_hit` is the search; image_space_refraction::nearby_radiance, which overrides
+// image_space_refraction::refract's `outgoing_radiance`, reads the texel it finds.
 #define_import_path image_space_refraction::nearby
 #import image_space_refraction::rect::{Rect, RectHit, rect_depth_of, rect_hit, rect_project}
 

@@ -9,7 +9,7 @@
 #import gpu::prelude::fresnel_dielectric
 #import scene::shading::{camera, emission_jitter, jittered_point, lights, objects, specular_event}
 #import image_space_refraction::search::{Iteration, hu_qin_exit, exit_direction}
-#import image_space_refraction::nearby::{nearby, nearby_hit, rects}
+#import image_space_refraction::nearby::{nearby_hit, rects}
 #import image_space_refraction::refract::{RefractorOut, SURFACE_OFFSET, back_buffer, eye_params, front_buffer, params}
 
 struct PhotonOut {

@@ -25,7 +25,7 @@
 #define_import_path image_space_refraction::refract
 
 #import gpu::prelude::{box_project, refract_dir}
-#import scene::shading::{SceneVertexIn, SceneVertexOut, SpecularEvent, camera, geometric_facing_normal, objects, specular_event, specular_shade}
+#import scene::shading::{SceneVertexOut, SpecularEvent, camera, geometric_facing_normal, objects}
 #import image_space_refraction::search::{EyeParams, eye_project, Iteration, Exit, hu_qin_exit, wyman_exit, exit_direction}
 
 struct RefractParams {

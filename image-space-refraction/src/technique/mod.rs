@@ -19,7 +19,8 @@
 //! 4. the opaque scene by the shared raster pass, then (caustics) caustic mapping adds the
 //!    caustic textures onto the receivers; the thickness proxy copies it (the engine's
 //!    scene-colour buffer);
-//! 5. "lookup": the specular objects drawn with `refract.wgsl`, which follows each pixel's
+//! 5. "lookup": the specular objects drawn with `refract_fs` (`refract_passes.wgsl` over the
+//!    module `image_space_refraction::refract`), which follows each pixel's
 //!    refracted ray through the variant's second interface to the environment.
 
 use crate::caustics::{CausticSettings, Caustics, RefractorBindings};
@@ -54,6 +55,14 @@ pub static REFRACT: gpu::wgsl::Module = gpu::wgsl::Module::new(
     REFRACT_WGSL,
     "image-space-refraction/src/shaders/refract.wgsl",
     &[&crate::search::SEARCH],
+);
+/// The radiance leaving the refractor with nearby geometry (the nearest rectangle impostor's
+/// texel, else the environment): the module `image_space_refraction::nearby_radiance`, which
+/// overrides `image_space_refraction::refract`'s `outgoing_radiance`.
+pub static NEARBY_RADIANCE: gpu::wgsl::Module = gpu::wgsl::Module::new(
+    include_str!("../shaders/nearby_radiance.wgsl"),
+    "image-space-refraction/src/shaders/nearby_radiance.wgsl",
+    &[&crate::nearby::NEARBY, &REFRACT],
 );
 /// The entry points of the refractor's passes (its vertex stage, the buffers, the eye's view).
 const REFRACT_PASSES_WGSL: &str = include_str!("../shaders/refract_passes.wgsl");

@@ -123,7 +123,7 @@ pub(super) fn pipelines(
     nearby: bool,
 ) -> Pipelines {
     let overrides: &[&gpu::wgsl::Module] = match nearby {
-        true => &[&crate::nearby::NEARBY_RADIANCE],
+        true => &[&NEARBY_RADIANCE],
         false => &[],
     };
     let imports = [&REFRACT, &crate::search::SEARCH, &crate::nearby::NEARBY];

@@ -1,5 +1,6 @@
-// Caustics with distance impostors (paper section 5); imports gpu::prelude, scene::shading and
-// gpu::distance_map, scene::chart and scene::receiver; after localized.wgsl + lightmap.wgsl.
+// Caustics with distance impostors (paper section 5): the module impostors::caustic, over
+// impostors::localized's and impostors::lightmap's bindings; its entry points are
+// caustic_passes.wgsl's.
 //
 // 1. The caustic generator is drawn from the light (camera.eye = light) into a small
 //    *caustic map*; each pixel is one photon: the light ray refracts (glass: in, then out
@@ -22,9 +23,9 @@
 
 #import gpu::prelude::{PI, cube_dir_to_face_uv, reflect_dir}
 #import gpu::distance_map
-#import scene::shading::{BACKGROUND_DISTANCE, MATERIAL_DIFFUSE, SceneVertexOut, camera, emission_jitter, facing_normal, jittered_emission, objects, specular_event, surface_albedo}
+#import scene::shading::{BACKGROUND_DISTANCE, SceneVertexOut, emission_jitter, jittered_emission, objects, specular_event}
 #import scene::chart::chart_uv
-#import scene::receiver::{world_to_local, texel_area, light_map_power}
+#import scene::receiver::{world_to_local, light_map_power}
 #import impostors::localized::{MAX_SEGMENTS, MODE_DOUBLE, SURFACE_OFFSET, env_distance, env_sampler, params, refractor_chord}
 #import impostors::lightmap::charts
 

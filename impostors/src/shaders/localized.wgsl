@@ -23,7 +23,6 @@
 
 #import gpu::prelude::{box_project, fresnel_dielectric, reflect_dir, refract_dir}
 #import gpu::distance_map
-#import scene::shading::{SceneVertexOut, camera, objects, specular_event, specular_shade}
 
 struct ImpostorParams {
     // Reference point of the environment impostor (world), w unused.

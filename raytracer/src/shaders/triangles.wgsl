@@ -4,7 +4,7 @@
 // `bvh_attributes`, a query's result (`TraceHit`) and the hit with what shading needs
 // (`surface_hit`). A traversal (raytracer::bvh: the BVH in software; raytracer::ray_query: the
 // hardware's) answers `trace` with a TraceHit (raytracer::queries). The traversal's structure is
-// bound at @group(0) @binding(#{TRACE_FIRST_BINDING}) (the tracer: 1, `TRACE_DEFS`), the
+// bound at @group(0) @binding(#{TRACE_FIRST_BINDING}) (the tracer: 1, raytracer::tracer::TRACE_FIRST_BINDING), the
 // triangles and their attributes at the next two bindings.
 //
 // The fields are obvhs' under names without a trailing digit (naga_oil's modules cannot keep

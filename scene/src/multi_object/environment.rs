@@ -51,6 +51,25 @@ pub static ENVIRONMENT_PIECES: gpu::wgsl::Module = gpu::wgsl::Module::new(
 /// The pieces' meshes shaded by [`ENVIRONMENT_PIECES`]: `environment_piece_fs`.
 pub const ENVIRONMENT_PIECE_FS_WGSL: &str = include_str!("../shaders/environment_piece_fs.wgsl");
 
+/// The help of a section-5 variant's `env_resolution`: each piece's impostor (a search's maps
+/// declare it for the tracer's one impostor of the diffuse scene).
+pub const PIECE_IMPOSTOR_HELP: &str =
+    "cube face size of each piece's environment impostor (texels)";
+
+/// `params` with `env_resolution`'s help naming each piece's impostor
+/// ([`PIECE_IMPOSTOR_HELP`]): what the section-5 settings list of their maps.
+pub fn piece_impostor_help(params: Vec<crate::Param>) -> Vec<crate::Param> {
+    params
+        .into_iter()
+        .map(|mut param| {
+            if param.name == "env_resolution" {
+                param.help = PIECE_IMPOSTOR_HELP;
+            }
+            param
+        })
+        .collect()
+}
+
 /// Format of the impostors (radiance + distance).
 pub const IMPOSTOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
@@ -542,8 +561,9 @@ impl PieceImpostors {
     }
 }
 
-/// The pieces' shading: the module (the search, `environment_pieces.wgsl`, the caller's
-/// extra WGSL), its `@group(2)` layout and the three pipelines.
+/// The pieces' shading: the pieces' shader (their meshes' `environment_piece_fs`, or a
+/// proxy's entry points, over `scene::environment_pieces` with the search's overrides:
+/// `driver_shader`), its `@group(2)` layout and the three pipelines.
 struct Shading {
     layout: wgpu::BindGroupLayout,
     /// The pieces into the frame's target.

@@ -24,7 +24,8 @@ mod tracer;
 
 pub use environment::{
     ENVIRONMENT_PIECE_FS_WGSL, ENVIRONMENT_PIECES, ENVIRONMENT_PIECES_WGSL, IMPOSTOR_FORMAT,
-    ImpostorSettings, MAX_ENV_DEPTH, PieceImpostors, PieceSurface,
+    ImpostorSettings, MAX_ENV_DEPTH, PIECE_IMPOSTOR_HELP, PieceImpostors, PieceSurface,
+    piece_impostor_help,
 };
 pub use pieces::{PIECES, PIECES_WGSL};
 

@@ -7,7 +7,8 @@
 //
 // Piece p's environment impostor (rgb radiance, alpha distance from env_centres[p]) is cube p
 // of `impostors`. A piece's first hit (rasterized from its mesh by environment_piece_fs, or
-// found by the includer's own proxy, such as a height map's billboard) is shaded by
+// found by a proxy's entry points, PieceSurface::Proxy, such as a height map's billboard) is
+// shaded by
 // shade_piece: reflection -> Hit() in its impostor; refraction -> through the piece (the
 // search's chord() for the exit, up to EXIT_CHORDS internal reflections), each exit ray ->
 // Hit() in the impostor. These are the paper's "three intersections"; the impostor holds

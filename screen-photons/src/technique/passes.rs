@@ -89,7 +89,7 @@ impl Layouts {
 }
 
 /// A pass that draws scene objects into the HDR target with the fragment entry `entry` of
-/// `own` (over the prelude, the scene's WGSL and the LDI bindings), blended by `blend`, with
+/// `own` (composed with the scene's and the passes' modules, the LDI among them), blended by `blend`, with
 /// the depth state `(write, compare)`.
 fn hdr_pipeline(
     ctx: &Context,

@@ -1,8 +1,8 @@
-//! The WGSL sources of the passes, and the LDI bindings they share.
+//! The WGSL sources of the passes, and the photon structs' module they share.
 
 use super::*;
 
-/// Photon, receiver and beam structs shared by the photon passes: the module
+/// Photon and receiver structs shared by the photon passes: the module
 /// `screen_photons::photon` ([`PHOTON`]).
 pub const PHOTON_WGSL: &str = include_str!("../shaders/photon.wgsl");
 /// [`PHOTON_WGSL`] as a module (no bindings; its helpers read the LDI).
