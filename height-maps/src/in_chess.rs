@@ -15,7 +15,7 @@ use gpu::wgpu;
 use gpu::{Context, Target, Uniform, bind};
 use scene::multi_object::grid::ALL_CELLS;
 use scene::multi_object::{
-    MAX_DEPTH, ObjectSearch, Search, Tracer, TracerSettings, max_cells_declared, storage,
+    ObjectSearch, Search, Tracer, TracerSettings, depth_declared, max_cells_declared, storage,
 };
 use scene::technique::{Declared, declared_params, declared_set};
 use scene::{
@@ -114,12 +114,7 @@ impl Default for InChessSettings {
 /// The variant's parameters: its own (`depth`, `max_cells`), then the maps'.
 impl scene::Settings for InChessSettings {
     const DECLARED: &'static [Declared<Self>] = &[
-        Declared::new(
-            "depth",
-            (1.0, MAX_DEPTH as f64),
-            "interfaces at which a path splits into reflection and refraction",
-            |s| Some(&mut s.depth),
-        ),
+        depth_declared(|s| Some(&mut s.depth)),
         max_cells_declared(|s| s.search.grid_setting()),
     ];
     fn params(&self) -> Vec<Param> {

@@ -15,8 +15,8 @@ use gpu::cube::CubeTarget;
 use gpu::wgpu;
 use gpu::{Target, Uniform};
 use scene::multi_object::grid::ALL_CELLS;
-use scene::multi_object::max_cells_declared;
 use scene::multi_object::{ObjectSearch, Tracer, TracerSettings, driver_shader, pieces_centre};
+use scene::multi_object::{depth_declared, max_cells_declared};
 use scene::technique::{Declared, declared_params, declared_set};
 use scene::{Frame, GpuScene, Param, Scene, Technique, TechniqueError, TechniqueResult, View};
 
@@ -244,12 +244,7 @@ impl ObjectSearch for DistanceSearch {
 /// the maps' and, with caustics, the caustics' (each declared once by its own settings).
 impl scene::Settings for Settings {
     const DECLARED: &'static [Declared<Self>] = &[
-        Declared::new(
-            "depth",
-            (1.0, MAX_DEPTH as f64),
-            "interfaces at which a path splits into reflection and refraction",
-            |s| Some(&mut s.depth),
-        ),
+        depth_declared(|s| Some(&mut s.depth)),
         max_cells_declared(|s| s.search.grid_setting()),
     ];
     fn params(&self) -> Vec<Param> {

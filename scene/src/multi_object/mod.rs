@@ -32,6 +32,6 @@ pub use pieces::{PIECES, PIECES_WGSL};
 pub use tracer::{
     DRIVER_MODULES, EnvironmentImpostor, GRID_DEFS, GRID_SEARCH, GRID_SEARCH_WGSL,
     MAX_CELLS_PARAM_MAX, MAX_DEPTH, ObjectSearch, SEARCH_FIRST_BINDING, Search, TRACE,
-    TRACE_FS_WGSL, TRACE_WGSL, Tracer, TracerSettings, driver_shader, max_cells_declared,
-    pieces_centre, raster_diffuse, storage,
+    TRACE_FS_WGSL, TRACE_WGSL, Tracer, TracerSettings, depth_declared, driver_shader,
+    max_cells_declared, pieces_centre, raster_diffuse, storage,
 };

@@ -139,6 +139,19 @@ pub const fn max_cells_declared<S>(
     )
 }
 
+/// The tracer's parameter `depth`, declared once for every family that runs it (`setting`
+/// finds the interfaces a path meets).
+pub const fn depth_declared<S>(
+    setting: fn(&mut S) -> Option<&mut dyn crate::technique::ParamValue>,
+) -> crate::technique::Declared<S> {
+    crate::technique::Declared::new(
+        "depth",
+        (1.0, MAX_DEPTH as f64),
+        "interfaces at which a path splits into reflection and refraction",
+        setting,
+    )
+}
+
 /// A grid search as the parameter `max_cells` (every cell reads as [`MAX_CELLS_PARAM_MAX`]).
 impl crate::technique::ParamValue for Search {
     fn read(&self) -> f64 {
