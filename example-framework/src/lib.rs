@@ -62,6 +62,7 @@ pub trait Example {
 /// The example's `main`: runs it on the process's arguments; an error is one line on stderr
 /// and a non-zero exit.
 pub fn main<E: Example>() -> ExitCode {
+    init_logger();
     match run::<E>(std::env::args().skip(1)) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
@@ -69,6 +70,13 @@ pub fn main<E: Example>() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The binary edge's logger: wgpu's own warnings reach standard error (`RUST_LOG` changes the
+/// level). A library never installs one; an application installs its own.
+pub fn init_logger() {
+    let env = env_logger::Env::default().default_filter_or("warn");
+    let _ = env_logger::Builder::from_env(env).try_init();
 }
 
 /// The whole example: returns the last frame (linear radiance) after writing its PNG.

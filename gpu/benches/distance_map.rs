@@ -1,6 +1,6 @@
 //! CPU throughput of the Rust twins: `distance_map::hit` per method and iteration count on a
 //! fixed set of rays in a [`BoxRoom`] (the exact box map), and a few `prelude` functions on
-//! the same rays. Rays per second; `cargo bench -p gpu`.
+//! the same rays. Rays per second; `cargo bench -p rtapprox-gpu`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;

@@ -3,7 +3,7 @@
 //! `hit_properties.rs`).
 //!
 //! ```sh
-//! cargo run -p gpu --release --example explore_hit -- [box-room|worst|secant-divergence|regime-worst]
+//! cargo run -p rtapprox-gpu --release --example explore_hit -- [box-room|worst|secant-divergence|regime-worst]
 //! ```
 //!
 //! With no argument it runs all four. `MARGIN`, `XR` and `CMIN` environment variables narrow

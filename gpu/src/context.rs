@@ -1,8 +1,9 @@
 //! The one headless wgpu context every technique, the harness and the tests share.
 //!
-//! Adapter choice: `WGPU_BACKEND` selects backends (default Vulkan only, because wgpu would
-//! otherwise fall back silently to GL on llvmpipe, which lacks `FLOAT32_FILTERABLE` and
-//! `Rgba32Float` targets); `WGPU_ADAPTER_NAME` picks an adapter by case-insensitive substring;
+//! Adapter choice: `WGPU_BACKEND` selects backends (default the platform's primary ones,
+//! Vulkan, Metal or DirectX 12, of those the application's wgpu was built with; not GL, because
+//! wgpu would otherwise fall back silently to GL on llvmpipe, which lacks `FLOAT32_FILTERABLE`
+//! and `Rgba32Float` targets); `WGPU_ADAPTER_NAME` picks an adapter by case-insensitive substring;
 //! otherwise a discrete GPU is preferred, then an integrated one, then anything else, and a
 //! software adapter (lavapipe) last.
 //!
@@ -77,7 +78,7 @@ impl Context {
     }
 
     async fn new_async() -> Result<Self, GpuError> {
-        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::VULKAN);
+        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
         desc.backends = backends;
         desc.flags = wgpu::InstanceFlags::from_env_or_default();
@@ -347,10 +348,10 @@ mod tests {
     fn from_parts_wraps_an_application_device() {
         let shared = Context::new().expect("a GPU adapter (lavapipe will do)");
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends: wgpu::Backends::VULKAN,
+            backends: wgpu::Backends::PRIMARY,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
         });
-        let adapter = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN))
+        let adapter = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::PRIMARY))
             .into_iter()
             .find(|a| a.get_info().name == shared.summary.name)
             .expect("the shared context's adapter");

@@ -52,11 +52,7 @@ impl Frame<'_> {
 /// Everything that can go wrong in the GPU layer, each as one sentence a user can act on.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
-    #[error(
-        "no GPU adapter found: wgpu could not load a Vulkan driver; on Debian/Ubuntu install the \
-         Mesa software driver with `sudo apt-get install mesa-vulkan-drivers libvulkan1` \
-         (or run `cargo xtask test`, which does it), or set WGPU_BACKEND=gl to try OpenGL"
-    )]
+    #[error("no GPU adapter found: {}", no_adapter_advice())]
     NoAdapter,
     #[error("no adapter name contains \"{0}\" (WGPU_ADAPTER_NAME); adapters found: {1}")]
     NoNamedAdapter(String, String),
@@ -76,6 +72,29 @@ pub enum GpuError {
     InvalidInput(String),
     #[error("the GPU is out of memory: {0}")]
     OutOfMemory(String),
+}
+
+/// What to do when no adapter is found, for the platform this runs on and the backends this
+/// build of wgpu has (a library crate asks wgpu for none: the binary chooses).
+pub fn no_adapter_advice() -> String {
+    let compiled = wgpu::Instance::enabled_backend_features();
+    if compiled.is_empty() {
+        return "this build of wgpu has no backend: enable wgpu's `vulkan`, `metal`, `dx12` or \
+                `gles` feature in the application's Cargo.toml (the libraries ask for none)"
+            .into();
+    }
+    let platform = if cfg!(target_os = "macos") {
+        "wgpu found no Metal device; Metal needs macOS 10.13 or later and wgpu's `metal` \
+         feature in the application's Cargo.toml"
+    } else if cfg!(target_os = "windows") {
+        "wgpu could load neither a DirectX 12 nor a Vulkan driver; update the GPU driver, or \
+         set WGPU_BACKEND=gl to try OpenGL"
+    } else {
+        "wgpu could not load a Vulkan driver; on Debian/Ubuntu install the Mesa software \
+         driver with `sudo apt-get install mesa-vulkan-drivers libvulkan1` (or run `cargo xtask \
+         test`, which does it), or set WGPU_BACKEND=gl to try OpenGL"
+    };
+    format!("{platform} (backends in this build: {compiled:?})")
 }
 
 /// The vertex layout shared by the scene upload and every technique: position, shading

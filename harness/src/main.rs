@@ -317,7 +317,15 @@ fn one_line(text: &str) -> String {
         .join(" ")
 }
 
+/// wgpu's own warnings (validation, driver quirks) to standard error; `RUST_LOG` changes the
+/// level (`RUST_LOG=wgpu_core=info`).
+fn init_logger() {
+    let env = env_logger::Env::default().default_filter_or("warn");
+    let _ = env_logger::Builder::from_env(env).try_init();
+}
+
 fn main() -> ExitCode {
+    init_logger();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

@@ -9,7 +9,7 @@
 //! - **hang**: still running after [`timeout`] (killed);
 //! - **unclean error**: non-zero exit without a one-line error.
 //!
-//! `cargo test -p harness --test campaign -- --ignored --nocapture` runs it (under a minute on
+//! `cargo test -p rtapprox-harness --test campaign -- --ignored --nocapture` runs it (under a minute on
 //! two cores when nothing hangs; each hang costs the timeout) and writes `target/campaign/campaign.md` with the counts per group and every
 //! case that was not a clean error or accepted (`CAMPAIGN_HARNESS=<path>` runs another build
 //! of the binary instead, an older commit's for the counts before a fix). It is ignored in
@@ -758,7 +758,7 @@ fn campaign() {
     ];
     let made = harness::provenance::Provenance::capture(String::new());
     let mut md = format!(
-        "# Bad-input campaign\n\n{} runs of {} in {:.0} s (`cargo test -p harness --test campaign -- --ignored`), commit {}, {}.\n\n| group | runs | {} |\n| --- | --- |{}\n",
+        "# Bad-input campaign\n\n{} runs of {} in {:.0} s (`cargo test -p rtapprox-harness --test campaign -- --ignored`), commit {}, {}.\n\n| group | runs | {} |\n| --- | --- |{}\n",
         results.len(),
         std::env::var("CAMPAIGN_HARNESS").unwrap_or("this build's harness".into()),
         start.elapsed().as_secs_f64(),

@@ -4,7 +4,7 @@
 //! "frame" span of GPU timestamp queries where the device has them, the timer's wall clock
 //! otherwise: `testkit::gpu_time`), and the CPU twin of the search (`search_from_outside` and
 //! `exit_from_inside` in a 256-texel map of an ellipsoid, the paper's binary search and the
-//! linear bracket; wall clock). `cargo bench -p height-maps --bench frame`.
+//! linear bracket; wall clock). `cargo bench -p rtapprox-height-maps --bench frame`.
 
 use glam::Vec3;
 use height_maps::search::{Bounds, SampledField, Steps, exit_from_inside, search_from_outside};

@@ -8,7 +8,7 @@
 //! the PNG) is `example_framework`'s, each step a function you can lift.
 //!
 //! ```text
-//! cargo run -p height-maps --example height-maps-standalone [-- [scene.gltf|scene.glb] [out.png]]
+//! cargo run -p rtapprox-height-maps --example height-maps-standalone [-- [scene.gltf|scene.glb] [out.png]]
 //! ```
 //!
 //! Writes `target/examples/height-maps-standalone.png` unless given another path. A glTF
@@ -53,7 +53,7 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(test)]
 mod tests {
-    /// `cargo test -p height-maps --example height-maps-standalone`: the example renders the
+    /// `cargo test -p rtapprox-height-maps --example height-maps-standalone`: the example renders the
     /// chess scene to a finite image that is not black.
     #[test]
     fn renders_the_chess_scene() {

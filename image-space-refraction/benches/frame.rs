@@ -2,7 +2,7 @@
 //! on `hu-qin` at 64 x 64, measured by the "frame" span of GPU timestamp queries where the
 //! device has them, the timer's wall clock otherwise (`testkit::gpu_time`), and the CPU twins:
 //! the two-interface search (`search::hu_qin_exit`, both strategies, and `wyman_exit`) over an
-//! analytic sphere's buffers, and the caustic filter. `cargo bench -p image-space-refraction
+//! analytic sphere's buffers, and the caustic filter. `cargo bench -p rtapprox-image-space-refraction
 //! --bench frame`.
 
 use criterion::BenchmarkId;

@@ -7,7 +7,7 @@
 //! `example_framework`'s, each step a function you can lift.
 //!
 //! ```text
-//! cargo run -p image-space-refraction --example image-space-refraction-standalone [-- [scene.gltf|scene.glb] [out.png]]
+//! cargo run -p rtapprox-image-space-refraction --example image-space-refraction-standalone [-- [scene.gltf|scene.glb] [out.png]]
 //! ```
 //!
 //! Writes `target/examples/image-space-refraction-standalone.png` unless given another path.
@@ -43,7 +43,7 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(test)]
 mod tests {
-    /// `cargo test -p image-space-refraction --example image-space-refraction-standalone`: the
+    /// `cargo test -p rtapprox-image-space-refraction --example image-space-refraction-standalone`: the
     /// example renders the deforming refractor to a finite image whose caustic lights the
     /// floor inside the refractor's shadow.
     #[test]

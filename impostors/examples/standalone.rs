@@ -6,7 +6,7 @@
 //! frame loop, the PNG) is `example_framework`'s, each step a function you can lift.
 //!
 //! ```text
-//! cargo run -p impostors --example impostors-standalone [-- [scene.gltf|scene.glb] [out.png]]
+//! cargo run -p rtapprox-impostors --example impostors-standalone [-- [scene.gltf|scene.glb] [out.png]]
 //! ```
 //!
 //! Writes `target/examples/impostors-standalone.png` unless given another path. A glTF file
@@ -42,7 +42,7 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(test)]
 mod tests {
-    /// `cargo test -p impostors --example impostors-standalone`: the example renders its
+    /// `cargo test -p rtapprox-impostors --example impostors-standalone`: the example renders its
     /// built-in scene to a finite image that is not black.
     #[test]
     fn renders_the_built_in_scene() {

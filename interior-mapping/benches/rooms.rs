@@ -1,7 +1,7 @@
 //! CPU throughput of the Rust twin of the room ray cast (`rooms::cast_rooms`) on a fixed set
 //! of rays entering a facade, for the regular room grid and for displaced walls, and of the
 //! engine baseline's room-box exit (`rooms::cubemap_room`) on the same rays (rays per second;
-//! `cargo bench -p interior-mapping --bench rooms`).
+//! `cargo bench -p rtapprox-interior-mapping --bench rooms`).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;

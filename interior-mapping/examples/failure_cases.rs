@@ -2,7 +2,7 @@
 //! reach: the seam at a box building's corner and the window/furniture distortion on the
 //! cylinder and sphere buildings. Writes PNGs (sRGB of the clamped value) into a folder.
 //!
-//! `cargo run -p interior-mapping --example failure_cases -- interior-mapping/docs`
+//! `cargo run -p rtapprox-interior-mapping --example failure_cases -- interior-mapping/docs`
 
 use glam::Vec3;
 use scene::Camera;

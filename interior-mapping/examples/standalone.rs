@@ -7,7 +7,7 @@
 //! `example_framework`'s, each step a function you can lift.
 //!
 //! ```text
-//! cargo run -p interior-mapping --example interior-mapping-standalone [-- [scene.gltf|scene.glb] [out.png]]
+//! cargo run -p rtapprox-interior-mapping --example interior-mapping-standalone [-- [scene.gltf|scene.glb] [out.png]]
 //! ```
 //!
 //! Writes `target/examples/interior-mapping-standalone.png` unless given another path. A
@@ -47,7 +47,7 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(test)]
 mod tests {
-    /// `cargo test -p interior-mapping --example interior-mapping-standalone`: the example
+    /// `cargo test -p rtapprox-interior-mapping --example interior-mapping-standalone`: the example
     /// renders its built-in scene to a finite image that is not black.
     #[test]
     fn renders_the_built_in_scene() {

@@ -2,7 +2,7 @@
 //! and `chess` at 64 x 64 (the "frame" span of GPU timestamp queries where the device has
 //! them, the timer's wall clock otherwise: `testkit::gpu_time`), and the CPU twin of the
 //! traversal (`FlatBvh::closest_hit`) against the reference's BVH (`SceneBvh`) on the camera
-//! rays of `chess`. `cargo bench -p raytracer --bench frame`.
+//! rays of `chess`. `cargo bench -p rtapprox-raytracer --bench frame`.
 
 use criterion::BenchmarkId;
 use raytracer::bvh::FlatBvh;

@@ -2,7 +2,7 @@
 //! one run, and the tracer's frame time as the image grows.
 //!
 //! ```text
-//! cargo run --release -p raytracer --example rays -- [--scene cornell-sphere] [--sizes 256,512,1024] [--frames 5] [--cpu-size 256] [--max-caustics-size N]
+//! cargo run --release -p rtapprox-raytracer --example rays -- [--scene cornell-sphere] [--sizes 256,512,1024] [--frames 5] [--cpu-size 256] [--max-caustics-size N]
 //! ```
 //!
 //! For each size: the median GPU frame time of `raytracer/whitted` and `raytracer/caustics`

@@ -8,7 +8,7 @@
 //! `example_framework`'s, each step a function you can lift.
 //!
 //! ```text
-//! cargo run -p raytracer --example raytracer-standalone [-- [scene.gltf|scene.glb] [out.png]]
+//! cargo run -p rtapprox-raytracer --example raytracer-standalone [-- [scene.gltf|scene.glb] [out.png]]
 //! ```
 //!
 //! Writes `target/examples/raytracer-standalone.png` unless given another path.
@@ -42,7 +42,7 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(test)]
 mod tests {
-    /// `cargo test -p raytracer --example raytracer-standalone`: the example traces the
+    /// `cargo test -p rtapprox-raytracer --example raytracer-standalone`: the example traces the
     /// deforming refractor to a finite image whose caustic lights the floor.
     #[test]
     fn traces_the_morphing_refractor_with_a_caustic() {

@@ -3,7 +3,7 @@
 //! the chess pieces (wall clock). The scene is uploaded and the technique prepared once, then each
 //! iteration is one `scene::runner::render_frame`, measured by the "frame" span of GPU
 //! timestamp queries where the device has them, the timer's wall clock otherwise
-//! (`testkit::gpu_time`). `cargo bench -p refractor-maps --bench frame`.
+//! (`testkit::gpu_time`). `cargo bench -p rtapprox-refractor-maps --bench frame`.
 
 use glam::{Vec2, Vec3};
 use scene::multi_object::grid::{ALL_CELLS, BoardGrid, EMPTY, nearest_piece};

@@ -7,7 +7,7 @@
 //! you can lift.
 //!
 //! ```text
-//! cargo run -p refractor-maps --example refractor-maps-standalone [-- [scene.gltf|scene.glb] [out.png]]
+//! cargo run -p rtapprox-refractor-maps --example refractor-maps-standalone [-- [scene.gltf|scene.glb] [out.png]]
 //! ```
 //!
 //! Writes `target/examples/refractor-maps-standalone.png` unless given another path. A glTF
@@ -46,7 +46,7 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(test)]
 mod tests {
-    /// `cargo test -p refractor-maps --example refractor-maps-standalone`: the example renders
+    /// `cargo test -p rtapprox-refractor-maps --example refractor-maps-standalone`: the example renders
     /// its built-in scene to a finite image that is not black.
     #[test]
     fn renders_the_built_in_scene() {

@@ -7,7 +7,7 @@
 //! direction is *hidden*: no search in the map can find it (the star-shaped assumption fails
 //! there). The other hits fail when the search finds nothing or a point farther than 2 mm
 //! away (the map's texels, grazing rays, the epsilon test). The rates are printed per kind
-//! (`cargo test -p refractor-maps --test star_shape -- --nocapture`). The test bounds the
+//! (`cargo test -p rtapprox-refractor-maps --test star_shape -- --nocapture`). The test bounds the
 //! search's failures on the hits it can find (missed, off by more than 2 mm) and its false
 //! hits per kind, at the measured rates rounded up ([`MAX_MISSED`], [`MAX_FAR`],
 //! [`MAX_FALSE`]): a search that finds nothing, or stops short of the surface, fails them.

@@ -1,7 +1,7 @@
 //! Renders a scene with one of the foundation's GPU techniques and writes a PNG — the
 //! smallest complete use of `GpuScene` + `Technique` outside the harness.
 //!
-//! `cargo run -p scene --example render_gpu -- cornell-sphere envmap/classic out.png 256`
+//! `cargo run -p rtapprox-scene --example render_gpu -- cornell-sphere envmap/classic out.png 256`
 
 use scene::foundation::{ClassicEnvMap, RasterTechnique};
 use scene::{Frame, GpuScene, Technique, View};

@@ -6,11 +6,13 @@
 //! neither rayon nor nv-flip.
 
 pub mod builtin;
+#[cfg(feature = "bvh")]
 pub mod bvh;
 pub mod density;
 pub mod depth_peel;
 pub mod emission;
 pub mod foundation;
+#[cfg(feature = "gltf")]
 pub mod gltf_io;
 mod gpu_scene;
 pub mod kinds;
@@ -71,15 +73,29 @@ pub fn load(spec: &str) -> Result<Scene, SceneError> {
 }
 
 /// [`load`], with the notes of what the glTF importer supplied or repaired (default lighting,
-/// replaced normals; see [`gltf_io::import_noted`]); built-in scenes have none.
+/// replaced normals; see `gltf_io::import_noted`, with the `gltf` feature); built-in scenes
+/// have none.
 pub fn load_noted(spec: &str) -> Result<(Scene, Vec<String>), SceneError> {
     if is_file_spec(spec) {
-        let (scene, notes) = gltf_io::import_noted(Path::new(spec))?;
+        let (scene, notes) = import_file(Path::new(spec))?;
         scene.validate()?;
         return Ok((scene, notes));
     }
     let (name, params) = builtin::parse_spec(spec)?;
     Ok((builtin::build(&name, &params)?, Vec::new()))
+}
+
+#[cfg(feature = "gltf")]
+fn import_file(path: &Path) -> Result<(Scene, Vec<String>), SceneError> {
+    gltf_io::import_noted(path)
+}
+
+#[cfg(not(feature = "gltf"))]
+fn import_file(path: &Path) -> Result<(Scene, Vec<String>), SceneError> {
+    Err(SceneError::Gltf(
+        path.display().to_string(),
+        "this build of the scene crate has no glTF importer (enable its `gltf` feature)".into(),
+    ))
 }
 
 /// Whether a scene spec names a file (`.gltf`, `.glb`, or an existing path) rather than a

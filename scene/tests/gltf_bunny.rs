@@ -14,7 +14,7 @@ fn asset_path() -> PathBuf {
 ///
 /// ```text
 /// cd /tmp && npm pack bunny@1.0.1 && tar xzf bunny-1.0.1.tgz
-/// BUNNY_JS=/tmp/package/index.js cargo test -p scene --test gltf_bunny -- --ignored
+/// BUNNY_JS=/tmp/package/index.js cargo test -p rtapprox-scene --test gltf_bunny -- --ignored
 /// ```
 ///
 /// Positions are translated so that the bounding box is centred on x = z = 0 with its

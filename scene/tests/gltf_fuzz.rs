@@ -4,9 +4,9 @@
 //! error: never a panic, never an allocation past [`ALLOCATION_CAP`] (a counting global
 //! allocator refuses it, which aborts the test process: a failure nobody can miss).
 //!
-//! `cargo test -p scene --test gltf_fuzz` runs a short campaign ([`DEFAULT_CASES`] cases) and
+//! `cargo test -p rtapprox-scene --test gltf_fuzz` runs a short campaign ([`DEFAULT_CASES`] cases) and
 //! fuzzes the file sandbox with built URIs ([`mutated_uris_stay_in_the_folder`]);
-//! `GLTF_FUZZ_CASES=1000000 cargo test -p scene --test gltf_fuzz -- --nocapture` (the dev
+//! `GLTF_FUZZ_CASES=1000000 cargo test -p rtapprox-scene --test gltf_fuzz -- --nocapture` (the dev
 //! profile builds `scene` at opt-level 3)
 //! runs a long one (docs/reliability.md has the count and the findings of the
 //! last). Every input that ever failed is a file in `tests/corpus/`, imported by

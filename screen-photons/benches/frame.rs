@@ -2,7 +2,7 @@
 //! the paper's, and `screen-photons/dda`), measured by the "frame" span of GPU timestamp
 //! queries where the device has them, the timer's wall clock otherwise (`testkit::gpu_time`),
 //! and the CPU twin of the march (`march::march_lines` and `march::march_dda` over an exact
-//! LDI of spheres). `cargo bench -p screen-photons --bench frame`.
+//! LDI of spheres). `cargo bench -p rtapprox-screen-photons --bench frame`.
 
 use criterion::BenchmarkId;
 use glam::Vec3;

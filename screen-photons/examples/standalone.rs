@@ -7,7 +7,7 @@
 //! `example_framework`'s, each step a function you can lift.
 //!
 //! ```text
-//! cargo run -p screen-photons --example screen-photons-standalone [-- [scene.gltf|scene.glb] [out.png]]
+//! cargo run -p rtapprox-screen-photons --example screen-photons-standalone [-- [scene.gltf|scene.glb] [out.png]]
 //! ```
 //!
 //! Writes `target/examples/screen-photons-standalone.png` unless given another path.
@@ -40,7 +40,7 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(test)]
 mod tests {
-    /// `cargo test -p screen-photons --example screen-photons-standalone`: the example renders
+    /// `cargo test -p rtapprox-screen-photons --example screen-photons-standalone`: the example renders
     /// the pool to a finite image in which the caustics light the floor.
     #[test]
     fn renders_the_pool_with_caustics() {

@@ -3,7 +3,7 @@
 //! second, `ReferenceStats::camera_rays` of the image) and the light pass alone
 //! (`reference::light_trace` with the caustic setup and a small photon count; photons per
 //! second). Both include building the scene's BVH, as every call of them does.
-//! `cargo bench -p truth --bench reference`.
+//! `cargo bench -p rtapprox-truth --bench reference`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use truth::reference::{self, PHOTON_CHUNK, PhotonSetup, ReferenceOptions};

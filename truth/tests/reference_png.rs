@@ -3,8 +3,8 @@
 //! `testkit::save_png`) to look at.
 //!
 //! ```text
-//! cargo test -p truth --test reference_png -- --ignored --nocapture
-//! REFERENCE_PNG_DIR=/tmp/out REFERENCE_PHOTONS=8000000 cargo test -p truth --test reference_png -- --ignored --nocapture
+//! cargo test -p rtapprox-truth --test reference_png -- --ignored --nocapture
+//! REFERENCE_PNG_DIR=/tmp/out REFERENCE_PHOTONS=8000000 cargo test -p rtapprox-truth --test reference_png -- --ignored --nocapture
 //! ```
 
 use std::path::PathBuf;

@@ -2,7 +2,7 @@
 //! and the technique prepared once, then each iteration is one `scene::runner::render_frame`,
 //! measured by the "frame" span of GPU timestamp queries where the device has them, the timer's
 //! wall clock otherwise (`testkit::gpu_time`; the benchmark id says which:
-//! `frame/gpu-timestamp/...` or `frame/wall/...`). `cargo bench -p volumes --bench frame`.
+//! `frame/gpu-timestamp/...` or `frame/wall/...`). `cargo bench -p rtapprox-volumes --bench frame`.
 
 use testkit::gpu_time::{FrameClock, bench_frame};
 

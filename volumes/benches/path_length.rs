@@ -1,6 +1,6 @@
 //! CPU throughput of the Rust twin of the ray-traced soft volume's path-length search
 //! (`path_length::primitive_path_length`), per volume primitive, on a fixed set of eye rays
-//! through one volume (rays per second; `cargo bench -p volumes --bench path_length`).
+//! through one volume (rays per second; `cargo bench -p rtapprox-volumes --bench path_length`).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};

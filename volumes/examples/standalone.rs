@@ -8,7 +8,7 @@
 //! `example_framework`'s, each step a function you can lift.
 //!
 //! ```text
-//! cargo run -p volumes --example volumes-standalone [-- [scene.gltf|scene.glb] [out.png]]
+//! cargo run -p rtapprox-volumes --example volumes-standalone [-- [scene.gltf|scene.glb] [out.png]]
 //! ```
 //!
 //! Writes `target/examples/volumes-standalone.png` unless given another path. A glTF file
@@ -45,7 +45,7 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(test)]
 mod tests {
-    /// `cargo test -p volumes --example volumes-standalone`: the example renders its built-in
+    /// `cargo test -p rtapprox-volumes --example volumes-standalone`: the example renders its built-in
     /// scene to a finite image that is not black.
     #[test]
     fn renders_the_built_in_scene() {

@@ -4,7 +4,7 @@
 //! the harness.
 //!
 //! ```text
-//! cargo run --release -p volumes --example volumes -- [--scene smoke] [--size 256]
+//! cargo run --release -p rtapprox-volumes --example volumes -- [--scene smoke] [--size 256]
 //!     [--frames 20] [--rounds 1] [--out DIR] [--inside] [--density D] [--row Y] [--param name=value]
 //!     [id-substring ...]
 //! ```

@@ -37,7 +37,7 @@
 //! - `ray-query`: that last step alone;
 //! - `compare`: the same test build (`cargo test --workspace --no-run`: nothing to compile
 //!   after `cargo xtask test`), then the `harness` binary it contains: `harness compare --out
-//!   out [ARGS...]` (`--out DIR` in ARGS replaces `--out out`). `cargo run -p harness` would
+//!   out [ARGS...]` (`--out DIR` in ARGS replaces `--out out`). `cargo run -p rtapprox-harness` would
 //!   unify features over the harness's dependencies alone and recompile the wgpu stack (3-6
 //!   min on the 2-core machine). The dev profile optimizes the dependencies and the `truth`
 //!   and `scene` crates at opt-level 3 (the CPU reference and its BVH, FLIP, wgpu), so it runs
@@ -122,7 +122,7 @@ const ONE_BUILD_INCREMENTAL: &str = "0";
 
 /// The build `cargo xtask test` makes and `cargo xtask compare` reuses: every test target of
 /// the workspace, which includes the `harness` binary built with the workspace's unified
-/// features (`cargo run -p harness` would unify features over harness's dependencies only
+/// features (`cargo run -p rtapprox-harness` would unify features over harness's dependencies only
 /// and recompile the wgpu stack).
 fn test_build_command() -> Vec<String> {
     [
@@ -648,7 +648,7 @@ fn test_command(rest: &[String]) -> Vec<String> {
     cmd
 }
 
-/// `cargo run --release -p harness -- compare --out out ARGS` (a release build of its own).
+/// `cargo run --release -p rtapprox-harness -- compare --out out ARGS` (a release build of its own).
 fn compare_command(rest: &[String]) -> Vec<String> {
     let mut cmd = vec![cargo(), "run".to_string()];
     let mut pass: Vec<String> = Vec::new();
@@ -659,7 +659,7 @@ fn compare_command(rest: &[String]) -> Vec<String> {
             pass.push(a.clone());
         }
     }
-    cmd.extend(["-p", "harness", "--", "compare"].map(String::from));
+    cmd.extend(["-p", "rtapprox-harness", "--", "compare"].map(String::from));
     if !has_flag(&pass, &["--out"]) {
         cmd.extend(["--out", "out"].map(String::from));
     }
@@ -920,8 +920,8 @@ mod tests {
     fn test_command_passes_arguments_through() {
         assert_eq!(test_command(&[])[1..], strings(&["test", "--workspace"]));
         assert_eq!(
-            test_command(&strings(&["-p", "harness"]))[1..],
-            strings(&["test", "-p", "harness"])
+            test_command(&strings(&["-p", "rtapprox-harness"]))[1..],
+            strings(&["test", "-p", "rtapprox-harness"])
         );
         assert_eq!(
             test_command(&strings(&["--", "-p"]))[1..],
@@ -951,7 +951,15 @@ mod tests {
     fn compare_command_defaults_and_overrides() {
         assert_eq!(
             compare_command(&[])[1..],
-            strings(&["run", "-p", "harness", "--", "compare", "--out", "out"])
+            strings(&[
+                "run",
+                "-p",
+                "rtapprox-harness",
+                "--",
+                "compare",
+                "--out",
+                "out"
+            ])
         );
         assert_eq!(
             compare_command(&strings(&["--release", "--out=x", "--size", "64x64"]))[1..],
@@ -959,7 +967,7 @@ mod tests {
                 "run",
                 "--release",
                 "-p",
-                "harness",
+                "rtapprox-harness",
                 "--",
                 "compare",
                 "--out=x",

@@ -20,7 +20,7 @@ use std::time::Instant;
 /// A test executable of the build: which package and target, where it runs.
 #[derive(Clone, Debug)]
 pub struct TestExecutable {
-    /// `<package>/<target>` (`harness/end_to_end`).
+    /// `<package>/<target>` (`rtapprox-harness/end_to_end`).
     pub name: String,
     pub path: String,
     /// The package's folder: cargo runs a package's tests there.
