@@ -173,6 +173,18 @@ impl Context {
     }
 
     /// Whether GPU timestamps can bracket passes on this device.
+    /// What this device can do with `format`: the adapter's own answer where the device
+    /// enabled `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`, else what WebGPU guarantees with
+    /// the device's features (`FLOAT32_BLENDABLE` makes `Rgba32Float` blendable, say).
+    pub fn format_features(&self, format: wgpu::TextureFormat) -> wgpu::TextureFormatFeatures {
+        let features = self.features();
+        if features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
+            self.adapter.get_texture_format_features(format)
+        } else {
+            format.guaranteed_format_features(features)
+        }
+    }
+
     pub fn has_timestamps(&self) -> bool {
         self.features().contains(wgpu::Features::TIMESTAMP_QUERY)
     }

@@ -2,8 +2,10 @@
 //! samplers, bind-group lists ([`bind`]), one-line attachments and passes ([`pass`]), the
 //! per-frame recording context [`Frame`], HDR render targets and read-back, cube-map targets,
 //! the distance-map search `Hit()` ([`distance_map`], Rust twin of `shaders/hit.wgsl`), a
-//! full-screen pass, GPU timers, and the WGSL prelude (with its Rust twin in
-//! [`prelude`]) that every technique's shaders include.
+//! full-screen pass, GPU timers (optional: `GpuTimer::off`), what a technique asks of the
+//! renderer that hosts it ([`host`]: `DrawScene`, `EyeView`, `HostedMesh`), the formats a pass
+//! draws into ([`TargetFormats`]), and the WGSL prelude (with its Rust twin in [`prelude`])
+//! that every technique's shaders include.
 
 pub mod bind;
 pub mod compute;
@@ -11,6 +13,7 @@ mod context;
 pub mod cube;
 pub mod distance_map;
 pub mod fullscreen;
+pub mod host;
 pub mod pass;
 pub mod prelude;
 mod target;
@@ -19,9 +22,10 @@ pub mod wgsl;
 
 pub use bind::{Samplers, Uniform};
 pub use context::{AdapterSummary, Context};
+pub use host::{DrawScene, EyeView, HostedMesh, Objects, SceneView};
 pub use target::{
-    DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, channel_to_srgb8, depth_texture, layer_view,
-    linear_to_srgb, map_buffer, read_buffer, read_texture_bytes, read_texture_f32,
+    DEPTH_FORMAT, HDR_FORMAT, HdrImage, Target, TargetFormats, channel_to_srgb8, depth_texture,
+    layer_view, linear_to_srgb, map_buffer, read_buffer, read_texture_bytes, read_texture_f32,
     read_texture_f32x4, render_texture,
 };
 pub use timer::{GpuTimer, TimeStats, TimerKind};

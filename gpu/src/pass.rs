@@ -89,8 +89,17 @@ pub fn color_target(
 
 /// The depth state of a pipeline on [`crate::DEPTH_FORMAT`].
 pub fn depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    depth_state_for(crate::DEPTH_FORMAT, write, compare)
+}
+
+/// [`depth_state`] on a depth attachment of `format` (a renderer's own: `Depth24Plus`, …).
+pub fn depth_state_for(
+    format: wgpu::TextureFormat,
+    write: bool,
+    compare: wgpu::CompareFunction,
+) -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
-        format: crate::DEPTH_FORMAT,
+        format,
         depth_write_enabled: Some(write),
         depth_compare: Some(compare),
         stencil: Default::default(),

@@ -7,6 +7,76 @@ pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Depth format for every depth buffer in the workspace.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// The colour and depth formats of the targets a pass draws into: a renderer's own
+/// ([`TargetFormats::new`]) or the harness's ([`TargetFormats::HDR`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TargetFormats {
+    /// The colour attachment's format.
+    pub color: wgpu::TextureFormat,
+    /// The depth attachment's format.
+    pub depth: wgpu::TextureFormat,
+    /// Whether a pass leaves the colour's alpha as it was (a renderer's targets) or writes it
+    /// (the harness's, whose alpha holds the surface's distance).
+    pub keep_alpha: bool,
+}
+
+impl TargetFormats {
+    /// The harness's targets: linear radiance in [`HDR_FORMAT`], depth in [`DEPTH_FORMAT`].
+    pub const HDR: Self = Self {
+        color: HDR_FORMAT,
+        depth: DEPTH_FORMAT,
+        keep_alpha: false,
+    };
+
+    /// A renderer's own formats: `color` renderable, `depth` a depth format; its alpha is kept.
+    pub const fn new(color: wgpu::TextureFormat, depth: wgpu::TextureFormat) -> Self {
+        Self {
+            color,
+            depth,
+            keep_alpha: true,
+        }
+    }
+
+    /// Whether `ctx`'s device can draw into targets of these formats: an error naming the
+    /// format it cannot render into, or the depth format that has no depth.
+    pub fn check(&self, ctx: &crate::Context) -> Result<(), GpuError> {
+        let renderable = |format| {
+            let usages = ctx.format_features(format).allowed_usages;
+            usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+        };
+        if !renderable(self.color) || self.color.has_depth_aspect() {
+            return Err(GpuError::InvalidInput(format!(
+                "this device cannot render colour into {:?}",
+                self.color
+            )));
+        }
+        if !self.depth.has_depth_aspect() || !renderable(self.depth) {
+            return Err(GpuError::InvalidInput(format!(
+                "{:?} is not a depth format this device renders into (Depth32Float, \
+                 Depth24Plus, Depth16Unorm are)",
+                self.depth
+            )));
+        }
+        Ok(())
+    }
+
+    /// The colour target state of a pass that draws opaque surfaces into these targets: every
+    /// channel in the harness's (whose alpha holds the surface's distance), rgb only in a
+    /// renderer's own, whose alpha stays what the renderer wrote.
+    pub fn color_target(&self) -> Option<wgpu::ColorTargetState> {
+        let write_mask = if self.keep_alpha {
+            wgpu::ColorWrites::COLOR
+        } else {
+            wgpu::ColorWrites::ALL
+        };
+        Some(wgpu::ColorTargetState {
+            format: self.color,
+            blend: None,
+            write_mask,
+        })
+    }
+}
+
 /// A linear RGBA float image read back from the GPU (row 0 is the top).
 #[derive(Clone, Debug, PartialEq)]
 pub struct HdrImage {

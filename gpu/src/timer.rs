@@ -109,6 +109,18 @@ impl GpuTimer {
         }
     }
 
+    /// A timer that measures nothing: no query set, no read-back, every span and pass
+    /// recorded without timestamps. What a renderer passes to a technique when it does not
+    /// time it (the timer is optional: [`crate::Frame`] records the same passes with it).
+    pub const fn off() -> Self {
+        Self {
+            queries: None,
+            spans: Vec::new(),
+            used: 0,
+            wall_start: None,
+        }
+    }
+
     /// Whether encoder-level spans are GPU timestamps on this device.
     pub fn kind(&self) -> TimerKind {
         match &self.queries {

@@ -15,6 +15,9 @@
 //!   placement and textures on the GPU.
 //! - [`caustics`]: the caustic filter and scatter (twins of `shaders/caustic_compute.wgsl`),
 //!   the photon pass and caustic mapping.
+//! - [`pass`]: one glass object refracted through both interfaces as a pass of a renderer's
+//!   own frame ([`RefractorPass`]: its targets in its formats, its world drawn on request
+//!   through `gpu::DrawScene`).
 //! - [`technique`]: the [`Refraction`] technique and its variants ([`techniques`]).
 //!
 //! See `README.md` for the mapping of variants to the paper, departures and failure cases.
@@ -23,10 +26,12 @@
 
 pub mod caustics;
 pub mod nearby;
+pub mod pass;
 pub mod rectangles;
 pub mod search;
 pub mod technique;
 
+pub use pass::{Exit, Refractor, RefractorPass};
 pub use technique::{Nearby, Refraction, Settings, Variant};
 
 /// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.

@@ -9,6 +9,8 @@
 //!   localized (initial guess, secant, false position; packed or split distances), double
 //!   refraction through a refractor map, caustics; and the engine baseline, parallax-corrected
 //!   (box-projected) cube maps on the same maps (`gpu::prelude::box_project`).
+//! - [`pass`]: one object's impostor as a pass of a renderer's own frame ([`ImpostorPass`]:
+//!   its targets in its formats, its world drawn on request through `gpu::DrawScene`).
 //! - [`caustics`]: caustic maps and the two splat paths (the paper's light maps, a compute
 //!   scatter); the receivers' light-map charts and the Gaussian quad splat are shared in
 //!   `scene::lightmap`.
@@ -20,9 +22,11 @@
 
 pub mod caustics;
 pub mod localized;
+pub mod pass;
 pub mod technique;
 pub mod variants;
 
+pub use pass::{ImpostorLookup, ImpostorPass, SpecularObject, Surface};
 pub use technique::{Impostor, Lookup, Mode, Probe, Settings};
 
 /// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.

@@ -27,6 +27,8 @@ use scene::{
     Frame, GpuScene, Material, ObjectFilter, RasterTarget, Scene, Technique, TechniqueResult, View,
 };
 
+mod hosted;
+
 const SPLIT_WGSL: &str = include_str!("shaders/split.wgsl");
 
 /// Format of the environment impostor (radiance + distance in alpha) and the refractor map.
@@ -128,6 +130,9 @@ pub struct Impostor {
     description: String,
     /// The variant's parameters; [`Technique::set_param`] changes them by name.
     pub settings: Settings,
+    /// The formats of the targets the specular objects are drawn into (the harness's, or a
+    /// renderer's own through [`crate::ImpostorPass`]).
+    formats: gpu::TargetFormats,
     state: Option<State>,
 }
 
@@ -177,8 +182,16 @@ impl Impostor {
             id: id.into(),
             description: description.into(),
             settings,
+            formats: gpu::TargetFormats::HDR,
             state: None,
         }
+    }
+
+    /// The variant drawing its objects into targets of `formats` (a renderer's own).
+    pub fn for_targets(mut self, formats: gpu::TargetFormats) -> Self {
+        self.formats = formats;
+        self.state = None;
+        self
     }
 
     /// How many times the environment impostors have been (re)generated since `prepare`.
@@ -359,13 +372,13 @@ impl Technique for Impostor {
             None => None,
         };
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);
-        let pipeline = scene::scene_pipeline(
+        let pipeline = scene::scene_pipeline_for(
             ctx,
             &self.id,
             &pipeline_layout,
             &module,
             "localized_fs",
-            gpu::HDR_FORMAT,
+            self.formats,
         );
         let split_layout = single_texture_layout(ctx);
         let split_pipeline = gpu::fullscreen::pipeline(
@@ -441,7 +454,7 @@ impl Technique for Impostor {
             .as_mut()
             .ok_or(scene::TechniqueError::NotPrepared(id))?;
 
-        regenerate_stale(frame, scene, state, &settings, room_probe);
+        regenerate_stale(frame, scene, scene, state, &settings, room_probe);
         let _ = &state.split_layout;
         let groups = impostor_groups(frame.gpu, scene, state, &settings);
 
@@ -490,14 +503,15 @@ impl Technique for Impostor {
             );
         }
 
+        let targets = (&target.color_view, &target.depth_view);
+        let lookup_groups = (&groups[..], &caustic_groups[..]);
         lookup(
             frame,
             scene,
-            target,
+            targets,
             state,
             &camera,
-            &groups,
-            &caustic_groups,
+            lookup_groups,
             &self.id,
         );
         Ok(())
@@ -511,6 +525,7 @@ impl Technique for Impostor {
 fn regenerate_stale(
     frame: &mut Frame,
     scene: &GpuScene,
+    host: &dyn gpu::DrawScene,
     state: &mut State,
     settings: &Settings,
     room_probe: bool,
@@ -541,8 +556,9 @@ fn regenerate_stale(
                 };
                 // Without the object itself (`render_environment` from another point: an
                 // engine's probe would not hold the moving object either).
-                let others = ObjectFilter::Except(vec![m.object]);
-                scene.raster_cube(frame, &m.env, reference, &others, false);
+                let others = gpu::Objects::AllBut(&[m.object]);
+                let depth_range = (0.01, 2.0 * scene::BACKGROUND_DISTANCE);
+                gpu::host::draw_scene_cube(frame, host, &m.env, reference, depth_range, others);
                 if let Some(split) = &m.split {
                     copy_distances(frame, &state.split_pipeline, split);
                 }
@@ -559,23 +575,21 @@ fn regenerate_stale(
 /// The specular objects' pass, timed on its own as "lookup" (pass timestamps). Reads: each
 /// object's impostor bindings (and caustic bindings). Writes: the specular surfaces' colour and
 /// depth into the target.
-#[allow(clippy::too_many_arguments)]
 fn lookup(
     frame: &mut Frame,
     scene: &GpuScene,
-    target: &Target,
+    (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
     state: &State,
     camera: &wgpu::BindGroup,
-    groups: &[wgpu::BindGroup],
-    caustic_groups: &[wgpu::BindGroup],
+    (groups, caustic_groups): (&[wgpu::BindGroup], &[wgpu::BindGroup]),
     label: &str,
 ) {
     // The specular objects' pass, timed on its own as "lookup" (pass timestamps).
     let mut pass = gpu::pass::begin(
         frame.encoder,
         label,
-        &[pass::color(&target.color_view, Load::Keep)],
-        Some(pass::depth(&target.depth_view, Load::Keep)),
+        &[pass::color(color, Load::Keep)],
+        Some(pass::depth(depth, Load::Keep)),
         frame.timer.render_pass("lookup"),
     );
     match &state.caustic {

@@ -15,6 +15,7 @@ pub mod foundation;
 #[cfg(feature = "gltf")]
 pub mod gltf_io;
 mod gpu_scene;
+pub mod hosted;
 pub mod kinds;
 pub mod layer_count;
 pub mod lightmap;
@@ -37,8 +38,8 @@ pub use medium::Medium;
 pub use model::*;
 pub use shading::{
     RASTER_WGSL, SCENE_VS_WGSL, SHADING, SHADING_WGSL, proxy_pipeline, scene_pipeline,
-    scene_pipeline_entries, scene_pipeline_with, scene_vertex_module, shader, shader_importing,
-    shader_of,
+    scene_pipeline_entries, scene_pipeline_for, scene_pipeline_with, scene_pipeline_with_depth,
+    scene_vertex_module, shader, shader_importing, shader_of,
 };
 pub use technique::{
     Contained, Declared, Family, Frame, ImageCheck, Param, ParamValue, Settings, Technique,

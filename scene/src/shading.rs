@@ -100,6 +100,23 @@ pub fn scene_pipeline(
     )
 }
 
+/// [`scene_pipeline`] into a renderer's own targets: one colour target of `formats.color`
+/// (`TargetFormats::color_target`: a renderer's alpha is kept), depth written and tested with
+/// `Less` on `formats.depth` (a technique's pass in a frame not the harness's).
+pub fn scene_pipeline_for(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment_entry: &str,
+    formats: gpu::TargetFormats,
+) -> wgpu::RenderPipeline {
+    let vertex = scene_vertex_module(ctx);
+    let stages = ((&vertex, "scene_vs"), (module, fragment_entry));
+    let depth = pass::depth_state_for(formats.depth, true, wgpu::CompareFunction::Less);
+    scene_pipeline_with_depth(ctx, label, layout, stages, &[formats.color_target()], depth)
+}
+
 /// [`scene_pipeline`] with its own colour targets (several, or blended) and depth state
 /// (`(write, compare)`): for passes that add to what the raster pass drew, or write several
 /// maps at once. No culling.
@@ -147,6 +164,20 @@ pub fn scene_pipeline_entries(
     render_pipeline(ctx, label, layout, stages, &vertices, targets, depth)
 }
 
+/// [`scene_pipeline_entries`] on the caller's depth state, its format included (a renderer's
+/// own depth buffer: `gpu::pass::depth_state_for`).
+pub fn scene_pipeline_with_depth(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    stages: (Stage<'_>, Stage<'_>),
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: wgpu::DepthStencilState,
+) -> wgpu::RenderPipeline {
+    let vertices = [Some(Vertex::layout())];
+    render_pipeline_on(ctx, label, layout, stages, &vertices, targets, depth)
+}
+
 /// A pipeline that draws no vertex buffer: the vertex entry makes each vertex from its vertex
 /// and instance indices (a proxy of an object, such as a height map's billboard box, one
 /// instance per object), the fragment entry may write its own depth. One colour target of
@@ -177,6 +208,20 @@ fn render_pipeline(
     targets: &[Option<wgpu::ColorTargetState>],
     depth: (bool, wgpu::CompareFunction),
 ) -> wgpu::RenderPipeline {
+    let depth = pass::depth_state(depth.0, depth.1);
+    render_pipeline_on(ctx, label, layout, stages, buffers, targets, depth)
+}
+
+/// [`render_pipeline`] on the caller's depth state (its format included).
+fn render_pipeline_on(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    stages: (Stage<'_>, Stage<'_>),
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth: wgpu::DepthStencilState,
+) -> wgpu::RenderPipeline {
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),
@@ -197,7 +242,7 @@ fn render_pipeline(
                 cull_mode: None,
                 ..Default::default()
             },
-            depth_stencil: Some(pass::depth_state(depth.0, depth.1)),
+            depth_stencil: Some(depth),
             multisample: Default::default(),
             multiview_mask: None,
             cache: ctx.pipeline_cache(),

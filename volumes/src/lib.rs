@@ -5,6 +5,8 @@
 //! - [`path_length`]: the visible path length through each volume primitive, clipped by the
 //!   eye and the scene depth, and the path-length-to-opacity functions; the WGSL in
 //!   `shaders/path_length.wgsl` is its twin.
+//! - [`pass`]: the ray-traced soft volumes as one pass of a renderer's own frame
+//!   ([`SoftVolumePass`]: its colour and depth targets in its formats, its camera, no scene).
 //! - [`technique`]: the variants (the 17 of the thesis's figure 6.23 plus particle-system
 //!   versions) behind `scene::Technique`.
 //!
@@ -18,9 +20,11 @@
 // Every public item says what it is for: users lift this crate into their own renderers.
 #![warn(missing_docs)]
 
+pub mod pass;
 pub mod path_length;
 pub mod technique;
 
+pub use pass::{SoftVolume, SoftVolumePass};
 pub use path_length::{OpacityFn, Primitive};
 pub use technique::{Method, Variant, VolumeSet, VolumeTechnique};
 

@@ -38,6 +38,7 @@ use scene::{
     View,
 };
 
+mod hosted;
 mod passes;
 mod resources;
 mod settings;
@@ -106,6 +107,9 @@ pub struct Refraction {
     representative: bool,
     /// The variant's parameters.
     pub settings: Settings,
+    /// The formats of the targets the refractors are drawn into (the harness's, or a
+    /// renderer's own through [`crate::RefractorPass`]).
+    formats: gpu::TargetFormats,
     state: Option<State>,
 }
 
@@ -164,8 +168,16 @@ impl Refraction {
             description: description.into(),
             representative: true,
             settings,
+            formats: gpu::TargetFormats::HDR,
             state: None,
         }
+    }
+
+    /// The variant drawing its refractors into targets of `formats` (a renderer's own).
+    pub fn for_targets(mut self, formats: gpu::TargetFormats) -> Self {
+        self.formats = formats;
+        self.state = None;
+        self
     }
 
     /// Leaves the variant out of the default `harness compare` (`--all-variants` runs it).
@@ -364,14 +376,14 @@ impl Technique for Refraction {
         let layout = group_layout(ctx);
         let nearby_layout = rectangles::group_layout(ctx);
         let made = match self.settings.nearby {
-            Some(_) => pipelines(ctx, scene, &[&layout, &nearby_layout], true),
-            None => pipelines(ctx, scene, &[&layout], false),
+            Some(_) => pipelines(ctx, scene, &[&layout, &nearby_layout], true, self.formats),
+            None => pipelines(ctx, scene, &[&layout], false, self.formats),
         };
         let impostor_pipeline = self
             .settings
             .nearby
             .filter(|n| n.recursive)
-            .map(|_| pipelines(ctx, scene, &[&layout], false).refract);
+            .map(|_| pipelines(ctx, scene, &[&layout], false, gpu::TargetFormats::HDR).refract);
         let rectangles = self.rectangles_of(ctx, scene, &specular)?;
         let maps = self.object_maps(ctx, scene, &specular, probe.as_ref(), room_probe)?;
         // Every variant's vertex stage reads it; only Wyman's baseline fills it.
@@ -447,14 +459,15 @@ impl Technique for Refraction {
             ));
         }
         state.ensure_screen(ctx, view.width, view.height);
-        state.write_frame_params(ctx, view, &params);
+        let eye = Eye::of_camera(&view.camera, view.width, view.height);
+        state.write_frame_params(ctx, &eye, &params);
         if let Some(rects) = state.rectangles.as_mut() {
             rects.place(ctx, scene);
         }
         let probe_to_capture = state.probe_to_capture.take();
         let state = &*state;
         frame.span("regenerate", |frame| {
-            state.regenerate(frame, scene, probe_to_capture)
+            state.regenerate(frame, scene, scene, probe_to_capture)
         });
         if let Some(rects) = &state.rectangles {
             frame.span("impostors", |frame| state.impostors(frame, scene, rects));

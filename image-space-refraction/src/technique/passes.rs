@@ -17,9 +17,8 @@ impl State {
 
     /// Writes the frame's uniforms: the eye, each object's refraction parameters and the
     /// one-interface parameters its recursive impostor is drawn with.
-    pub(super) fn write_frame_params(&self, ctx: &Context, view: &View, params: &[ParamsGpu]) {
-        let eye = Eye::of_camera(&view.camera, view.width, view.height);
-        self.eye.write(ctx, &EyeGpu::from(&eye));
+    pub(super) fn write_frame_params(&self, ctx: &Context, eye: &Eye, params: &[ParamsGpu]) {
+        self.eye.write(ctx, &EyeGpu::from(eye));
         for (map, p) in self.maps.iter().zip(params) {
             map.params.write(ctx, p);
             let one_interface = ParamsGpu {
@@ -37,12 +36,17 @@ impl State {
         &self,
         frame: &mut Frame,
         scene: &GpuScene,
+        host: &dyn gpu::DrawScene,
         probe_to_capture: Option<(std::rc::Rc<CubeTarget>, Vec3)>,
     ) {
+        let depth_range = (0.01, 2.0 * scene::BACKGROUND_DISTANCE);
+        let cube = |frame: &mut Frame, cube: &CubeTarget, centre: Vec3, left_out: &[usize]| {
+            let objects = gpu::Objects::AllBut(left_out);
+            gpu::host::draw_scene_cube(frame, host, cube, centre, depth_range, objects);
+        };
         if let Some((probe, centre)) = probe_to_capture {
             // The engine's baked probe: the scene without its specular objects, once.
-            let specular = ObjectFilter::Except(self.specular());
-            scene.raster_cube(frame, &probe, centre, &specular, false);
+            cube(frame, &probe, centre, &self.specular());
         }
         // What `prepare` built decides, not the settings since.
         let per_object = match self.room_probe.is_some() {
@@ -58,11 +62,9 @@ impl State {
             let centre = scene.scene.objects[map.object].center_at(scene.time());
             let mut left_out = in_rectangles.clone();
             left_out.push(map.object);
-            let others = ObjectFilter::Except(left_out);
-            scene.raster_cube(frame, &map.cube, centre, &others, false);
+            cube(frame, &map.cube, centre, &left_out);
             if let Some(full) = &map.full_cube {
-                let own = ObjectFilter::Except(vec![map.object]);
-                scene.raster_cube(frame, full, centre, &own, false);
+                cube(frame, full, centre, &[map.object]);
             }
         }
     }

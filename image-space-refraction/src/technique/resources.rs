@@ -121,6 +121,7 @@ pub(super) fn pipelines(
     scene: &GpuScene,
     layouts: &[&wgpu::BindGroupLayout],
     nearby: bool,
+    formats: gpu::TargetFormats,
 ) -> Pipelines {
     let overrides: &[&gpu::wgsl::Module] = match nearby {
         true => &[&NEARBY_RADIANCE],
@@ -148,19 +149,21 @@ pub(super) fn pipelines(
         )
     };
     let refract_layout = scene.pipeline_layout_with(ctx, layouts);
-    let refractor_pipeline = |fragment: (&wgpu::ShaderModule, &str), targets: &[_]| {
-        scene::scene_pipeline_entries(
+    let refractor_pipeline = |fragment: (&wgpu::ShaderModule, &str), targets: &[_], depth| {
+        let depth = gpu::pass::depth_state_for(depth, true, wgpu::CompareFunction::Less);
+        scene::scene_pipeline_with_depth(
             ctx,
             fragment.1,
             &refract_layout,
             ((&module, "refractor_vs"), fragment),
             targets,
-            (true, wgpu::CompareFunction::Less),
+            depth,
         )
     };
     let refract = refractor_pipeline(
         (&module, "refract_fs"),
-        &[gpu::pass::color_target(gpu::HDR_FORMAT, None)],
+        &[formats.color_target()],
+        formats.depth,
     );
     let photon = nearby.then(|| {
         let photons = shader("image-space refraction photons", PHOTON_WGSL);
@@ -170,6 +173,7 @@ pub(super) fn pipelines(
                 gpu::pass::color_target(BUFFER_FORMAT, None),
                 gpu::pass::color_target(BUFFER_FORMAT, None),
             ],
+            gpu::DEPTH_FORMAT,
         )
     });
     Pipelines {

@@ -22,6 +22,7 @@ use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Uniform, Vertex, bind};
 
+mod host;
 mod shadows;
 mod upload;
 pub use shadows::*;
@@ -43,8 +44,12 @@ pub const MIN_SHADOW_MAP_SIZE: u32 = 64;
 /// maps fit [`SHADOW_BUDGET_BYTES`]. Fails, naming the limit, when even
 /// [`MIN_SHADOW_MAP_SIZE`] does not fit or the cube maps need more layers than the device has
 /// (six per light): the GPU techniques then cannot render the scene, while the CPU reference,
-/// which traces shadow rays, has no such limit.
+/// which traces shadow rays, has no such limit. A scene without lights (a renderer's object
+/// uploaded alone, `crate::hosted`) gets 1 x 1 maps: nothing reads them.
 pub fn shadow_map_size(lights: usize, max_layers: u32) -> Result<u32, SceneError> {
+    if lights == 0 {
+        return Ok(1);
+    }
     let bytes = |size: u64| lights.max(1) as u64 * 7 * 4 * size * size;
     let max_lights = (max_layers / 6) as usize;
     let mut size = SHADOW_MAP_SIZE;
@@ -65,8 +70,9 @@ pub fn shadow_map_size(lights: usize, max_layers: u32) -> Result<u32, SceneError
     Ok(size)
 }
 const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-/// Distance written for texels that see no geometry (must match scene.wgsl).
-pub const BACKGROUND_DISTANCE: f32 = 60000.0;
+/// Distance written for texels that see no geometry (must match scene.wgsl): the hosts'
+/// contract, `gpu::host::BACKGROUND_DISTANCE`.
+pub const BACKGROUND_DISTANCE: f32 = gpu::host::BACKGROUND_DISTANCE;
 
 /// Which objects a draw call includes.
 #[derive(Clone, Debug, PartialEq)]
@@ -445,6 +451,20 @@ impl GpuScene {
         self.time = Some(time);
         let moved = self.moved_spheres(time);
         self.render_shadows(frame, (!first).then_some(moved.as_slice()));
+    }
+
+    /// Places object `index` by `transform` (its base transform, before its motion) and rewrites
+    /// the objects' records and the shadow maps now, recording into `frame`: how a renderer's
+    /// object uploaded alone (`crate::hosted`) follows the renderer, frame by frame.
+    pub fn set_transform(&mut self, frame: &mut Frame, index: usize, transform: Mat4) {
+        self.scene.objects[index].transform = transform;
+        let time = self.time();
+        frame.gpu.queue.write_buffer(
+            &self.object_buffer,
+            0,
+            bytemuck::cast_slice(&object_records(&self.scene, time)),
+        );
+        self.render_shadows(frame, None);
     }
 
     /// The bounding spheres of every moving or deforming object where the shadow maps last saw

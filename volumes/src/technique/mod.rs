@@ -43,9 +43,11 @@ mod resources;
 mod settings;
 mod variants;
 
+pub(crate) use passes::VolumeDraw;
 use passes::*;
 pub use placement::*;
 use resources::*;
+pub(crate) use resources::{unused_depth_views, upload_thickness, volume_layout};
 pub use settings::*;
 pub use variants::*;
 

@@ -112,7 +112,6 @@ impl VolumeTechnique {
     ///    depth-fade variants). Writes: the work buffer, blended premultiplied over; billboards
     ///    and slices depth-tested against the target's depth without writing it.
     pub(super) fn draw_volumes(&self, frame: &mut Frame, passes: &FramePasses) {
-        let ctx = frame.gpu;
         let FramePasses {
             scene,
             view,
@@ -136,14 +135,6 @@ impl VolumeTechnique {
             .iter()
             .map(|v| self.volume_record(v, &scene.scene.volumes))
             .collect();
-        let globals = gpu::Uniform::new(ctx, "volumes globals", &globals);
-        let volume_buffer = ctx
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("volumes"),
-                contents: bytemuck::cast_slice(&records),
-                usage: wgpu::BufferUsages::STORAGE,
-            });
         let reads_depth = self.reads_scene_depth();
         let distance_view = if reads_depth && !self.reads_depth_buffer() {
             &buffers.distance_view
@@ -155,37 +146,85 @@ impl VolumeTechnique {
         } else {
             &res.dummy_depth_view
         };
+        let draw = VolumeDraw {
+            pipeline: &res.volume_pipeline,
+            layout: &res.volume_layout,
+            thickness: &res.thickness_view,
+            distance: distance_view,
+            depth: depth_view,
+            color: passes.work_view(),
+            // Billboards and slices test against the scene's depth without writing it.
+            depth_test: (!reads_depth).then_some(&target.depth_view),
+        };
+        self.record_volumes(frame, &draw, &globals, &records);
+    }
+
+    /// Records the volume pass (span "volumes"): `records` in one instanced draw, blended
+    /// over `draw.color`. The harness's frame and a renderer's own frame
+    /// ([`crate::SoftVolumePass`]) both draw through it.
+    pub(crate) fn record_volumes(
+        &self,
+        frame: &mut Frame,
+        draw: &VolumeDraw,
+        globals: &GlobalsGpu,
+        records: &[VolumeGpu],
+    ) {
+        let ctx = frame.gpu;
+        let globals = gpu::Uniform::new(ctx, "volumes globals", globals);
+        let volume_buffer = ctx
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("volumes"),
+                contents: bytemuck::cast_slice(records),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
         let group = bind::group(
             ctx,
             "volumes",
-            &res.volume_layout,
+            draw.layout,
             &[
                 globals.binding(),
                 volume_buffer.as_entire_binding(),
-                bind::view(&res.thickness_view),
+                bind::view(draw.thickness),
                 bind::sampler_resource(&ctx.samplers.linear_clamp),
-                bind::view(distance_view),
-                bind::view(depth_view),
+                bind::view(draw.distance),
+                bind::view(draw.depth),
             ],
         );
         frame.span("volumes", |frame| {
-            // Billboards and slices test against the scene's depth without writing it: a
-            // read-only attachment (no depth ops), which `pass::depth` does not make.
-            let depth_test = (!reads_depth).then_some(wgpu::RenderPassDepthStencilAttachment {
-                view: &target.depth_view,
-                depth_ops: None,
-                stencil_ops: None,
-            });
+            // A read-only depth attachment (no depth ops), which `pass::depth` does not make.
+            let depth_test = draw
+                .depth_test
+                .map(|view| wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: None,
+                    stencil_ops: None,
+                });
             let mut pass = pass::begin(
                 frame.encoder,
                 "volumes",
-                &[pass::color(passes.work_view(), Load::Keep)],
+                &[pass::color(draw.color, Load::Keep)],
                 depth_test,
                 None,
             );
-            pass.set_pipeline(&res.volume_pipeline);
+            pass.set_pipeline(draw.pipeline);
             pass.set_bind_group(0, &group, &[]);
-            pass.draw(0..6, 0..placed.len() as u32 * self.slice_count());
+            pass.draw(0..6, 0..records.len() as u32 * self.slice_count());
         });
     }
+}
+
+/// What one volume pass draws with and into.
+pub(crate) struct VolumeDraw<'a> {
+    pub(crate) pipeline: &'a wgpu::RenderPipeline,
+    pub(crate) layout: &'a wgpu::BindGroupLayout,
+    pub(crate) thickness: &'a wgpu::TextureView,
+    /// The scene's distance texture (or a 1 x 1 stand-in where the variant reads none).
+    pub(crate) distance: &'a wgpu::TextureView,
+    /// The scene's depth buffer, sampled (or a 1 x 1 stand-in).
+    pub(crate) depth: &'a wgpu::TextureView,
+    /// The colour the volumes blend over.
+    pub(crate) color: &'a wgpu::TextureView,
+    /// The depth attachment billboards and slices are tested against, if any.
+    pub(crate) depth_test: Option<&'a wgpu::TextureView>,
 }

@@ -6,16 +6,16 @@ use super::*;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct GlobalsGpu {
-    pub(super) view_proj: [[f32; 4]; 4],
-    pub(super) inv_view_proj: [[f32; 4]; 4],
-    pub(super) eye: [f32; 4],
-    pub(super) viewport: [f32; 4],
+pub(crate) struct GlobalsGpu {
+    pub(crate) view_proj: [[f32; 4]; 4],
+    pub(crate) inv_view_proj: [[f32; 4]; 4],
+    pub(crate) eye: [f32; 4],
+    pub(crate) viewport: [f32; 4],
 }
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct VolumeGpu {
+pub(crate) struct VolumeGpu {
     pub(super) center: [f32; 4],
     pub(super) right: [f32; 4],
     pub(super) up: [f32; 4],
@@ -59,14 +59,25 @@ pub fn placed_volumes(
     camera: &Camera,
     time: f32,
 ) -> Vec<PlacedVolume> {
-    let (forward, cam_right, cam_up) = camera.basis();
+    placed_volumes_facing(volumes, set, camera.eye, camera.basis(), time)
+}
+
+/// [`placed_volumes`] for an eye at `eye` whose (forward, right, up) axes are `basis`: what a
+/// renderer with a camera of its own passes ([`crate::SoftVolumePass`]).
+pub fn placed_volumes_facing(
+    volumes: &[Volume],
+    set: VolumeSet,
+    eye: Vec3,
+    (forward, cam_right, cam_up): (Vec3, Vec3, Vec3),
+    time: f32,
+) -> Vec<PlacedVolume> {
     let mut out: Vec<PlacedVolume> = volumes
         .iter()
         .enumerate()
         .filter(|(_, v)| set.includes(v))
         .map(|(index, v)| {
             let center = v.center + v.motion.offset(time);
-            let to_eye = camera.eye - center;
+            let to_eye = eye - center;
             let distance = to_eye.length();
             let normal = if distance > 1e-6 * v.radius.max(1e-6) {
                 to_eye / distance
@@ -132,7 +143,7 @@ pub(super) const FIT_MIN_DISTANCE: f32 = 1.05;
 impl VolumeTechnique {
     /// The GPU record of a placed volume: billboard half size (metres) and whether to draw a
     /// screen-filling quad instead.
-    pub(super) fn volume_record(&self, v: &PlacedVolume, volumes: &[Volume]) -> VolumeGpu {
+    pub(crate) fn volume_record(&self, v: &PlacedVolume, volumes: &[Volume]) -> VolumeGpu {
         let (half_size, screen) = billboard_extent(
             v,
             self.settings.billboard_scale,

@@ -45,7 +45,7 @@ impl VolumeTechnique {
             baked,
             free_depth: self.settings.free_depth,
             fade_distance: self.settings.fade_distance,
-            volume_pipeline: self.volume_pipeline(ctx, &volume_layout),
+            volume_pipeline: self.volume_pipeline(ctx, &volume_layout, self.buffer_format()),
             volume_layout,
             copy_layout,
             to_bytes_pipeline,
@@ -59,11 +59,13 @@ impl VolumeTechnique {
 
     /// The volume pass: the variant's fragment entry, specialised by override constants
     /// (slices, opacity function, primitive, depth source, fade distance), blended
-    /// premultiplied over the work buffer.
-    pub(super) fn volume_pipeline(
+    /// premultiplied over a colour target of `format` (the work buffer's, or a renderer's
+    /// own: [`crate::SoftVolumePass`]).
+    pub(crate) fn volume_pipeline(
         &self,
         ctx: &Context,
         volume_layout: &wgpu::BindGroupLayout,
+        format: wgpu::TextureFormat,
     ) -> wgpu::RenderPipeline {
         let module = scene::shader_importing(ctx, "volumes", VOLUMES_WGSL, &[&PATH_LENGTH]);
         let layout = ctx
@@ -110,7 +112,7 @@ impl VolumeTechnique {
                     module: &module,
                     entry_point: Some(fragment_entry),
                     compilation_options: options,
-                    targets: &[pass::color_target(self.buffer_format(), blend)],
+                    targets: &[pass::color_target(format, blend)],
                 }),
                 primitive: wgpu::PrimitiveState {
                     cull_mode: None,
@@ -152,33 +154,38 @@ impl VolumeTechnique {
         ctx: &Context,
         scene: &Scene,
     ) -> (wgpu::TextureView, Option<Baked>) {
-        let size = THICKNESS_TEXTURE_SIZE;
         let (texels, baked) = self.bake(scene);
-        let thickness = ctx.device.create_texture_with_data(
-            &ctx.queue,
-            &wgpu::TextureDescriptor {
-                label: Some("volumes thickness texture"),
-                size: wgpu::Extent3d {
-                    width: size,
-                    height: size,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba8Unorm,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            &texels,
-        );
-        (thickness.create_view(&Default::default()), baked)
+        (upload_thickness(ctx, &texels), baked)
     }
 }
 
+/// The thickness texture of `texels` (`THICKNESS_TEXTURE_SIZE` squared, RGBA8).
+pub(crate) fn upload_thickness(ctx: &Context, texels: &[u8]) -> wgpu::TextureView {
+    let size = THICKNESS_TEXTURE_SIZE;
+    let thickness = ctx.device.create_texture_with_data(
+        &ctx.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("volumes thickness texture"),
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        texels,
+    );
+    thickness.create_view(&Default::default())
+}
+
 /// The volume pass's bindings.
-pub(super) fn volume_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+pub(crate) fn volume_layout(ctx: &Context) -> wgpu::BindGroupLayout {
     use wgpu::TextureViewDimension::D2;
     let fragment = bind::ShaderStages::FRAGMENT;
     let both = bind::ShaderStages::VERTEX_FRAGMENT;
@@ -206,7 +213,7 @@ pub(super) fn distance_pipeline(ctx: &Context, scene: &GpuScene) -> wgpu::Render
 }
 
 /// 1 x 1 distance and depth views bound where a variant reads neither (the layout has both).
-pub(super) fn unused_depth_views(ctx: &Context) -> (wgpu::TextureView, wgpu::TextureView) {
+pub(crate) fn unused_depth_views(ctx: &Context) -> (wgpu::TextureView, wgpu::TextureView) {
     let distance = ctx
         .device
         .create_texture(&wgpu::TextureDescriptor {

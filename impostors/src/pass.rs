@@ -1,0 +1,130 @@
+//! A distance impostor as one pass of a renderer's own frame: one glass or metal object,
+//! reflecting and refracting the renderer's world through its environment impostor (paper
+//! sections 3-4), drawn over the renderer's colour and depth targets in their formats.
+//!
+//! What the renderer provides (and nothing else: no `scene::Scene`, no `GpuScene`, no timer):
+//!
+//! - its wgpu device and queue, wrapped once with `gpu::Context::from_parts`;
+//! - the object: its mesh (`gpu::HostedMesh`: positions, normals, triangle indices, in the
+//!   object's frame), its material ([`Surface`]) and its index among the renderer's objects
+//!   ([`SpecularObject`]); where it stands each frame ([`ImpostorPass::set_position`]);
+//! - its world drawn on request, [`gpu::DrawScene`]: everything but the object, from the
+//!   object's centre, into the faces of the impostor (`Rgba16Float`, radiance in rgb and the
+//!   distance from the centre in alpha; depth `Depth32Float`), six views each frame;
+//! - its colour and depth targets (any renderable colour format, any depth format), holding
+//!   its frame already (the pass writes rgb and depth; the renderer's alpha is kept), and its
+//!   camera ([`gpu::EyeView`]).
+//!
+//! The pass is the technique's own code: `Impostor::draw_over` runs the steps the harness's
+//! `impostors/false-position-4` and `impostors/double-refraction` run in their frames (the
+//! impostors drawn through `gpu::DrawScene`, the lookup), with `scene::GpuScene` as the host
+//! there.
+
+use crate::technique::{Impostor, Mode, Settings};
+use glam::Vec3;
+use gpu::{DrawScene, EyeView, Frame, HostedMesh, TargetFormats, wgpu};
+use scene::hosted::HostedObject;
+use scene::{Technique as _, TechniqueResult};
+
+/// What the object is made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Surface {
+    /// A dielectric with this index of refraction (air outside).
+    Glass {
+        /// Index of refraction relative to the surrounding air.
+        ior: f32,
+    },
+    /// A conductor with this complex index of refraction per RGB channel.
+    Metal {
+        /// Real part `n`.
+        n: Vec3,
+        /// Imaginary part `k` (n = 0, k = 1 is a perfect mirror).
+        k: Vec3,
+    },
+}
+
+/// The renderer's specular object.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecularObject {
+    /// Its triangles in its own frame (the impostor is taken from the centre of their bounds,
+    /// moved by [`ImpostorPass::set_position`]).
+    pub mesh: HostedMesh,
+    /// Its material.
+    pub surface: Surface,
+    /// Its index among the renderer's objects: the one its [`gpu::DrawScene`] leaves out of
+    /// the impostor.
+    pub host_index: usize,
+}
+
+/// How rays leave the object.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImpostorLookup {
+    /// Reflection and refraction at the visible surface, each localized by `Hit()` in the
+    /// environment impostor (false position, 4 iterations: `impostors/false-position-4`).
+    Localized,
+    /// Glass: the refracted ray searched to its exit in the object's own refractor map,
+    /// refracted out, then `Hit()` in the impostor (`impostors/double-refraction`).
+    DoubleRefraction,
+}
+
+/// The distance-impostor pass of one object, made for a renderer's target formats.
+pub struct ImpostorPass {
+    technique: Impostor,
+    object: HostedObject,
+}
+
+impl ImpostorPass {
+    /// The pass of `object` for targets of `formats`, with impostors of `resolution` texels
+    /// a side: prepares the maps (the refractor map of double refraction is drawn now).
+    pub fn new(
+        ctx: &gpu::Context,
+        object: &SpecularObject,
+        lookup: ImpostorLookup,
+        formats: TargetFormats,
+        resolution: u32,
+    ) -> TechniqueResult<Self> {
+        formats.check(ctx)?;
+        let (id, mode) = match lookup {
+            ImpostorLookup::Localized => ("impostors/false-position-4", Mode::Localized),
+            ImpostorLookup::DoubleRefraction => {
+                ("impostors/double-refraction", Mode::DoubleRefraction)
+            }
+        };
+        let settings = Settings {
+            mode,
+            ..Settings::default()
+        };
+        let mut technique =
+            Impostor::new(id, "distance impostor pass", settings).for_targets(formats);
+        technique.set_param("resolution", resolution as f64)?;
+        let material = match object.surface {
+            Surface::Glass { ior } => scene::Material::Glass { ior },
+            Surface::Metal { n, k } => scene::Material::Metal { n, k },
+        };
+        let object = (&object.mesh, material, object.host_index);
+        let object = HostedObject::prepared(ctx, object, &mut technique)?;
+        Ok(Self { technique, object })
+    }
+
+    /// Moves the object by `offset` from where its mesh puts it (the impostor follows in the
+    /// next [`ImpostorPass::draw`]).
+    pub fn set_position(&mut self, offset: Vec3) {
+        self.object.set_offset(offset);
+    }
+
+    /// Records the object into `color` and `depth` as seen by `view`: its impostor is asked of
+    /// `host` (every frame: the default `regen_threshold` of 0), then the lookup is drawn,
+    /// depth-tested against the renderer's frame.
+    pub fn draw(
+        &mut self,
+        frame: &mut Frame,
+        host: &dyn DrawScene,
+        view: &EyeView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+    ) -> TechniqueResult<()> {
+        let (object, host) = self.object.for_frame(frame, host);
+        let hosted: (&scene::GpuScene, &dyn DrawScene) = (object, &host);
+        self.technique.draw_over(frame, hosted, view, color, depth)
+    }
+}
