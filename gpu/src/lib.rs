@@ -41,6 +41,21 @@ pub struct Frame<'a> {
 }
 
 impl Frame<'_> {
+    /// Records `passes` into `encoder` with a timer that measures nothing ([`GpuTimer::off`]):
+    /// how a renderer that does not time a technique hands it a frame.
+    pub fn untimed<R>(
+        gpu: &Context,
+        encoder: &mut wgpu::CommandEncoder,
+        passes: impl FnOnce(&mut Frame<'_>) -> R,
+    ) -> R {
+        let mut timer = GpuTimer::off();
+        passes(&mut Frame {
+            gpu,
+            encoder,
+            timer: &mut timer,
+        })
+    }
+
     /// Records `passes` inside the timer span `label` (an encoder-level span, reported apart
     /// from the frame): the span's end cannot be forgotten or misnamed, and a span opened in a
     /// branch closes in it. Passes that time themselves (`GpuTimer::render_pass`) may nest

@@ -9,7 +9,7 @@
 //! - its wgpu device and queue, wrapped once with `gpu::Context::from_parts`;
 //! - the refractor: its mesh (`gpu::HostedMesh`, in the object's frame), its index of
 //!   refraction and its index among the renderer's objects ([`Refractor`]); where it stands
-//!   each frame ([`RefractorPass::set_position`]);
+//!   each frame (`set_position`);
 //! - its world drawn on request, [`gpu::DrawScene`]: everything but the refractor, from the
 //!   refractor's centre, into the six faces of its environment map (`Rgba16Float`, radiance in
 //!   rgb and the distance from the centre in alpha; depth `Depth32Float`), each frame;
@@ -23,9 +23,8 @@
 //! refraction), with `scene::GpuScene` as the host there.
 
 use crate::technique::{Refraction, variant};
-use glam::Vec3;
-use gpu::{DrawScene, EyeView, Frame, HostedMesh, TargetFormats, wgpu};
-use scene::hosted::HostedObject;
+use gpu::{HostedMesh, TargetFormats};
+use scene::hosted::HostedPass;
 use scene::{Technique as _, TechniqueResult};
 
 /// The renderer's glass object.
@@ -51,15 +50,13 @@ pub enum Exit {
     HuQin,
 }
 
-/// The image-space refraction pass of one glass object, made for a renderer's formats.
-pub struct RefractorPass {
-    technique: Refraction,
-    object: HostedObject,
-}
+/// The image-space refraction pass of one glass object, made for a renderer's formats: a
+/// [`HostedPass`] (its `set_position` and `draw`) of the [`Refraction`] technique.
+pub struct RefractorPass(HostedPass<Refraction>);
 
 impl RefractorPass {
     /// The pass of `refractor` for targets of `formats`, its environment map `resolution`
-    /// texels a side.
+    /// texels a side, asked of the renderer every frame.
     pub fn new(
         ctx: &gpu::Context,
         refractor: &Refractor,
@@ -67,7 +64,6 @@ impl RefractorPass {
         formats: TargetFormats,
         resolution: u32,
     ) -> TechniqueResult<Self> {
-        formats.check(ctx)?;
         let name = match exit {
             Exit::Wyman => "two-interface-baseline",
             Exit::HuQin => "hu-qin",
@@ -78,28 +74,19 @@ impl RefractorPass {
         technique.set_param("resolution", resolution as f64)?;
         let glass = scene::Material::Glass { ior: refractor.ior };
         let object = (&refractor.mesh, glass, refractor.host_index);
-        let object = HostedObject::prepared(ctx, object, &mut technique)?;
-        Ok(Self { technique, object })
+        HostedPass::new(ctx, formats, object, technique).map(Self)
     }
+}
 
-    /// Moves the refractor by `offset` from where its mesh puts it, from the next frame on.
-    pub fn set_position(&mut self, offset: Vec3) {
-        self.object.set_offset(offset);
+impl std::ops::Deref for RefractorPass {
+    type Target = HostedPass<Refraction>;
+    fn deref(&self) -> &Self::Target {
+        &self.0
     }
+}
 
-    /// Records the refractor into `color` and `depth` as seen by `view`: its environment map
-    /// asked of `host`, its front and back buffers, then the refraction, depth-tested against
-    /// the renderer's frame.
-    pub fn draw(
-        &mut self,
-        frame: &mut Frame,
-        host: &dyn DrawScene,
-        view: &EyeView,
-        color: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
-    ) -> TechniqueResult<()> {
-        let (object, host) = self.object.for_frame(frame, host);
-        let hosted: (&scene::GpuScene, &dyn DrawScene) = (object, &host);
-        self.technique.draw_over(frame, hosted, view, color, depth)
+impl std::ops::DerefMut for RefractorPass {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        &mut self.0
     }
 }

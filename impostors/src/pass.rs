@@ -7,7 +7,7 @@
 //! - its wgpu device and queue, wrapped once with `gpu::Context::from_parts`;
 //! - the object: its mesh (`gpu::HostedMesh`: positions, normals, triangle indices, in the
 //!   object's frame), its material ([`Surface`]) and its index among the renderer's objects
-//!   ([`SpecularObject`]); where it stands each frame ([`ImpostorPass::set_position`]);
+//!   ([`SpecularObject`]); where it stands each frame (`set_position`);
 //! - its world drawn on request, [`gpu::DrawScene`]: everything but the object, from the
 //!   object's centre, into the faces of the impostor (`Rgba16Float`, radiance in rgb and the
 //!   distance from the centre in alpha; depth `Depth32Float`), six views each frame;
@@ -22,8 +22,8 @@
 
 use crate::technique::{Impostor, Mode, Settings};
 use glam::Vec3;
-use gpu::{DrawScene, EyeView, Frame, HostedMesh, TargetFormats, wgpu};
-use scene::hosted::HostedObject;
+use gpu::{HostedMesh, TargetFormats};
+use scene::hosted::HostedPass;
 use scene::{Technique as _, TechniqueResult};
 
 /// What the object is made of.
@@ -67,15 +67,14 @@ pub enum ImpostorLookup {
     DoubleRefraction,
 }
 
-/// The distance-impostor pass of one object, made for a renderer's target formats.
-pub struct ImpostorPass {
-    technique: Impostor,
-    object: HostedObject,
-}
+/// The distance-impostor pass of one object, made for a renderer's target formats: a
+/// [`HostedPass`] (its `set_position` and `draw`) of the [`Impostor`] technique.
+pub struct ImpostorPass(HostedPass<Impostor>);
 
 impl ImpostorPass {
     /// The pass of `object` for targets of `formats`, with impostors of `resolution` texels
-    /// a side: prepares the maps (the refractor map of double refraction is drawn now).
+    /// a side: prepares the maps (the refractor map of double refraction is drawn now). The
+    /// impostor is asked of the renderer every frame (the default `regen_threshold` of 0).
     pub fn new(
         ctx: &gpu::Context,
         object: &SpecularObject,
@@ -83,7 +82,6 @@ impl ImpostorPass {
         formats: TargetFormats,
         resolution: u32,
     ) -> TechniqueResult<Self> {
-        formats.check(ctx)?;
         let (id, mode) = match lookup {
             ImpostorLookup::Localized => ("impostors/false-position-4", Mode::Localized),
             ImpostorLookup::DoubleRefraction => {
@@ -102,29 +100,19 @@ impl ImpostorPass {
             Surface::Metal { n, k } => scene::Material::Metal { n, k },
         };
         let object = (&object.mesh, material, object.host_index);
-        let object = HostedObject::prepared(ctx, object, &mut technique)?;
-        Ok(Self { technique, object })
+        HostedPass::new(ctx, formats, object, technique).map(Self)
     }
+}
 
-    /// Moves the object by `offset` from where its mesh puts it (the impostor follows in the
-    /// next [`ImpostorPass::draw`]).
-    pub fn set_position(&mut self, offset: Vec3) {
-        self.object.set_offset(offset);
+impl std::ops::Deref for ImpostorPass {
+    type Target = HostedPass<Impostor>;
+    fn deref(&self) -> &Self::Target {
+        &self.0
     }
+}
 
-    /// Records the object into `color` and `depth` as seen by `view`: its impostor is asked of
-    /// `host` (every frame: the default `regen_threshold` of 0), then the lookup is drawn,
-    /// depth-tested against the renderer's frame.
-    pub fn draw(
-        &mut self,
-        frame: &mut Frame,
-        host: &dyn DrawScene,
-        view: &EyeView,
-        color: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
-    ) -> TechniqueResult<()> {
-        let (object, host) = self.object.for_frame(frame, host);
-        let hosted: (&scene::GpuScene, &dyn DrawScene) = (object, &host);
-        self.technique.draw_over(frame, hosted, view, color, depth)
+impl std::ops::DerefMut for ImpostorPass {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        &mut self.0
     }
 }

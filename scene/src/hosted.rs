@@ -1,11 +1,71 @@
 //! A renderer's own object uploaded alone, for a technique's pass in the renderer's frame
-//! (`impostors::ImpostorPass`, `image_space_refraction::RefractorPass`): the technique draws
-//! the object from this copy and asks the renderer ([`gpu::DrawScene`]) for everything else.
+//! ([`HostedPass`]: `impostors::ImpostorPass`, `image_space_refraction::RefractorPass`): the
+//! technique draws the object from this copy and asks the renderer ([`gpu::DrawScene`]) for
+//! everything else.
 
 use crate::{Camera, GpuScene, Material, Mesh, Object, Scene, Technique, TechniqueError};
 use crate::{Frame, TechniqueResult};
 use glam::{Mat4, Vec2, Vec3};
-use gpu::{DrawScene, HostedMesh, Objects, SceneView};
+use gpu::{DrawScene, EyeView, HostedMesh, Objects, SceneView, TargetFormats, wgpu};
+
+/// A technique that draws its objects over a frame that already holds everything else, asking
+/// the frame's renderer for the views of the world it needs.
+pub trait DrawOver: Technique {
+    /// The objects of `objects` drawn into `color` and `depth` (a renderer's targets, holding
+    /// its frame) as `view` sees them, with `host` drawing the world on request.
+    fn draw_over(
+        &mut self,
+        frame: &mut Frame,
+        hosted: (&GpuScene, &dyn DrawScene),
+        view: &EyeView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+    ) -> TechniqueResult<()>;
+}
+
+/// One renderer's object drawn by technique `T` over the renderer's frame: the pass a technique
+/// crate hands a user (`impostors::ImpostorPass` and `image_space_refraction::RefractorPass`
+/// wrap one each and say how to make it).
+pub struct HostedPass<T> {
+    technique: T,
+    object: HostedObject,
+}
+
+impl<T: DrawOver> HostedPass<T> {
+    /// `technique` (already made for `formats`) prepared on the renderer's object: `mesh` of
+    /// `material`, its index `host_index`. Formats the device cannot draw into are refused.
+    pub fn new(
+        ctx: &gpu::Context,
+        formats: TargetFormats,
+        (mesh, material, host_index): (&HostedMesh, Material, usize),
+        mut technique: T,
+    ) -> TechniqueResult<Self> {
+        formats.check(ctx)?;
+        let mut object = HostedObject::new(ctx, mesh, material, host_index)?;
+        object.prepare(ctx, &mut technique)?;
+        Ok(Self { technique, object })
+    }
+
+    /// Moves the object by `offset` from where its mesh puts it, from the next frame on.
+    pub fn set_position(&mut self, offset: Vec3) {
+        self.object.set_offset(offset);
+    }
+
+    /// Records the object into `color` and `depth` as seen by `view`, asking `host` for the
+    /// world around it, depth-tested against the renderer's frame.
+    pub fn draw(
+        &mut self,
+        frame: &mut Frame,
+        host: &dyn DrawScene,
+        view: &EyeView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+    ) -> TechniqueResult<()> {
+        let (object, host) = self.object.for_frame(frame, host);
+        let hosted: (&GpuScene, &dyn DrawScene) = (object, &host);
+        self.technique.draw_over(frame, hosted, view, color, depth)
+    }
+}
 
 /// The renderer's object, uploaded alone (no lights: the maps the technique asks for hold
 /// the renderer's lit world), and its index among the renderer's objects.
@@ -32,17 +92,6 @@ impl HostedObject {
         })
     }
 
-    /// [`HostedObject::new`], with `technique` prepared on it.
-    pub fn prepared(
-        ctx: &gpu::Context,
-        (mesh, material, host_index): (&HostedMesh, Material, usize),
-        technique: &mut dyn Technique,
-    ) -> TechniqueResult<Self> {
-        let mut object = Self::new(ctx, mesh, material, host_index)?;
-        object.prepare(ctx, technique)?;
-        Ok(object)
-    }
-
     /// Prepares `technique` on the object (its maps, pipelines), recorded and submitted now;
     /// a validation error (a target format the device cannot render into, say) is a
     /// [`TechniqueError`], not wgpu's panic.
@@ -54,14 +103,10 @@ impl HostedObject {
         let uploaded = &mut self.uploaded;
         ctx.validated(|| {
             let mut encoder = ctx.device.create_command_encoder(&Default::default());
-            let mut timer = gpu::GpuTimer::off();
-            let mut frame = Frame {
-                gpu: ctx,
-                encoder: &mut encoder,
-                timer: &mut timer,
-            };
-            uploaded.set_time(&mut frame, 0.0);
-            let prepared = technique.prepare(&mut frame, uploaded);
+            let prepared = Frame::untimed(ctx, &mut encoder, |frame| {
+                uploaded.set_time(frame, 0.0);
+                technique.prepare(frame, uploaded)
+            });
             ctx.queue.submit([encoder.finish()]);
             prepared
         })?

@@ -19,25 +19,14 @@ fn a_cube_drawn_through_the_trait_is_the_raster_cube() {
     let [by_raster, by_trait] = ["raster_cube", "draw_scene_cube"]
         .map(|label| CubeTarget::new(ctx, 32, format, label).unwrap());
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    let mut timer = gpu::GpuTimer::off();
-    let mut frame = Frame {
-        gpu: ctx,
-        encoder: &mut encoder,
-        timer: &mut timer,
-    };
-    uploaded.set_time(&mut frame, 0.0);
-    let others = ObjectFilter::Except(vec![specular]);
-    uploaded.raster_cube(&mut frame, &by_raster, centre, &others, false);
-    let depth_range = (0.01, 2.0 * BACKGROUND_DISTANCE);
-    let others = Objects::AllBut(&[specular]);
-    gpu::host::draw_scene_cube(
-        &mut frame,
-        &uploaded,
-        &by_trait,
-        centre,
-        depth_range,
-        others,
-    );
+    Frame::untimed(ctx, &mut encoder, |frame| {
+        uploaded.set_time(frame, 0.0);
+        let others = ObjectFilter::Except(vec![specular]);
+        uploaded.raster_cube(frame, &by_raster, centre, &others, false);
+        let depth_range = (0.01, 2.0 * BACKGROUND_DISTANCE);
+        let others = Objects::AllBut(&[specular]);
+        gpu::host::draw_scene_cube(frame, &uploaded, &by_trait, centre, depth_range, others);
+    });
     ctx.queue.submit([encoder.finish()]);
     for face in 0..6 {
         let raster = read_texture_bytes(ctx, &by_raster.color, face, 8).unwrap();

@@ -230,37 +230,35 @@ impl Renderer {
         let depth = self.depth.create_view(&Default::default());
         let ctx = &self.world.ctx;
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        let mut timer = gpu::GpuTimer::off();
-        let mut frame = Frame {
-            gpu: ctx,
-            encoder: &mut encoder,
-            timer: &mut timer,
-        };
-        // The renderer's own frame first: everything opaque, into its own targets.
-        let view_frame = SceneView {
-            view_proj: eye.view_proj(),
-            eye: eye.eye(),
-            objects: gpu::Objects::All,
-            color: &color,
-            color_format: COLOR_FORMAT,
-            depth: &depth,
-        };
-        self.world
-            .draw(&mut frame, &view_frame, &self.world.frame_pipeline);
-        // Then the techniques' passes, over it: the glass balls (which ask the world of the
-        // renderer) and the smoke (which reads its depth).
-        if passes.impostor {
-            self.impostor
-                .draw(&mut frame, &self.world, &eye, &color, &depth)?;
-        }
-        if passes.refraction {
-            self.refractor
-                .draw(&mut frame, &self.world, &eye, &color, &depth)?;
-        }
-        if passes.volumes {
-            self.volumes
-                .draw(&mut frame, &eye, &world.volumes, &color, &depth);
-        }
+        // The renderer does not time the techniques: a frame without a timer.
+        Frame::untimed(ctx, &mut encoder, |frame| -> Result<(), Error> {
+            // The renderer's own frame first: everything opaque, into its own targets.
+            let view_frame = SceneView {
+                view_proj: eye.view_proj(),
+                eye: eye.eye(),
+                objects: gpu::Objects::All,
+                color: &color,
+                color_format: COLOR_FORMAT,
+                depth: &depth,
+            };
+            self.world
+                .draw(frame, &view_frame, &self.world.frame_pipeline);
+            // Then the techniques' passes, over it: the glass balls (which ask the world of
+            // the renderer) and the smoke (which reads its depth).
+            if passes.impostor {
+                self.impostor
+                    .draw(frame, &self.world, &eye, &color, &depth)?;
+            }
+            if passes.refraction {
+                self.refractor
+                    .draw(frame, &self.world, &eye, &color, &depth)?;
+            }
+            if passes.volumes {
+                self.volumes
+                    .draw(frame, &eye, &world.volumes, &color, &depth);
+            }
+            Ok(())
+        })?;
         ctx.queue.submit([encoder.finish()]);
         Ok(gpu::read_texture_bytes(ctx, &self.color, 0, 4)?)
     }

@@ -5,13 +5,13 @@
 
 use super::*;
 
-impl Refraction {
+impl scene::hosted::DrawOver for Refraction {
     /// The specular objects of `objects` drawn over `color` and `depth` (targets of the
     /// formats of [`Refraction::for_targets`], holding a renderer's frame): their environment
     /// maps asked of `host`, the front and back buffers, the refraction, seen by `view`.
     /// Variants with nearby geometry, caustics, the engine's probe or the thickness proxy
     /// need the scene's objects, lights or colour and refuse.
-    pub fn draw_over(
+    fn draw_over(
         &mut self,
         frame: &mut Frame,
         (objects, host): (&GpuScene, &dyn gpu::DrawScene),

@@ -5,13 +5,13 @@
 
 use super::*;
 
-impl Impostor {
+impl scene::hosted::DrawOver for Impostor {
     /// The specular objects of `objects` drawn over `color` and `depth` (targets of the
     /// formats of [`Impostor::for_targets`], holding a renderer's frame): their environment
     /// impostors asked of `host` (regenerated as they move), then the lookup, depth-tested
     /// against what is there, as `view` sees it. Caustic variants (their photons need the
     /// scene's lights) and the box-projected probes (their proxy is the scene's room) refuse.
-    pub fn draw_over(
+    fn draw_over(
         &mut self,
         frame: &mut Frame,
         (objects, host): (&GpuScene, &dyn gpu::DrawScene),
