@@ -193,7 +193,8 @@ impl Technique for HeightMapsInChess {
         let maps = render_height_maps(frame, scene, &kinds.representative, s.resolution)?;
         let search = HeightSearch::new(ctx, &scene.scene, &kinds, &maps, s.steps);
         let settings = self.tracer_settings();
-        let tracer = Tracer::new(ctx, scene, kinds, &search, &settings, &id)?;
+        let formats = gpu::TargetFormats::HDR;
+        let tracer = Tracer::new(ctx, scene, kinds, &search, (&settings, formats), &id)?;
         // The board grid at the scene's time: a scene whose pieces cannot be put in a grid is
         // refused here, not at the first frame.
         tracer

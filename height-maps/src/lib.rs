@@ -15,6 +15,8 @@
 //!   `refractor-maps` drives with distance maps, searching height maps ([`HeightSearch`]):
 //!   section 6's closing remark, "the refractor distance map can be replaced by the refractor
 //!   height map".
+//! - [`pass`]: [`HeightMapPass`], the billboards as a pass of a renderer's own frame (its
+//!   targets and formats, its world asked through `gpu::DrawScene`).
 //! - [`separated`]: `height-maps/separated` and `height-maps/full-update`: the paper's own
 //!   place for height maps, section 5.2's per-piece environment impostors (`scene`'s
 //!   `PieceImpostors`, the driver `refractor-maps/separated` runs on distance maps) with every
@@ -26,11 +28,13 @@
 
 pub mod in_chess;
 pub mod map;
+pub mod pass;
 pub mod search;
 pub mod separated;
 pub mod technique;
 
 pub use in_chess::{HeightMapsInChess, HeightSearch, InChessSettings};
+pub use pass::{HeightMapPass, HeightPiece};
 pub use separated::{HeightMapsSeparated, SeparatedSettings};
 pub use technique::{HeightMaps, MapSettings, Refraction, Settings};
 

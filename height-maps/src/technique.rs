@@ -13,7 +13,6 @@
 
 use crate::map::{map_bounds, render_height_maps, upright};
 use crate::search::{SEARCH, Steps};
-use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, Target, Uniform, bind};
 use scene::multi_object::{EnvironmentImpostor, raster_diffuse};
@@ -150,6 +149,9 @@ pub struct HeightMaps {
     representative: bool,
     /// The variant's parameters.
     pub settings: Settings,
+    /// The formats of the targets the billboards are drawn into (the harness's, or a
+    /// renderer's own: [`HeightMaps::for_targets`]).
+    formats: gpu::TargetFormats,
     state: Option<State>,
 }
 
@@ -192,8 +194,16 @@ impl HeightMaps {
             description: description.into(),
             representative,
             settings,
+            formats: gpu::TargetFormats::HDR,
             state: None,
         }
+    }
+
+    /// The variant drawing its billboards into targets of `formats` (a renderer's own).
+    pub fn for_targets(mut self, formats: gpu::TargetFormats) -> Self {
+        self.formats = formats;
+        self.state = None;
+        self
     }
 
     /// The prepared height maps (a layer per kind, in kind order), for tests and images.
@@ -264,13 +274,13 @@ impl Technique for HeightMaps {
                 bind::sampler(),
             ],
         );
-        let pipeline = scene::proxy_pipeline(
+        let pipeline = scene::proxy_pipeline_for(
             ctx,
             &self.id,
             &scene.pipeline_layout_with(ctx, &[&layout]),
             &module,
             ("billboard_vs", "billboard_fs"),
-            gpu::HDR_FORMAT,
+            self.formats,
         );
         let maps = render_height_maps(frame, scene, &kinds.representative, s.resolution)?;
         let maps_view = maps.create_view(&wgpu::TextureViewDescriptor {
@@ -302,25 +312,65 @@ impl Technique for HeightMaps {
         let ctx = frame.gpu;
         let time = scene.time();
 
-        state.env.capture(frame, scene);
         let specular: Vec<usize> = state.kinds.pieces.iter().map(|&(o, _)| o).collect();
+        state.env.capture(frame, scene, &specular);
         let view_proj = raster_diffuse(frame, scene, view, target, &specular);
         let group = frame_group(ctx, state, &self.settings, &scene.scene, time);
         let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
-        let mut pass = gpu::pass::begin(
-            frame.encoder,
+        let targets = (&target.color_view, &target.depth_view);
+        draw_billboards(frame, scene, state, (&camera, &group), targets, &self.id);
+        Ok(())
+    }
+}
+
+/// Every piece's billboard box drawn with `billboard_fs` into `color` and `depth` (loaded),
+/// timed as "billboards".
+fn draw_billboards(
+    frame: &mut Frame,
+    scene: &GpuScene,
+    state: &State,
+    (camera, group): (&wgpu::BindGroup, &wgpu::BindGroup),
+    (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
+    label: &str,
+) {
+    let drawn = (&state.pipeline, camera);
+    let mut pass = scene.pass_over(frame, label, (color, depth), "billboards", drawn);
+    pass.set_bind_group(2, group, &[]);
+    pass.draw(
+        0..BILLBOARD_BOX_VERTICES,
+        0..state.kinds.pieces.len() as u32,
+    );
+}
+
+impl scene::hosted::DrawOver for HeightMaps {
+    /// The pieces of `pieces` (a renderer's objects, uploaded alone) drawn over `color` and
+    /// `depth` (targets of the formats of [`HeightMaps::for_targets`], holding the renderer's
+    /// frame): the environment impostor asked of `host` from the centre of the pieces where
+    /// they now stand, then the billboards, depth-tested against what is there.
+    fn draw_over(
+        &mut self,
+        frame: &mut Frame,
+        (pieces, host): (&GpuScene, &dyn gpu::DrawScene),
+        view: &gpu::EyeView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+    ) -> TechniqueResult<()> {
+        let state = self
+            .state
+            .as_mut()
+            .ok_or_else(|| TechniqueError::NotPrepared(self.id.clone()))?;
+        state.env.follow(&pieces.scene, &state.kinds);
+        let specular: Vec<usize> = state.kinds.pieces.iter().map(|&(o, _)| o).collect();
+        state.env.capture(frame, host, &specular);
+        let group = frame_group(frame.gpu, state, &self.settings, &pieces.scene, 0.0);
+        let camera = pieces.camera_bind_group(frame.gpu, view.view_proj(), view.eye());
+        draw_billboards(
+            frame,
+            pieces,
+            state,
+            (&camera, &group),
+            (color, depth),
             &self.id,
-            &[pass::color(&target.color_view, Load::Keep)],
-            Some(pass::depth(&target.depth_view, Load::Keep)),
-            frame.timer.render_pass("billboards"),
-        );
-        pass.set_pipeline(&state.pipeline);
-        pass.set_bind_group(0, &camera, &[]);
-        pass.set_bind_group(1, scene.bind_group(), &[]);
-        pass.set_bind_group(2, &group, &[]);
-        pass.draw(
-            0..BILLBOARD_BOX_VERTICES,
-            0..state.kinds.pieces.len() as u32,
         );
         Ok(())
     }

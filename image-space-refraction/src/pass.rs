@@ -24,7 +24,7 @@
 
 use crate::technique::{Refraction, variant};
 use gpu::{HostedMesh, TargetFormats};
-use scene::hosted::HostedPass;
+use scene::hosted::{HostedPass, HostedPiece};
 use scene::{Technique as _, TechniqueResult};
 
 /// The renderer's glass object.
@@ -51,7 +51,7 @@ pub enum Exit {
 }
 
 /// The image-space refraction pass of one glass object, made for a renderer's formats: a
-/// [`HostedPass`] (its `set_position` and `draw`) of the [`Refraction`] technique.
+/// [`HostedPass`] (its `draw`) of the [`Refraction`] technique, placed by `set_position`.
 pub struct RefractorPass(HostedPass<Refraction>);
 
 impl RefractorPass {
@@ -73,8 +73,20 @@ impl RefractorPass {
             .for_targets(formats);
         technique.set_param("resolution", resolution as f64)?;
         let glass = scene::Material::Glass { ior: refractor.ior };
-        let object = (&refractor.mesh, glass, refractor.host_index);
-        HostedPass::new(ctx, formats, object, technique).map(Self)
+        let object = HostedPiece {
+            mesh: &refractor.mesh,
+            material: glass,
+            host_index: refractor.host_index,
+            position: glam::Vec3::ZERO,
+        };
+        HostedPass::new(ctx, formats, &[object], technique).map(Self)
+    }
+}
+
+impl RefractorPass {
+    /// Moves the object by `offset` from where its mesh puts it, from the next frame on.
+    pub fn set_position(&mut self, offset: glam::Vec3) {
+        self.0.set_position_of(0, offset);
     }
 }
 

@@ -23,25 +23,9 @@
 use crate::technique::{Impostor, Mode, Settings};
 use glam::Vec3;
 use gpu::{HostedMesh, TargetFormats};
-use scene::hosted::HostedPass;
+pub use scene::hosted::Surface;
+use scene::hosted::{HostedPass, HostedPiece};
 use scene::{Technique as _, TechniqueResult};
-
-/// What the object is made of.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Surface {
-    /// A dielectric with this index of refraction (air outside).
-    Glass {
-        /// Index of refraction relative to the surrounding air.
-        ior: f32,
-    },
-    /// A conductor with this complex index of refraction per RGB channel.
-    Metal {
-        /// Real part `n`.
-        n: Vec3,
-        /// Imaginary part `k` (n = 0, k = 1 is a perfect mirror).
-        k: Vec3,
-    },
-}
 
 /// The renderer's specular object.
 #[derive(Clone, Debug, PartialEq)]
@@ -68,7 +52,7 @@ pub enum ImpostorLookup {
 }
 
 /// The distance-impostor pass of one object, made for a renderer's target formats: a
-/// [`HostedPass`] (its `set_position` and `draw`) of the [`Impostor`] technique.
+/// [`HostedPass`] (its `draw`) of the [`Impostor`] technique, placed by `set_position`.
 pub struct ImpostorPass(HostedPass<Impostor>);
 
 impl ImpostorPass {
@@ -95,12 +79,21 @@ impl ImpostorPass {
         let mut technique =
             Impostor::new(id, "distance impostor pass", settings).for_targets(formats);
         technique.set_param("resolution", resolution as f64)?;
-        let material = match object.surface {
-            Surface::Glass { ior } => scene::Material::Glass { ior },
-            Surface::Metal { n, k } => scene::Material::Metal { n, k },
+        let material = object.surface.into();
+        let object = HostedPiece {
+            mesh: &object.mesh,
+            material,
+            host_index: object.host_index,
+            position: Vec3::ZERO,
         };
-        let object = (&object.mesh, material, object.host_index);
-        HostedPass::new(ctx, formats, object, technique).map(Self)
+        HostedPass::new(ctx, formats, &[object], technique).map(Self)
+    }
+}
+
+impl ImpostorPass {
+    /// Moves the object by `offset` from where its mesh puts it, from the next frame on.
+    pub fn set_position(&mut self, offset: Vec3) {
+        self.0.set_position_of(0, offset);
     }
 }
 

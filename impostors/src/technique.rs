@@ -585,19 +585,11 @@ fn lookup(
     label: &str,
 ) {
     // The specular objects' pass, timed on its own as "lookup" (pass timestamps).
-    let mut pass = gpu::pass::begin(
-        frame.encoder,
-        label,
-        &[pass::color(color, Load::Keep)],
-        Some(pass::depth(depth, Load::Keep)),
-        frame.timer.render_pass("lookup"),
-    );
-    match &state.caustic {
-        Some(c) => pass.set_pipeline(&c.localized_pipeline),
-        None => pass.set_pipeline(&state.pipeline),
-    }
-    pass.set_bind_group(0, camera, &[]);
-    pass.set_bind_group(1, scene.bind_group(), &[]);
+    let pipeline = match &state.caustic {
+        Some(c) => &c.localized_pipeline,
+        None => &state.pipeline,
+    };
+    let mut pass = scene.pass_over(frame, label, (color, depth), "lookup", (pipeline, camera));
     for (i, (m, group)) in state.maps.iter().zip(groups).enumerate() {
         pass.set_bind_group(2, group, &[]);
         if let Some(g3) = caustic_groups.get(i) {

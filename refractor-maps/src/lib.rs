@@ -12,6 +12,8 @@
 //! - [`environment`]: the [`EnvironmentMaps`] technique (section 5): per-piece environment
 //!   impostors holding multi-bounce radiance, fully updated or with the moving piece
 //!   separated.
+//! - [`pass`]: [`RefractorMapsPass`], the tracer as a pass of a renderer's own frame (its
+//!   targets and formats, its world asked through `gpu::DrawScene`).
 //! - [`caustics`]: caustics on the chessboard (section 7): photon maps through the refractor
 //!   maps, light maps of the static pieces (once) and of the moving piece (every frame).
 //!
@@ -21,11 +23,13 @@
 
 pub mod caustics;
 pub mod environment;
+pub mod pass;
 pub mod pieces;
 pub mod technique;
 
 pub use caustics::CausticSettings;
 pub use environment::{EnvSettings, EnvironmentMaps};
+pub use pass::{Bounces, Piece, RefractorMapsPass, Surface};
 pub use technique::{Maps, RefractorMaps, Search, Settings};
 
 /// This crate's family: [`techniques`] and [`image_checks`], listed once by the harness.

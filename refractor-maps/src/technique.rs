@@ -134,6 +134,9 @@ pub struct RefractorMaps {
     representative: bool,
     /// The variant's parameters.
     pub settings: Settings,
+    /// The formats of the targets the pieces are drawn into (the harness's, or a renderer's
+    /// own: [`RefractorMaps::for_targets`]).
+    formats: gpu::TargetFormats,
     state: Option<State>,
 }
 
@@ -284,8 +287,16 @@ impl RefractorMaps {
             description: description.into(),
             representative,
             settings,
+            formats: gpu::TargetFormats::HDR,
             state: None,
         }
+    }
+
+    /// The variant drawing its pieces into targets of `formats` (a renderer's own).
+    pub fn for_targets(mut self, formats: gpu::TargetFormats) -> Self {
+        self.formats = formats;
+        self.state = None;
+        self
     }
 
     /// The kinds of the prepared scene (for tests): each kind's representative object.
@@ -438,7 +449,8 @@ impl Technique for RefractorMaps {
         let search = DistanceSearch::new(frame, maps, &self.settings.maps);
         let tracer_settings = self.tracer_settings();
         let reference = pieces_centre(&scene.scene, &kinds);
-        let tracer = Tracer::new(ctx, scene, kinds, &search, &tracer_settings, &self.id)?;
+        let settings = (&tracer_settings, self.formats);
+        let tracer = Tracer::new(ctx, scene, kinds, &search, settings, &self.id)?;
         let caustics = match &self.settings.caustics {
             None => None,
             Some(c) => {
@@ -505,6 +517,46 @@ impl Technique for RefractorMaps {
             let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
             caustics.apply(frame, scene, &camera, target);
         }
+        Ok(())
+    }
+}
+
+impl scene::hosted::DrawOver for RefractorMaps {
+    /// The pieces of `pieces` (a renderer's objects, uploaded alone) drawn over `color` and
+    /// `depth` (targets of the formats of [`RefractorMaps::for_targets`], holding the
+    /// renderer's frame): the environment impostor asked of `host` from the centre of the
+    /// pieces where they now stand, the board grid of where they stand, then the traced
+    /// pieces, depth-tested against what is there. Caustics refuse: their receiver is a
+    /// chessboard of the technique's own scene.
+    fn draw_over(
+        &mut self,
+        frame: &mut Frame,
+        (pieces, host): (&GpuScene, &dyn gpu::DrawScene),
+        view: &gpu::EyeView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+    ) -> TechniqueResult<()> {
+        if self.settings.caustics.is_some() {
+            return Err(TechniqueError::Unsupported(format!(
+                "{}: caustics land on the technique's chessboard; the pass draws the pieces only",
+                self.id
+            )));
+        }
+        let settings = self.tracer_settings();
+        let state = self
+            .state
+            .as_mut()
+            .ok_or_else(|| TechniqueError::NotPrepared(self.id.clone()))?;
+        state.tracer.follow_pieces(&pieces.scene);
+        let group = state
+            .tracer
+            .group(frame.gpu, &pieces.scene, &state.search, &settings, 0.0)
+            .map_err(|e| prefixed(&self.id, e))?;
+        let hosted = (pieces, host);
+        let targets = (color, depth);
+        state
+            .tracer
+            .draw_over(frame, hosted, view, targets, &group, &self.id);
         Ok(())
     }
 }

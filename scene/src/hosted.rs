@@ -1,7 +1,8 @@
-//! A renderer's own object uploaded alone, for a technique's pass in the renderer's frame
-//! ([`HostedPass`]: `impostors::ImpostorPass`, `image_space_refraction::RefractorPass`): the
-//! technique draws the object from this copy and asks the renderer ([`gpu::DrawScene`]) for
-//! everything else.
+//! A renderer's own objects uploaded alone, for a technique's pass in the renderer's frame
+//! ([`HostedPass`]: `impostors::ImpostorPass`, `image_space_refraction::RefractorPass`,
+//! `refractor_maps::RefractorMapsPass`, `height_maps::HeightMapPass`,
+//! `interior_mapping::InteriorPass`): the technique draws the objects from this copy and asks
+//! the renderer ([`gpu::DrawScene`]) for everything else.
 
 use crate::{Camera, GpuScene, Material, Mesh, Object, Scene, Technique, TechniqueError};
 use crate::{Frame, TechniqueResult};
@@ -23,36 +24,102 @@ pub trait DrawOver: Technique {
     ) -> TechniqueResult<()>;
 }
 
-/// One renderer's object drawn by technique `T` over the renderer's frame: the pass a technique
-/// crate hands a user (`impostors::ImpostorPass` and `image_space_refraction::RefractorPass`
-/// wrap one each and say how to make it).
+/// What a renderer's specular object is made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Surface {
+    /// A dielectric with this index of refraction (air outside).
+    Glass {
+        /// Index of refraction relative to the surrounding air.
+        ior: f32,
+    },
+    /// A conductor with this complex index of refraction per RGB channel.
+    Metal {
+        /// Real part `n`.
+        n: Vec3,
+        /// Imaginary part `k` (n = 0, k = 1 is a perfect mirror).
+        k: Vec3,
+    },
+}
+
+impl From<Surface> for Material {
+    fn from(surface: Surface) -> Material {
+        match surface {
+            Surface::Glass { ior } => Material::Glass { ior },
+            Surface::Metal { n, k } => Material::Metal { n, k },
+        }
+    }
+}
+
+/// One of the renderer's objects as a pass takes it: its triangles in its own frame, its
+/// material, its index among the renderer's objects, and where it stands (an offset from
+/// where its mesh puts it).
+#[derive(Clone, Debug)]
+pub struct HostedPiece<'a> {
+    /// Its triangles in its own frame.
+    pub mesh: &'a HostedMesh,
+    /// What it is made of (glass or metal: the technique draws it).
+    pub material: Material,
+    /// Its index among the renderer's objects: the one the renderer's [`DrawScene`] leaves out
+    /// of the views the technique asks for.
+    pub host_index: usize,
+    /// Where it stands: the offset from where its mesh puts it.
+    pub position: Vec3,
+}
+
+/// Some of a renderer's objects drawn by technique `T` over the renderer's frame: the pass a
+/// technique crate hands a user (`impostors::ImpostorPass` and the others wrap one each and
+/// say how to make it).
 pub struct HostedPass<T> {
     technique: T,
-    object: HostedObject,
+    objects: HostedObjects,
 }
 
 impl<T: DrawOver> HostedPass<T> {
-    /// `technique` (already made for `formats`) prepared on the renderer's object: `mesh` of
-    /// `material`, its index `host_index`. Formats the device cannot draw into are refused.
+    /// `technique` (already made for `formats`) prepared on the renderer's `objects`, each
+    /// where its `position` puts it. Formats the device cannot draw into are refused.
     pub fn new(
         ctx: &gpu::Context,
         formats: TargetFormats,
-        (mesh, material, host_index): (&HostedMesh, Material, usize),
+        objects: &[HostedPiece],
+        technique: T,
+    ) -> TechniqueResult<Self> {
+        let indices = objects.iter().map(|o| o.host_index).collect();
+        Self::of_scene(ctx, formats, (objects_scene(objects)?, indices), technique)
+    }
+
+    /// `technique` prepared on `scene`, the renderer's objects as the technique needs them (with
+    /// roles, a building's room layout, the lights that shade them), object `i` being the
+    /// renderer's object `host_indices[i]`: for a pass whose objects are more than a mesh and a
+    /// material (`interior_mapping::InteriorPass`).
+    pub fn of_scene(
+        ctx: &gpu::Context,
+        formats: TargetFormats,
+        (scene, host_indices): (Scene, Vec<usize>),
         mut technique: T,
     ) -> TechniqueResult<Self> {
         formats.check(ctx)?;
-        let mut object = HostedObject::new(ctx, mesh, material, host_index)?;
-        object.prepare(ctx, &mut technique)?;
-        Ok(Self { technique, object })
+        let mut objects = HostedObjects::of_scene(ctx, &scene, host_indices)?;
+        objects.prepare(ctx, &mut technique)?;
+        Ok(Self { technique, objects })
     }
 
-    /// Moves the object by `offset` from where its mesh puts it, from the next frame on.
-    pub fn set_position(&mut self, offset: Vec3) {
-        self.object.set_offset(offset);
+    /// Moves the pass's object `index` (in the order the pass was given them) by `offset` from
+    /// where its mesh puts it, from the next frame on.
+    ///
+    /// # Panics
+    ///
+    /// If the pass holds no object `index`.
+    pub fn set_position_of(&mut self, index: usize, offset: Vec3) {
+        self.objects.set_offset(index, offset);
     }
 
-    /// Records the object into `color` and `depth` as seen by `view`, asking `host` for the
-    /// world around it, depth-tested against the renderer's frame.
+    /// The technique, for its settings and figures.
+    pub fn technique(&self) -> &T {
+        &self.technique
+    }
+
+    /// Records the objects into `color` and `depth` as seen by `view`, asking `host` for the
+    /// world around them, depth-tested against the renderer's frame.
     pub fn draw(
         &mut self,
         frame: &mut Frame,
@@ -61,34 +128,64 @@ impl<T: DrawOver> HostedPass<T> {
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
     ) -> TechniqueResult<()> {
-        let (object, host) = self.object.for_frame(frame, host);
-        let hosted: (&GpuScene, &dyn DrawScene) = (object, &host);
+        let (objects, host) = self.objects.for_frame(frame, host);
+        let hosted: (&GpuScene, &dyn DrawScene) = (objects, &host);
         self.technique.draw_over(frame, hosted, view, color, depth)
     }
 }
 
-/// The renderer's object, uploaded alone (no lights: the maps the technique asks for hold
-/// the renderer's lit world), and its index among the renderer's objects.
-pub struct HostedObject {
+/// The renderer's objects, uploaded alone (no lights: the maps the technique asks for hold
+/// the renderer's lit world), and their indices among the renderer's objects.
+pub struct HostedObjects {
     uploaded: GpuScene,
-    host_index: usize,
-    /// The offset `set_offset` asked for, applied at the next frame.
-    pending_offset: Option<Vec3>,
+    /// The renderer's index of each uploaded object.
+    host_indices: Vec<usize>,
+    /// Each object's transform without its translation: what an offset places.
+    linear: Vec<Mat4>,
+    /// The offsets `set_offset` asked for, applied at the next frame.
+    pending_offsets: Vec<Option<Vec3>>,
 }
 
-impl HostedObject {
-    /// `mesh` of `material`, the renderer's object `host_index`, uploaded.
-    pub fn new(
+impl HostedObjects {
+    /// `objects` uploaded, each where its `position` puts it.
+    pub fn new(ctx: &gpu::Context, objects: &[HostedPiece]) -> TechniqueResult<Self> {
+        let indices = objects.iter().map(|o| o.host_index).collect();
+        Self::of_scene(ctx, &objects_scene(objects)?, indices)
+    }
+
+    /// `scene` uploaded, its object `i` the renderer's object `host_indices[i]`; an offset moves
+    /// an object: its transform's translation becomes the offset.
+    pub fn of_scene(
         ctx: &gpu::Context,
-        mesh: &HostedMesh,
-        material: Material,
-        host_index: usize,
+        scene: &Scene,
+        host_indices: Vec<usize>,
     ) -> TechniqueResult<Self> {
-        let scene = object_scene(mesh, material)?;
+        if scene.objects.is_empty() {
+            return Err(TechniqueError::Unsupported(
+                "a pass needs at least one of the renderer's objects to draw".into(),
+            ));
+        }
+        if host_indices.len() != scene.objects.len() {
+            return Err(TechniqueError::Unsupported(format!(
+                "{} objects but {} renderer's indices",
+                scene.objects.len(),
+                host_indices.len()
+            )));
+        }
+        let linear = scene
+            .objects
+            .iter()
+            .map(|o| {
+                let mut linear = o.transform;
+                linear.w_axis = glam::Vec4::W;
+                linear
+            })
+            .collect();
         Ok(Self {
-            uploaded: GpuScene::new(ctx, &scene)?,
-            host_index,
-            pending_offset: None,
+            uploaded: GpuScene::new(ctx, scene)?,
+            pending_offsets: vec![None; host_indices.len()],
+            host_indices,
+            linear,
         })
     }
 
@@ -112,45 +209,75 @@ impl HostedObject {
         })?
     }
 
-    /// Moves the object by `offset` from where its mesh puts it, from the next frame on.
-    pub fn set_offset(&mut self, offset: Vec3) {
-        self.pending_offset = Some(offset);
+    /// Moves object `index` by `offset` from where its mesh puts it (its rotation and scale
+    /// kept), from the next frame on.
+    ///
+    /// # Panics
+    ///
+    /// If there is no object `index`.
+    pub fn set_offset(&mut self, index: usize, offset: Vec3) {
+        let count = self.pending_offsets.len();
+        let Some(pending) = self.pending_offsets.get_mut(index) else {
+            panic!("no object {index} to move: the pass holds {count}");
+        };
+        *pending = Some(offset);
     }
 
-    /// The uploaded object at its current offset (recorded into `frame`), and the renderer as
-    /// host with the object's index turned into the renderer's own.
+    /// The uploaded objects at their current offsets (recorded into `frame`), and the renderer
+    /// as host with the objects' indices turned into the renderer's own.
     pub fn for_frame<'a>(
         &'a mut self,
         frame: &mut Frame,
         host: &'a dyn DrawScene,
-    ) -> (&'a GpuScene, HostForObject<'a>) {
-        if let Some(offset) = self.pending_offset.take() {
-            let placed = Mat4::from_translation(offset);
-            self.uploaded.set_transform(frame, 0, placed);
+    ) -> (&'a GpuScene, HostForObjects<'a>) {
+        let placed: Vec<(usize, Mat4)> = (self.pending_offsets.iter_mut().enumerate())
+            .filter_map(|(index, pending)| pending.take().map(|offset| (index, offset)))
+            .map(|(index, offset)| (index, Mat4::from_translation(offset) * self.linear[index]))
+            .collect();
+        if !placed.is_empty() {
+            self.uploaded.set_transforms(frame, &placed);
         }
-        let index = self.host_index;
-        (&self.uploaded, HostForObject { host, index })
+        let indices = &self.host_indices;
+        (&self.uploaded, HostForObjects { host, indices })
     }
 }
 
-/// The one-object scene of a renderer's object.
-fn object_scene(mesh: &HostedMesh, material: Material) -> TechniqueResult<Scene> {
-    if mesh.positions.len() != mesh.normals.len() {
-        return Err(TechniqueError::Unsupported(format!(
-            "the renderer's object has {} positions but {} normals",
-            mesh.positions.len(),
-            mesh.normals.len()
-        )));
+/// The scene of a renderer's objects, each placed where its position puts it.
+fn objects_scene(pieces: &[HostedPiece]) -> TechniqueResult<Scene> {
+    let mut objects = Vec::new();
+    for (i, piece) in pieces.iter().enumerate() {
+        let mesh = piece.mesh;
+        if mesh.positions.len() != mesh.normals.len() {
+            return Err(TechniqueError::Unsupported(format!(
+                "the renderer's object {} has {} positions but {} normals",
+                piece.host_index,
+                mesh.positions.len(),
+                mesh.normals.len()
+            )));
+        }
+        let mesh = Mesh {
+            positions: mesh.positions.clone(),
+            normals: mesh.normals.clone(),
+            uvs: vec![Vec2::ZERO; mesh.positions.len()],
+            indices: mesh.indices.clone(),
+        };
+        let placed = Mat4::from_translation(piece.position);
+        let name = format!("hosted {i}");
+        objects.push(Object::new(&name, mesh, piece.material.clone(), placed));
     }
-    let mesh = Mesh {
-        positions: mesh.positions.clone(),
-        normals: mesh.normals.clone(),
-        uvs: vec![Vec2::ZERO; mesh.positions.len()],
-        indices: mesh.indices.clone(),
-    };
     Ok(Scene {
-        name: "hosted object".into(),
-        objects: vec![Object::new("hosted", mesh, material, Mat4::IDENTITY)],
+        name: "hosted objects".into(),
+        objects,
+        ..empty_scene()
+    })
+}
+
+/// A scene with nothing in it, no light and a black background: what a pass's own objects are
+/// added to (the renderer draws the rest, and its maps hold the renderer's lit world).
+pub fn empty_scene() -> Scene {
+    Scene {
+        name: "hosted".into(),
+        objects: Vec::new(),
         textures: Vec::new(),
         lights: Vec::new(),
         camera: Camera {
@@ -163,23 +290,22 @@ fn object_scene(mesh: &HostedMesh, material: Material) -> TechniqueResult<Scene>
         volumes: Vec::new(),
         medium: None,
         background: Vec3::ZERO,
-    })
+    }
 }
 
-/// The renderer as host of the object: its index in the one-object upload (0) turned into the
+/// The renderer as host of its objects: their indices in the upload turned into the
 /// renderer's own in every list a technique passes.
-pub struct HostForObject<'a> {
+pub struct HostForObjects<'a> {
     host: &'a dyn DrawScene,
-    index: usize,
+    indices: &'a [usize],
 }
 
-impl DrawScene for HostForObject<'_> {
+impl DrawScene for HostForObjects<'_> {
     fn draw_scene(&self, frame: &mut Frame, view: &SceneView) {
-        // The upload holds one object, index 0: a list names it or nothing.
+        // The upload holds the pass's objects only: a list names some of them.
         let renamed = |list: &[usize]| -> Vec<usize> {
             list.iter()
-                .filter(|&&i| i == 0)
-                .map(|_| self.index)
+                .filter_map(|&i| self.indices.get(i).copied())
                 .collect()
         };
         let (only, all_but);

@@ -37,9 +37,9 @@ pub use kinds::Kinds;
 pub use medium::Medium;
 pub use model::*;
 pub use shading::{
-    RASTER_WGSL, SCENE_VS_WGSL, SHADING, SHADING_WGSL, proxy_pipeline, scene_pipeline,
-    scene_pipeline_entries, scene_pipeline_for, scene_pipeline_with, scene_pipeline_with_depth,
-    scene_vertex_module, shader, shader_importing, shader_of,
+    RASTER_WGSL, SCENE_VS_WGSL, SHADING, SHADING_WGSL, proxy_pipeline, proxy_pipeline_for,
+    scene_pipeline, scene_pipeline_entries, scene_pipeline_for, scene_pipeline_with,
+    scene_pipeline_with_depth, scene_vertex_module, shader, shader_importing, shader_of,
 };
 pub use technique::{
     Contained, Declared, Family, Frame, ImageCheck, Param, ParamValue, Settings, Technique,

@@ -196,6 +196,23 @@ pub fn proxy_pipeline(
     render_pipeline(ctx, label, layout, stages, &[], &targets, depth)
 }
 
+/// [`proxy_pipeline`] into a renderer's own targets: one colour target of `formats.color`
+/// (`TargetFormats::color_target`: a renderer's alpha is kept), depth written and tested with
+/// `Less` on `formats.depth`.
+pub fn proxy_pipeline_for(
+    ctx: &Context,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entries: (&str, &str),
+    formats: gpu::TargetFormats,
+) -> wgpu::RenderPipeline {
+    let depth = pass::depth_state_for(formats.depth, true, wgpu::CompareFunction::Less);
+    let stages = ((module, entries.0), (module, entries.1));
+    let targets = [formats.color_target()];
+    render_pipeline_on(ctx, label, layout, stages, &[], &targets, depth)
+}
+
 /// The one render-pipeline descriptor of the scene's pipelines: the vertex and fragment stages
 /// (module and entry each), `buffers` of vertices, the caller's targets and depth state, no
 /// culling.

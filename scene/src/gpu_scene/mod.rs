@@ -457,7 +457,15 @@ impl GpuScene {
     /// the objects' records and the shadow maps now, recording into `frame`: how a renderer's
     /// object uploaded alone (`crate::hosted`) follows the renderer, frame by frame.
     pub fn set_transform(&mut self, frame: &mut Frame, index: usize, transform: Mat4) {
-        self.scene.objects[index].transform = transform;
+        self.set_transforms(frame, &[(index, transform)]);
+    }
+
+    /// [`GpuScene::set_transform`] of several objects at once: the records and the shadow maps
+    /// are rewritten once.
+    pub fn set_transforms(&mut self, frame: &mut Frame, placed: &[(usize, Mat4)]) {
+        for &(index, transform) in placed {
+            self.scene.objects[index].transform = transform;
+        }
         let time = self.time();
         frame.gpu.queue.write_buffer(
             &self.object_buffer,
@@ -605,6 +613,31 @@ impl GpuScene {
                 specular_as_diffuse,
             );
         });
+    }
+
+    /// A pass that draws over `color` and `depth` (both kept) with `pipeline`, the camera at
+    /// `@group(0)` and the scene at `@group(1)` (the caller binds its own from `@group(2)` and
+    /// draws), timed as `span` (pass timestamps): how a technique draws its objects over the
+    /// frame, the harness's or a renderer's.
+    pub fn pass_over<'f>(
+        &self,
+        frame: &'f mut Frame,
+        label: &str,
+        (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
+        span: &str,
+        (pipeline, camera): (&wgpu::RenderPipeline, &wgpu::BindGroup),
+    ) -> wgpu::RenderPass<'f> {
+        let mut pass = gpu::pass::begin(
+            frame.encoder,
+            label,
+            &[pass::color(color, Load::Keep)],
+            Some(pass::depth(depth, Load::Keep)),
+            frame.timer.render_pass(span),
+        );
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, camera, &[]);
+        pass.set_bind_group(1, self.bind_group(), &[]);
+        pass
     }
 
     /// Draws the objects `filter` selects with `pipeline` (camera at `@group(0)`, the scene at

@@ -3,11 +3,14 @@
 //! Each frame ([`Tracer::render`]):
 //!
 //! 1. the environment impostor: the diffuse scene (no specular object) as a distance impostor
-//!    (rgb radiance, alpha distance) from the centre of the pieces' bounds, timed as
-//!    "environment";
+//!    (rgb radiance, alpha distance) from the centre of the pieces' bounds, asked of the scene
+//!    as host (`gpu::DrawScene`), timed as "environment";
 //! 2. the shared raster pass for the diffuse objects;
 //! 3. the pieces drawn with `trace_fs` (`shaders/trace.wgsl`): from the rasterized first hit,
 //!    the tree of reflected and refracted rays through the objects' maps, timed as "trace".
+//!
+//! [`Tracer::draw_over`] runs steps 1 and 3 over a renderer's own frame: the renderer is the
+//! host, and the pieces are its objects uploaded alone (`crate::hosted`).
 //!
 //! The piece table and the board grid are made at each frame's time ([`Tracer::group`]): the
 //! moving piece changes cells.
@@ -18,7 +21,6 @@ use crate::kinds::Kinds;
 use crate::{Frame, GpuScene, ObjectFilter, RasterTarget, Scene, TechniqueError, View};
 use glam::Vec3;
 use gpu::cube::CubeTarget;
-use gpu::pass::{self, Load};
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, GpuError, Target, Uniform, bind};
 
@@ -249,27 +251,28 @@ pub struct Tracer {
 }
 
 impl Tracer {
-    /// The tracer of `scene`'s specular objects (`kinds`) searched with `search` (a technique's
-    /// own passes over the tracer's bindings compose their shaders with [`driver_shader`]).
+    /// The tracer of `scene`'s specular objects (`kinds`) searched with `search`, drawing them
+    /// into targets of `formats` (the harness's, or a renderer's own); a technique's own passes
+    /// over the tracer's bindings compose their shaders with [`driver_shader`].
     pub fn new(
         ctx: &Context,
         scene: &GpuScene,
         kinds: Kinds,
         search: &dyn ObjectSearch,
-        settings: &TracerSettings,
+        (settings, formats): (&TracerSettings, gpu::TargetFormats),
         label: &str,
     ) -> Result<Self, GpuError> {
         let module = driver_shader(ctx, label, TRACE_FS_WGSL, &[], search);
         let mut entries = driver_entries(bind::texture_cube());
         entries.extend(search.binding_types());
         let layout = bind::layout(ctx, label, wgpu::ShaderStages::FRAGMENT, &entries);
-        let pipeline = crate::scene_pipeline(
+        let pipeline = crate::scene_pipeline_for(
             ctx,
             label,
             &scene.pipeline_layout_with(ctx, &[&layout]),
             &module,
             "trace_fs",
-            gpu::HDR_FORMAT,
+            formats,
         );
         let mut piece_of_object = vec![EMPTY; scene.scene.objects.len()];
         for (piece, &(object, _)) in kinds.pieces.iter().enumerate() {
@@ -288,6 +291,18 @@ impl Tracer {
     /// The specular objects and their kinds.
     pub fn kinds(&self) -> &Kinds {
         &self.kinds
+    }
+
+    /// Takes the environment impostor from the centre of the pieces where `scene` now puts
+    /// them (a renderer's pieces move; the harness's impostor stays where the pieces stood at
+    /// time 0). Call before [`Tracer::group`], which hands the shaders the reference point.
+    pub fn follow_pieces(&mut self, scene: &Scene) {
+        self.env.follow(scene, &self.kinds);
+    }
+
+    /// The scene objects of the pieces.
+    fn piece_objects(&self) -> Vec<usize> {
+        self.kinds.pieces.iter().map(|&(o, _)| o).collect()
     }
 
     /// The tracer's `@group(2)` layout (its bindings, then the search's).
@@ -360,23 +375,47 @@ impl Tracer {
         group: &wgpu::BindGroup,
         label: &str,
     ) {
-        let ctx = frame.gpu;
-        self.env.capture(frame, scene);
-        let specular: Vec<usize> = self.kinds.pieces.iter().map(|&(o, _)| o).collect();
+        let specular = self.piece_objects();
+        self.env.capture(frame, scene, &specular);
         let view_proj = raster_diffuse(frame, scene, view, target, &specular);
-        let camera = scene.camera_bind_group(ctx, view_proj, view.camera.eye);
-        let mut pass = gpu::pass::begin(
-            frame.encoder,
-            label,
-            &[pass::color(&target.color_view, Load::Keep)],
-            Some(pass::depth(&target.depth_view, Load::Keep)),
-            frame.timer.render_pass("trace"),
-        );
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &camera, &[]);
-        pass.set_bind_group(1, scene.bind_group(), &[]);
+        let camera = scene.camera_bind_group(frame.gpu, view_proj, view.camera.eye);
+        let targets = (&target.color_view, &target.depth_view);
+        self.trace(frame, scene, &camera, targets, group, label);
+    }
+
+    /// Records the pieces over a renderer's frame (`color` and `depth`, of the formats the
+    /// tracer was made for): the environment impostor asked of `host` (everything but the
+    /// pieces), then the traced pieces of `pieces` (the renderer's objects, uploaded alone),
+    /// depth-tested against what is there, as `view` sees them.
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_over(
+        &self,
+        frame: &mut Frame,
+        (pieces, host): (&GpuScene, &dyn gpu::DrawScene),
+        view: &gpu::EyeView,
+        (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
+        group: &wgpu::BindGroup,
+        label: &str,
+    ) {
+        self.env.capture(frame, host, &self.piece_objects());
+        let camera = pieces.camera_bind_group(frame.gpu, view.view_proj(), view.eye());
+        self.trace(frame, pieces, &camera, (color, depth), group, label);
+    }
+
+    /// The pieces drawn with `trace_fs` into `color` and `depth` (loaded), timed as "trace".
+    fn trace(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        camera: &wgpu::BindGroup,
+        (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
+        group: &wgpu::BindGroup,
+        label: &str,
+    ) {
+        let drawn = (&self.pipeline, camera);
+        let mut pass = scene.pass_over(frame, label, (color, depth), "trace", drawn);
         pass.set_bind_group(2, group, &[]);
-        scene.draw_objects(&mut pass, &ObjectFilter::Only(specular));
+        scene.draw_objects(&mut pass, &ObjectFilter::Only(self.piece_objects()));
     }
 }
 
@@ -403,11 +442,27 @@ impl EnvironmentImpostor {
         })
     }
 
-    /// Renders it at the scene's time (timed as "environment").
-    pub fn capture(&self, frame: &mut Frame, scene: &GpuScene) {
+    /// Asks `host` for everything but the `pieces` (its own object indices) around the
+    /// reference point, timed as "environment". With the harness's scene as the host, this is
+    /// the shared raster pass's cube (`scene/tests/host.rs` holds the two equal bit for bit).
+    pub fn capture(&self, frame: &mut Frame, host: &dyn gpu::DrawScene, pieces: &[usize]) {
         frame.span("environment", |frame| {
-            scene.raster_cube(frame, &self.cube, self.reference, &ObjectFilter::All, false)
+            let depth_range = (0.01, 2.0 * crate::BACKGROUND_DISTANCE);
+            let others = gpu::Objects::AllBut(pieces);
+            gpu::host::draw_scene_cube(
+                frame,
+                host,
+                &self.cube,
+                self.reference,
+                depth_range,
+                others,
+            );
         });
+    }
+
+    /// Takes it from the centre of `kinds`' pieces where `scene` now puts them.
+    pub fn follow(&mut self, scene: &Scene, kinds: &Kinds) {
+        self.reference = pieces_centre(scene, kinds);
     }
 
     /// Its cube view.
