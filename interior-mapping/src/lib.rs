@@ -4,6 +4,8 @@
 //!
 //! * [`rooms`]: the ray cast (Rust twin of `shaders/interior.wgsl`).
 //! * [`technique`]: the `interior-mapping/...` techniques.
+//! * [`pass`]: [`InteriorPass`], the buildings as a pass of a renderer's own frame (its
+//!   targets and formats, its lights).
 //! * [`geometry`], [`textures`]: real room geometry and interior textures, identical to the
 //!   `city` scene's real interiors.
 
@@ -11,10 +13,12 @@
 #![warn(missing_docs)]
 
 pub mod geometry;
+pub mod pass;
 pub mod rooms;
 pub mod technique;
 pub mod textures;
 
+pub use pass::{Building, InteriorPass, PointLight};
 pub use technique::{InteriorMapping, PolygonInteriors, Variant};
 
 /// The WGSL twin of [`rooms`]: the module `interior_mapping::rooms` ([`ROOMS`]).

@@ -76,6 +76,9 @@ pub struct InteriorMapping {
     pub prepass: bool,
     /// The parameters.
     pub settings: Settings,
+    /// The formats of the targets the hulls are drawn into (the harness's, or a renderer's
+    /// own: [`InteriorMapping::for_targets`]).
+    formats: gpu::TargetFormats,
     state: Option<State>,
 }
 
@@ -86,6 +89,8 @@ struct State {
     /// (world-to-object, bounds min, bounds max) of every hull.
     hull_boxes: Vec<(Mat4, Vec3, Vec3)>,
     prepass: Option<wgpu::RenderPipeline>,
+    /// Every object's record (`BuildingGpu`), rewritten when a renderer's building moves.
+    buildings: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     settings: Uniform<SettingsGpu>,
     hull_vertices: wgpu::Buffer,
@@ -117,8 +122,16 @@ impl InteriorMapping {
             variant,
             prepass,
             settings,
+            formats: gpu::TargetFormats::HDR,
             state: None,
         }
+    }
+
+    /// The variant drawing its hulls into targets of `formats` (a renderer's own).
+    pub fn for_targets(mut self, formats: gpu::TargetFormats) -> Self {
+        self.formats = formats;
+        self.state = None;
+        self
     }
 }
 
@@ -214,7 +227,7 @@ impl Technique for InteriorMapping {
         let buildings = buffer(
             "interior buildings",
             bytemuck::cast_slice(&records),
-            wgpu::BufferUsages::STORAGE,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         );
         let zero = SettingsGpu {
             a: [0.0; 4],
@@ -271,6 +284,7 @@ impl Technique for InteriorMapping {
             pipeline_inside,
             hull_boxes,
             prepass,
+            buildings,
             bind_group,
             settings,
             hull_vertices,
@@ -298,7 +312,68 @@ impl Technique for InteriorMapping {
                 scene.raster_cube(frame, env, eye, &ObjectFilter::All, true);
             });
         }
-        let frame_index = ((view.time * FURNITURE_FPS).floor().max(0.0) as u32) % FURNITURE_FRAMES;
+        self.write_settings(frame, state, view.time);
+
+        let view_proj = view.camera.view_proj(view.width, view.height);
+        let main = RasterTarget::of(target, true);
+        scene.raster(
+            frame,
+            &main,
+            view_proj,
+            eye,
+            &ObjectFilter::Except(state.building_objects.clone()),
+            true,
+        );
+        let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
+        let targets = (&target.color_view, &target.depth_view);
+        self.draw_interiors(frame, scene, state, (&camera, eye), targets);
+        Ok(())
+    }
+}
+
+impl scene::hosted::DrawOver for InteriorMapping {
+    /// The buildings of `buildings` (a renderer's objects, uploaded alone with the lights that
+    /// shade their rooms) drawn over `color` and `depth` (targets of the formats of
+    /// [`InteriorMapping::for_targets`], holding the renderer's frame): with a reflection map,
+    /// the renderer's world around the eye asked of `host`; then the hulls, depth-tested
+    /// against what is there, each building's rooms where it now stands. The furniture sprite
+    /// shows its first frame.
+    fn draw_over(
+        &mut self,
+        frame: &mut Frame,
+        (buildings, host): (&GpuScene, &dyn gpu::DrawScene),
+        view: &gpu::EyeView,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+    ) -> TechniqueResult<()> {
+        // A renderer's buildings move (`set_position_of`): their records and boxes follow.
+        let placed = self.hull_geometry(&buildings.scene, 0.0);
+        let Some(state) = self.state.as_mut() else {
+            return Err(not_prepared(self));
+        };
+        let records = bytemuck::cast_slice(&placed.records);
+        frame.gpu.queue.write_buffer(&state.buildings, 0, records);
+        state.hull_boxes = placed.hull_boxes;
+        let state = self.state.as_ref().expect("prepared");
+        let eye = view.eye();
+        if let Some(env) = &state.env {
+            frame.span("regenerate", |frame| {
+                let depth_range = (0.01, 2.0 * scene::BACKGROUND_DISTANCE);
+                let all = gpu::Objects::All;
+                gpu::host::draw_scene_cube(frame, host, env, eye, depth_range, all);
+            });
+        }
+        self.write_settings(frame, state, 0.0);
+        let camera = buildings.camera_bind_group(frame.gpu, view.view_proj(), eye);
+        self.draw_interiors(frame, buildings, state, (&camera, eye), (color, depth));
+        Ok(())
+    }
+}
+
+impl InteriorMapping {
+    /// The variant's settings at `time` (the furniture sprite's frame) into its uniform.
+    fn write_settings(&self, frame: &mut Frame, state: &State, time: f32) {
+        let frame_index = ((time * FURNITURE_FPS).floor().max(0.0) as u32) % FURNITURE_FRAMES;
         let settings = SettingsGpu {
             a: [
                 self.variant.code(),
@@ -314,41 +389,43 @@ impl Technique for InteriorMapping {
             ],
         };
         state.settings.write(frame.gpu, &settings);
+    }
 
-        let view_proj = view.camera.view_proj(view.width, view.height);
-        let main = RasterTarget::of(target, true);
-        scene.raster(
-            frame,
-            &main,
-            view_proj,
-            eye,
-            &ObjectFilter::Except(state.building_objects.clone()),
-            true,
-        );
-        let camera = scene.camera_bind_group(frame.gpu, view_proj, eye);
-        // The hulls' own passes (pre-pass and interior mapping), timed apart from the shared
-        // raster pass as span "interior" (encoder timestamps around the passes).
+    /// The hulls' own passes (pre-pass and interior mapping) into `color` and `depth`
+    /// (loaded), seen from `eye` through `camera`, timed apart from the shared raster pass as
+    /// span "interior" (encoder timestamps around the passes).
+    fn draw_interiors(
+        &self,
+        frame: &mut Frame,
+        scene: &GpuScene,
+        state: &State,
+        (camera, eye): (&wgpu::BindGroup, Vec3),
+        (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
+    ) {
         frame.span("interior", |frame| {
             if let Some(prepass) = &state.prepass {
                 let mut pass = pass::begin(
                     frame.encoder,
                     "interior depth pre-pass",
                     &[],
-                    Some(pass::depth(&target.depth_view, Load::Keep)),
+                    Some(pass::depth(depth, Load::Keep)),
                     None,
                 );
                 pass.set_pipeline(prepass);
-                pass.set_bind_group(0, &camera, &[]);
+                pass.set_bind_group(0, camera, &[]);
                 pass.set_bind_group(1, scene.bind_group(), &[]);
                 pass.set_bind_group(2, &state.bind_group, &[]);
                 draw_hulls(&mut pass, state, scene);
             }
+            let target = RasterTarget {
+                color,
+                depth,
+                format: self.formats.color,
+                clear: false,
+            };
             let mut pass = scene::begin_scene_pass(
                 frame.encoder,
-                &RasterTarget {
-                    clear: false,
-                    ..main
-                },
+                &target,
                 scene.scene.background,
                 "interior mapping",
             );
@@ -361,13 +438,12 @@ impl Technique for InteriorMapping {
             } else {
                 &state.pipeline
             });
-            pass.set_bind_group(0, &camera, &[]);
+            pass.set_bind_group(0, camera, &[]);
             pass.set_bind_group(1, scene.bind_group(), &[]);
             pass.set_bind_group(2, &state.bind_group, &[]);
             draw_hulls(&mut pass, state, scene);
             drop(pass);
         });
-        Ok(())
     }
 }
 

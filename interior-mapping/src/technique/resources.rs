@@ -40,11 +40,20 @@ impl InteriorMapping {
             scene::shader_importing(ctx, "interior mapping", TECHNIQUE_WGSL, &[&crate::ROOMS]);
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[layout]);
         let writes_depth = !self.prepass;
-        let shaded =
-            |entry| hull_pipeline(ctx, &pipeline_layout, &module, Some(entry), writes_depth);
+        let formats = self.formats;
+        let shaded = |entry| {
+            let fragment = Some(entry);
+            hull_pipeline(
+                ctx,
+                &pipeline_layout,
+                (&module, fragment),
+                formats,
+                writes_depth,
+            )
+        };
         let prepass = self
             .prepass
-            .then(|| hull_pipeline(ctx, &pipeline_layout, &module, None, true));
+            .then(|| hull_pipeline(ctx, &pipeline_layout, (&module, None), formats, true));
         (shaded("interior_fs"), shaded("interior_inside_fs"), prepass)
     }
 
@@ -186,15 +195,17 @@ pub(super) fn draw_hulls(pass: &mut wgpu::RenderPass<'_>, state: &State, scene: 
     }
 }
 
+/// A hulls' pipeline into targets of `formats`: shading with `fragment_entry` of `module`, or
+/// the depth pre-pass (`None`).
 pub(super) fn hull_pipeline(
     ctx: &Context,
     layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    fragment_entry: Option<&str>,
+    (module, fragment_entry): (&wgpu::ShaderModule, Option<&str>),
+    formats: gpu::TargetFormats,
     write_depth: bool,
 ) -> wgpu::RenderPipeline {
     let shade = fragment_entry.is_some();
-    let targets = [pass::color_target(gpu::HDR_FORMAT, None)];
+    let targets = [formats.color_target()];
     let vertex = scene::scene_vertex_module(ctx);
     ctx.device
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -220,7 +231,8 @@ pub(super) fn hull_pipeline(
                 cull_mode: None,
                 ..Default::default()
             },
-            depth_stencil: Some(pass::depth_state(
+            depth_stencil: Some(pass::depth_state_for(
+                formats.depth,
                 write_depth,
                 if write_depth {
                     wgpu::CompareFunction::Less
