@@ -1,17 +1,23 @@
 //! A renderer of its own, as a user's engine has one: its own vertex layout (position, normal,
 //! colour), its own WGSL and pipelines, its own camera (glam's right-handed `look_at_mat4`
 //! and wgpu-depth `perspective`), its own targets in its own formats (`Rgba8UnormSrgb` colour,
-//! `Depth24Plus` depth) and its own device. Into that frame it adds three technique crates'
+//! `Depth24Plus` depth) and its own device. Into that frame it adds six technique crates'
 //! passes:
 //!
 //! - a glass ball through its distance impostor (`impostors::ImpostorPass`, double
 //!   refraction: reflection and refraction through both of its surfaces);
 //! - a second glass ball refracted through both interfaces in image space
 //!   (`image_space_refraction::RefractorPass`, Hu and Qin's search);
+//! - two glass pawns whose rays go from one to the other through their refractor distance
+//!   maps (`refractor_maps::RefractorMapsPass`, paths split at up to four interfaces);
+//! - a glass pawn stood on a billboard and searched in its refractor height map
+//!   (`height_maps::HeightMapPass`, double refraction);
+//! - a building whose windows show rooms cast per pixel (`interior_mapping::InteriorPass`,
+//!   the thesis's varied rooms, lit by a point light of the renderer's);
 //! - a ball of smoke blended over the colour and clipped by the depth buffer
 //!   (`volumes::SoftVolumePass`).
 //!
-//! The first two need the world seen from their balls: the renderer implements
+//! The glass needs the world seen from the balls and the pawns: the renderer implements
 //! `gpu::DrawScene` (draw everything but these objects, with this view, into these targets)
 //! with a second pipeline that writes the distance from the view's eye in alpha. Nothing here
 //! is a `scene` type, and no GPU timer is kept.
@@ -21,12 +27,16 @@
 
 mod world;
 
-pub use world::{Ball, World};
+pub use world::{Ball, House, Pawn, World};
 
+use glam::Vec3;
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{DrawScene, EyeView, Frame, SceneView, TargetFormats};
+use height_maps::{HeightMapPass, HeightPiece, Refraction};
 use image_space_refraction::{Exit, Refractor, RefractorPass};
 use impostors::{ImpostorLookup, ImpostorPass, SpecularObject, Surface};
+use interior_mapping::{Building, InteriorPass, PointLight, Variant};
+use refractor_maps::{Bounces, Piece, RefractorMapsPass};
 use volumes::SoftVolumePass;
 
 /// The renderer's colour format: 8-bit sRGB, as a window's swap chain would be.
@@ -89,28 +99,40 @@ fn fs_map(in: Out) -> @location(0) vec4f {
 }
 "#;
 
-/// Which of the three passes a frame adds.
+/// Which of the six passes a frame adds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Passes {
     /// The glass ball through its distance impostor.
     pub impostor: bool,
     /// The glass ball of image-space refraction.
     pub refraction: bool,
+    /// The two pawns of refractor distance maps.
+    pub refractor_maps: bool,
+    /// The pawn of refractor height maps.
+    pub height_maps: bool,
+    /// The building of interior mapping.
+    pub interiors: bool,
     /// The smoke.
     pub volumes: bool,
 }
 
 impl Passes {
-    /// All three.
+    /// All six.
     pub const ALL: Self = Self {
         impostor: true,
         refraction: true,
+        refractor_maps: true,
+        height_maps: true,
+        interiors: true,
         volumes: true,
     };
     /// None: the renderer's own frame.
     pub const NONE: Self = Self {
         impostor: false,
         refraction: false,
+        refractor_maps: false,
+        height_maps: false,
+        interiors: false,
         volumes: false,
     };
 }
@@ -119,11 +141,14 @@ impl Passes {
 pub type Error = Box<dyn std::error::Error>;
 
 /// The renderer: its device, pipelines, world and targets (which it lends the techniques as
-/// [`DrawScene`]), and the three passes it adds.
+/// [`DrawScene`]), and the six passes it adds.
 pub struct Renderer {
     world: WorldGpu,
     impostor: ImpostorPass,
     refractor: RefractorPass,
+    refractor_maps: RefractorMapsPass,
+    height_maps: HeightMapPass,
+    interiors: InteriorPass,
     volumes: SoftVolumePass,
     color: wgpu::Texture,
     depth: wgpu::Texture,
@@ -145,7 +170,7 @@ struct WorldGpu {
 
 impl Renderer {
     /// The renderer's own device (any backend this build has, GL aside), its pipelines and
-    /// `size` x `size` targets, and the three passes made for its formats.
+    /// `size` x `size` targets, and the six passes made for its formats.
     pub fn new(world: &World, size: u32) -> Result<Self, Error> {
         let (instance, adapter, device, queue) = pollster::block_on(own_device())?;
         // The one step a technique crate asks of the renderer: wrap its device.
@@ -172,6 +197,17 @@ impl Renderer {
         let mut refractor =
             RefractorPass::new(&ctx, &refractor, Exit::HuQin, formats, MAP_RESOLUTION)?;
         refractor.set_position(world.refractor.center);
+        let refractor_maps = pawns_pass(&ctx, world, Bounces::Multi { depth: 4 }, formats)?;
+        let height_pawn = HeightPiece {
+            mesh: Pawn::mesh(),
+            ior: 1.5,
+            host_index: world.height_pawn.index,
+            position: world.height_pawn.base,
+        };
+        let maps = (MAP_RESOLUTION, MAP_RESOLUTION);
+        let height_maps =
+            HeightMapPass::new(&ctx, &[height_pawn], Refraction::Double, formats, maps)?;
+        let interiors = house_pass(&ctx, world, Variant::Varied, formats)?;
         let volumes = SoftVolumePass::new(&ctx, COLOR_FORMAT)?;
         let texture = |label, format, usage| {
             ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -205,6 +241,9 @@ impl Renderer {
             world: WorldGpu::new(ctx, world),
             impostor,
             refractor,
+            refractor_maps,
+            height_maps,
+            interiors,
             volumes,
             color,
             depth,
@@ -213,8 +252,38 @@ impl Renderer {
     }
 
     /// Moves the impostor's ball to `center` (its impostor follows in the next frame).
-    pub fn move_impostor(&mut self, center: glam::Vec3) {
+    pub fn move_impostor(&mut self, center: Vec3) {
         self.impostor.set_position(center);
+    }
+
+    /// Moves refractor-map pawn `index` (0 or 1) so that its base stands at `base` (its rays
+    /// and the environment impostor follow in the next frame).
+    pub fn move_pawn(&mut self, index: usize, base: Vec3) {
+        self.refractor_maps.set_position_of(index, base);
+    }
+
+    /// Moves the height-map pawn so that its base stands at `base`.
+    pub fn move_height_pawn(&mut self, base: Vec3) {
+        self.height_maps.set_position_of(0, base);
+    }
+
+    /// Moves the building so that its corner stands at `corner`.
+    pub fn move_house(&mut self, corner: Vec3) {
+        self.interiors.set_position_of(0, corner);
+    }
+
+    /// The building's rooms shown as `variant` shows them from the next frame on.
+    pub fn set_interiors(&mut self, world: &World, variant: Variant) -> Result<(), Error> {
+        let formats = TargetFormats::new(COLOR_FORMAT, DEPTH_FORMAT);
+        self.interiors = house_pass(&self.world.ctx, world, variant, formats)?;
+        Ok(())
+    }
+
+    /// The pawns of refractor maps traced as far as `bounces` from the next frame on.
+    pub fn set_pawn_bounces(&mut self, world: &World, bounces: Bounces) -> Result<(), Error> {
+        let formats = TargetFormats::new(COLOR_FORMAT, DEPTH_FORMAT);
+        self.refractor_maps = pawns_pass(&self.world.ctx, world, bounces, formats)?;
+        Ok(())
     }
 
     /// One frame of `world` with `passes`, read back as sRGB8 RGBA rows.
@@ -253,6 +322,18 @@ impl Renderer {
                 self.refractor
                     .draw(frame, &self.world, &eye, &color, &depth)?;
             }
+            if passes.refractor_maps {
+                self.refractor_maps
+                    .draw(frame, &self.world, &eye, &color, &depth)?;
+            }
+            if passes.height_maps {
+                self.height_maps
+                    .draw(frame, &self.world, &eye, &color, &depth)?;
+            }
+            if passes.interiors {
+                self.interiors
+                    .draw(frame, &self.world, &eye, &color, &depth)?;
+            }
             if passes.volumes {
                 self.volumes
                     .draw(frame, &eye, &world.volumes, &color, &depth);
@@ -262,6 +343,59 @@ impl Renderer {
         ctx.queue.submit([encoder.finish()]);
         Ok(gpu::read_texture_bytes(ctx, &self.color, 0, 4)?)
     }
+}
+
+/// The interior-mapping pass of `world`'s building, lit by its light.
+fn house_pass(
+    ctx: &gpu::Context,
+    world: &World,
+    variant: Variant,
+    formats: TargetFormats,
+) -> Result<InteriorPass, Error> {
+    let house = world.house;
+    let building = Building {
+        min: Vec3::ZERO,
+        max: house.size,
+        room_size: house.room,
+        facade: Vec3::new(0.55, 0.5, 0.45),
+        host_index: house.index,
+        position: house.corner,
+    };
+    let light = PointLight {
+        position: world.house_light.0,
+        intensity: world.house_light.1,
+    };
+    Ok(InteriorPass::new(
+        ctx,
+        &[building],
+        &[light],
+        variant,
+        formats,
+        64,
+    )?)
+}
+
+/// The refractor-map pass of `world`'s two pawns, which share one map (one mesh).
+fn pawns_pass(
+    ctx: &gpu::Context,
+    world: &World,
+    bounces: Bounces,
+    formats: TargetFormats,
+) -> Result<RefractorMapsPass, Error> {
+    let pieces: Vec<Piece> = world
+        .pawns
+        .iter()
+        .map(|pawn| Piece {
+            mesh: Pawn::mesh(),
+            surface: Surface::Glass { ior: 1.5 },
+            host_index: pawn.index,
+            position: pawn.base,
+        })
+        .collect();
+    let maps = (MAP_RESOLUTION, MAP_RESOLUTION);
+    Ok(RefractorMapsPass::new(
+        ctx, &pieces, bounces, formats, maps,
+    )?)
 }
 
 impl WorldGpu {

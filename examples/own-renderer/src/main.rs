@@ -1,4 +1,4 @@
-//! `cargo run -p own-renderer [SIZE]`: one frame of the renderer with its three passes, written to
+//! `cargo run -p own-renderer [SIZE]`: one frame of the renderer with its six passes, written to
 //! `target/examples/own-renderer.png`.
 
 use own_renderer::{Passes, Renderer, World, write_png};

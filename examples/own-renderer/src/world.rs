@@ -1,5 +1,5 @@
-//! The renderer's world: a floor, two walls, two boxes, two glass balls and a ball of smoke,
-//! described with its own types.
+//! The renderer's world: a floor, two walls, two boxes, two glass balls, three glass pawns, a
+//! building with rooms behind its windows and a ball of smoke, described with its own types.
 
 use crate::Vertex;
 use glam::{Mat4, Vec3};
@@ -47,6 +47,96 @@ impl Ball {
     }
 }
 
+/// A glass pawn standing on the floor: a lathed piece, where its base stands, and its index
+/// among the renderer's objects.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pawn {
+    /// The centre of its base, on the floor (world).
+    pub base: Vec3,
+    /// Index among the renderer's objects.
+    pub index: usize,
+}
+
+impl Pawn {
+    /// Its height.
+    pub const HEIGHT: f32 = 1.15;
+
+    /// The centre of its bounds (world).
+    pub fn center(&self) -> Vec3 {
+        self.base + Vec3::Y * Self::HEIGHT * 0.5
+    }
+
+    /// Its triangles with the centre of its base at the origin, y up (the passes place it at
+    /// `base`): a profile of (radius, height) turned about the y axis.
+    pub fn mesh() -> HostedMesh {
+        let scale = Self::HEIGHT / 0.88;
+        let mut profile: Vec<(f32, f32)> = vec![(0.0, 0.0), (0.15, 0.0), (0.3, 0.0)];
+        profile.extend([(0.3, 0.06), (0.26, 0.1), (0.2, 0.14)]);
+        profile.extend((1..=4).map(|i| {
+            let t = i as f32 / 4.0;
+            (0.2 - 0.09 * t, 0.14 + 0.36 * t)
+        }));
+        profile.extend([(0.18, 0.54), (0.18, 0.57), (0.11, 0.6)]);
+        // The head: a ball of radius 0.15 about (0, 0.72), from 40 degrees below its equator
+        // to its pole.
+        profile.extend((0..=8).map(|i| {
+            let a = (-40.0f32 + 130.0 * i as f32 / 8.0).to_radians();
+            (0.15 * a.cos().max(0.0), 0.72 + 0.15 * a.sin())
+        }));
+        lathe(&profile, scale)
+    }
+}
+
+/// The surface of `profile` ((radius, height) points from the bottom's centre to the top's,
+/// `scale`d) turned about the y axis, normals outward.
+fn lathe(profile: &[(f32, f32)], scale: f32) -> HostedMesh {
+    let segments = 32u32;
+    let points: Vec<glam::Vec2> = profile
+        .iter()
+        .map(|&(r, y)| glam::Vec2::new(r, y) * scale)
+        .collect();
+    let mut mesh = HostedMesh::default();
+    for (i, p) in points.iter().enumerate() {
+        // The profile's tangent by central differences; outward is its clockwise normal.
+        let (before, after) = (
+            points[i.saturating_sub(1)],
+            points[(i + 1).min(points.len() - 1)],
+        );
+        let tangent = after - before;
+        let normal = glam::Vec2::new(tangent.y, -tangent.x).normalize_or(glam::Vec2::Y);
+        for segment in 0..=segments {
+            let phi = std::f32::consts::TAU * segment as f32 / segments as f32;
+            let (sin, cos) = phi.sin_cos();
+            mesh.positions.push(Vec3::new(p.x * cos, p.y, p.x * sin));
+            mesh.normals
+                .push(Vec3::new(normal.x * cos, normal.y, normal.x * sin).normalize());
+        }
+    }
+    let row = segments + 1;
+    for ring in 0..points.len() as u32 - 1 {
+        for segment in 0..segments {
+            let a = ring * row + segment;
+            let (b, c, d) = (a + 1, a + row, a + row + 1);
+            mesh.indices.extend([a, b, c, b, d, c]);
+        }
+    }
+    mesh
+}
+
+/// A building with rooms behind its windows: a box standing on the floor, its facade facing the
+/// camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct House {
+    /// The corner of its base with the least coordinates (world).
+    pub corner: Vec3,
+    /// Its width (x), height (y) and depth (z).
+    pub size: Vec3,
+    /// The size of a room.
+    pub room: Vec3,
+    /// Index among the renderer's objects.
+    pub index: usize,
+}
+
 /// Everything the renderer draws, and its camera.
 pub struct World {
     /// The camera's eye.
@@ -61,10 +151,18 @@ pub struct World {
     pub impostor: Ball,
     /// The glass ball of image-space refraction.
     pub refractor: Ball,
+    /// The two glass pawns of refractor distance maps, which see each other.
+    pub pawns: [Pawn; 2],
+    /// The glass pawn of refractor height maps.
+    pub height_pawn: Pawn,
+    /// The building of interior mapping.
+    pub house: House,
+    /// The point light that lights the building and its rooms (position, intensity).
+    pub house_light: (Vec3, Vec3),
 }
 
 /// Objects 0-3 are opaque (floor with the wall behind the camera, the wall ahead, the front
-/// box, the back box); the balls follow.
+/// box, the back box); the balls and the pawns follow.
 const OPAQUE_OBJECTS: usize = 4;
 
 impl Default for World {
@@ -85,10 +183,31 @@ impl Default for World {
                 index: OPAQUE_OBJECTS,
             },
             refractor: Ball {
-                center: Vec3::new(-1.3, 0.5, 0.6),
+                center: Vec3::new(-1.25, 0.5, 1.0),
                 radius: 0.5,
                 index: OPAQUE_OBJECTS + 1,
             },
+            pawns: [
+                Pawn {
+                    base: Vec3::new(-2.4, 0.0, -1.9),
+                    index: OPAQUE_OBJECTS + 2,
+                },
+                Pawn {
+                    base: Vec3::new(-1.65, 0.0, -2.3),
+                    index: OPAQUE_OBJECTS + 3,
+                },
+            ],
+            height_pawn: Pawn {
+                base: Vec3::new(-0.75, 0.0, -2.4),
+                index: OPAQUE_OBJECTS + 4,
+            },
+            house: House {
+                corner: Vec3::new(1.8, 0.0, -2.95),
+                size: Vec3::new(1.0, 1.6, 0.5),
+                room: Vec3::new(0.333, 0.4, 0.25),
+                index: OPAQUE_OBJECTS + 5,
+            },
+            house_light: (Vec3::new(1.0, 3.5, 2.5), Vec3::splat(40.0)),
         }
     }
 }
