@@ -35,16 +35,24 @@ impl Ball {
                 mesh.normals.push(normal);
             }
         }
-        let row = segments + 1;
-        for ring in 0..rings {
-            for segment in 0..segments {
-                let a = ring * row + segment;
-                let (b, c, d) = (a + 1, a + row, a + row + 1);
-                mesh.indices.extend([a, b, c, b, d, c]);
-            }
-        }
+        mesh.indices = ring_triangles(rings, segments);
         mesh
     }
+}
+
+/// The triangles between `rings + 1` rings of `segments + 1` vertices each (the last vertex of
+/// a ring on its first, for the seam), ring after ring.
+fn ring_triangles(rings: u32, segments: u32) -> Vec<u32> {
+    let row = segments + 1;
+    let mut indices = Vec::new();
+    for ring in 0..rings {
+        for segment in 0..segments {
+            let a = ring * row + segment;
+            let (b, c, d) = (a + 1, a + row, a + row + 1);
+            indices.extend([a, b, c, b, d, c]);
+        }
+    }
+    indices
 }
 
 /// A glass pawn standing on the floor: a lathed piece, where its base stands, and its index
@@ -112,14 +120,7 @@ fn lathe(profile: &[(f32, f32)], scale: f32) -> HostedMesh {
                 .push(Vec3::new(normal.x * cos, normal.y, normal.x * sin).normalize());
         }
     }
-    let row = segments + 1;
-    for ring in 0..points.len() as u32 - 1 {
-        for segment in 0..segments {
-            let a = ring * row + segment;
-            let (b, c, d) = (a + 1, a + row, a + row + 1);
-            mesh.indices.extend([a, b, c, b, d, c]);
-        }
-    }
+    mesh.indices = ring_triangles(points.len() as u32 - 1, segments);
     mesh
 }
 
