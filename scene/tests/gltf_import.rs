@@ -762,3 +762,53 @@ fn no_panic_on_corrupted_input() {
     }
     assert!(ok > 100 && err > 100, "{ok} accepted, {err} rejected");
 }
+
+/// Everything of a file the importer leaves out or approximates is named in a note, one line
+/// each, naming the light, camera or material (Blender's exports have all of these): spot and
+/// directional lights, an orthographic camera, emission, alpha masks and blending, rough glass
+/// and rough metal. The scene itself is imported as before.
+#[test]
+fn what_is_left_out_is_named() {
+    let mut f = fixture();
+    let j = &mut f.json;
+    j["nodes"][2]["children"] = json!([6, 7, 8]);
+    for node in [
+        json!({ "name": "sun", "extensions": { "KHR_lights_punctual": { "light": 1 } } }),
+        json!({ "name": "spot", "translation": [0.0, 3.0, 0.0], "extensions": { "KHR_lights_punctual": { "light": 2 } } }),
+        json!({ "name": "plan view", "camera": 1, "translation": [0.0, 9.0, 0.0] }),
+    ] {
+        j["nodes"].as_array_mut().unwrap().push(node);
+    }
+    let lights = j["extensions"]["KHR_lights_punctual"]["lights"]
+        .as_array_mut()
+        .unwrap();
+    lights.push(json!({ "name": "Sun", "type": "directional", "intensity": 3.0 }));
+    lights.push(json!({ "name": "Spot", "type": "spot", "intensity": 500.0, "spot": { "innerConeAngle": 0.2, "outerConeAngle": 0.5 } }));
+    j["cameras"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "name": "Plan", "type": "orthographic", "orthographic": { "xmag": 2.0, "ymag": 2.0, "znear": 0.1, "zfar": 20.0 } }));
+    j["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"] = json!(0.1);
+    j["materials"][1]["pbrMetallicRoughness"]["roughnessFactor"] = json!(0.3);
+    j["materials"][1]["alphaMode"] = json!("MASK");
+    j["materials"][2]["emissiveFactor"] = json!([1.0, 0.5, 0.0]);
+    j["materials"][2]["alphaMode"] = json!("BLEND");
+    let (s, notes) = scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "fixture.gltf").unwrap();
+    check_fixture(&s);
+    let expected = [
+        "light 1 (\"Sun\") of node 6 (\"sun\") is a directional (sun) light",
+        "light 2 (\"Spot\") of node 7 (\"spot\") is a spot light",
+        "camera 1 (\"Plan\") of node 8 (\"plan view\") is orthographic",
+        "material 0 (\"glass\") transmits with roughness 0.1: rendered as smooth glass",
+        "material 1 (\"mirror\") is alpha-masked (MASK, cutoff 0.5)",
+        "material 1 (\"mirror\") is metal with roughness 0.3: rendered as a smooth mirror",
+        "material 2 (\"floor\") emits light (emissive factor [1.0, 0.5, 0.0])",
+        "material 2 (\"floor\") is alpha-blended (BLEND)",
+    ];
+    for line in expected {
+        let found = notes.iter().filter(|n| n.starts_with(line)).count();
+        assert_eq!(found, 1, "{line:?} in {notes:#?}");
+    }
+    assert_eq!(notes.len(), expected.len(), "{notes:#?}");
+    assert!(notes.iter().all(|n| !n.contains('\n')), "one line each");
+}

@@ -114,7 +114,13 @@ impl Importer<'_> {
             medium,
             background,
         };
-        let mut notes = self.notes;
+        // A material met by several primitives is noted once.
+        let mut notes: Vec<String> = Vec::new();
+        for note in self.notes {
+            if !notes.contains(&note) {
+                notes.push(note);
+            }
+        }
         if scene.lights.is_empty() {
             notes.push(scene.add_default_lighting());
         }
@@ -189,6 +195,7 @@ impl Importer<'_> {
             for prim in mesh.primitives().filter(|p| triangle_mode(p.mode())) {
                 let what = format!("mesh {} primitive {}", describe_mesh(&mesh), prim.index());
                 let (material, default_roles, texture) = self.material(&prim.material())?;
+                self.note_material(&prim.material(), &material);
                 let uv_set = match &texture {
                     Some((_, set)) => *set,
                     None => 0,
@@ -233,15 +240,82 @@ impl Importer<'_> {
                 }
             }
         }
-        if let Some(light) = node.light()
-            && let gltf::khr_lights_punctual::Kind::Point = light.kind()
-        {
-            self.lights.push(point_light(node, &light, world)?);
+        if let Some(light) = node.light() {
+            match light.kind() {
+                gltf::khr_lights_punctual::Kind::Point => {
+                    self.lights.push(point_light(node, &light, world)?)
+                }
+                other => self.notes.push(unsupported_light(node, &light, other)),
+            }
+        }
+        if let Some(note) = self.orthographic_camera(node) {
+            self.notes.push(note);
         }
         if self.camera.is_none() {
             self.camera = self.camera_at(node, world)?;
         }
         Ok(())
+    }
+
+    /// The note of a node's orthographic camera, which the importer skips.
+    fn orthographic_camera(&self, node: &gltf::Node) -> Option<String> {
+        let camera = node.camera()?;
+        let json = self.doc.as_json().cameras.get(camera.index())?;
+        let orthographic =
+            gltf::json::validation::Checked::Valid(gltf::json::camera::Type::Orthographic);
+        (json.type_ == orthographic).then(|| {
+            format!(
+                "camera {} of node {} is orthographic, which is not supported yet: skipped (the \
+                 first perspective camera is used, or the scene is framed)",
+                describe_camera(&camera),
+                describe_node(node)
+            )
+        })
+    }
+
+    /// Notes of what `m` has that its import as `material` leaves out or approximates:
+    /// emission, alpha masks and blending, rough transmission, rough metal.
+    fn note_material(&mut self, m: &gltf::Material, material: &Material) {
+        let what = match (m.index(), m.name()) {
+            (Some(i), Some(name)) => format!("material {i} (\"{name}\")"),
+            (Some(i), None) => format!("material {i}"),
+            (None, _) => return, // the default material has nothing to leave out
+        };
+        let mut notes = Vec::new();
+        let emissive = m.emissive_factor();
+        if emissive.iter().any(|&e| e > 0.0) || m.emissive_texture().is_some() {
+            notes.push(format!(
+                "{what} emits light (emissive factor {emissive:?}{}), which is not supported yet: \
+                 rendered without emission",
+                if m.emissive_texture().is_some() {
+                    ", with a texture"
+                } else {
+                    ""
+                }
+            ));
+        }
+        match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => {}
+            gltf::material::AlphaMode::Mask => notes.push(format!(
+                "{what} is alpha-masked (MASK, cutoff {}), which is not supported yet: rendered \
+                 opaque",
+                m.alpha_cutoff().unwrap_or(0.5)
+            )),
+            gltf::material::AlphaMode::Blend => notes.push(format!(
+                "{what} is alpha-blended (BLEND), which is not supported yet: rendered opaque"
+            )),
+        }
+        let roughness = m.pbr_metallic_roughness().roughness_factor();
+        match material {
+            Material::Glass { .. } if roughness > 0.0 => notes.push(format!(
+                "{what} transmits with roughness {roughness}: rendered as smooth glass"
+            )),
+            Material::Metal { .. } if roughness > 0.0 => notes.push(format!(
+                "{what} is metal with roughness {roughness}: rendered as a smooth mirror"
+            )),
+            _ => {}
+        }
+        self.notes.extend(notes);
     }
 
     /// The camera of a perspective camera node (`None` for any other node): exact from the
@@ -503,6 +577,36 @@ pub(super) fn describe_node(node: &gltf::Node) -> String {
         Some(n) => format!("{} (\"{n}\")", node.index()),
         None => node.index().to_string(),
     }
+}
+
+fn describe_camera(camera: &gltf::Camera) -> String {
+    match camera.name() {
+        Some(n) => format!("{} (\"{n}\")", camera.index()),
+        None => camera.index().to_string(),
+    }
+}
+
+/// The note of a spot or directional light, which the importer skips.
+fn unsupported_light(
+    node: &gltf::Node,
+    light: &gltf::khr_lights_punctual::Light,
+    kind: gltf::khr_lights_punctual::Kind,
+) -> String {
+    let kind = match kind {
+        gltf::khr_lights_punctual::Kind::Directional => "a directional (sun) light",
+        gltf::khr_lights_punctual::Kind::Spot { .. } => "a spot light",
+        gltf::khr_lights_punctual::Kind::Point => "a point light",
+    };
+    let name = light
+        .name()
+        .map(|n| format!(" (\"{n}\")"))
+        .unwrap_or_default();
+    format!(
+        "light {}{name} of node {} is {kind}, which is not supported yet (point lights only): \
+         skipped",
+        light.index(),
+        describe_node(node)
+    )
 }
 
 pub(super) fn describe_mesh(mesh: &gltf::Mesh) -> String {

@@ -48,7 +48,8 @@
 //! - **Lights**: each `KHR_lights_punctual` point light becomes a [`PointLight`] at its
 //!   node's world position with intensity (W/sr) = colour * intensity (cd) / 683, 683 lm/W
 //!   being the luminous efficacy of 555 nm light that defines the candela. `range` is
-//!   ignored; spot and directional lights are skipped. A file without any point light gets
+//!   ignored; spot and directional lights are skipped, each with a note naming it. A file
+//!   without any point light gets
 //!   the default lighting of [`Scene::add_default_lighting`] (a key light from the camera's
 //!   upper side and a uniform sky), and a note says so ([`import_noted`]).
 //! - **Normals**: zero-length or non-finite normals are replaced by geometric ones
@@ -56,12 +57,14 @@
 //! - **Camera**: the first perspective camera node met becomes [`Scene::camera`]: eye = the
 //!   node's origin, looking down its -Z with its +Y up, fov = `yfov` in degrees, target on
 //!   the view direction at the distance of the centre of the objects' bounds. Orthographic
-//!   cameras are skipped. With no camera, the camera frames the bounds of all objects (45
-//!   degrees, from the +Z side and a little above).
+//!   cameras are skipped, each with a note naming it. With no camera, the camera frames the
+//!   bounds of all objects (45 degrees, from the +Z side and a little above).
 //!
 //! Skins, morph targets, animations, emission, alpha and the remaining material inputs are
-//! ignored. A node transform with a negative determinant is kept as it is (the winding of
-//! its triangles is then mirrored in world space).
+//! ignored; a note names each material whose emission, alpha mode (`MASK`, `BLEND`),
+//! transmission roughness or metal roughness (a smooth mirror stands in for it) is left out,
+//! once per material ([`import_noted`]). A node transform with a negative determinant is
+//! kept as it is (the winding of its triangles is then mirrored in world space).
 //!
 //! # What the exporter writes
 //!
@@ -191,9 +194,11 @@ pub fn import(path: &Path) -> Result<Scene, SceneError> {
     import_noted(path).map(|(scene, _)| scene)
 }
 
-/// [`import`], with the notes of what the importer supplied or repaired (default lighting
-/// for a file without lights, replaced degenerate normals), one sentence each: the harness
-/// prints them as warnings and writes them to `results.json`.
+/// [`import`], with the notes of what the importer supplied, repaired or left out (default
+/// lighting for a file without lights, replaced degenerate normals, skipped spot and
+/// directional lights and orthographic cameras, materials' emission, alpha and roughness),
+/// one sentence each naming the light, camera or material: the harness prints them as
+/// warnings and writes them to `results.json`.
 pub fn import_noted(path: &Path) -> Result<(Scene, Vec<String>), SceneError> {
     let shown = shown_path(path);
     let bytes = read_regular_file(path, MAX_FILE_BYTES, false, false)
