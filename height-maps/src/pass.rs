@@ -84,15 +84,4 @@ impl HeightMapPass {
     }
 }
 
-impl std::ops::Deref for HeightMapPass {
-    type Target = HostedPass<HeightMaps>;
-    fn deref(&self) -> &Self::Target {
-        &self.0
-    }
-}
-
-impl std::ops::DerefMut for HeightMapPass {
-    fn deref_mut(&mut self) -> &mut Self::Target {
-        &mut self.0
-    }
-}
+scene::hosted_pass_deref!(HeightMapPass, HeightMaps);

@@ -90,15 +90,4 @@ impl RefractorPass {
     }
 }
 
-impl std::ops::Deref for RefractorPass {
-    type Target = HostedPass<Refraction>;
-    fn deref(&self) -> &Self::Target {
-        &self.0
-    }
-}
-
-impl std::ops::DerefMut for RefractorPass {
-    fn deref_mut(&mut self) -> &mut Self::Target {
-        &mut self.0
-    }
-}
+scene::hosted_pass_deref!(RefractorPass, Refraction);

@@ -97,15 +97,4 @@ impl ImpostorPass {
     }
 }
 
-impl std::ops::Deref for ImpostorPass {
-    type Target = HostedPass<Impostor>;
-    fn deref(&self) -> &Self::Target {
-        &self.0
-    }
-}
-
-impl std::ops::DerefMut for ImpostorPass {
-    fn deref_mut(&mut self) -> &mut Self::Target {
-        &mut self.0
-    }
-}
+scene::hosted_pass_deref!(ImpostorPass, Impostor);

@@ -129,15 +129,4 @@ fn buildings_scene(buildings: &[Building], lights: &[PointLight]) -> TechniqueRe
     Ok(scene)
 }
 
-impl std::ops::Deref for InteriorPass {
-    type Target = HostedPass<InteriorMapping>;
-    fn deref(&self) -> &Self::Target {
-        &self.0
-    }
-}
-
-impl std::ops::DerefMut for InteriorPass {
-    fn deref_mut(&mut self) -> &mut Self::Target {
-        &mut self.0
-    }
-}
+scene::hosted_pass_deref!(InteriorPass, InteriorMapping);

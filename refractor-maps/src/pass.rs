@@ -117,15 +117,4 @@ impl RefractorMapsPass {
     }
 }
 
-impl std::ops::Deref for RefractorMapsPass {
-    type Target = HostedPass<RefractorMaps>;
-    fn deref(&self) -> &Self::Target {
-        &self.0
-    }
-}
-
-impl std::ops::DerefMut for RefractorMapsPass {
-    fn deref_mut(&mut self) -> &mut Self::Target {
-        &mut self.0
-    }
-}
+scene::hosted_pass_deref!(RefractorMapsPass, RefractorMaps);

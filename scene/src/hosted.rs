@@ -134,6 +134,26 @@ impl<T: DrawOver> HostedPass<T> {
     }
 }
 
+/// A technique crate's pass, the newtype `$pass(HostedPass<$technique>)` that says how to make
+/// it, offering the `HostedPass`'s `draw` and `set_position_of` (`Deref` and `DerefMut` to it).
+#[macro_export]
+macro_rules! hosted_pass_deref {
+    ($pass:ty, $technique:ty) => {
+        impl std::ops::Deref for $pass {
+            type Target = $crate::hosted::HostedPass<$technique>;
+            fn deref(&self) -> &Self::Target {
+                &self.0
+            }
+        }
+
+        impl std::ops::DerefMut for $pass {
+            fn deref_mut(&mut self) -> &mut Self::Target {
+                &mut self.0
+            }
+        }
+    };
+}
+
 /// The renderer's objects, uploaded alone (no lights: the maps the technique asks for hold
 /// the renderer's lit world), and their indices among the renderer's objects.
 pub struct HostedObjects {
