@@ -4,7 +4,7 @@
 use glam::{Mat4, Vec2, Vec3};
 use scene::builtin::textures::checker_texture;
 use scene::mesh::{cuboid, cylinder, quad, uv_sphere};
-use scene::{Building, Camera, CameraPath, Material, Object, PointLight, Roles, Scene};
+use scene::{Building, Camera, CameraPath, Light, Material, Object, Roles, Scene};
 
 /// A 3 x 2.5 x 3 m room (checker floor, coloured walls, one light under the ceiling) with a
 /// mirror sphere and a glass sphere, and the camera looking at them from near the front wall.
@@ -101,10 +101,11 @@ pub fn mirror_and_glass_room() -> Scene {
             [220, 220, 220],
             [40, 40, 60],
         )],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "ceiling light".into(),
             position: Vec3::new(0.0, 2.3, 0.2),
             intensity: Vec3::splat(4.0),
+            kind: scene::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath::default(),
@@ -169,10 +170,11 @@ pub fn street() -> Scene {
         name: "street".into(),
         objects,
         textures: vec![],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "sun-like light".into(),
             position: Vec3::new(250.0, 400.0, 300.0),
             intensity: Vec3::splat(4.0e5),
+            kind: scene::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath::default(),

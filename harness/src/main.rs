@@ -702,6 +702,22 @@ fn one_technique(name: &str) -> Result<String> {
 }
 
 /// Technique `id`'s image of `scene` at time 0.
+/// Why a technique refuses a scene, as its `prepare` says (": ..."), or nothing when it
+/// prepares anyway or panics: `supports` gives no reason, `prepare` checks again and names it.
+fn unsupported_reason(
+    ctx: &gpu::Context,
+    technique: &mut dyn scene::Technique,
+    scene: &scene::GpuScene,
+) -> String {
+    let prepared = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        scene::runner::prepare(ctx, &mut gpu::GpuTimer::off(), technique, scene)
+    }));
+    match prepared {
+        Ok(Err(e)) => format!(": {e}"),
+        _ => String::new(),
+    }
+}
+
 fn render_technique(
     ctx: &gpu::Context,
     id: &str,
@@ -714,12 +730,15 @@ fn render_technique(
         .into_iter()
         .find(|t| t.id() == id)
         .with_context(|| format!("technique {id} vanished"))?;
-    if !t.supports(scene) {
-        bail!("technique {id} does not support scene {spec}");
-    }
     ctx.require(t.required_features())
         .with_context(|| format!("technique {id}"))?;
     let mut gpu_scene = harness::backend::upload_scene(ctx, scene)?;
+    if !t.supports(scene) {
+        bail!(
+            "technique {id} does not support scene {spec}{}",
+            unsupported_reason(ctx, t.as_mut(), &gpu_scene)
+        );
+    }
     let run = harness::measure::run_technique(
         ctx,
         t.as_mut(),

@@ -636,7 +636,7 @@ fn cases(dir: &Path) -> Vec<Case> {
     // Scale.
     let mut many_lights = scene.clone();
     many_lights.lights = (0..1000)
-        .map(|i| scene::PointLight {
+        .map(|i| scene::Light {
             name: format!("l{i}"),
             position: glam::Vec3::new(
                 (i % 10) as f32 * 0.3 - 1.5,
@@ -644,6 +644,7 @@ fn cases(dir: &Path) -> Vec<Case> {
                 (i / 100) as f32 * 0.3 - 1.5,
             ),
             intensity: glam::Vec3::splat(0.01),
+            kind: scene::LightKind::Point,
         })
         .collect();
     let mut spheres = scene.clone();

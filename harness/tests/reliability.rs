@@ -421,3 +421,42 @@ fn closed_stdout_is_not_a_panic() {
         assert!(out.status.success(), "{args:?}: {:?} {stderr}", out.status);
     }
 }
+
+/// A technique asked to render a scene it refuses says why: the families whose photons leave
+/// a point light name the scene's sun or spot.
+#[test]
+fn a_refused_scene_is_refused_with_the_reason() {
+    let out = tmp("refused").join("x.png");
+    for (scene, technique, light) in [
+        (
+            "pool:light=sun",
+            "screen-photons/lines",
+            "\"sun\" is a directional light",
+        ),
+        (
+            "cornell-sphere:light=spot",
+            "impostors/caustics",
+            "\"ceiling spot\" is a spot light",
+        ),
+    ] {
+        let e = fails_within(
+            120,
+            &[
+                "render",
+                "--scene",
+                scene,
+                "--technique",
+                technique,
+                "--size",
+                "16x16",
+                "--out",
+                path(&out),
+            ],
+        );
+        assert!(
+            e.contains("does not support scene") && e.contains("needs point lights"),
+            "{e}"
+        );
+        assert!(e.contains(light), "{e}");
+    }
+}

@@ -22,7 +22,7 @@ use gpu::pass::{self, ADD_RGB_KEEP_ALPHA, CLEAR_BLACK, CLEAR_FAR, Load, color_ta
 use gpu::wgpu::{self, util::DeviceExt};
 use gpu::{Context, GpuError, Uniform, bind};
 use scene::lightmap::{ChartAtlas, QuadSplatter};
-use scene::{Frame, GpuScene, ObjectFilter, PointLight, RasterTarget};
+use scene::{Frame, GpuScene, Light, ObjectFilter, RasterTarget};
 
 /// WGSL of the receivers' light-map charts: the chart and atlas uv under a fragment of a
 /// diffuse object; the module `impostors::lightmap` ([`LIGHTMAP`]).
@@ -387,7 +387,7 @@ impl Caustics {
         })
     }
 
-    fn params(&self, light: Option<(&PointLight, Vec3, f32)>, scale: f32) -> CausticGpu {
+    fn params(&self, light: Option<(&Light, Vec3, f32)>, scale: f32) -> CausticGpu {
         let (light_pos, intensity, axis) = match light {
             Some((l, axis, pixel_area)) => (
                 l.position.extend(1.0),

@@ -223,6 +223,15 @@ impl Impostor {
     fn uses_distance(&self) -> bool {
         self.settings.uses_distance()
     }
+
+    /// Caustic maps are rendered from each light's position (section 5 of the paper).
+    fn caustic_lights(&self, scene: &Scene) -> TechniqueResult<()> {
+        scene::point_lights_only(
+            &self.id,
+            "its caustic maps are the casters seen from each light's position",
+            scene,
+        )
+    }
 }
 
 impl Settings {
@@ -348,7 +357,9 @@ impl Technique for Impostor {
     // Maps and pipelines depend on the settings: a set parameter drops them.
     scene::declared_params!(settings, state);
     fn supports(&self, scene: &Scene) -> bool {
-        if self.settings.caustics.is_some() && scene.lights.is_empty() {
+        if self.settings.caustics.is_some()
+            && (scene.lights.is_empty() || self.caustic_lights(scene).is_err())
+        {
             return false;
         }
         match self.settings.mode {
@@ -368,7 +379,10 @@ impl Technique for Impostor {
         // caustic variants draw with their own shader, whose lookups add the caustics.
         let module = scene::shader_importing(ctx, &self.id, LOCALIZED_FS_WGSL, &[&LOCALIZED]);
         let caustic = match &self.settings.caustics {
-            Some(c) => Some(Caustics::new(ctx, scene, &layout, c)?),
+            Some(c) => {
+                self.caustic_lights(&scene.scene)?;
+                Some(Caustics::new(ctx, scene, &layout, c)?)
+            }
             None => None,
         };
         let pipeline_layout = scene.pipeline_layout_with(ctx, &[&layout]);

@@ -92,10 +92,11 @@ fn buildings_scene(buildings: &[Building], lights: &[PointLight]) -> TechniqueRe
         lights: lights
             .iter()
             .enumerate()
-            .map(|(i, l)| scene::PointLight {
+            .map(|(i, l)| scene::Light {
                 name: format!("renderer's light {i}"),
                 position: l.position,
                 intensity: l.intensity,
+                kind: scene::LightKind::Point,
             })
             .collect(),
         ..scene::hosted::empty_scene()

@@ -2,8 +2,8 @@
 //! objects, the texture table, the sRGB table) and every texture's texels.
 
 use glam::Vec3;
-use scene::Scene;
 use scene::emission::Emitter;
+use scene::{LightKind, Scene};
 
 /// Lights, volumes, emitters, objects, the texture table and the sRGB table in one buffer of
 /// vec4s (the layout `tracer.wgsl`'s accessors read), and every texture's texels.
@@ -20,8 +20,25 @@ impl Tables {
         let mut data: Vec<[f32; 4]> = Vec::new();
         let lights = data.len() as u32;
         for l in &scene.lights {
-            data.push(l.position.extend(0.0).to_array());
+            // As tracer.wgsl's `light` reads them: the kind in position.w (0 point, 1 spot,
+            // 2 directional), the direction, a spot's cone cosines.
+            let (kind, direction, cone) = match l.kind {
+                LightKind::Point => (0.0, Vec3::ZERO, [0.0; 4]),
+                LightKind::Spot {
+                    direction,
+                    inner_cone,
+                    outer_cone,
+                } => (
+                    1.0,
+                    direction,
+                    [inner_cone.cos(), outer_cone.cos(), 0.0, 0.0],
+                ),
+                LightKind::Directional { direction } => (2.0, direction, [0.0; 4]),
+            };
+            data.push(l.position.extend(kind).to_array());
             data.push(l.intensity.extend(0.0).to_array());
+            data.push(direction.extend(0.0).to_array());
+            data.push(cone);
         }
         let volumes = data.len() as u32;
         let placed: Vec<_> = scene
@@ -42,10 +59,11 @@ impl Tables {
             data.push(e.axis.extend(e.one_minus_cos).to_array());
             data.push([
                 f32::from_bits(e.light as u32),
-                e.solid_angle,
+                e.measure,
                 f32::from_bits(e.photons as u32),
                 f32::from_bits(first),
             ]);
+            data.push(e.origin.extend(e.radius).to_array());
             first += e.photons as u32;
         }
         let objects = data.len() as u32;

@@ -8,6 +8,7 @@
 //!   a shared edge and is assigned the neighbouring triangle.
 //! * `raytracer/caustics` matches the whole reference within the noise of the two photon sets,
 //!   and its caustic converges to the reference's as the photon count grows.
+//! * Both hold under a spot and a sun too (`scene::builtin::LIGHT_VARIANTS`).
 //! * No image has a NaN or infinite pixel.
 
 use gpu::HdrImage;
@@ -64,8 +65,8 @@ fn render(variant: Variant, params: &[(&str, f64)], spec: &str, time: f32, size:
 #[test]
 fn whitted_equals_the_reference_without_photons_on_every_built_in_scene() {
     let mut report = Vec::new();
-    for info in scene::builtin::builtin_scenes() {
-        let spec = info.name;
+    let names = scene::builtin::builtin_scenes().into_iter().map(|i| i.name);
+    for spec in names.chain(scene::builtin::LIGHT_VARIANTS) {
         let scene = scene::load(spec).unwrap();
         for time in scene::technique::check_times(scene.camera_path.duration()) {
             let shot = Shot::along_path(&scene, time, SIZE);
@@ -107,7 +108,15 @@ fn mean(image: &HdrImage) -> f64 {
 /// same light (the mean radiance of the image, where photon noise averages out).
 #[test]
 fn caustics_match_the_reference_within_photon_noise() {
-    for spec in ["cornell-sphere", "hu-qin", "pool", "murky-pool"] {
+    for spec in [
+        "cornell-sphere",
+        "hu-qin",
+        "pool",
+        "murky-pool",
+        "cornell-sphere:light=spot",
+        "pool:light=sun",
+        "murky-pool:light=sun",
+    ] {
         let scene = scene::load(spec).unwrap();
         let duration = scene.camera_path.duration();
         for time in [0.0, duration] {

@@ -622,7 +622,7 @@ pub fn exact_photons(
     piece_object: usize,
     receiver: &Receiver,
     chart: &scene::lightmap::Chart,
-    light: &scene::PointLight,
+    light: &scene::Light,
     photons: u32,
     time: f32,
 ) -> Vec<Landing> {
@@ -722,7 +722,7 @@ fn receiver_chart(atlas: &ChartAtlas, object: usize) -> Result<ChartGpu, Techniq
 /// (`scene::lightmap::LightView`) and its [`PhotonTileGpu`] (the flux a pixel carries:
 /// intensity times its solid angle).
 fn tile_view(
-    light: &scene::PointLight,
+    light: &scene::Light,
     centre: Vec3,
     radius: f32,
     size: u32,
@@ -841,10 +841,11 @@ mod tests {
 
     #[test]
     fn a_tile_holds_its_piece_and_carries_the_lights_flux() {
-        let light = scene::PointLight {
+        let light = scene::Light {
             name: "lamp".into(),
             position: Vec3::new(0.5, 2.2, 0.9),
             intensity: Vec3::splat(9.0),
+            kind: scene::LightKind::Point,
         };
         let (centre, radius, size) = (Vec3::new(0.1, 0.05, -0.3), 0.05, 64);
         let (tile, view_proj) = tile_view(&light, centre, radius, size);

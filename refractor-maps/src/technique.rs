@@ -304,6 +304,15 @@ impl RefractorMaps {
         self.state.as_ref().map(|s| s.tracer.kinds())
     }
 
+    /// Section 7's photons leave each light's position through the refractor maps.
+    fn caustic_lights(&self, scene: &Scene) -> TechniqueResult<()> {
+        scene::point_lights_only(
+            &self.id,
+            "its photon maps are rendered from each light's position",
+            scene,
+        )
+    }
+
     fn tracer_settings(&self) -> TracerSettings {
         TracerSettings {
             depth: self.settings.depth,
@@ -424,16 +433,20 @@ impl Technique for RefractorMaps {
         if specular.is_empty() {
             return false;
         }
-        // Caustics need a flat receiver under the pieces (the chessboard).
+        // Caustics need a flat receiver under the pieces (the chessboard) and point lights.
         self.settings.caustics.is_none() || {
             let kinds = Kinds::of(scene);
             caustic_receiver(scene, pieces_centre(scene, &kinds)).is_some()
+                && self.caustic_lights(scene).is_ok()
         }
     }
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         let kinds = Kinds::of(&scene.scene);
         check_kinds(&self.id, &kinds)?;
+        if self.settings.caustics.is_some() {
+            self.caustic_lights(&scene.scene)?;
+        }
         let res = self.settings.maps.resolution;
         scene::technique::check_map_budget(
             &self.id,

@@ -43,7 +43,7 @@ pub use shading::{
 };
 pub use technique::{
     Contained, Declared, Family, Frame, ImageCheck, Param, ParamValue, Settings, Technique,
-    TechniqueError, TechniqueResult, Timing, View,
+    TechniqueError, TechniqueResult, Timing, View, point_lights_only,
 };
 
 use std::path::Path;

@@ -301,6 +301,26 @@ pub fn check_map_budget(
 
 pub type TechniqueResult<T> = Result<T, TechniqueError>;
 
+/// Refuses, with the reason, a scene lit by a spot or directional light for a technique whose
+/// paper emits its photons from a point light (a raster of the casters from the light's
+/// position, one photon per texel, each carrying the same share of the light's intensity):
+/// `what` says what of the technique needs it. The reference and the ray tracer, and every
+/// technique's shading of diffuse surfaces, take all three kinds.
+pub fn point_lights_only(technique: &str, what: &str, scene: &crate::Scene) -> TechniqueResult<()> {
+    match scene
+        .lights
+        .iter()
+        .find(|l| l.kind != crate::LightKind::Point)
+    {
+        None => Ok(()),
+        Some(l) => Err(TechniqueError::Unsupported(format!(
+            "{technique} needs point lights ({what}); the scene's light \"{}\" is a {} light",
+            l.name,
+            l.kind_name()
+        ))),
+    }
+}
+
 /// Where a technique's frame time comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Timing {

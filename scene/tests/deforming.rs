@@ -12,9 +12,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use gpu::Target;
-use scene::{
-    Camera, GpuScene, Material, Morph, Object, ObjectFilter, PointLight, RasterTarget, Scene,
-};
+use scene::{Camera, GpuScene, Light, Material, Morph, Object, ObjectFilter, RasterTarget, Scene};
 
 const SIZE: u32 = 65;
 
@@ -47,10 +45,11 @@ fn morphing_scene() -> Scene {
         name: "deforming".into(),
         objects: vec![sphere, floor],
         textures: vec![],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "light".into(),
             position: Vec3::new(0.0, 8.0, 0.0),
             intensity: Vec3::splat(200.0),
+            kind: scene::LightKind::Point,
         }],
         camera: Camera {
             eye: Vec3::new(0.0, 0.5, 9.0),

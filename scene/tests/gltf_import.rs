@@ -793,11 +793,36 @@ fn what_is_left_out_is_named() {
     j["materials"][1]["alphaMode"] = json!("MASK");
     j["materials"][2]["emissiveFactor"] = json!([1.0, 0.5, 0.0]);
     j["materials"][2]["alphaMode"] = json!("BLEND");
-    let (s, notes) = scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "fixture.gltf").unwrap();
+    let (mut s, notes) =
+        scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "fixture.gltf").unwrap();
+    // The sun and the spot are lights of the scene, pointing down their nodes' -Z; the
+    // rest is the fixture.
+    let (sun, spot) = (s.lights.remove(1), s.lights.remove(1));
     check_fixture(&s);
+    assert_eq!(
+        (sun.name.as_str(), sun.intensity, sun.kind),
+        (
+            "Sun",
+            Vec3::splat(3.0 / 683.0),
+            scene::LightKind::Directional {
+                direction: Vec3::NEG_Z
+            }
+        )
+    );
+    assert_eq!(
+        (spot.name.as_str(), spot.position, spot.kind),
+        (
+            "Spot",
+            // Under the lamp (node 2) at (1, 4, 0), in the group scaled by 2.
+            Vec3::new(1.0, 10.0, 0.0),
+            scene::LightKind::Spot {
+                direction: Vec3::NEG_Z,
+                inner_cone: 0.2,
+                outer_cone: 0.5
+            }
+        )
+    );
     let expected = [
-        "light 1 (\"Sun\") of node 6 (\"sun\") is a directional (sun) light",
-        "light 2 (\"Spot\") of node 7 (\"spot\") is a spot light",
         "camera 1 (\"Plan\") of node 8 (\"plan view\") is orthographic",
         "material 0 (\"glass\") transmits with roughness 0.1: rendered as smooth glass",
         "material 1 (\"mirror\") is alpha-masked (MASK, cutoff 0.5)",

@@ -85,7 +85,10 @@ fn builtin_variants_round_trip_exactly() {
         "refraction-bunny:ior=1.1",
         "city:buildings=5,rooms_per_building=77",
         "smoke:particles=3",
-    ] {
+    ]
+    .into_iter()
+    .chain(scene::builtin::LIGHT_VARIANTS)
+    {
         round_trip(&scene::load(spec).unwrap(), spec);
     }
 }

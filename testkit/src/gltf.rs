@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use scene::mesh::{cuboid, quad};
-use scene::{Camera, Material, Object, PointLight, Scene};
+use scene::{Camera, Light, Material, Object, Scene};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
@@ -48,10 +48,11 @@ pub fn small_scene() -> Scene {
             .with_roles(scene::Roles::REFRACTOR | scene::Roles::CAUSTIC_CASTER),
         ],
         textures: vec![],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "light".into(),
             position: Vec3::new(0.5, 2.5, 1.5),
             intensity: Vec3::splat(6.0),
+            kind: scene::LightKind::Point,
         }],
         camera: Camera {
             eye: Vec3::new(0.0, 1.6, 3.0),

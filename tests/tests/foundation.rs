@@ -31,6 +31,41 @@ fn raster_matches_reference_on_diffuse_cornell_sphere() {
     assert!(m.rmse < 0.01, "RMSE {}", m.rmse);
 }
 
+/// The same under a spot (its cone's falloff, the cube shadow map) and a sun (the
+/// orthographic shadow map fitted to the scene): the pool seen from above with every surface
+/// diffuse, so that the sun lights the water, the coping and the ladder's shadows directly.
+#[test]
+fn raster_matches_reference_under_a_spot_and_a_sun() {
+    for spec in [
+        "cornell-sphere:material=diffuse,light=spot",
+        "pool:view=above,light=sun",
+    ] {
+        let mut scene = scene::load(spec).unwrap();
+        for o in &mut scene.objects {
+            if o.material.is_specular() {
+                o.material = scene::Material::Diffuse {
+                    albedo: glam::Vec3::splat(0.6),
+                    texture: None,
+                };
+            }
+        }
+        let key = format!("{spec} (all diffuse)");
+        let shot = Shot::default_camera(&scene, 0.0, 128);
+        let truth = reference(&key, &scene, shot, 0);
+        let image = render(&mut RasterTechnique, &scene, shot);
+        let (m, _) = truth::metrics::compare(&image, &truth.image, None);
+        println!("raster vs reference, {key} 128^2: {m:?}");
+        assert_eq!(m.nan_pixels, 0);
+        assert!(m.flip_mean < 0.01, "{spec}: FLIP mean {}", m.flip_mean);
+        assert!(
+            m.flip_over_0_1_pct < 2.0,
+            "{spec}: {}% pixels with FLIP > 0.1",
+            m.flip_over_0_1_pct
+        );
+        assert!(m.rmse < 0.02, "{spec}: RMSE {}", m.rmse);
+    }
+}
+
 /// Every built-in scene (and material variant) with a reflector or refractor renders finite
 /// pixels with the classic environment map, and its specular object is not black.
 #[test]

@@ -378,7 +378,7 @@ fn thousands_of_lights_and_objects() {
     let mut scene = small_scene();
     scene.objects.extend(boxes(2000));
     scene.lights = (0..1000)
-        .map(|i| scene::PointLight {
+        .map(|i| scene::Light {
             name: format!("light {i}"),
             position: Vec3::new(
                 (i % 10) as f32 * 0.4 - 2.0,
@@ -386,6 +386,7 @@ fn thousands_of_lights_and_objects() {
                 ((i / 10) % 10) as f32 * 0.4 - 2.0,
             ),
             intensity: Vec3::splat(0.01),
+            kind: scene::LightKind::Point,
         })
         .collect();
     scene.validate().unwrap();

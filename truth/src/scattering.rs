@@ -98,8 +98,10 @@ pub fn direct_inscatter(
         let foot = origin + dir * along;
         let dist_to_line = foot.distance(light.position);
         // Equiangular parameter: theta in [theta_a, theta_b], t = along + D tan(theta), and
-        // dt / d^2 = dtheta / D. A light on the ray's line (D ~ 0) takes uniform steps in t.
-        let uniform = dist_to_line < 1e-4 * offset_epsilon(light.position).max(1.0);
+        // dt / d^2 = dtheta / D. A light on the ray's line (D ~ 0) takes uniform steps in t,
+        // and so does a directional light, whose light has no 1 / d^2 to flatten.
+        let directional = light.is_directional();
+        let uniform = directional || dist_to_line < 1e-4 * offset_epsilon(light.position).max(1.0);
         let (theta_a, theta_b) = (
             ((span.x - along) / dist_to_line).atan(),
             ((span.y - along) / dist_to_line).atan(),
@@ -109,9 +111,13 @@ pub fn direct_inscatter(
             let (t, weight) = if uniform {
                 let dt = (span.y - span.x) / INSCATTER_STEPS as f32;
                 let t = span.x + f * (span.y - span.x);
-                let d2 = (origin + dir * t)
-                    .distance_squared(light.position)
-                    .max(1e-12);
+                let d2 = if directional {
+                    1.0
+                } else {
+                    (origin + dir * t)
+                        .distance_squared(light.position)
+                        .max(1e-12)
+                };
                 (t, dt / d2)
             } else {
                 let theta = theta_a + f * (theta_b - theta_a);
@@ -119,12 +125,13 @@ pub fn direct_inscatter(
                 (along + dist_to_line * theta.tan(), dtheta / dist_to_line)
             };
             let x = origin + dir * t;
-            let to_light = light.position - x;
-            let len = to_light.length();
-            if len <= 0.0 {
+            let Some((l, len)) = light.shadow_ray(x) else {
+                continue;
+            };
+            let factor = light.emission_factor(-l);
+            if factor <= 0.0 {
                 continue;
             }
-            let l = to_light / len;
             *shadow_rays += 1;
             if bvh.any_hit(x, l, len) {
                 continue;
@@ -133,8 +140,12 @@ pub fn direct_inscatter(
             let phase = henyey_greenstein((-l).dot(-dir), g);
             let toward_light = medium.transmittance(x, l, len);
             let toward_eye = transmittance_of(sigma_t, t - entry);
-            sum +=
-                light.intensity * medium.scattering * toward_light * toward_eye * (phase * weight);
+            sum += light.intensity
+                * factor
+                * medium.scattering
+                * toward_light
+                * toward_eye
+                * (phase * weight);
         }
     }
     sum

@@ -7,7 +7,7 @@ use glam::{Mat4, Vec2, Vec3};
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
 use scene::builtin::textures::checker_texture;
 use scene::mesh::{quad, uv_sphere};
-use scene::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, Volume};
+use scene::{Camera, CameraPath, Light, Material, Motion, Object, Roles, Scene, Volume};
 use std::f32::consts::FRAC_1_PI;
 use truth::reference::{ReferenceOptions, render};
 
@@ -41,10 +41,11 @@ fn scene_with(objects: Vec<Object>, camera: Camera) -> Scene {
         name: "analytic".into(),
         objects,
         textures: vec![],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "light".into(),
             position: LIGHT_POS,
             intensity: LIGHT_I,
+            kind: scene::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath::default(),
@@ -451,4 +452,110 @@ fn object_ids_and_mask() {
         }
     }
     assert!(fog > 10 && sphere > 200, "fog {fog}, sphere {sphere}");
+}
+
+/// The floor under a spot or a sun, by hand, pixel by pixel: `albedo / pi * I f(w) cos / d^2`
+/// for the spot (its falloff `f` at the direction `w` it sends the light), `albedo / pi * E
+/// cos` for the sun, whose shadow of a diffuse ball is the ball's disc cast along its
+/// direction. Pixels within half a pixel of the cone's edge or the shadow's are left out.
+#[test]
+fn spot_and_sun_light_the_floor_as_the_formula_says() {
+    let camera = Camera {
+        eye: Vec3::new(0.0, 3.0, 3.5),
+        target: Vec3::new(0.0, 0.0, 0.3),
+        up: Vec3::Y,
+        fov_y_deg: 55.0,
+    };
+    let spot = Light {
+        kind: scene::LightKind::Spot {
+            direction: Vec3::new(0.2, -1.0, 0.0).normalize(),
+            inner_cone: 0.25,
+            outer_cone: 0.45,
+        },
+        ..Light::point("spot", LIGHT_POS, LIGHT_I)
+    };
+    let sun_direction = Vec3::new(-0.4, -1.0, -0.3).normalize();
+    let sun = Light {
+        kind: scene::LightKind::Directional {
+            direction: sun_direction,
+        },
+        ..Light::point("sun", LIGHT_POS, Vec3::new(1.5, 1.4, 1.2))
+    };
+    let ball = Object::new(
+        "ball",
+        uv_sphere(RADIUS, 64, 128),
+        Material::Diffuse {
+            albedo: Vec3::splat(0.5),
+            texture: None,
+        },
+        Mat4::from_translation(CENTER),
+    );
+    let size = 48;
+    for (light, objects) in [(spot, vec![floor()]), (sun, vec![floor(), ball])] {
+        let mut scene = scene_with(objects, camera);
+        scene.lights = vec![light.clone()];
+        let by_hand = |p: Vec3| {
+            let t = light.toward(p).unwrap();
+            if let scene::LightKind::Directional { direction } = light.kind {
+                let s = ray_sphere(p, -direction, CENTER, RADIUS);
+                if s.x <= s.y && s.y > 0.0 {
+                    return Vec3::ZERO;
+                }
+            }
+            FLOOR_ALBEDO * FRAC_1_PI * light.intensity * t.factor * t.dir.y / t.distance_squared
+        };
+        let has_ball = scene.objects.len() > 1;
+        // The floor's radiance seen through (x, y), or None where the ball hides it.
+        let floor_at = |x: f32, y: f32| {
+            let d = camera.ray_dir(x, y, size, size);
+            let on_ball = ray_sphere(camera.eye, d, CENTER, RADIUS);
+            if has_ball && on_ball.x <= on_ball.y && on_ball.y > 0.0 {
+                return None;
+            }
+            Some(by_hand(camera.eye + d * (-camera.eye.y / d.y)))
+        };
+        let opts = ReferenceOptions {
+            photons: 0,
+            ..Default::default()
+        };
+        let r = render(&scene, &camera, 0.0, size, size, &opts);
+        assert_eq!(r.image.non_finite_count(), 0);
+        let (mut compared, mut lit, mut dark) = (0, 0, 0);
+        for y in 0..size {
+            for x in 0..size {
+                let (fx, fy) = (x as f32 + 0.5, y as f32 + 0.5);
+                let Some(centre) = floor_at(fx, fy) else {
+                    continue;
+                };
+                let edge = [(0.5, 0.0), (-0.5, 0.0), (0.0, 0.5), (0.0, -0.5)]
+                    .iter()
+                    .any(|&(dx, dy)| {
+                        floor_at(fx + dx, fy + dy).is_none_or(|v| {
+                            (v - centre).abs().max_element() > 0.2 * centre.max_element() + 1e-4
+                        })
+                    });
+                if edge {
+                    continue;
+                }
+                let p = r.image.get(x, y);
+                let got = Vec3::new(p[0], p[1], p[2]);
+                assert!(
+                    (got - centre).abs().max_element() <= 1e-4 * centre.max_element() + 2e-5,
+                    "{} light, pixel ({x}, {y}): reference {got}, by hand {centre}",
+                    light.kind_name()
+                );
+                compared += 1;
+                if centre.max_element() > 0.0 {
+                    lit += 1;
+                } else {
+                    dark += 1;
+                }
+            }
+        }
+        println!(
+            "{}: {compared} pixels, {lit} lit, {dark} dark",
+            light.kind_name()
+        );
+        assert!(lit > 100 && dark > 15, "{lit} lit and {dark} dark pixels");
+    }
 }

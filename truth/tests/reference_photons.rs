@@ -6,7 +6,7 @@
 use glam::{Mat4, Vec2, Vec3};
 use gpu::prelude::{fresnel_dielectric, ray_sphere, reflect_dir, refract_dir};
 use scene::mesh::{quad, uv_sphere};
-use scene::{Camera, CameraPath, Material, Object, PointLight, Roles, Scene};
+use scene::{Camera, CameraPath, Light, Material, Object, Roles, Scene};
 use truth::reference::{PhotonSetup, ReferenceOptions, light_trace, render};
 
 fn scene_with(objects: Vec<Object>, light: Vec3, intensity: Vec3, camera: Camera) -> Scene {
@@ -14,10 +14,11 @@ fn scene_with(objects: Vec<Object>, light: Vec3, intensity: Vec3, camera: Camera
         name: "photons".into(),
         objects,
         textures: vec![],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "light".into(),
             position: light,
             intensity,
+            kind: scene::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath::default(),

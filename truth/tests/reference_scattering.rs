@@ -13,7 +13,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use scene::mesh::quad;
-use scene::{Camera, CameraPath, Material, Medium, Object, PointLight, Scene};
+use scene::{Camera, CameraPath, Light, Material, Medium, Object, Scene};
 use truth::reference::{self, PhotonSetup, ReferenceOptions};
 
 fn slab_scene(medium: Option<Medium>) -> Scene {
@@ -38,10 +38,11 @@ fn slab_scene(medium: Option<Medium>) -> Scene {
         name: "slab".into(),
         objects: vec![floor],
         textures: vec![],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "lamp".into(),
             position: Vec3::new(0.4, 3.0, -0.5),
             intensity: Vec3::splat(20.0),
+            kind: scene::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath::default(),

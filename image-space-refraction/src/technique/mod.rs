@@ -243,6 +243,18 @@ impl Refraction {
         Ok(())
     }
 
+    /// Caustic mapping renders its photon buffers from each light's position (section 5).
+    fn caustic_lights(&self, scene: &Scene) -> TechniqueResult<()> {
+        if self.settings.caustics.is_none() {
+            return Ok(());
+        }
+        scene::point_lights_only(
+            &self.id,
+            "its photon buffers are the refractors seen from each light's position",
+            scene,
+        )
+    }
+
     /// Each specular object's maps (its environment cube, or the shared room probe; the whole
     /// environment for recursive impostors) and its parameter uniforms.
     fn object_maps(
@@ -350,12 +362,13 @@ impl Technique for Refraction {
             true => usize::MAX,
             false => MAX_SPECULAR_OBJECTS,
         };
-        (1..=most).contains(&specular)
+        (1..=most).contains(&specular) && self.caustic_lights(scene).is_ok()
     }
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         ctx.require(self.required_features())?;
         self.check_settings()?;
+        self.caustic_lights(&scene.scene)?;
         let specular = scene.scene.specular_objects();
         let resolution = self.settings.env_resolution;
         let room_probe = self.settings.room_probe;

@@ -5,7 +5,7 @@
 // by family and shaded with the scene's diffuse model (shade_diffuse, shadow maps included),
 // and the result shows through the windows of the facade.
 #import gpu::prelude::{PI, cube_dir_to_face_uv, fresnel_dielectric, hash_to_unit, pcg_hash, ray_box, reflect_dir}
-#import scene::shading::{SceneVertexOut, camera, facing_normal, light_visibility, lights, objects, scene_info, shade_diffuse, surface_albedo}
+#import scene::shading::{LIGHT_DIRECTIONAL, SceneVertexOut, camera, facing_normal, light_intensity_toward, light_toward, light_visibility, lights, objects, scene_info, shade_diffuse, surface_albedo}
 #import interior_mapping::rooms::{RoomHit, cast_rooms, plane_uv, room_hash, cubemap_room}
 
 struct BuildingGpu {
@@ -109,7 +109,11 @@ fn window_reflection(v: vec3f, n_world: vec3f) -> vec3f {
 // distant sun, would light room surfaces behind the facade.)
 fn room_visibility(i: u32, p_o: vec3f, b: BuildingGpu, model: mat4x4f, normal_matrix: mat4x4f) -> f32 {
     let l_o = (b.world_to_object * vec4f(lights[i].position.xyz, 1.0)).xyz;
-    let d = l_o - p_o;
+    var d = l_o - p_o;
+    if (lights[i].direction.w == LIGHT_DIRECTIONAL) {
+        // Toward a sun: any length does, the walk and the exit share its parameter.
+        d = (b.world_to_object * vec4f(-lights[i].direction.xyz, 0.0)).xyz;
+    }
     let lo = b.grid_origin.xyz;
     let hi = b.hull_max.xyz;
     let t_exit = ray_box(p_o, d, lo, hi).y;
@@ -134,7 +138,7 @@ fn room_visibility(i: u32, p_o: vec3f, b: BuildingGpu, model: mat4x4f, normal_ma
     if (!in_window(h, g.y)) { return 0.0; }
     let q_world = (model * vec4f(q, 1.0)).xyz;
     let n_world = normalize((normal_matrix * vec4f(axis, 0.0)).xyz);
-    let to_l = lights[i].position.xyz - q_world;
+    let to_l = light_toward(i, q_world);
     return light_visibility(i, q_world, select(-n_world, n_world, dot(n_world, to_l) > 0.0));
 }
 
@@ -143,11 +147,12 @@ fn shade_room(p: vec3f, n: vec3f, albedo: vec3f, p_o: vec3f, b: BuildingGpu, mod
     if (settings.b.z < 0.5 || b.displacement.w < 0.5) { return shade_diffuse(p, n, albedo); }
     var sum = vec3f(0.0);
     for (var i = 0u; i < scene_info.light_count; i++) {
-        let to_l = lights[i].position.xyz - p;
+        let to_l = light_toward(i, p);
         let d2 = dot(to_l, to_l);
         let cos_l = dot(n, to_l) * inverseSqrt(d2);
         if (cos_l <= 0.0) { continue; }
-        sum += albedo / PI * lights[i].intensity.rgb * cos_l / d2 * room_visibility(i, p_o, b, model, normal_matrix);
+        let intensity = light_intensity_toward(i, to_l * inverseSqrt(d2));
+        sum += albedo / PI * intensity * cos_l / d2 * room_visibility(i, p_o, b, model, normal_matrix);
     }
     return sum;
 }

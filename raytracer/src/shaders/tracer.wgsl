@@ -80,11 +80,36 @@ const INSCATTER_STEPS: u32 = 64u;
 
 // ---- Scene tables ---------------------------------------------------------------------------
 
-struct Light { position: vec3f, intensity: vec3f, };
+// kind: 0 point, 1 spot, 2 directional (scene::LightKind); direction: a spot's axis or the
+// way a directional light travels; cone: a spot's cosines of its inner and outer half-angles.
+struct Light { position: vec3f, kind: u32, intensity: vec3f, direction: vec3f, cone: vec2f, };
+
+const LIGHT_SPOT: u32 = 1u;
+const LIGHT_DIRECTIONAL: u32 = 2u;
 
 fn light(i: u32) -> Light {
-    let o = params.offsets.x + 2u * i;
-    return Light(tables[o].xyz, tables[o + 1u].xyz);
+    let o = params.offsets.x + 4u * i;
+    let a = tables[o];
+    return Light(a.xyz, u32(a.w), tables[o + 1u].xyz, tables[o + 2u].xyz, tables[o + 3u].xy);
+}
+
+// The fraction of a light's intensity it sends along w (scene::Light::emission_factor): a
+// spot's cone falloff (KHR_lights_punctual's), else 1.
+fn emission_factor(l: Light, w: vec3f) -> f32 {
+    if (l.kind != LIGHT_SPOT) { return 1.0; }
+    let scale = 1.0 / max(l.cone.x - l.cone.y, 0.001);
+    let t = clamp((dot(l.direction, w) - l.cone.y) * scale, 0.0, 1.0);
+    return t * t;
+}
+
+// The shadow ray from `origin` toward the light (scene::Light::shadow_ray): xyz its unit
+// direction, w its length (infinite for a directional light; 0 at the light).
+fn shadow_ray(l: Light, origin: vec3f) -> vec4f {
+    if (l.kind == LIGHT_DIRECTIONAL) { return vec4f(-l.direction, INFINITY); }
+    let seg = l.position - origin;
+    let len = length(seg);
+    if (len <= 0.0) { return vec4f(0.0); }
+    return vec4f(seg / len, len);
 }
 
 struct Material {
@@ -350,7 +375,9 @@ fn direct_inscatter(o: vec3f, d: vec3f, span_in: vec2f, clearance: f32, shadow_r
         let along = dot(l.position - o, d);
         let foot = o + d * along;
         let dist_to_line = distance(foot, l.position);
-        let uniform_steps = dist_to_line < 1e-4 * max(1e-4 * max(length(l.position), 1.0), 1.0);
+        let directional = l.kind == LIGHT_DIRECTIONAL;
+        let uniform_steps = directional
+            || dist_to_line < 1e-4 * max(1e-4 * max(length(l.position), 1.0), 1.0);
         let theta_a = atan((span.x - along) / dist_to_line);
         let theta_b = atan((span.y - along) / dist_to_line);
         for (var i = 0u; i < INSCATTER_STEPS; i++) {
@@ -361,7 +388,7 @@ fn direct_inscatter(o: vec3f, d: vec3f, span_in: vec2f, clearance: f32, shadow_r
                 let dt = (span.y - span.x) / f32(INSCATTER_STEPS);
                 t = span.x + f * (span.y - span.x);
                 let x = o + d * t - l.position;
-                weight = dt / max(dot(x, x), 1e-12);
+                weight = select(dt / max(dot(x, x), 1e-12), dt, directional);
             } else {
                 let theta = theta_a + f * (theta_b - theta_a);
                 let dtheta = (theta_b - theta_a) / f32(INSCATTER_STEPS);
@@ -369,16 +396,18 @@ fn direct_inscatter(o: vec3f, d: vec3f, span_in: vec2f, clearance: f32, shadow_r
                 weight = dtheta / dist_to_line;
             }
             let x = o + d * t;
-            let to_light = l.position - x;
-            let len = length(to_light);
+            let ray = shadow_ray(l, x);
+            let len = ray.w;
             if (len <= 0.0) { continue; }
-            let dl = to_light / len;
+            let dl = ray.xyz;
+            let factor = emission_factor(l, -dl);
+            if (factor <= 0.0) { continue; }
             *shadow_rays += 1u;
             if (trace_any(x, dl, len)) { continue; }
             let phase = henyey_greenstein(dot(-dl, -d), g);
             let toward_light = medium_transmittance(m, x, dl, len);
             let toward_eye = transmittance_of(sigma_t, t - entry);
-            sum += l.intensity * m.scattering.rgb * toward_light * toward_eye * (phase * weight);
+            sum += l.intensity * factor * m.scattering.rgb * toward_light * toward_eye * (phase * weight);
         }
     }
     return sum;
@@ -391,21 +420,27 @@ fn direct_light(s: Surface, rho: vec3f, shadow_rays: ptr<function, u32>) -> vec3
     var sum = vec3f(0.0);
     for (var li = 0u; li < params.counts.x; li++) {
         let l = light(li);
-        let to_light = l.position - s.p;
-        let d2 = dot(to_light, to_light);
-        if (d2 <= 0.0) { continue; }
-        let dl = to_light / sqrt(d2);
+        // scene::Light::toward: a directional light comes from -direction, without falloff.
+        var dl = -l.direction;
+        var d2 = 1.0;
+        if (l.kind != LIGHT_DIRECTIONAL) {
+            let to_light = l.position - s.p;
+            d2 = dot(to_light, to_light);
+            if (d2 <= 0.0) { continue; }
+            dl = to_light / sqrt(d2);
+        }
+        let factor = emission_factor(l, -dl);
         let cos_l = dot(s.ns, dl);
-        if (cos_l <= 0.0 || dot(s.ng, dl) <= 0.0) { continue; }
-        let seg = l.position - origin;
-        let len = length(seg);
+        if (cos_l <= 0.0 || dot(s.ng, dl) <= 0.0 || factor <= 0.0) { continue; }
+        let ray = shadow_ray(l, origin);
+        if (ray.w <= 0.0) { continue; }
         *shadow_rays += 1u;
-        if (trace_any(origin, seg / len, len)) { continue; }
+        if (trace_any(origin, ray.xyz, ray.w)) { continue; }
         var through = vec3f(1.0);
         if (medium_present(params.medium)) {
-            through = medium_transmittance(params.medium, origin, seg / len, len);
+            through = medium_transmittance(params.medium, origin, ray.xyz, ray.w);
         }
-        sum += l.intensity * through * (cos_l / d2);
+        sum += l.intensity * factor * through * (cos_l / d2);
     }
     return rho * (1.0 / PI) * sum;
 }
@@ -498,23 +533,34 @@ fn eye_pass(@builtin(global_invocation_id) gid: vec3u) {
 
 // ---- Photon pass ----------------------------------------------------------------------------
 
+// A cone from a point or spot light, or a disc (radius > 0) of a directional light's parallel
+// photons (scene::emission::Emitter); measure: its solid angle or area.
 struct Emitter {
     axis: vec3f,
     one_minus_cos: f32,
     light: u32,
-    solid_angle: f32,
+    measure: f32,
     photons: u32,
     first: u32,
+    origin: vec3f,
+    radius: f32,
 };
 
 fn emitter(i: u32) -> Emitter {
-    let o = params.offsets.z + 2u * i;
+    let o = params.offsets.z + 3u * i;
     let a = tables[o];
     let b = tables[o + 1u];
-    return Emitter(a.xyz, a.w, bitcast<u32>(b.x), b.y, bitcast<u32>(b.z), bitcast<u32>(b.w));
+    let c = tables[o + 2u];
+    return Emitter(a.xyz, a.w, bitcast<u32>(b.x), b.y, bitcast<u32>(b.z), bitcast<u32>(b.w), c.xyz, c.w);
 }
 
-fn cone_contains(e: Emitter, w: vec3f) -> bool {
+// Emitter::contains: w inside the cone, or the photon's line (from `start`) crossing the disc.
+fn emitter_contains(e: Emitter, start: vec3f, w: vec3f) -> bool {
+    if (e.radius > 0.0) {
+        let d = start - e.origin;
+        let across = d - e.axis * dot(d, e.axis);
+        return dot(across, across) <= e.radius * e.radius;
+    }
     return e.one_minus_cos >= 2.0 || 1.0 - dot(w, e.axis) <= e.one_minus_cos;
 }
 
@@ -538,6 +584,13 @@ fn cone_sample(e: Emitter, u: f32, v: f32) -> vec3f {
     let phi = 2.0 * PI * v;
     let tb = orthonormal_pair(e.axis);
     return normalize(e.axis * cos_t + (tb[0] * cos(phi) + tb[1] * sin(phi)) * sin_t);
+}
+
+// Emitter::sample on a disc: radius R sqrt(u) at angle 2 pi v.
+fn disc_sample(e: Emitter, u: f32, v: f32) -> vec3f {
+    let phi = 2.0 * PI * v;
+    let tb = orthonormal_pair(e.axis);
+    return e.origin + (tb[0] * cos(phi) + tb[1] * sin(phi)) * (e.radius * sqrt(u));
 }
 
 // PCG (O'Neill) as a stream: 24-bit uniform numbers in [0, 1).
@@ -685,17 +738,26 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u) {
     while (ei + 1u < params.counts.z && index >= emitter(ei + 1u).first) { ei += 1u; }
     let e = emitter(ei);
     var rng = pcg_hash(index ^ pcg_hash(params.photons.y));
-    let w = cone_sample(e, next_uniform(&rng), next_uniform(&rng));
-    // Balance heuristic over the cones of this light that contain w (emission::balance_density).
-    var density = f32(e.photons) / e.solid_angle;
+    let u = next_uniform(&rng);
+    let v = next_uniform(&rng);
+    var w = e.axis;
+    var origin = e.origin;
+    if (e.radius > 0.0) {
+        origin = disc_sample(e, u, v);
+    } else {
+        w = cone_sample(e, u, v);
+    }
+    // Balance heuristic over the emitters of this light that could draw the photon
+    // (emission::balance_density), times a spot's falloff (emission::photon_power).
+    var density = f32(e.photons) / e.measure;
     for (var j = 0u; j < params.counts.z; j++) {
         let o = emitter(j);
-        if (j != ei && o.light == e.light && cone_contains(o, w)) {
-            density += f32(o.photons) / o.solid_angle;
+        if (j != ei && o.light == e.light && emitter_contains(o, origin, w)) {
+            density += f32(o.photons) / o.measure;
         }
     }
-    var power = light(e.light).intensity / density;
-    var origin = light(e.light).position;
+    let l = light(e.light);
+    var power = l.intensity * emission_factor(l, w) / density;
     var dir = w;
     var rays = 0u;
     var stored = 0u;

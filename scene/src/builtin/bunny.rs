@@ -9,7 +9,7 @@
 use super::assets::bunny_mesh;
 use super::textures::{floor_and_checker_wall, wall_checker};
 use crate::mesh::cuboid;
-use crate::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError};
+use crate::{Camera, CameraPath, Light, Material, Motion, Object, Roles, Scene, SceneError};
 use glam::{Mat4, Quat, Vec3};
 
 /// Height of the bunny in the scene, metres.
@@ -66,10 +66,11 @@ pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
         name: String::new(),
         objects,
         textures: vec![wall_checker()],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "key light".into(),
             position: Vec3::new(0.3, 2.5, 1.6),
             intensity: Vec3::splat(32.0),
+            kind: crate::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath {

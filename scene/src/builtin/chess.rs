@@ -18,7 +18,7 @@
 
 use super::textures::checker_texture;
 use crate::mesh::{Ring, cuboid, loft, quad, uv_sphere};
-use crate::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError};
+use crate::{Camera, CameraPath, Light, Material, Motion, Object, Roles, Scene, SceneError};
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 /// Side of one board square, metres.
@@ -285,10 +285,11 @@ pub fn chess(material: &str, ior: f32, slices: u32) -> Result<Scene, SceneError>
             [232, 220, 190],
             [92, 64, 44],
         )],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "lamp".into(),
             position: Vec3::new(0.5, 2.2, 0.9),
             intensity: Vec3::splat(9.0),
+            kind: crate::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath {

@@ -33,8 +33,7 @@
 use super::textures::{checker_texture, from_texels};
 use crate::mesh::{cuboid, cylinder, quad, uv_sphere};
 use crate::{
-    Building, Camera, CameraPath, Material, Mesh, Object, PointLight, Roles, Scene, SceneError,
-    Texture,
+    Building, Camera, CameraPath, Light, Material, Mesh, Object, Roles, Scene, SceneError, Texture,
 };
 use glam::{Mat4, Vec2, Vec3};
 
@@ -133,10 +132,11 @@ pub fn city(
             room_texture("interior wall x", RoomSurface::WallX, n),
             room_texture("interior wall z", RoomSurface::WallZ, n),
         ],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "sun-like light".into(),
             position: Vec3::new(250.0, 400.0, 300.0),
             intensity: Vec3::splat(4.0e5),
+            kind: crate::LightKind::Point,
         }],
         camera: cam(0.0),
         camera_path: CameraPath {

@@ -4,12 +4,33 @@
 //! concave (the distance-impostor paper's hard case).
 
 use crate::mesh::{cuboid, quad, uv_sphere};
-use crate::{Camera, CameraPath, Material, Motion, Object, PointLight, Roles, Scene, SceneError};
+use crate::{Camera, CameraPath, Light, Material, Motion, Object, Roles, Scene, SceneError};
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 /// The values of the `material` parameter.
 pub const MATERIAL_HELP: &str = "sphere material: glass-1.5, glass-1.1, glass-0.75, mirror, gold, \
                                  copper, diffuse";
+
+/// The `light` parameter of both rooms.
+pub const LIGHT_HELP: &str = "point: the ceiling's point light; spot: a spot hanging there, \
+                              pointing down, full within 20 degrees of the vertical and dark \
+                              beyond 30";
+
+/// The room lit by a spot instead of its point light: the ceiling light pointing straight down,
+/// full within 20 degrees of the vertical and dark beyond 30 (a pool of light round the
+/// sphere, the walls dark but for the cone's edge), 1.6 times as intense.
+pub fn spot_lit(mut scene: Scene) -> Scene {
+    for light in &mut scene.lights {
+        light.name = "ceiling spot".into();
+        light.intensity *= 1.6;
+        light.kind = crate::LightKind::Spot {
+            direction: Vec3::NEG_Y,
+            inner_cone: 20f32.to_radians(),
+            outer_cone: 30f32.to_radians(),
+        };
+    }
+    scene
+}
 
 /// `cornell-sphere`: the room and the sphere (`material` one of [`MATERIAL_HELP`], centre at
 /// `x = sphere_x`).
@@ -141,10 +162,11 @@ fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, Scene
         name: String::new(),
         objects,
         textures: vec![],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "ceiling light".into(),
             position: Vec3::new(0.0, 1.85, 0.0),
             intensity: Vec3::splat(2.5),
+            kind: crate::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath {

@@ -32,9 +32,7 @@
 use super::assets::bunny_mesh;
 use super::textures::{floor_and_checker_wall, wall_checker};
 use crate::mesh::{Ring, cuboid, cylinder, loft, merge, quad, smooth_normals, tube, uv_sphere};
-use crate::{
-    Camera, CameraPath, Material, Mesh, Morph, Object, PointLight, Roles, Scene, SceneError,
-};
+use crate::{Camera, CameraPath, Light, Material, Mesh, Morph, Object, Roles, Scene, SceneError};
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 /// The values of the `refractor` parameter.
@@ -249,7 +247,7 @@ fn nearby_meshes(gold_sphere: bool) -> Vec<Object> {
 /// on the floor to its right and a little behind it, in view), and with `lights=2` a second,
 /// dimmer one on the right. In the distant hall both are brightened to light walls 30 m away
 /// as the near scene's light lights its floor.
-fn lights(o: &HuQin) -> Result<Vec<PointLight>, SceneError> {
+fn lights(o: &HuQin) -> Result<Vec<Light>, SceneError> {
     if !(1..=2).contains(&o.lights) {
         return Err(SceneError::BadParam(format!(
             "lights={} is not 1 or 2",
@@ -257,16 +255,18 @@ fn lights(o: &HuQin) -> Result<Vec<PointLight>, SceneError> {
         )));
     }
     let gain = if o.distant { 400.0 } else { 1.0 };
-    let mut lights = vec![PointLight {
+    let mut lights = vec![Light {
         name: "key light".into(),
         position: Vec3::new(-1.2, 1.8, 0.5),
         intensity: Vec3::splat(14.0 * gain),
+        kind: crate::LightKind::Point,
     }];
     if o.lights == 2 {
-        lights.push(PointLight {
+        lights.push(Light {
             name: "fill light".into(),
             position: Vec3::new(1.4, 1.5, 0.9),
             intensity: Vec3::splat(9.0 * gain),
+            kind: crate::LightKind::Point,
         });
     }
     Ok(lights)

@@ -190,6 +190,7 @@ fn registry() -> Vec<Builtin> {
 fn room_and_object_scenes() -> Vec<Builtin> {
     let material = |default| word("material", default, cornell::MATERIAL_HELP);
     let sphere_x = || real("sphere_x", "0", (-0.6, 0.6), "sphere centre x (m)");
+    let light = || word("light", "point", cornell::LIGHT_HELP);
     let ior = crate::Material::IOR_RANGE;
     vec![
         Builtin {
@@ -197,18 +198,24 @@ fn room_and_object_scenes() -> Vec<Builtin> {
                 name: "cornell-sphere",
                 description: "closed Cornell-style room, one point light, one sphere that moves \
                               along x over the camera path",
-                params: vec![material("glass-1.5"), sphere_x()],
+                params: vec![material("glass-1.5"), sphere_x(), light()],
             },
-            build: |a| cornell::cornell_sphere(&a.get("material"), a.num("sphere_x")?),
+            build: |a| {
+                let scene = cornell::cornell_sphere(&a.get("material"), a.num("sphere_x")?)?;
+                lit(scene, a, "spot", cornell::spot_lit)
+            },
         },
         Builtin {
             info: SceneInfo {
                 name: "cornell-box",
                 description: "the same room with a tall box that makes it concave (the distance-\
                               impostor paper's hard case)",
-                params: vec![material("mirror"), sphere_x()],
+                params: vec![material("mirror"), sphere_x(), light()],
             },
-            build: |a| cornell::cornell_box(&a.get("material"), a.num("sphere_x")?),
+            build: |a| {
+                let scene = cornell::cornell_box(&a.get("material"), a.num("sphere_x")?)?;
+                lit(scene, a, "spot", cornell::spot_lit)
+            },
         },
         Builtin {
             info: SceneInfo {
@@ -311,7 +318,14 @@ fn outdoor_and_water_scenes() -> Vec<Builtin> {
                               under the surface",
                 params: pool_params("0"),
             },
-            build: |a| pool::pool(&a.get("view"), pool_murk(a)?),
+            build: |a| {
+                lit(
+                    pool::pool(&a.get("view"), pool_murk(a)?)?,
+                    a,
+                    "sun",
+                    pool::sun_lit,
+                )
+            },
         },
         Builtin {
             info: SceneInfo {
@@ -320,7 +334,14 @@ fn outdoor_and_water_scenes() -> Vec<Builtin> {
                               waves): light shafts under the surface",
                 params: pool_params("0.2"),
             },
-            build: |a| pool::pool(&a.get("view"), pool_murk(a)?),
+            build: |a| {
+                lit(
+                    pool::pool(&a.get("view"), pool_murk(a)?)?,
+                    a,
+                    "sun",
+                    pool::sun_lit,
+                )
+            },
         },
         Builtin {
             info: SceneInfo {
@@ -414,7 +435,25 @@ fn pool_params(extinction: &'static str) -> Vec<SceneParam> {
             (-anisotropy, anisotropy),
             "Henyey-Greenstein asymmetry g of the water's scattering",
         ),
+        word("light", "point", pool::LIGHT_HELP),
     ]
+}
+
+/// A scene under its `light` parameter: `point` (its own light) or `other`, the lighting
+/// `relight` gives it.
+fn lit(
+    scene: Scene,
+    a: &SceneArgs,
+    other: &str,
+    relight: fn(Scene) -> Scene,
+) -> Result<Scene, SceneError> {
+    match a.get("light").as_str() {
+        "point" => Ok(scene),
+        w if w == other => Ok(relight(scene)),
+        w => Err(SceneError::BadParam(format!(
+            "light={w}: expected point or {other}"
+        ))),
+    }
 }
 
 /// The water's scattering from a pool spec.
@@ -425,6 +464,17 @@ fn pool_murk(a: &SceneArgs) -> Result<Option<pool::Murk>, SceneError> {
         anisotropy: a.num("anisotropy")?,
     }))
 }
+
+/// The built-in scenes under lights other than point lights: the tests that hold every
+/// renderer to every built-in scene hold them to these too (the pool from above as well, where
+/// the sun lights surfaces directly; below the water only its caustics do).
+pub const LIGHT_VARIANTS: [&str; 5] = [
+    "cornell-sphere:light=spot",
+    "cornell-box:light=spot",
+    "pool:light=sun",
+    "pool:view=above,light=sun",
+    "murky-pool:light=sun",
+];
 
 /// Every built-in scene.
 pub fn builtin_scenes() -> Vec<SceneInfo> {

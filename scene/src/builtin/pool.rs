@@ -19,8 +19,7 @@
 use super::textures::from_texels;
 use crate::mesh::{cuboid, merge, quad, uv_sphere};
 use crate::{
-    Camera, CameraPath, Material, Medium, Mesh, Motion, Object, PointLight, Roles, Scene,
-    SceneError,
+    Camera, CameraPath, Light, Material, Medium, Mesh, Motion, Object, Roles, Scene, SceneError,
 };
 use glam::{Mat4, Vec2, Vec3};
 
@@ -218,10 +217,11 @@ pub fn pool(view: &str, murk: Option<Murk>) -> Result<Scene, SceneError> {
         name: String::new(),
         objects,
         textures: vec![tile_texture()],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "sun".into(),
             position: Vec3::new(5.0, 30.0, 10.0),
             intensity: Vec3::splat(3000.0),
+            kind: crate::LightKind::Point,
         }],
         camera: keys[0].1,
         camera_path: CameraPath { keys },
@@ -229,6 +229,24 @@ pub fn pool(view: &str, murk: Option<Murk>) -> Result<Scene, SceneError> {
         medium: murk.filter(|m| m.extinction > 0.0).map(water_medium),
         background: Vec3::new(0.35, 0.5, 0.75),
     })
+}
+
+/// The `light` parameter of both pools.
+pub const LIGHT_HELP: &str = "point: the sun as a point light 32 m away (the default); sun: a \
+                              directional light from the same direction, as bright at the pool";
+
+/// The pool under a directional sun: from where the point light stands, its irradiance the
+/// point light's at the origin (`I / d^2`), so the pool is as bright but every shadow and
+/// caustic is cast by parallel light, as under the real sun of the screen-space photon paper.
+pub fn sun_lit(mut scene: Scene) -> Scene {
+    for light in &mut scene.lights {
+        let d2 = light.position.length_squared();
+        light.intensity /= d2;
+        light.kind = crate::LightKind::Directional {
+            direction: -light.position.normalize(),
+        };
+    }
+    scene
 }
 
 /// The ladder on the right wall (at x = `hx`): two rails 12 cm off the wall and five rungs,

@@ -3,9 +3,7 @@
 
 use super::textures::checker_texture;
 use crate::mesh::{cylinder, quad};
-use crate::{
-    Camera, CameraPath, DensityProfile, Material, Motion, Object, PointLight, Scene, Volume,
-};
+use crate::{Camera, CameraPath, DensityProfile, Light, Material, Motion, Object, Scene, Volume};
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 /// The big smoke volume's density profile: a falloff to zero at the sphere, textured by noise
@@ -106,10 +104,11 @@ pub fn smoke(particles: usize) -> Scene {
             [200, 200, 200],
             [120, 120, 120],
         )],
-        lights: vec![PointLight {
+        lights: vec![Light {
             name: "light".into(),
             position: Vec3::new(-2.0, 5.0, 3.0),
             intensity: Vec3::splat(30.0),
+            kind: crate::LightKind::Point,
         }],
         camera,
         camera_path: CameraPath {

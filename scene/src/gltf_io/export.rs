@@ -192,18 +192,39 @@ impl Exporter {
             } else {
                 Vec3::ONE
             };
-            lights.push(json!({
+            let mut light = json!({
                 "name": l.name,
-                "type": "point",
+                "type": l.kind_name(),
                 "color": arr(&color.to_array()),
                 "intensity": num(peak * LUMENS_PER_WATT),
-                "extras": wrap(&LightExtras { intensity: v3(l.intensity) }),
-            }));
-            nodes.push(json!({
+                "extras": wrap(&LightExtras {
+                    intensity: v3(l.intensity),
+                    direction: l.direction().map(v3),
+                }),
+            });
+            if let LightKind::Spot {
+                inner_cone,
+                outer_cone,
+                ..
+            } = l.kind
+            {
+                light["spot"] = json!({
+                    "innerConeAngle": num(inner_cone),
+                    "outerConeAngle": num(outer_cone),
+                });
+            }
+            lights.push(light);
+            let mut node = json!({
                 "name": l.name,
                 "translation": arr(&l.position.to_array()),
                 "extensions": { "KHR_lights_punctual": { "light": lights.len() - 1 } },
-            }));
+            });
+            // glTF lights point along their node's -Z.
+            if let Some(direction) = l.direction() {
+                let rotation = Quat::from_rotation_arc(Vec3::NEG_Z, direction.normalize());
+                node["rotation"] = arr(&rotation.to_array());
+            }
+            nodes.push(node);
         }
 
         let c = &scene.camera;

@@ -181,6 +181,10 @@ pub(super) enum MaterialExtras {
 #[derive(Serialize, Deserialize)]
 pub(super) struct LightExtras {
     pub(super) intensity: V3,
+    /// A spot's or directional light's exact direction (the node's rotation carries it
+    /// rounded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) direction: Option<V3>,
 }
 
 /// `{"scene_model": value}`.

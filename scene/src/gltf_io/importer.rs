@@ -18,7 +18,7 @@ pub(super) struct Importer<'a> {
     pub(super) base: Option<&'a Path>,
     pub(super) objects: Vec<Object>,
     pub(super) pending: Vec<Pending>,
-    pub(super) lights: Vec<PointLight>,
+    pub(super) lights: Vec<Light>,
     pub(super) camera: Option<FoundCamera>,
     /// What the importer supplied or repaired, one sentence each.
     pub(super) notes: Vec<String>,
@@ -241,12 +241,7 @@ impl Importer<'_> {
             }
         }
         if let Some(light) = node.light() {
-            match light.kind() {
-                gltf::khr_lights_punctual::Kind::Point => {
-                    self.lights.push(point_light(node, &light, world)?)
-                }
-                other => self.notes.push(unsupported_light(node, &light, other)),
-            }
+            self.lights.push(punctual_light(node, &light, world)?);
         }
         if let Some(note) = self.orthographic_camera(node) {
             self.notes.push(note);
@@ -586,29 +581,6 @@ fn describe_camera(camera: &gltf::Camera) -> String {
     }
 }
 
-/// The note of a spot or directional light, which the importer skips.
-fn unsupported_light(
-    node: &gltf::Node,
-    light: &gltf::khr_lights_punctual::Light,
-    kind: gltf::khr_lights_punctual::Kind,
-) -> String {
-    let kind = match kind {
-        gltf::khr_lights_punctual::Kind::Directional => "a directional (sun) light",
-        gltf::khr_lights_punctual::Kind::Spot { .. } => "a spot light",
-        gltf::khr_lights_punctual::Kind::Point => "a point light",
-    };
-    let name = light
-        .name()
-        .map(|n| format!(" (\"{n}\")"))
-        .unwrap_or_default();
-    format!(
-        "light {}{name} of node {} is {kind}, which is not supported yet (point lights only): \
-         skipped",
-        light.index(),
-        describe_node(node)
-    )
-}
-
 pub(super) fn describe_mesh(mesh: &gltf::Mesh) -> String {
     match mesh.name() {
         Some(n) => format!("{} (\"{n}\")", mesh.index()),
@@ -749,29 +721,51 @@ impl VolumeExtras {
     }
 }
 
-/// A `KHR_lights_punctual` point light at its node: the exact intensity from the extras while
-/// it agrees with the core light, else the core colour and candela in W/sr.
-fn point_light(
+/// A `KHR_lights_punctual` light at its node: the exact intensity (and direction) from the
+/// extras while they agree with the core light, else the core colour and intensity (candela
+/// for point and spot lights, lux for directional ones) over 683 lm/W, and the node's -Z
+/// axis. A spot keeps its inner and outer cone angles and glTF's falloff between them.
+fn punctual_light(
     node: &gltf::Node,
     light: &gltf::khr_lights_punctual::Light,
     world: Mat4,
-) -> Result<PointLight, String> {
+) -> Result<Light, String> {
     let what = format!("light {}", light.index());
     let c = Vec3::from(light.color());
     let derived = c * light.intensity() / LUMENS_PER_WATT;
     let exact: Option<LightExtras> = read_extras(light.extras(), &what)?;
-    let intensity = match exact {
+    let intensity = match &exact {
         Some(x) if close(vec3(x.intensity), derived, 1e-4) => vec3(x.intensity),
         _ => derived,
+    };
+    let axis = world
+        .transform_vector3(Vec3::NEG_Z)
+        .normalize_or(Vec3::NEG_Z);
+    let direction = match exact.and_then(|x| x.direction) {
+        Some(d) if close(vec3(d), axis, 1e-4) => vec3(d),
+        _ => axis,
     };
     let name = light
         .name()
         .or(node.name())
         .map(str::to_string)
         .unwrap_or_else(|| format!("light {}", light.index()));
-    Ok(PointLight {
+    let kind = match light.kind() {
+        gltf::khr_lights_punctual::Kind::Point => LightKind::Point,
+        gltf::khr_lights_punctual::Kind::Directional => LightKind::Directional { direction },
+        gltf::khr_lights_punctual::Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => LightKind::Spot {
+            direction,
+            inner_cone: inner_cone_angle,
+            outer_cone: outer_cone_angle,
+        },
+    };
+    Ok(Light {
         name,
         position: world.transform_point3(Vec3::ZERO),
         intensity,
+        kind,
     })
 }

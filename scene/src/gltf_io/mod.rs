@@ -45,11 +45,12 @@
 //!   `KHR_texture_transform` are ignored: textures always repeat and filter bilinearly.
 //! - **Roles**: glass is refractor + caustic caster, metal is reflector + caustic caster,
 //!   diffuse has none; `extras.scene_model.roles` overrides them.
-//! - **Lights**: each `KHR_lights_punctual` point light becomes a [`PointLight`] at its
-//!   node's world position with intensity (W/sr) = colour * intensity (cd) / 683, 683 lm/W
-//!   being the luminous efficacy of 555 nm light that defines the candela. `range` is
-//!   ignored; spot and directional lights are skipped, each with a note naming it. A file
-//!   without any point light gets
+//! - **Lights**: each `KHR_lights_punctual` light becomes a [`Light`] of its type
+//!   ([`LightKind`]: point, spot with its inner and outer cone angles, directional) at its
+//!   node's world position, pointing down the node's -Z, with intensity = colour * intensity
+//!   / 683: W/sr from candela for point and spot lights, W/m^2 from lux for directional
+//!   ones, 683 lm/W being the luminous efficacy of 555 nm light that defines the candela.
+//!   `range` is ignored. A file without any light gets
 //!   the default lighting of [`Scene::add_default_lighting`] (a key light from the camera's
 //!   upper side and a uniform sky), and a note says so ([`import_noted`]).
 //! - **Normals**: zero-length or non-finite normals are replaced by geometric ones
@@ -161,7 +162,7 @@
 //! replays `tests/corpus/`.
 
 use crate::{
-    Building, Camera, CameraPath, DensityProfile, Material, Mesh, Motion, Object, PointLight,
+    Building, Camera, CameraPath, DensityProfile, Light, LightKind, Material, Mesh, Motion, Object,
     Roles, Scene, SceneError, Texture, Volume,
 };
 use glam::{Mat3, Mat4, Quat, Vec2, Vec3};

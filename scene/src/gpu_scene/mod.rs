@@ -15,7 +15,7 @@
 //! at `@group(0)` and the scene data at `@group(1)` (see [`GpuScene::pipeline_layout_with`]).
 
 use crate::shading::{RASTER_WGSL, scene_pipeline, shader};
-use crate::{Frame, Material, Object, Scene, SceneError};
+use crate::{Frame, Light, LightKind, Material, Object, Scene, SceneError};
 use glam::{Mat4, Vec3, Vec4};
 use gpu::cube::CubeTarget;
 use gpu::pass::{self, Load};
@@ -146,6 +146,8 @@ struct LightGpu {
     intensity: [f32; 4],
     shadow_view_proj: [[f32; 4]; 4],
     shadow_params: [f32; 4],
+    direction: [f32; 4],
+    cone: [f32; 4],
 }
 
 #[repr(C)]
@@ -537,7 +539,9 @@ impl GpuScene {
                     .collect(),
             };
             for (face, view_proj, view) in faces {
-                let camera = self.camera_bind_group(frame.gpu, view_proj, light.position);
+                // An orthographic map measures distances from its own eye.
+                let eye = self.fitted[l].and_then(|f| f.eye).unwrap_or(light.position);
+                let camera = self.camera_bind_group(frame.gpu, view_proj, eye);
                 let writes = frame.timer.render_pass("shadow maps");
                 let far = wgpu::Color {
                     r: 2.0 * BACKGROUND_DISTANCE as f64,

@@ -110,11 +110,16 @@ impl CasterShadowMaps {
 }
 
 /// A 2D shadow map for a light outside the scene: a perspective view from the light that just
-/// holds the scene's bounding sphere (a cube face would cover the scene with few texels).
+/// holds the scene's bounding sphere (a cube face would cover the scene with few texels); for
+/// a directional light, an orthographic view along its direction that holds the sphere.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct FittedShadow {
     pub(super) view_proj: Mat4,
     pub(super) tan_half_fov: f32,
+    /// An orthographic map's eye (behind the sphere, whence its distances are measured) and
+    /// half width; `None` and 0 for a perspective map, whose eye is the light.
+    pub(super) eye: Option<Vec3>,
+    pub(super) half_width: f32,
 }
 
 impl FittedShadow {
@@ -134,7 +139,40 @@ impl FittedShadow {
         Some(Self {
             view_proj: proj * view,
             tan_half_fov: half.tan(),
+            eye: None,
+            half_width: 0.0,
         })
+    }
+
+    /// The map of a directional light travelling along `direction`: orthographic, holding the
+    /// sphere, seen from an eye two radii behind its centre. The shadow pass stores the
+    /// distance from that eye, which grows monotonically along every ray of the light through
+    /// the sphere (each ray's closest point to the eye lies behind the sphere), so it orders
+    /// the surfaces along the ray as a depth along the direction would.
+    pub(super) fn for_direction(direction: Vec3, center: Vec3, radius: f32) -> Self {
+        let radius = radius.max(1e-3);
+        let half = radius * 1.02;
+        let eye = center - direction * (2.0 * radius);
+        let up = if direction.y.abs() > 0.99 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        let view = glam::camera::rh::view::look_to_mat4(eye, direction, up);
+        let proj = glam::camera::rh::proj::directx::orthographic(
+            -half,
+            half,
+            -half,
+            half,
+            0.5 * radius,
+            3.5 * radius,
+        );
+        Self {
+            view_proj: proj * view,
+            tan_half_fov: 0.0,
+            eye: Some(eye),
+            half_width: half,
+        }
     }
 }
 
@@ -182,13 +220,18 @@ pub(super) fn scene_bounding_sphere(scene: &Scene) -> (Vec3, f32) {
     (center, center.distance(hi) + travel)
 }
 
-/// Each light's fitted 2D shadow map, for lights outside the scene's bounding sphere
-/// (`None`: the light is inside and uses its cube).
+/// Each light's fitted 2D shadow map, for directional lights and for point and spot lights
+/// outside the scene's bounding sphere (`None`: the light is inside and uses its cube).
 pub(super) fn fitted_shadows(scene: &Scene) -> Vec<Option<FittedShadow>> {
     let (center, radius) = scene_bounding_sphere(scene);
     scene
         .lights
         .iter()
-        .map(|l| FittedShadow::for_light(l.position, center, radius))
+        .map(|l| match l.kind {
+            LightKind::Directional { direction } => {
+                Some(FittedShadow::for_direction(direction, center, radius))
+            }
+            _ => FittedShadow::for_light(l.position, center, radius),
+        })
         .collect()
 }

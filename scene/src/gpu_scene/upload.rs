@@ -212,15 +212,7 @@ pub(super) fn light_records(
         .lights
         .iter()
         .zip(fitted)
-        .map(|(l, f)| LightGpu {
-            position: l
-                .position
-                .extend(if f.is_some() { 1.0 } else { 0.0 })
-                .to_array(),
-            intensity: l.intensity.extend(0.0).to_array(),
-            shadow_view_proj: f.map_or(Mat4::IDENTITY, |f| f.view_proj).to_cols_array_2d(),
-            shadow_params: [f.map_or(1.0, |f| f.tan_half_fov), 0.0, 0.0, 0.0],
-        })
+        .map(|(l, f)| light_record(l, f.as_ref()))
         .collect();
     let light_count = lights.len() as u32;
     if lights.is_empty() {
@@ -229,7 +221,49 @@ pub(super) fn light_records(
             intensity: [0.0; 4],
             shadow_view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             shadow_params: [1.0, 0.0, 0.0, 0.0],
+            direction: [0.0; 4],
+            cone: [0.0; 4],
         });
     }
     (lights, light_count)
 }
+
+/// One light's record as `scene.wgsl`'s `LightGpu` reads it. A directional light's position
+/// is its fitted map's eye (the distances its shadow map holds are measured from there), and
+/// it always has a fitted map ([`FittedShadow::for_direction`]).
+fn light_record(l: &Light, f: Option<&FittedShadow>) -> LightGpu {
+    let (kind, direction, cone) = match l.kind {
+        LightKind::Point => (LIGHT_POINT, Vec3::ZERO, [0.0; 4]),
+        LightKind::Spot {
+            direction,
+            inner_cone,
+            outer_cone,
+        } => (
+            LIGHT_SPOT,
+            direction,
+            [inner_cone.cos(), outer_cone.cos(), 0.0, 0.0],
+        ),
+        LightKind::Directional { direction } => (LIGHT_DIRECTIONAL, direction, [0.0; 4]),
+    };
+    let position = f.and_then(|f| f.eye).unwrap_or(l.position);
+    LightGpu {
+        position: position
+            .extend(if f.is_some() { 1.0 } else { 0.0 })
+            .to_array(),
+        intensity: l.intensity.extend(0.0).to_array(),
+        shadow_view_proj: f.map_or(Mat4::IDENTITY, |f| f.view_proj).to_cols_array_2d(),
+        shadow_params: [
+            f.map_or(1.0, |f| f.tan_half_fov),
+            f.map_or(0.0, |f| f.half_width),
+            0.0,
+            0.0,
+        ],
+        direction: direction.extend(kind).to_array(),
+        cone,
+    }
+}
+
+/// `LightGpu.direction.w`: the light's kind, as `scene.wgsl` names them.
+const LIGHT_POINT: f32 = 0.0;
+const LIGHT_SPOT: f32 = 1.0;
+const LIGHT_DIRECTIONAL: f32 = 2.0;

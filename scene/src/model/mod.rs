@@ -9,7 +9,9 @@
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::borrow::Cow;
 
+mod light;
 mod world;
+pub use light::*;
 pub use world::*;
 
 /// A triangle mesh in object space. `normals` and `uvs` have one entry per position.
@@ -468,14 +470,6 @@ impl Object {
             .map(|p| world.transform_point3(*p).distance(c))
             .fold(0.0, f32::max)
     }
-}
-
-/// A point light with RGB radiant intensity (W/sr) and inverse-square falloff.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PointLight {
-    pub name: String,
-    pub position: Vec3,
-    pub intensity: Vec3,
 }
 
 /// A pinhole camera: eye, target, up and vertical field of view in degrees.

@@ -8,7 +8,7 @@ pub struct Scene {
     pub name: String,
     pub objects: Vec<Object>,
     pub textures: Vec<Texture>,
-    pub lights: Vec<PointLight>,
+    pub lights: Vec<Light>,
     pub camera: Camera,
     pub camera_path: CameraPath,
     pub volumes: Vec<Volume>,
@@ -50,7 +50,7 @@ impl Scene {
     /// light above and to the right of the camera, as bright as needed for a white diffuse
     /// surface at the centre of the objects' bounds to show a radiance of 0.6, and, when the
     /// background is black, a uniform sky of radiance [`DEFAULT_SKY`] that specular surfaces
-    /// reflect. The importer calls it for a glTF file without `KHR_lights_punctual` point
+    /// reflect. The importer calls it for a glTF file without `KHR_lights_punctual`
     /// lights (without it every pixel would be black and every technique would score a
     /// perfect, meaningless, 0 error). Returns the note the harness prints and records.
     pub fn add_default_lighting(&mut self) -> String {
@@ -65,13 +65,14 @@ impl Scene {
         let position = self.camera.eye + (0.4 * up + 0.2 * right) * reach;
         let d2 = position.distance_squared(center).max(1e-6);
         let intensity = Vec3::splat(0.6 * std::f32::consts::PI * d2);
-        self.lights.push(PointLight {
+        self.lights.push(Light {
             name: "default key light".into(),
             position,
             intensity,
+            kind: crate::LightKind::Point,
         });
         let mut note = format!(
-            "the scene has no point light: added a default key light of {:.3} W/sr at \
+            "the scene has no light: added a default key light of {:.3} W/sr at \
              ({:.3}, {:.3}, {:.3}), above and right of the camera",
             intensity.x, position.x, position.y, position.z
         );
@@ -230,7 +231,7 @@ pub fn probe_proxy_box(scene: &Scene) -> Option<(Vec3, Vec3)> {
 }
 
 /// What is wrong with light `l` (the first problem [`Scene::validate`] reports), if anything.
-fn light_problem(l: &PointLight) -> Option<String> {
+fn light_problem(l: &Light) -> Option<String> {
     if !l.position.is_finite() || !l.intensity.is_finite() {
         return Some(format!("light \"{}\" is not finite", l.name));
     }
@@ -248,7 +249,7 @@ fn light_problem(l: &PointLight) -> Option<String> {
             l.position.abs().max_element()
         ));
     }
-    None
+    l.kind_problem()
 }
 
 /// Where an engine's reflection probe serving the scene's specular objects is placed: the

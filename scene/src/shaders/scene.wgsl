@@ -2,8 +2,9 @@
 // ---------------------------------------------------------------------------------------------
 // Shared scene bindings and the diffuse shading model (DESIGN.md): identical to the CPU
 // reference's direct lighting: albedo / pi * I * max(0, n.l) / d^2 * visibility, summed over
-// point lights, no ambient, visibility from one distance shadow map per light (a cube map, or a
-// 2D map fitted to the scene for a light outside it: see light_visibility).
+// the lights (a spot's I times its cone falloff, a directional light's d = 1: light_toward),
+// no ambient, visibility from one distance shadow map per light (a cube map, or a 2D map
+// fitted to the scene for a light outside it or a directional one: see light_visibility).
 // The module `scene::shading`: technique shaders import what they use from it; they draw objects
 // with `scene_vs` (scene::SCENE_VS_WGSL, instance index = object index) and shade diffuse
 // surfaces with `shade_diffuse`.
@@ -29,13 +30,23 @@ struct ObjectGpu {
 };
 
 struct LightGpu {
-    // w: shadow kind, 0 = cube map around the light, 1 = one 2D map fitted to the scene.
+    // w: shadow kind, 0 = cube map around the light, 1 = one 2D map fitted to the scene. A
+    // directional light's xyz is its orthographic map's eye, whence its distances are measured.
     position: vec4f,
     intensity: vec4f,
-    // Fitted 2D map: world -> clip of the light's view, and (tan of half the field of view).
+    // Fitted 2D map: world -> clip of the light's view, and (tan of half the field of view,
+    // half the width of an orthographic map or 0 for a perspective one).
     shadow_view_proj: mat4x4f,
     shadow_params: vec4f,
+    // xyz: the direction a spot points or a directional light travels; w: LIGHT_POINT,
+    // LIGHT_SPOT or LIGHT_DIRECTIONAL (scene::LightKind).
+    direction: vec4f,
+    // A spot's cone: cosines of the inner and outer half-angles.
+    cone: vec4f,
 };
+
+const LIGHT_SPOT: f32 = 1.0;
+const LIGHT_DIRECTIONAL: f32 = 2.0;
 
 struct SceneInfo {
     light_count: u32,
@@ -203,6 +214,10 @@ fn light_visibility_in(
         let uv = vec2f(0.5 * ndc.x + 0.5, 0.5 - 0.5 * ndc.y);
         stored = textureSampleLevel(fitted_maps, shadow_sampler, uv, i32(i), 0.0).r;
         texel_angle = 2.0 * light.shadow_params.x / scene_info.shadow_size;
+        if (light.shadow_params.y > 0.0) {
+            // Orthographic: a texel is the same width at every distance.
+            texel_angle = 2.0 * light.shadow_params.y / (scene_info.shadow_size * d);
+        }
     }
     let cos_l = clamp(dot(n, -to_p / d), 0.05, 1.0);
     let bias = d * texel_angle * (1.5 + sqrt(1.0 - cos_l * cos_l) / cos_l) + 1e-4 * max(1.0, d);
@@ -215,13 +230,38 @@ fn light_visibility_in(
 fn shade_diffuse_ng(p: vec3f, n: vec3f, ng: vec3f, albedo: vec3f) -> vec3f {
     var sum = vec3f(0.0);
     for (var i = 0u; i < scene_info.light_count; i++) {
-        let to_l = lights[i].position.xyz - p;
+        let to_l = light_toward(i, p);
         let d2 = dot(to_l, to_l);
         let cos_l = dot(n, to_l) * inverseSqrt(d2);
         if (cos_l <= 0.0 || dot(ng, to_l) <= 0.0) { continue; }
-        sum += albedo / PI * lights[i].intensity.rgb * cos_l / d2 * light_visibility(i, p, ng);
+        let intensity = light_intensity_toward(i, to_l * inverseSqrt(d2));
+        sum += albedo / PI * intensity * cos_l / d2 * light_visibility(i, p, ng);
     }
     return sum;
+}
+
+// The vector from p toward light i (scene::Light::toward): to the light's position, whose
+// squared length divides the intensity, or the unit vector against a directional light's
+// direction (no falloff: its intensity is an irradiance).
+fn light_toward(i: u32, p: vec3f) -> vec3f {
+    let light = lights[i];
+    if (light.direction.w == LIGHT_DIRECTIONAL) { return -light.direction.xyz; }
+    return light.position.xyz - p;
+}
+
+// Light i's intensity toward a point seen in the unit direction l from it: a spot's cone
+// falloff applied (scene::Light::emission_factor).
+fn light_intensity_toward(i: u32, l: vec3f) -> vec3f {
+    let light = lights[i];
+    if (light.direction.w != LIGHT_SPOT) { return light.intensity.rgb; }
+    return light.intensity.rgb * spot_falloff(dot(light.direction.xyz, -l), light.cone.x, light.cone.y);
+}
+
+// KHR_lights_punctual's spot falloff (scene::spot_falloff).
+fn spot_falloff(cos_axis: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    let scale = 1.0 / max(cos_inner - cos_outer, 0.001);
+    let t = clamp((cos_axis - cos_outer) * scale, 0.0, 1.0);
+    return t * t;
 }
 
 // The same with the shading normal standing in for the geometric one.

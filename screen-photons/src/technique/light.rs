@@ -41,7 +41,7 @@ pub fn casters_sphere(scene: &Scene, time: f32) -> (Vec3, f32) {
 /// whole sphere there), else why not.
 pub fn light_outside_casters(
     scene: &Scene,
-    light: &scene::PointLight,
+    light: &scene::Light,
     time: f32,
 ) -> TechniqueResult<(Vec3, f32)> {
     let (centre, radius) = casters_sphere(scene, time);
@@ -59,7 +59,7 @@ pub fn light_outside_casters(
 /// The light's view of the casters' sphere (`scene::lightmap::LightView`): its matrix, the
 /// transfer uniform, and the photon spacing at the sphere's centre.
 pub(super) fn light_view(
-    light: &scene::PointLight,
+    light: &scene::Light,
     centre: Vec3,
     radius: f32,
     grid: u32,

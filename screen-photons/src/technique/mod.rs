@@ -88,6 +88,16 @@ impl ScreenPhotons {
         }
     }
 
+    /// The transfer map is one perspective view from each light's position (section 3), and
+    /// the shadowed and fog passes light with point lights.
+    fn point_lights(&self, scene: &Scene) -> TechniqueResult<()> {
+        scene::point_lights_only(
+            &self.id(),
+            "its transfer map is the scene seen from each light's position",
+            scene,
+        )
+    }
+
     pub fn settings(&self) -> &Settings {
         &self.settings
     }
@@ -230,6 +240,7 @@ impl Technique for ScreenPhotons {
     fn supports(&self, scene: &Scene) -> bool {
         (self.variant.shafts.is_none() || scene.medium.is_some())
             && !scene.specular_objects().is_empty()
+            && self.point_lights(scene).is_ok()
             && scene
                 .lights
                 .iter()
@@ -237,6 +248,7 @@ impl Technique for ScreenPhotons {
     }
 
     fn prepare(&mut self, frame: &mut Frame, scene: &GpuScene) -> TechniqueResult<()> {
+        self.point_lights(&scene.scene)?;
         if !self.supports(&scene.scene) {
             let needs = if self.variant.shafts.is_some() {
                 "a scattering medium (murky-pool) and a specular object"

@@ -630,7 +630,7 @@ impl Passes {
         scene: &GpuScene,
         sized: &Sized,
         settings: &Settings,
-        light: &scene::PointLight,
+        light: &scene::Light,
     ) -> TechniqueResult<(f32, Vec3)> {
         let ctx = frame.gpu;
         let (centre, radius) = light_outside_casters(&scene.scene, light, scene.time())?;

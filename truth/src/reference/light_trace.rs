@@ -57,7 +57,7 @@ pub(super) fn light_trace_with(
     let emitters = emitters(scene, time, &setup.targets, opts.photons);
     let mut emitted = vec![Vec3::ZERO; n_lights];
     for e in &emitters {
-        emitted[e.light] += scene.lights[e.light].intensity * e.solid_angle;
+        emitted[e.light] += scene.lights[e.light].intensity * e.measure;
     }
     let work = work_units(&emitters);
     let media = Media::new(scene, time);
@@ -87,13 +87,13 @@ pub(super) fn light_trace_with(
         };
         for _ in 0..count {
             let (u, v) = (rng.next_f32(), rng.next_f32());
-            let w = e.sample(u, v);
-            // Balance heuristic over the cones of this light that contain w.
-            let power = light.intensity / balance_density(&emitters, ei, w);
+            let (from, w) = e.sample(u, v);
+            // Balance heuristic over the cones or discs of this light that could draw it.
+            let power = photon_power(light, &emitters, ei, from, w);
             let (mut rays, mut eye_rays) = (0, 0);
             let beam_image = &mut out.beams;
             tracer.trace_photon(
-                light.position,
+                from,
                 w,
                 power,
                 setup.min_specular_bounces,

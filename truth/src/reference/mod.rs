@@ -9,7 +9,10 @@
 //! # What is computed
 //!
 //! The radiance `L(x <- w)` arriving at the eye is defined by three kinds of surface
-//! (DESIGN.md) and point lights only:
+//! (DESIGN.md) and glTF's three kinds of light (`scene::LightKind`: point, spot, directional;
+//! below, `I` stands for a point light's intensity, for a spot's times its cone falloff
+//! `f(-l)`, and for a directional light's irradiance with `d = 1` and `l` against its
+//! direction, the shadow ray then unbounded: `scene::Light::toward`):
 //!
 //! * **Diffuse** (Lambertian, albedo `rho`, optionally times a texture): direct lighting only,
 //!
@@ -111,7 +114,11 @@
 //! Phi = I / sum_{j : w in cone j} (N_j / Omega_j)            (per channel)
 //! ```
 //!
-//! which is `I Omega_j / N_j` where cones do not overlap.
+//! which is `I Omega_j / N_j` where cones do not overlap. A spot's photon carries its falloff
+//! too, `I f(w) / ...`, and a cone wholly outside its outer cone is not drawn. A directional
+//! light's photons are parallel: per caster a disc of the sphere's radius across the light's
+//! direction, behind everything in the scene, of area `A_j`, with `N_j` photons uniform on it,
+//! each carrying `E / sum_j (N_j / A_j)` over the discs its line crosses (`scene::emission`).
 //!
 //! **Transport.** A photon follows its path through specular surfaces. At glass it chooses
 //! reflection with probability `F` and refraction with probability `1 - F` (Russian roulette
@@ -187,7 +194,7 @@
 //!   another matter: it attenuates everything and scatters once (next section).
 //! * Multiple scattering in the medium, and its single scattering seen through a specular
 //!   chain (beams seen only through glass, like caustics seen only through glass).
-//! * Lights other than point lights; absorption in glass; dispersion; polarisation;
+//! * Area lights and emissive surfaces; absorption in glass; dispersion; polarisation;
 //!   anti-aliasing beyond `samples_per_pixel` (the default samples pixel centres only, like
 //!   a rasterizer without MSAA).
 
@@ -199,7 +206,7 @@ use gpu::HdrImage;
 use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refract_dir};
 use rayon::prelude::*;
 use scene::bvh::{Hit, SceneBvh};
-use scene::emission::{balance_density, emitters};
+use scene::emission::{emitters, photon_power};
 use scene::{Camera, Material, Medium, Scene};
 use std::f32::consts::FRAC_1_PI;
 use std::time::Instant;
@@ -769,26 +776,25 @@ impl Tracer<'_> {
         let origin = s.above();
         let mut sum = Vec3::ZERO;
         for light in &self.scene.lights {
-            let to_light = light.position - s.p;
-            let d2 = to_light.length_squared();
-            if d2 <= 0.0 {
+            let Some(toward) = light.toward(s.p) else {
                 continue;
-            }
-            let l = to_light / d2.sqrt();
+            };
+            let (l, d2) = (toward.dir, toward.distance_squared);
             let cos = s.ns.dot(l);
-            if cos <= 0.0 || s.ng.dot(l) <= 0.0 {
+            if cos <= 0.0 || s.ng.dot(l) <= 0.0 || toward.factor <= 0.0 {
                 continue;
             }
-            let seg = light.position - origin;
-            let len = seg.length();
+            let Some((dir, len)) = light.shadow_ray(origin) else {
+                continue;
+            };
             c.shadow += 1;
-            if self.bvh.any_hit(origin, seg / len, len) {
+            if self.bvh.any_hit(origin, dir, len) {
                 continue;
             }
             let through = self
                 .medium
-                .map_or(Vec3::ONE, |m| m.transmittance(origin, seg / len, len));
-            sum += light.intensity * through * (cos / d2);
+                .map_or(Vec3::ONE, |m| m.transmittance(origin, dir, len));
+            sum += light.intensity * toward.factor * through * (cos / d2);
         }
         albedo * FRAC_1_PI * sum
     }
