@@ -88,6 +88,7 @@ impl Tables {
             data.push([kind, ior, 0.0, 0.0]);
             data.push(n.extend(0.0).to_array());
             data.push(k.extend(0.0).to_array());
+            data.push(o.emission.extend(0.0).to_array());
         }
         let texture_table = data.len() as u32;
         let mut texel_offset = 0u32;

@@ -349,3 +349,41 @@ fn ray_queries_trace_what_the_bvh_traces_or_are_refused_with_the_reason() {
         );
     }
 }
+
+/// Emission as the reference has it: seen directly and through the glass and the mirror,
+/// lighting nothing; `whitted` equals the photon-free reference within the same bounds.
+#[test]
+fn emission_equals_the_reference() {
+    for spec in ["cornell-sphere", "cornell-box"] {
+        let mut scene = scene::load(spec).unwrap();
+        for (name, glow) in [
+            ("back wall", glam::Vec3::new(0.9, 0.5, 0.2)),
+            ("floor", glam::Vec3::new(0.0, 0.1, 0.3)),
+        ] {
+            let o = scene.objects.iter_mut().find(|o| o.name == name).unwrap();
+            o.emission = glow;
+        }
+        let key = format!("{spec} (glowing wall and floor)");
+        let shot = Shot::along_path(&scene, 0.0, SIZE);
+        let reference = testkit::reference(&key, &scene, shot, 0).image;
+        let plain = testkit::reference(spec, &scene::load(spec).unwrap(), shot, 0).image;
+        let mut tracer = RayTracer::new(Variant::Whitted);
+        let image = {
+            let _lock = testkit::gpu_lock();
+            testkit::render(&mut tracer, &scene, shot)
+        };
+        let e = rmse(&image, &reference);
+        let (fraction, largest) = differing(&image, &reference);
+        println!(
+            "{key}: RMSE {e:.2e}, {:.3}% of pixels off, largest {largest:.2e}; the glow changes \
+             the reference by RMSE {:.3}",
+            100.0 * fraction,
+            rmse(&plain, &reference)
+        );
+        assert!(rmse(&plain, &reference) > 0.1, "{key}: no glow to see");
+        assert!(
+            e <= WHITTED_MAX_RMSE && fraction <= WHITTED_MAX_DIFFERENT,
+            "{key}: RMSE {e}, {fraction} of pixels differ"
+        );
+    }
+}

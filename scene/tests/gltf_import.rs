@@ -798,6 +798,17 @@ fn what_is_left_out_is_named() {
     // The sun and the spot are lights of the scene, pointing down their nodes' -Z; the
     // rest is the fixture.
     let (sun, spot) = (s.lights.remove(1), s.lights.remove(1));
+    // The floor's material emits: its objects carry the radiance, and nothing else emits.
+    let emitting: Vec<Vec3> = s.objects.iter().map(|o| o.emission).collect();
+    assert!(emitting.contains(&Vec3::new(1.0, 0.5, 0.0)), "{emitting:?}");
+    assert!(
+        emitting
+            .iter()
+            .all(|e| *e == Vec3::ZERO || *e == Vec3::new(1.0, 0.5, 0.0))
+    );
+    for o in &mut s.objects {
+        o.emission = Vec3::ZERO;
+    }
     check_fixture(&s);
     assert_eq!(
         (sun.name.as_str(), sun.intensity, sun.kind),
@@ -827,7 +838,8 @@ fn what_is_left_out_is_named() {
         "material 0 (\"glass\") transmits with roughness 0.1: rendered as smooth glass",
         "material 1 (\"mirror\") is alpha-masked (MASK, cutoff 0.5)",
         "material 1 (\"mirror\") is metal with roughness 0.3: rendered as a smooth mirror",
-        "material 2 (\"floor\") emits light (emissive factor [1.0, 0.5, 0.0])",
+        "material 2 (\"floor\") emits radiance [1, 0.5, 0] (emissive factor times strength): \
+         seen directly and in reflections and refractions, but it lights nothing",
         "material 2 (\"floor\") is alpha-blended (BLEND)",
     ];
     for line in expected {

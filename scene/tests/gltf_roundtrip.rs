@@ -101,6 +101,12 @@ fn builtin_variants_round_trip_exactly() {
 fn awkward_values_round_trip_exactly() {
     let mut s = scene::load("cornell-sphere").unwrap();
     s.name = "ünïcode \"quoted\" scene".into();
+    // Emission above 1 (the strength extension) and below it.
+    let diffuse: Vec<usize> = (0..s.objects.len())
+        .filter(|&i| !s.objects[i].material.is_specular())
+        .collect();
+    s.objects[diffuse[0]].emission = Vec3::new(3.7, 0.1, 0.0);
+    s.objects[diffuse[1]].emission = Vec3::new(0.3, 0.2, 1.0 / 3.0);
     s.background = Vec3::new(0.1, 1.0e-30, 3.4e38);
     s.camera.up = Vec3::new(0.1, 0.9, 0.05);
     s.camera.fov_y_deg = 0.1f32 + 33.3;
@@ -291,8 +297,18 @@ fn core_gltf_alone_imports_to_nearly_the_same_scene() {
         "cornell-sphere:material=glass-1.5",
         "refraction-bunny",
         "city:buildings=4",
+        "cornell-sphere:light=spot",
+        "pool:light=sun",
     ] {
-        let s = scene::load(spec).unwrap();
+        let mut s = scene::load(spec).unwrap();
+        if spec == "cornell-sphere:material=glass-1.5" {
+            // Emission above 1 (factor and strength) and below it (factor alone).
+            let diffuse: Vec<usize> = (0..s.objects.len())
+                .filter(|&i| !s.objects[i].material.is_specular())
+                .collect();
+            s.objects[diffuse[0]].emission = Vec3::new(3.7, 0.1, 0.0);
+            s.objects[diffuse[1]].emission = Vec3::new(0.3, 0.2, 1.0 / 3.0);
+        }
         let (mut json, bin) = glb_json(&to_glb_bytes(&s).unwrap());
         strip_extras(&mut json);
         let back = import_slice(&make_glb(&json, &bin), "stripped.glb").unwrap();
@@ -336,10 +352,41 @@ fn core_gltf_alone_imports_to_nearly_the_same_scene() {
             if !matches!(o.material, Material::Diffuse { .. }) {
                 assert_eq!(b.roles, o.roles, "{spec}: default roles of {}", o.name);
             }
+            let tolerance = 1e-6 * o.emission.max_element().max(1.0);
+            assert!(
+                (b.emission - o.emission).abs().max_element() <= tolerance,
+                "{spec}: {} emits {} back, {} before",
+                o.name,
+                b.emission,
+                o.emission
+            );
         }
         assert_eq!(back.textures.len(), s.textures.len());
         for (b, o) in back.lights.iter().zip(&s.lights) {
             assert_eq!((&b.name, b.position), (&o.name, o.position));
+            assert_eq!(b.kind_name(), o.kind_name(), "{spec}: {}", o.name);
+            if let (Some(d), Some(d0)) = (b.direction(), o.direction()) {
+                assert!(
+                    d.dot(d0) > 1.0 - 1e-6,
+                    "{spec}: {} points {d}, was {d0}",
+                    o.name
+                );
+            }
+            if let (
+                scene::LightKind::Spot {
+                    inner_cone: i,
+                    outer_cone: u,
+                    ..
+                },
+                scene::LightKind::Spot {
+                    inner_cone: i0,
+                    outer_cone: u0,
+                    ..
+                },
+            ) = (b.kind, o.kind)
+            {
+                assert_eq!((i, u), (i0, u0), "{spec}: cone of {}", o.name);
+            }
             assert!(
                 (b.intensity - o.intensity).abs().max_element() <= 1e-5 * o.intensity.max_element()
             );

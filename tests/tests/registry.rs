@@ -77,3 +77,101 @@ fn point_light_families_refuse_spot_and_sun_with_the_reason() {
         assert!(refused > 0);
     }
 }
+
+/// Emission is radiance of the surface, not a light: every technique shows a glowing wall
+/// where it sees it, directly and in its mirror's reflections, and nothing else changes. The
+/// cornell room's back wall glows; against the same room without the glow, each technique's
+/// image grows on the wall and the sphere as the reference's does (half of the reference's
+/// growth at least, on each; a fifth in the sphere for screen-space photons, which reflect only
+/// what is on screen), and the floor, which the glow does not light, keeps its radiance.
+#[test]
+fn every_technique_shows_emission_directly_and_in_its_reflections() {
+    let size = 48;
+    let spec = "cornell-sphere:material=mirror";
+    let plain = scene::load(spec).unwrap();
+    let mut glowing = plain.clone();
+    let wall = glowing
+        .objects
+        .iter()
+        .position(|o| o.name == "back wall")
+        .unwrap();
+    glowing.objects[wall].emission = glam::Vec3::new(0.8, 0.4, 0.1);
+    glowing.validate().unwrap();
+    let shot = Shot::default_camera(&plain, 0.0, size);
+    let before = testkit::reference(spec, &plain, shot, 0);
+    let after = testkit::reference(&format!("{spec} (glowing wall)"), &glowing, shot, 0);
+    let object_of = |i: usize| before.object_ids[i];
+    let sphere = plain
+        .objects
+        .iter()
+        .position(|o| o.material.is_specular())
+        .unwrap() as i32;
+    let floor = plain
+        .objects
+        .iter()
+        .position(|o| o.name == "floor")
+        .unwrap() as i32;
+    // Mean growth of an image over the pixels showing `object`.
+    let growth = |a: &gpu::HdrImage, b: &gpu::HdrImage, object: i32| {
+        let (mut sum, mut n) = (0.0f64, 0);
+        for (i, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+            if object_of(i) == object {
+                sum += (0..3).map(|c| (q[c] - p[c]) as f64).sum::<f64>();
+                n += 1;
+            }
+        }
+        sum / n.max(1) as f64
+    };
+    let want_wall = growth(&before.image, &after.image, wall as i32);
+    let want_sphere = growth(&before.image, &after.image, sphere);
+    assert!(
+        want_wall > 1.0 && want_sphere > 0.05,
+        "{want_wall} {want_sphere}"
+    );
+    let mut checked = 0;
+    for mut technique in harness::registry() {
+        let id = technique.id();
+        if !technique.supports(&plain) || id == "reference" {
+            continue;
+        }
+        if context().require(technique.required_features()).is_err() {
+            continue;
+        }
+        let a = testkit::render(technique.as_mut(), &plain, shot);
+        let mut technique = harness::registry()
+            .into_iter()
+            .find(|t| t.id() == id)
+            .unwrap();
+        let b = testkit::render(technique.as_mut(), &glowing, shot);
+        let (on_wall, on_sphere, on_floor) = (
+            growth(&a, &b, wall as i32),
+            growth(&a, &b, sphere),
+            growth(&a, &b, floor),
+        );
+        println!(
+            "{id}: wall +{on_wall:.3} (reference +{want_wall:.3}), sphere +{on_sphere:.3} \
+             (reference +{want_sphere:.3}), floor {on_floor:+.2e}"
+        );
+        assert!(on_wall > 0.5 * want_wall, "{id}: the wall grows {on_wall}");
+        // The raster technique draws the mirror as grey diffuse: no reflection to grow.
+        // Screen-space photons reflect only what the eye's layers hold: of the glowing wall,
+        // what the mirror shows toward the top of the view (measured: a third of the growth).
+        let share = if id.starts_with("screen-photons/") {
+            0.2
+        } else {
+            0.5
+        };
+        if id != "raster" {
+            assert!(
+                on_sphere > share * want_sphere,
+                "{id}: its mirror grows {on_sphere}, the reference's {want_sphere}"
+            );
+        }
+        assert!(
+            on_floor.abs() < 1e-4,
+            "{id}: the floor changes by {on_floor}"
+        );
+        checked += 1;
+    }
+    assert!(checked > 10, "{checked} techniques");
+}

@@ -71,6 +71,8 @@ fn sphere_scene(material: Material, camera: Camera) -> Scene {
 struct Analytic {
     sphere: Option<Material>,
     max_depth: u32,
+    /// The floor's emission (`Object::emission`).
+    floor_emission: Vec3,
 }
 
 impl Analytic {
@@ -98,10 +100,10 @@ impl Analytic {
         if self.sphere.is_some() {
             let s = ray_sphere(p, l, CENTER, RADIUS);
             if s.x <= s.y && s.y > 0.0 && s.x < dist {
-                return Vec3::ZERO;
+                return self.floor_emission;
             }
         }
-        FLOOR_ALBEDO * FRAC_1_PI * LIGHT_I * l.y / (dist * dist)
+        self.floor_emission + FLOOR_ALBEDO * FRAC_1_PI * LIGHT_I * l.y / (dist * dist)
     }
 
     fn radiance(&self, o: Vec3, d: Vec3, depth: u32) -> Vec3 {
@@ -223,6 +225,7 @@ fn diffuse_plane_is_exactly_the_shading_formula() {
     let analytic = Analytic {
         sphere: None,
         max_depth: 8,
+        floor_emission: Vec3::ZERO,
     };
     let (compared, _) = compare(&scene, &analytic, 48, 1e-4, f32::INFINITY);
     assert_eq!(compared, 48 * 48);
@@ -240,6 +243,7 @@ fn perfect_mirror_sphere_matches_closed_form() {
     let analytic = Analytic {
         sphere: Some(Material::perfect_mirror()),
         max_depth: 8,
+        floor_emission: Vec3::ZERO,
     };
     let (compared, on_sphere) = compare(&scene, &analytic, 64, 0.01, 0.03);
     assert!(on_sphere > 400, "only {on_sphere} sphere pixels compared");
@@ -258,6 +262,7 @@ fn gold_sphere_matches_closed_form_per_channel() {
     let analytic = Analytic {
         sphere: Some(Material::gold()),
         max_depth: 8,
+        floor_emission: Vec3::ZERO,
     };
     let (_, on_sphere) = compare(&scene, &analytic, 64, 0.01, 0.03);
     assert!(on_sphere > 400, "only {on_sphere} sphere pixels compared");
@@ -276,6 +281,7 @@ fn glass_sphere_matches_closed_form() {
     let analytic = Analytic {
         sphere: Some(glass),
         max_depth: 8,
+        floor_emission: Vec3::ZERO,
     };
     let (_, on_sphere) = compare(&scene, &analytic, 64, 0.01, 0.03);
     assert!(on_sphere > 300, "only {on_sphere} sphere pixels compared");
@@ -319,6 +325,7 @@ fn textured_plane_multiplies_albedo_by_texture() {
     let analytic = Analytic {
         sphere: None,
         max_depth: 8,
+        floor_emission: Vec3::ZERO,
     };
     for y in 0..size {
         for x in 0..size {
@@ -356,6 +363,7 @@ fn low_index_glass_sphere_matches_closed_form() {
     let analytic = Analytic {
         sphere: Some(glass),
         max_depth: 8,
+        floor_emission: Vec3::ZERO,
     };
     let (_, on_sphere) = compare(&scene, &analytic, 64, 0.01, 0.03);
     assert!(on_sphere > 300, "only {on_sphere} sphere pixels compared");
@@ -452,6 +460,31 @@ fn object_ids_and_mask() {
         }
     }
     assert!(fog > 10 && sphere > 200, "fog {fog}, sphere {sphere}");
+}
+
+/// An emissive floor adds its emission to what it reflects, seen directly and in a mirror
+/// sphere (times the sphere's Fresnel term), and lights nothing: the sphere's shadow on the
+/// floor still shows the emission alone.
+#[test]
+fn emission_is_seen_directly_and_in_a_mirror_and_lights_nothing() {
+    let camera = Camera {
+        eye: Vec3::new(0.3, 1.2, 2.6),
+        target: CENTER,
+        up: Vec3::Y,
+        fov_y_deg: 40.0,
+    };
+    let emission = Vec3::new(0.3, 0.15, 0.05);
+    let mut scene = sphere_scene(Material::perfect_mirror(), camera);
+    scene.objects[0].emission = emission;
+    scene.validate().unwrap();
+    let analytic = Analytic {
+        sphere: Some(Material::perfect_mirror()),
+        max_depth: 8,
+        floor_emission: emission,
+    };
+    let (compared, on_sphere) = compare(&scene, &analytic, 64, 0.01, 0.03);
+    assert!(on_sphere > 200, "only {on_sphere} sphere pixels compared");
+    assert!(compared > 64 * 64 / 2);
 }
 
 /// The floor under a spot or a sun, by hand, pixel by pixel: `albedo / pi * I f(w) cos / d^2`

@@ -5,7 +5,7 @@
 // by family and shaded with the scene's diffuse model (shade_diffuse, shadow maps included),
 // and the result shows through the windows of the facade.
 #import gpu::prelude::{PI, cube_dir_to_face_uv, fresnel_dielectric, hash_to_unit, pcg_hash, ray_box, reflect_dir}
-#import scene::shading::{LIGHT_DIRECTIONAL, SceneVertexOut, camera, facing_normal, light_intensity_toward, light_toward, light_visibility, lights, objects, scene_info, shade_diffuse, surface_albedo}
+#import scene::shading::{LIGHT_DIRECTIONAL, SceneVertexOut, camera, facing_normal, light_intensity_toward, light_toward, light_visibility, lights, object_emission, objects, scene_info, shade_diffuse, surface_albedo}
 #import interior_mapping::rooms::{RoomHit, cast_rooms, plane_uv, room_hash, cubemap_room}
 
 struct BuildingGpu {
@@ -187,7 +187,8 @@ fn interior_shade(in: SceneVertexOut) -> InteriorOut {
     let variant = settings.a.x;
     let n_world = facing_normal(in.normal, in.world, eye);
     let distance_to_eye = distance(in.world, eye);
-    let facade = shade_diffuse(in.world, n_world, surface_albedo(in.object, in.uv));
+    let facade = shade_diffuse(in.world, n_world, surface_albedo(in.object, in.uv))
+        + object_emission(in.object);
 
     let p = (b.world_to_object * vec4f(in.world, 1.0)).xyz;
     let eye_o = (b.world_to_object * vec4f(eye, 1.0)).xyz;

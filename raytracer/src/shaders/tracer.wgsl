@@ -121,13 +121,15 @@ struct Material {
     ior: f32,
     n: vec3f,
     k: vec3f,
+    // Radiance a diffuse surface emits (scene::Object::emission).
+    emission: vec3f,
 };
 
 fn material(object: u32) -> Material {
-    let o = params.offsets.w + 4u * object;
+    let o = params.offsets.w + 5u * object;
     let a = tables[o];
     let m = tables[o + 1u];
-    return Material(u32(m.x), a.rgb, bitcast<i32>(a.w), m.y, tables[o + 2u].xyz, tables[o + 3u].xyz);
+    return Material(u32(m.x), a.rgb, bitcast<i32>(a.w), m.y, tables[o + 2u].xyz, tables[o + 3u].xyz, tables[o + 4u].xyz);
 }
 
 fn srgb_to_linear(v: u32) -> f32 {
@@ -508,7 +510,7 @@ fn eye_pass(@builtin(global_invocation_id) gid: vec3u) {
         let s = surface(surface_hit(h, r.origin, r.dir), r.dir);
         let m = material(s.object);
         if (m.kind == 0u) {
-            l += w * direct_light(s, albedo(m, s.uv), &shadow_rays);
+            l += w * (m.emission + direct_light(s, albedo(m, s.uv), &shadow_rays));
             continue;
         }
         if (r.depth >= max_depth) { continue; } // the chain is longer than max_depth

@@ -263,6 +263,9 @@ impl Exporter {
         if any(&|m| matches!(m, Material::Glass { .. })) {
             used.extend(["KHR_materials_transmission", "KHR_materials_ior"]);
         }
+        if scene.objects.iter().any(|o| o.emission.max_element() > 1.0) {
+            used.push("KHR_materials_emissive_strength");
+        }
         let node_count = nodes.len();
         let mut root = json!({
             "asset": { "version": "2.0", "generator": concat!("scene crate ", env!("CARGO_PKG_VERSION"), " (gltf_io)") },
@@ -305,6 +308,22 @@ pub(super) fn camera_rotation(c: &Camera) -> Quat {
     Quat::from_mat3(&Mat3::from_cols(right, up, -forward)).normalize()
 }
 
+/// A diffuse surface's emission as glTF has it: the emissive factor (each channel at most 1)
+/// times `KHR_materials_emissive_strength` where the radiance exceeds 1.
+fn add_emission(material: &mut Value, emission: Vec3) {
+    let peak = emission.max_element();
+    if !(peak > 0.0) {
+        return;
+    }
+    let strength = peak.max(1.0);
+    material["emissiveFactor"] = arr(&(emission / strength).to_array());
+    if strength > 1.0 {
+        material["extensions"] = json!({
+            "KHR_materials_emissive_strength": { "emissiveStrength": num(strength) }
+        });
+    }
+}
+
 pub(super) fn material_json(o: &Object) -> Value {
     let name = format!("{} material", o.name);
     match &o.material {
@@ -314,7 +333,10 @@ pub(super) fn material_json(o: &Object) -> Value {
             if let Some(t) = texture {
                 pbr["baseColorTexture"] = json!({ "index": t });
             }
-            json!({ "name": name, "pbrMetallicRoughness": pbr, "extras": wrap(&MaterialExtras::Diffuse { albedo: v3(*albedo) }) })
+            let emission = (o.emission != Vec3::ZERO).then_some(v3(o.emission));
+            let mut m = json!({ "name": name, "pbrMetallicRoughness": pbr, "extras": wrap(&MaterialExtras::Diffuse { albedo: v3(*albedo), emission }) });
+            add_emission(&mut m, o.emission);
+            m
         }
         Material::Metal { n, k } => {
             let k2 = *k * *k;

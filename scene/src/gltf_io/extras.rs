@@ -173,9 +173,19 @@ pub(super) struct ObjectExtras {
 #[derive(Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "lowercase")]
 pub(super) enum MaterialExtras {
-    Diffuse { albedo: V3 },
-    Metal { n: V3, k: V3 },
-    Glass { ior: f64 },
+    Diffuse {
+        albedo: V3,
+        /// The exact emission (the core's emissive factor times strength rounds it).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        emission: Option<V3>,
+    },
+    Metal {
+        n: V3,
+        k: V3,
+    },
+    Glass {
+        ior: f64,
+    },
 }
 
 #[derive(Serialize, Deserialize)]

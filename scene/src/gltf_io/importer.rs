@@ -209,7 +209,9 @@ impl Importer<'_> {
                 } else {
                     base_name.clone()
                 };
-                let mut object = Object::new(&name, object_mesh, material, world);
+                let emission = self.emission(&prim.material(), &material)?;
+                let mut object =
+                    Object::new(&name, object_mesh, material, world).with_emission(emission);
                 object.roles = default_roles;
                 if let Some(x) = &extras {
                     object.roles = roles_from(&x.roles, &name)?;
@@ -277,17 +279,30 @@ impl Importer<'_> {
             (None, _) => return, // the default material has nothing to leave out
         };
         let mut notes = Vec::new();
-        let emissive = m.emissive_factor();
-        if emissive.iter().any(|&e| e > 0.0) || m.emissive_texture().is_some() {
-            notes.push(format!(
-                "{what} emits light (emissive factor {emissive:?}{}), which is not supported yet: \
-                 rendered without emission",
-                if m.emissive_texture().is_some() {
-                    ", with a texture"
-                } else {
-                    ""
-                }
-            ));
+        let emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
+        let textured = m.emissive_texture().is_some();
+        if emissive.max_element() > 0.0 || textured {
+            let texture = if textured {
+                "; its emissive texture is left out (the factor alone)"
+            } else {
+                ""
+            };
+            notes.push(match material {
+                Material::Diffuse { .. } => format!(
+                    "{what} emits radiance {emissive} (emissive factor times strength): seen \
+                     directly and in reflections and refractions, but it lights nothing (emissive \
+                     surfaces are not light sources here){texture}"
+                ),
+                _ => format!(
+                    "{what} emits radiance {emissive} but is imported as {}: left out (only \
+                     diffuse surfaces emit)",
+                    if matches!(material, Material::Glass { .. }) {
+                        "glass"
+                    } else {
+                        "metal"
+                    }
+                ),
+            });
         }
         match m.alpha_mode() {
             gltf::material::AlphaMode::Opaque => {}
@@ -378,7 +393,7 @@ impl Importer<'_> {
             .map(|info| (info.texture().source().index(), info.tex_coord()));
         let exact: Option<MaterialExtras> = read_extras(m.extras(), &what)?;
         let material = match exact {
-            Some(MaterialExtras::Diffuse { albedo }) => Material::Diffuse {
+            Some(MaterialExtras::Diffuse { albedo, .. }) => Material::Diffuse {
                 albedo: vec3(albedo),
                 texture: None,
             },
@@ -421,6 +436,24 @@ impl Importer<'_> {
             None
         };
         Ok((material, roles, texture))
+    }
+
+    /// The radiance a diffuse material emits: the emissive factor times
+    /// `KHR_materials_emissive_strength`, exact from the extras while they agree (the
+    /// emissive texture is left out: [`Self::note_material`]); none for metal and glass.
+    fn emission(&self, m: &gltf::Material, material: &Material) -> Result<Vec3, String> {
+        if !matches!(material, Material::Diffuse { .. }) {
+            return Ok(Vec3::ZERO);
+        }
+        let derived = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
+        let what = format!("material {}", m.index().map_or(-1, |i| i as i64));
+        let exact = match read_extras::<MaterialExtras>(m.extras(), &what)? {
+            Some(MaterialExtras::Diffuse {
+                emission: Some(e), ..
+            }) if close(vec3(e), derived, 1e-4) => Some(vec3(e)),
+            _ => None,
+        };
+        Ok(exact.unwrap_or(derived))
     }
 
     pub(super) fn primitive_mesh(

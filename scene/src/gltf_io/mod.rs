@@ -61,8 +61,13 @@
 //!   cameras are skipped, each with a note naming it. With no camera, the camera frames the
 //!   bounds of all objects (45 degrees, from the +Z side and a little above).
 //!
-//! Skins, morph targets, animations, emission, alpha and the remaining material inputs are
-//! ignored; a note names each material whose emission, alpha mode (`MASK`, `BLEND`),
+//! - **Emission**: a diffuse material's emissive factor times `KHR_materials_emissive_strength`
+//!   becomes its objects' [`Object::emission`], radiance seen directly and in reflections and
+//!   refractions that lights nothing; the emissive texture is left out, and so is the emission
+//!   of a material imported as glass or metal. A note names each emissive material and says so.
+//!
+//! Skins, morph targets, animations, alpha and the remaining material inputs are
+//! ignored; a note names each material whose alpha mode (`MASK`, `BLEND`),
 //! transmission roughness or metal roughness (a smooth mirror stands in for it) is left out,
 //! once per material ([`import_noted`]). A node transform with a negative determinant is
 //! kept as it is (the winding of its triangles is then mirrored in world space).
@@ -196,8 +201,8 @@ pub fn import(path: &Path) -> Result<Scene, SceneError> {
 }
 
 /// [`import`], with the notes of what the importer supplied, repaired or left out (default
-/// lighting for a file without lights, replaced degenerate normals, skipped spot and
-/// directional lights and orthographic cameras, materials' emission, alpha and roughness),
+/// lighting for a file without lights, replaced degenerate normals, skipped orthographic
+/// cameras, materials' emission (which lights nothing), alpha and roughness),
 /// one sentence each naming the light, camera or material: the harness prints them as
 /// warnings and writes them to `results.json`.
 pub fn import_noted(path: &Path) -> Result<(Scene, Vec<String>), SceneError> {

@@ -137,6 +137,7 @@ struct ObjectGpu {
     material: [f32; 4],
     n: [f32; 4],
     k: [f32; 4],
+    emission: [f32; 4],
 }
 
 #[repr(C)]

@@ -109,6 +109,7 @@ pub(super) fn object_records(scene: &Scene, time: f32) -> Vec<ObjectGpu> {
                 material: [kind, ior, o.roles.bits() as f32, 0.0],
                 n: n.extend(0.0).to_array(),
                 k: k.extend(0.0).to_array(),
+                emission: o.emission.extend(0.0).to_array(),
             }
         })
         .collect()

@@ -332,6 +332,12 @@ pub struct Object {
     pub building: Option<Building>,
     /// A morph target that deforms the mesh over time, or none (a rigid object).
     pub morph: Option<Morph>,
+    /// Radiance (linear RGB, W m^-2 sr^-1) a diffuse surface emits from both sides on top of
+    /// what it reflects: glTF's emission. It is seen directly and in every reflection and
+    /// refraction, but it is not a light: it lights no other surface and casts no caustic, as
+    /// engines treat emissive materials without baked lighting. Zero for metal and glass
+    /// ([`Scene::validate`]).
+    pub emission: Vec3,
 }
 
 impl Object {
@@ -345,7 +351,13 @@ impl Object {
             motion: Motion::default(),
             building: None,
             morph: None,
+            emission: Vec3::ZERO,
         }
+    }
+    /// The object emitting `radiance` ([`Object::emission`]).
+    pub fn with_emission(mut self, radiance: Vec3) -> Self {
+        self.emission = radiance;
+        self
     }
     pub fn with_roles(mut self, roles: Roles) -> Self {
         self.roles = roles;

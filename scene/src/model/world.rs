@@ -152,6 +152,24 @@ impl Scene {
         if !o.transform.is_finite() {
             return Some(format!("object \"{}\" has a non-finite transform", o.name));
         }
+        if !o.emission.is_finite() || o.emission.min_element() < 0.0 {
+            return Some(format!(
+                "object \"{}\" has emission {}; it needs finite values of 0 or more",
+                o.name, o.emission
+            ));
+        }
+        if o.emission != Vec3::ZERO && o.material.is_specular() {
+            return Some(format!(
+                "object \"{}\" is {} and emits {}; only diffuse surfaces emit",
+                o.name,
+                if matches!(o.material, Material::Glass { .. }) {
+                    "glass"
+                } else {
+                    "metal"
+                },
+                o.emission
+            ));
+        }
         if o.mesh.positions.iter().any(|p| !p.is_finite())
             || o.mesh.normals.iter().any(|n| !n.is_finite())
         {

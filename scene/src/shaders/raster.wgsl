@@ -1,7 +1,7 @@
 // The shared raster pass: diffuse surfaces shaded like the reference; specular objects drawn
 // as plain grey diffuse when `specular_as_diffuse` is set (the `raster` technique).
 // Output: rgb = radiance, a = distance from the eye (so any view is also a distance impostor).
-#import scene::shading::{MATERIAL_DIFFUSE, SceneVertexOut, camera, geometric_facing_normal, objects, shade_diffuse_ng, shading_normal, surface_albedo}
+#import scene::shading::{MATERIAL_DIFFUSE, SceneVertexOut, camera, geometric_facing_normal, object_emission, objects, shade_diffuse_ng, shading_normal, surface_albedo}
 
 const PLAIN_GREY: vec3f = vec3f(0.7);
 
@@ -14,7 +14,8 @@ fn raster_fs(in: SceneVertexOut) -> @location(0) vec4f {
     if (objects[in.object].material.x != MATERIAL_DIFFUSE) {
         albedo = PLAIN_GREY;
     }
-    return vec4f(shade_diffuse_ng(in.world, n, ng, albedo), distance(in.world, eye));
+    let radiance = shade_diffuse_ng(in.world, n, ng, albedo) + object_emission(in.object);
+    return vec4f(radiance, distance(in.world, eye));
 }
 
 // Shadow pass: distance from the light (camera.eye) to the nearest surface.

@@ -27,6 +27,8 @@ struct ObjectGpu {
     // Metal n and k per channel.
     n: vec4f,
     k: vec4f,
+    // rgb: the radiance a diffuse surface emits (scene::Object::emission); 0 elsewhere.
+    emission: vec4f,
 };
 
 struct LightGpu {
@@ -262,6 +264,12 @@ fn spot_falloff(cos_axis: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     let scale = 1.0 / max(cos_inner - cos_outer, 0.001);
     let t = clamp((cos_axis - cos_outer) * scale, 0.0, 1.0);
     return t * t;
+}
+
+// The radiance object `object`'s diffuse surface emits toward any viewer, on top of what
+// shade_diffuse reflects (scene::Object::emission: it lights nothing else).
+fn object_emission(object: u32) -> vec3f {
+    return objects[object].emission.rgb;
 }
 
 // The same with the shading normal standing in for the geometric one.

@@ -1,7 +1,7 @@
 // The diffuse surfaces shaded like the raster pass (raster.wgsl: the reference's rules) with
 // the screen-space visibility of the first four lights instead of their shadow maps.
 #import gpu::prelude::PI
-#import scene::shading::{SceneVertexOut, camera, geometric_facing_normal, light_visibility, lights, scene_info, shading_normal, surface_albedo}
+#import scene::shading::{SceneVertexOut, camera, geometric_facing_normal, light_visibility, lights, object_emission, scene_info, shading_normal, surface_albedo}
 #import screen_photons::ldi::ldi
 
 @group(3) @binding(0) var<storage, read> shadow_mask: array<vec4f>;
@@ -24,5 +24,5 @@ fn shadowed_fs(in: SceneVertexOut) -> @location(0) vec4f {
         let lit = cos_l > 0.0 && dot(ng, to_l) > 0.0;
         sum += select(vec3f(0.0), albedo / PI * lights[i].intensity.rgb * cos_l / d2 * v, lit);
     }
-    return vec4f(sum, distance(in.world, eye));
+    return vec4f(sum + object_emission(in.object), distance(in.world, eye));
 }

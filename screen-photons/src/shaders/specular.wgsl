@@ -13,7 +13,7 @@
 // traced segment is attenuated by its transmittance (what the eye's own segment loses is
 // composite.wgsl's; light scattered into these rays is not added).
 // ---------------------------------------------------------------------------------------------
-#import scene::shading::{SceneVertexOut, camera, facing_normal, scene_info, scene_medium, shade_diffuse, specular_event, specular_shade, surface_albedo}
+#import scene::shading::{SceneVertexOut, camera, facing_normal, object_emission, scene_info, scene_medium, shade_diffuse, specular_event, specular_shade, surface_albedo}
 #import scene::medium::{medium_transmittance, medium_transmittance_between}
 #import screen_photons::ldi::{ldi, ldi_surfaces, refractor_surfaces, LdiTexel, LDI_SCENE, LDI_REFRACTORS, ldi_texel, Segment, scene_range, clip_segment, point_on_surface, segment_step, SIDE_INSIDE, side_of, LdiHit, march_dda, march_tolerance, march_monotone}
 
@@ -42,7 +42,7 @@ fn shade_hit(which: u32, h: LdiHit, texel: LdiTexel, origin: vec3f, dir: vec3f, 
         uv = textureLoad(refractor_surfaces, h.pixel, h.layer, 0).yz;
     }
     let n = facing_normal(texel.normal, p, origin);
-    return shade_diffuse(p, n, surface_albedo(texel.object, uv))
+    return (shade_diffuse(p, n, surface_albedo(texel.object, uv)) + object_emission(texel.object))
         * medium_transmittance_between(scene_medium(), origin, p);
 }
 

@@ -17,9 +17,11 @@
 //! * **Diffuse** (Lambertian, albedo `rho`, optionally times a texture): direct lighting only,
 //!
 //!   ```text
-//!   L_o = sum_lights  rho / pi * I * max(0, n_s . l) / d^2 * V(x, light)
+//!   L_o = L_e + sum_lights  rho / pi * I * max(0, n_s . l) / d^2 * V(x, light)
 //!   ```
 //!
+//!   `L_e` the object's emission (`scene::Object::emission`: seen directly and through every
+//!   specular chain, but no light source: it enters no direct lighting and no photon).
 //!   with `n_s` the interpolated shading normal flipped to the side the ray arrives from
 //!   (surfaces are two-sided), `l` the unit direction and `d` the distance to the light, and
 //!   `V` a shadow ray. *Every* object blocks shadow rays, glass included: light that passes
@@ -194,7 +196,7 @@
 //!   another matter: it attenuates everything and scatters once (next section).
 //! * Multiple scattering in the medium, and its single scattering seen through a specular
 //!   chain (beams seen only through glass, like caustics seen only through glass).
-//! * Area lights and emissive surfaces; absorption in glass; dispersion; polarisation;
+//! * Area lights, and emissive surfaces lighting others; absorption in glass; dispersion; polarisation;
 //!   anti-aliasing beyond `samples_per_pixel` (the default samples pixel centres only, like
 //!   a rasterizer without MSAA).
 
@@ -722,9 +724,9 @@ impl Tracer<'_> {
     /// Radiance leaving `hit` back along `dir`.
     fn shade(&self, hit: &Hit, dir: Vec3, depth: u32, throughput: Vec3, c: &mut Counts) -> Vec3 {
         let s = Surface::new(hit, dir);
-        let material = &self.scene.objects[hit.object].material;
-        let Some(sc) = scatter(material, &s, dir) else {
-            return self.direct_light(&s, self.albedo(hit), c);
+        let object = &self.scene.objects[hit.object];
+        let Some(sc) = scatter(&object.material, &s, dir) else {
+            return object.emission + self.direct_light(&s, self.albedo(hit), c);
         };
         if depth >= self.max_depth {
             return Vec3::ZERO; // the chain is longer than max_depth
