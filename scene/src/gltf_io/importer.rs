@@ -72,6 +72,7 @@ impl Importer<'_> {
         if self.objects.is_empty() {
             return Err("the file contains no triangle geometry".into());
         }
+        self.note_file();
 
         let textures = self.textures(scene_extras.is_some())?;
 
@@ -181,6 +182,7 @@ impl Importer<'_> {
 
     pub(super) fn visit(&mut self, node: &gltf::Node, world: Mat4) -> Result<(), String> {
         if let Some(mesh) = node.mesh() {
+            self.note_mesh(&mesh);
             let extras: Option<ObjectExtras> =
                 read_extras(node.extras(), &format!("node {}", node.index()))?;
             let base_name = node
@@ -244,14 +246,96 @@ impl Importer<'_> {
         }
         if let Some(light) = node.light() {
             self.lights.push(punctual_light(node, &light, world)?);
+            if let Some(range) = light.range() {
+                self.notes.push(format!(
+                    "light {} of node {} has a range of {range} m, which is ignored: its light \
+                     falls off with the inverse square at any distance",
+                    describe_light(&light),
+                    describe_node(node)
+                ));
+            }
+        }
+        if node.skin().is_some() {
+            self.notes.push(format!(
+                "node {} is skinned: drawn in its bind pose (skins are ignored)",
+                describe_node(node)
+            ));
         }
         if let Some(note) = self.orthographic_camera(node) {
             self.notes.push(note);
         }
+        self.choose_camera(node, world)
+    }
+
+    /// The first perspective camera met in the node tree is the view: glTF marks no camera as
+    /// active. A file's own camera (not ours, whose extras carry it exactly) is named in a
+    /// note, and so is every other perspective camera, which is not used.
+    fn choose_camera(&mut self, node: &gltf::Node, world: Mat4) -> Result<(), String> {
+        let Some(found) = self.camera_at(node, world)? else {
+            return Ok(());
+        };
+        let camera = node
+            .camera()
+            .map(|c| describe_camera(&c))
+            .unwrap_or_default();
+        let what = format!("camera {camera} of node {}", describe_node(node));
+        match (&self.camera, &found) {
+            (None, FoundCamera::Derived { .. }) => self.notes.push(format!(
+                "the view is {what}, the first perspective camera in the node tree (glTF marks \
+                 no camera as active)"
+            )),
+            (Some(_), _) => self.notes.push(format!(
+                "{what} is not used: the view is the first perspective camera in the node tree"
+            )),
+            (None, FoundCamera::Exact(_)) => {}
+        }
         if self.camera.is_none() {
-            self.camera = self.camera_at(node, world)?;
+            self.camera = Some(found);
         }
         Ok(())
+    }
+
+    /// Notes of what the file as a whole has that the importer ignores: animations, and
+    /// extensions it does not read.
+    fn note_file(&mut self) {
+        let animations = self.doc.animations().count();
+        if animations > 0 {
+            self.notes.push(format!(
+                "the file's {animations} animation(s) are ignored: objects stand where the node \
+                 tree places them"
+            ));
+        }
+        for extension in self.doc.extensions_used() {
+            if let Some(note) = unread_extension(extension) {
+                self.notes.push(note);
+            }
+        }
+    }
+
+    /// Notes of what a mesh's primitives carry that the importer leaves out: primitives that
+    /// are not triangles, vertex colours, morph targets.
+    fn note_mesh(&mut self, mesh: &gltf::Mesh) {
+        let what = format!("mesh {}", describe_mesh(mesh));
+        for prim in mesh.primitives() {
+            if !triangle_mode(prim.mode()) {
+                self.notes.push(format!(
+                    "{what} primitive {} draws {:?}, not triangles: skipped",
+                    prim.index(),
+                    prim.mode()
+                ));
+            }
+            if prim.get(&gltf::mesh::Semantic::Colors(0)).is_some() {
+                self.notes.push(format!(
+                    "{what} has vertex colours (COLOR_0), which are ignored: the material's \
+                     colour alone"
+                ));
+            }
+            if prim.morph_targets().next().is_some() {
+                self.notes.push(format!(
+                    "{what} has morph targets, which are ignored: its base shape is drawn"
+                ));
+            }
+        }
     }
 
     /// The note of a node's orthographic camera, which the importer skips.
@@ -605,6 +689,32 @@ pub(super) fn describe_node(node: &gltf::Node) -> String {
         Some(n) => format!("{} (\"{n}\")", node.index()),
         None => node.index().to_string(),
     }
+}
+
+fn describe_light(light: &gltf::khr_lights_punctual::Light) -> String {
+    match light.name() {
+        Some(n) => format!("{} (\"{n}\")", light.index()),
+        None => light.index().to_string(),
+    }
+}
+
+/// The note of a glTF extension the importer does not read (`None` for those it reads).
+fn unread_extension(name: &str) -> Option<String> {
+    let effect = match name {
+        "KHR_lights_punctual"
+        | "KHR_materials_ior"
+        | "KHR_materials_transmission"
+        | "KHR_materials_emissive_strength" => return None,
+        "KHR_materials_volume" => {
+            "absorption inside glass (attenuation colour and distance) is left out, the glass is clear"
+        }
+        "KHR_texture_transform" => "textures repeat untransformed",
+        "KHR_materials_unlit" => "unlit materials are shaded as diffuse",
+        _ => "what it adds is left out",
+    };
+    Some(format!(
+        "the file uses {name}, which the importer does not read: {effect}"
+    ))
 }
 
 fn describe_camera(camera: &gltf::Camera) -> String {

@@ -57,19 +57,23 @@
 //!   ([`Mesh::repair_normals`]), with a note.
 //! - **Camera**: the first perspective camera node met becomes [`Scene::camera`]: eye = the
 //!   node's origin, looking down its -Z with its +Y up, fov = `yfov` in degrees, target on
-//!   the view direction at the distance of the centre of the objects' bounds. Orthographic
+//!   the view direction at the distance of the centre of the objects' bounds (glTF marks no
+//!   camera as active: a note names the one chosen, and each other perspective camera as not
+//!   used; a file this module wrote carries its camera exactly and gets no note). Orthographic
 //!   cameras are skipped, each with a note naming it. With no camera, the camera frames the
 //!   bounds of all objects (45 degrees, from the +Z side and a little above).
-//!
 //! - **Emission**: a diffuse material's emissive factor times `KHR_materials_emissive_strength`
 //!   becomes its objects' [`Object::emission`], radiance seen directly and in reflections and
 //!   refractions that lights nothing; the emissive texture is left out, and so is the emission
 //!   of a material imported as glass or metal. A note names each emissive material and says so.
 //!
-//! Skins, morph targets, animations, alpha and the remaining material inputs are
-//! ignored; a note names each material whose alpha mode (`MASK`, `BLEND`),
-//! transmission roughness or metal roughness (a smooth mirror stands in for it) is left out,
-//! once per material ([`import_noted`]). A node transform with a negative determinant is
+//! Skins, morph targets, animations, vertex colours, primitives that are not triangles, a
+//! light's `range`, extensions the importer does not read (`KHR_materials_volume`'s
+//! absorption, `KHR_texture_transform`, any other), alpha and the remaining material inputs
+//! are ignored, each named in a note: the skinned node, the mesh, the light, the extension,
+//! and each material whose alpha mode (`MASK`, `BLEND`), transmission roughness or metal
+//! roughness (a smooth mirror stands in for it) is left out, once per material
+//! ([`import_noted`]). A node transform with a negative determinant is
 //! kept as it is (the winding of its triangles is then mirrored in world space).
 //!
 //! # What the exporter writes
