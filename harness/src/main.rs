@@ -701,7 +701,6 @@ fn one_technique(name: &str) -> Result<String> {
     }
 }
 
-/// Technique `id`'s image of `scene` at time 0.
 /// Why a technique refuses a scene, as its `prepare` says (": ..."), or nothing when it
 /// prepares anyway or panics: `supports` gives no reason, `prepare` checks again and names it.
 fn unsupported_reason(
@@ -718,6 +717,7 @@ fn unsupported_reason(
     }
 }
 
+/// Technique `id`'s image of `scene` at time 0.
 fn render_technique(
     ctx: &gpu::Context,
     id: &str,
@@ -732,13 +732,14 @@ fn render_technique(
         .with_context(|| format!("technique {id} vanished"))?;
     ctx.require(t.required_features())
         .with_context(|| format!("technique {id}"))?;
-    let mut gpu_scene = harness::backend::upload_scene(ctx, scene)?;
     if !t.supports(scene) {
+        let gpu_scene = harness::backend::upload_scene(ctx, scene)?;
         bail!(
             "technique {id} does not support scene {spec}{}",
             unsupported_reason(ctx, t.as_mut(), &gpu_scene)
         );
     }
+    let mut gpu_scene = harness::backend::upload_scene(ctx, scene)?;
     let run = harness::measure::run_technique(
         ctx,
         t.as_mut(),

@@ -385,7 +385,7 @@ impl GpuTracer {
         self.accumulated = None;
     }
 
-    /// The emission cones for `photons` photons (at least one cone gets a photon each).
+    /// The emission cones and discs for `photons` photons (each gets at least one photon).
     fn emitters_of(scene: &Scene, time: f32, photons: u64) -> Vec<Emitter> {
         emitters(scene, time, &caustic_casters(scene), photons.max(1))
     }

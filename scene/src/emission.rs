@@ -260,13 +260,19 @@ fn disc(li: usize, direction: Vec3, center: Vec3, radius: f32, scene: (Vec3, f32
     }
 }
 
-/// A sphere holding every object of `scene` at `time`.
+/// A sphere holding every object of `scene` at `time` and its scattering medium (whose
+/// attenuation a photon must meet all of, as a shadow ray toward the sun does).
 fn bounding_sphere(scene: &Scene, time: f32) -> (Vec3, f32) {
+    let medium = scene
+        .medium
+        .as_ref()
+        .map(|m| ((m.min + m.max) * 0.5, (m.max - m.min).length() * 0.5));
     let spheres: Vec<(Vec3, f32)> = scene
         .objects
         .iter()
         .filter(|o| !o.mesh.positions.is_empty())
         .map(|o| (o.center_at(time), o.bounding_radius_at(time)))
+        .chain(medium)
         .collect();
     let Some(&(first, _)) = spheres.first() else {
         return (Vec3::ZERO, 0.0);
@@ -406,12 +412,30 @@ mod tests {
             let want = e.radius * e.radius / 2.0;
             assert!((mean_r2 - want).abs() < 0.01 * want, "{mean_r2} vs {want}");
         }
-        // Equal discs share the budget equally; a photon through both counts both densities.
+        // Equal discs share the budget equally; a photon through one disc alone counts its
+        // density, E A / N.
         assert_eq!(es[0].photons, es[1].photons);
-        let through_both = balance_density(&es, 0, es[0].origin, direction);
-        assert_eq!(through_both, es[0].photons as f32 / es[0].measure);
+        let alone = balance_density(&es, 0, es[0].origin, direction);
+        assert_eq!(alone, es[0].photons as f32 / es[0].measure);
         let power = photon_power(&scene.lights[0], &es, 0, es[0].origin, direction);
         assert!((power.x - 2.0 * es[0].measure / es[0].photons as f32).abs() < 1e-6);
+        // One ball behind the other along the sun: their discs share an axis, so a photon
+        // through them counts both densities (the balance heuristic); one past their rims,
+        // neither.
+        let behind = direction * 3.0;
+        let scene = lit_by(
+            scene.lights[0].clone(),
+            vec![ball_at(Vec3::ZERO), ball_at(behind)],
+        );
+        let es = emitters(&scene, 0.0, &[0, 1], 10_000);
+        let both = es[0].photons as f32 / es[0].measure + es[1].photons as f32 / es[1].measure;
+        let density = balance_density(&es, 0, es[0].origin, direction);
+        assert!((density - both).abs() < 1e-6 * both, "{density} vs {both}");
+        let (t, _) = direction.any_orthonormal_pair();
+        let inside = es[0].origin + t * (es[0].radius * 0.99);
+        let past = es[0].origin + t * (es[0].radius * 1.5);
+        assert!(es[0].contains(inside, direction) && es[1].contains(inside, direction));
+        assert!(!es[0].contains(past, direction) && !es[1].contains(past, direction));
     }
 
     /// A spot aims no cone at a caster wholly outside its outer cone, and weighs each photon

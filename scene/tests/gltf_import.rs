@@ -777,10 +777,11 @@ fn what_is_left_out_is_named() {
         json!({ "name": "spot", "translation": [0.0, 3.0, 0.0], "extensions": { "KHR_lights_punctual": { "light": 2 } } }),
         json!({ "name": "plan view", "camera": 1, "translation": [0.0, 9.0, 0.0] }),
         json!({ "name": "spare view", "camera": 2, "translation": [3.0, 1.0, 5.0] }),
+        json!({ "name": "wide", "extensions": { "KHR_lights_punctual": { "light": 3 } } }),
     ] {
         j["nodes"].as_array_mut().unwrap().push(node);
     }
-    j["scenes"][0]["nodes"] = json!([0, 4, 5, 9]);
+    j["scenes"][0]["nodes"] = json!([0, 4, 5, 9, 10]);
     // What the importer ignores: a skin, an animation, vertex colours, morph targets, two
     // extensions it does not read, a light's range (the floor's lines primitive is the
     // fixture's own).
@@ -803,6 +804,8 @@ fn what_is_left_out_is_named() {
         .unwrap();
     lights.push(json!({ "name": "Sun", "type": "directional", "intensity": 3.0 }));
     lights.push(json!({ "name": "Spot", "type": "spot", "intensity": 500.0, "range": 10.0, "spot": { "innerConeAngle": 0.2, "outerConeAngle": 0.5 } }));
+    // Past glTF's rules: mended, named.
+    lights.push(json!({ "name": "Wide", "type": "spot", "spot": { "innerConeAngle": 2.5, "outerConeAngle": 2.0 } }));
     let cameras = j["cameras"].as_array_mut().unwrap();
     cameras.push(json!({ "name": "Plan", "type": "orthographic", "orthographic": { "xmag": 2.0, "ymag": 2.0, "znear": 0.1, "zfar": 20.0 } }));
     cameras.push(json!({ "name": "Spare", "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.05 } }));
@@ -815,7 +818,12 @@ fn what_is_left_out_is_named() {
         scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "fixture.gltf").unwrap();
     // The sun and the spot are lights of the scene, pointing down their nodes' -Z; the
     // rest is the fixture.
-    let (sun, spot) = (s.lights.remove(1), s.lights.remove(1));
+    let (sun, spot, wide) = (s.lights.remove(1), s.lights.remove(1), s.lights.remove(1));
+    let right = std::f32::consts::FRAC_PI_2;
+    assert!(matches!(
+        wide.kind,
+        scene::LightKind::Spot { inner_cone, outer_cone, .. } if inner_cone == right && outer_cone == right
+    ));
     // The floor's material emits: its objects carry the radiance, and nothing else emits.
     let emitting: Vec<Vec3> = s.objects.iter().map(|o| o.emission).collect();
     assert!(emitting.contains(&Vec3::new(1.0, 0.5, 0.0)), "{emitting:?}");
@@ -853,6 +861,8 @@ fn what_is_left_out_is_named() {
     );
     let expected = [
         "the view is camera 0 of node 5 (\"camera\"), the first perspective camera",
+        "light 3 (\"Wide\") of node 10 (\"wide\") has an outer cone angle of 2 rad, past glTF's pi/2",
+        "light 3 (\"Wide\") of node 10 (\"wide\") has an inner cone angle of 2.5 rad, past its outer one",
         "camera 2 (\"Spare\") of node 9 (\"spare view\") is not used",
         "light 2 (\"Spot\") of node 7 (\"spot\") has a range of 10 m, which is ignored",
         "node 4 (\"floor\") is skinned: drawn in its bind pose",

@@ -101,6 +101,15 @@ fn builtin_variants_round_trip_exactly() {
 fn awkward_values_round_trip_exactly() {
     let mut s = scene::load("cornell-sphere").unwrap();
     s.name = "ünïcode \"quoted\" scene".into();
+    // A spot whose cones are equal (a hard edge, as Blender writes a spot without blend).
+    s.lights.push(scene::Light {
+        kind: scene::LightKind::Spot {
+            direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+            inner_cone: 0.4,
+            outer_cone: 0.4,
+        },
+        ..scene::Light::point("hard spot", Vec3::new(0.1, 1.7, 0.2), Vec3::splat(1.5))
+    });
     // Emission above 1 (the strength extension) and below it.
     let diffuse: Vec<usize> = (0..s.objects.len())
         .filter(|&i| !s.objects[i].material.is_specular())

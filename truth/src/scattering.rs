@@ -9,7 +9,7 @@
 //! ```
 //!
 //! with `T` the Beer-Lambert transmittance `exp(-sigma_t len)` and `p` the Henyey-Greenstein
-//! phase function. `L_i` is the light arriving at `x(t)` straight from a point light (no
+//! phase function. `L_i` is the light arriving at `x(t)` straight from a light (no
 //! specular event) or after one or more specular events (through the water's surface): single
 //! scattering, both ways, and nothing scattered twice. The reference splits it the way it
 //! splits surface lighting:

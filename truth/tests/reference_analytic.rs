@@ -527,15 +527,30 @@ fn spot_and_sun_light_the_floor_as_the_formula_says() {
     for (light, objects) in [(spot, vec![floor()]), (sun, vec![floor(), ball])] {
         let mut scene = scene_with(objects, camera);
         scene.lights = vec![light.clone()];
-        let by_hand = |p: Vec3| {
-            let t = light.toward(p).unwrap();
-            if let scene::LightKind::Directional { direction } = light.kind {
+        // Worked out here, not through scene::Light: glTF's spot falloff, the square of a
+        // linear ramp in the cosine between the cones.
+        let by_hand = |p: Vec3| match light.kind {
+            scene::LightKind::Directional { direction } => {
                 let s = ray_sphere(p, -direction, CENTER, RADIUS);
                 if s.x <= s.y && s.y > 0.0 {
                     return Vec3::ZERO;
                 }
+                FLOOR_ALBEDO * FRAC_1_PI * light.intensity * (-direction.y)
             }
-            FLOOR_ALBEDO * FRAC_1_PI * light.intensity * t.factor * t.dir.y / t.distance_squared
+            scene::LightKind::Spot {
+                direction,
+                inner_cone,
+                outer_cone,
+            } => {
+                let to_l = light.position - p;
+                let d2 = to_l.length_squared();
+                let cos_axis = direction.dot(-to_l / d2.sqrt());
+                let ramp = ((cos_axis - outer_cone.cos()) / (inner_cone.cos() - outer_cone.cos()))
+                    .clamp(0.0, 1.0);
+                FLOOR_ALBEDO * FRAC_1_PI * light.intensity * (ramp * ramp) * (to_l.y / d2.sqrt())
+                    / d2
+            }
+            scene::LightKind::Point => unreachable!(),
         };
         let has_ball = scene.objects.len() > 1;
         // The floor's radiance seen through (x, y), or None where the ball hides it.

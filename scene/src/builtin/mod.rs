@@ -318,14 +318,7 @@ fn outdoor_and_water_scenes() -> Vec<Builtin> {
                               under the surface",
                 params: pool_params("0"),
             },
-            build: |a| {
-                lit(
-                    pool::pool(&a.get("view"), pool_murk(a)?)?,
-                    a,
-                    "sun",
-                    pool::sun_lit,
-                )
-            },
+            build: build_pool,
         },
         Builtin {
             info: SceneInfo {
@@ -334,14 +327,7 @@ fn outdoor_and_water_scenes() -> Vec<Builtin> {
                               waves): light shafts under the surface",
                 params: pool_params("0.2"),
             },
-            build: |a| {
-                lit(
-                    pool::pool(&a.get("view"), pool_murk(a)?)?,
-                    a,
-                    "sun",
-                    pool::sun_lit,
-                )
-            },
+            build: build_pool,
         },
         Builtin {
             info: SceneInfo {
@@ -454,6 +440,12 @@ fn lit(
             "light={w}: expected point or {other}"
         ))),
     }
+}
+
+/// `pool` or `murky-pool` from its parameters.
+fn build_pool(a: &SceneArgs) -> Result<Scene, SceneError> {
+    let scene = pool::pool(&a.get("view"), pool_murk(a)?)?;
+    lit(scene, a, "sun", pool::sun_lit)
 }
 
 /// The water's scattering from a pool spec.

@@ -186,45 +186,8 @@ impl Exporter {
 
         let mut lights = vec![];
         for l in &scene.lights {
-            let peak = l.intensity.max_element().max(0.0);
-            let color = if peak > 0.0 {
-                (l.intensity / peak).max(Vec3::ZERO)
-            } else {
-                Vec3::ONE
-            };
-            let mut light = json!({
-                "name": l.name,
-                "type": l.kind_name(),
-                "color": arr(&color.to_array()),
-                "intensity": num(peak * LUMENS_PER_WATT),
-                "extras": wrap(&LightExtras {
-                    intensity: v3(l.intensity),
-                    direction: l.direction().map(v3),
-                }),
-            });
-            if let LightKind::Spot {
-                inner_cone,
-                outer_cone,
-                ..
-            } = l.kind
-            {
-                light["spot"] = json!({
-                    "innerConeAngle": num(inner_cone),
-                    "outerConeAngle": num(outer_cone),
-                });
-            }
-            lights.push(light);
-            let mut node = json!({
-                "name": l.name,
-                "translation": arr(&l.position.to_array()),
-                "extensions": { "KHR_lights_punctual": { "light": lights.len() - 1 } },
-            });
-            // glTF lights point along their node's -Z.
-            if let Some(direction) = l.direction() {
-                let rotation = Quat::from_rotation_arc(Vec3::NEG_Z, direction.normalize());
-                node["rotation"] = arr(&rotation.to_array());
-            }
-            nodes.push(node);
+            lights.push(light_json(l));
+            nodes.push(light_node(l, lights.len() - 1));
         }
 
         let c = &scene.camera;
@@ -306,6 +269,63 @@ impl Exporter {
 pub(super) fn camera_rotation(c: &Camera) -> Quat {
     let (forward, right, up) = c.basis();
     Quat::from_mat3(&Mat3::from_cols(right, up, -forward)).normalize()
+}
+
+/// A light as `KHR_lights_punctual` has it: colour times intensity (candela for point and spot
+/// lights, lux for directional ones) at 683 lm/W, a spot's cone (glTF wants the inner angle
+/// below the outer: equal angles, a hard edge, are written a hair apart), the exact values in
+/// the extras.
+fn light_json(l: &Light) -> Value {
+    let peak = l.intensity.max_element().max(0.0);
+    let color = if peak > 0.0 {
+        (l.intensity / peak).max(Vec3::ZERO)
+    } else {
+        Vec3::ONE
+    };
+    let mut exact = LightExtras {
+        intensity: v3(l.intensity),
+        direction: l.direction().map(v3),
+        cone: None,
+    };
+    let spot = if let LightKind::Spot {
+        inner_cone,
+        outer_cone,
+        ..
+    } = l.kind
+    {
+        exact.cone = Some([inner_cone as f64, outer_cone as f64]);
+        Some(json!({
+            "innerConeAngle": num(inner_cone.min(outer_cone * (1.0 - 1e-6))),
+            "outerConeAngle": num(outer_cone),
+        }))
+    } else {
+        None
+    };
+    let mut light = json!({
+        "name": l.name,
+        "type": l.kind_name(),
+        "color": arr(&color.to_array()),
+        "intensity": num(peak * LUMENS_PER_WATT),
+        "extras": wrap(&exact),
+    });
+    if let Some(spot) = spot {
+        light["spot"] = spot;
+    }
+    light
+}
+
+/// The node of light `index`, at the light's position, its -Z along the light's direction.
+fn light_node(l: &Light, index: usize) -> Value {
+    let mut node = json!({
+        "name": l.name,
+        "translation": arr(&l.position.to_array()),
+        "extensions": { "KHR_lights_punctual": { "light": index } },
+    });
+    if let Some(direction) = l.direction() {
+        let rotation = Quat::from_rotation_arc(Vec3::NEG_Z, direction.normalize());
+        node["rotation"] = arr(&rotation.to_array());
+    }
+    node
 }
 
 /// A diffuse surface's emission as glTF has it: the emissive factor (each channel at most 1)

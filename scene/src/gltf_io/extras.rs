@@ -195,6 +195,10 @@ pub(super) struct LightExtras {
     /// rounded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(super) direction: Option<V3>,
+    /// A spot's exact inner and outer cone angles (the core's inner angle is written below
+    /// the outer where they are equal).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) cone: Option<[f64; 2]>,
 }
 
 /// `{"scene_model": value}`.

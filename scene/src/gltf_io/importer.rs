@@ -245,15 +245,9 @@ impl Importer<'_> {
             }
         }
         if let Some(light) = node.light() {
-            self.lights.push(punctual_light(node, &light, world)?);
-            if let Some(range) = light.range() {
-                self.notes.push(format!(
-                    "light {} of node {} has a range of {range} m, which is ignored: its light \
-                     falls off with the inverse square at any distance",
-                    describe_light(&light),
-                    describe_node(node)
-                ));
-            }
+            let (light, notes) = punctual_light(node, &light, world)?;
+            self.lights.push(light);
+            self.notes.extend(notes);
         }
         if node.skin().is_some() {
             self.notes.push(format!(
@@ -267,154 +261,13 @@ impl Importer<'_> {
         self.choose_camera(node, world)
     }
 
-    /// The first perspective camera met in the node tree is the view: glTF marks no camera as
-    /// active. A file's own camera (not ours, whose extras carry it exactly) is named in a
-    /// note, and so is every other perspective camera, which is not used.
-    fn choose_camera(&mut self, node: &gltf::Node, world: Mat4) -> Result<(), String> {
-        let Some(found) = self.camera_at(node, world)? else {
-            return Ok(());
-        };
-        let camera = node
-            .camera()
-            .map(|c| describe_camera(&c))
-            .unwrap_or_default();
-        let what = format!("camera {camera} of node {}", describe_node(node));
-        match (&self.camera, &found) {
-            (None, FoundCamera::Derived { .. }) => self.notes.push(format!(
-                "the view is {what}, the first perspective camera in the node tree (glTF marks \
-                 no camera as active)"
-            )),
-            (Some(_), _) => self.notes.push(format!(
-                "{what} is not used: the view is the first perspective camera in the node tree"
-            )),
-            (None, FoundCamera::Exact(_)) => {}
-        }
-        if self.camera.is_none() {
-            self.camera = Some(found);
-        }
-        Ok(())
-    }
-
-    /// Notes of what the file as a whole has that the importer ignores: animations, and
-    /// extensions it does not read.
-    fn note_file(&mut self) {
-        let animations = self.doc.animations().count();
-        if animations > 0 {
-            self.notes.push(format!(
-                "the file's {animations} animation(s) are ignored: objects stand where the node \
-                 tree places them"
-            ));
-        }
-        for extension in self.doc.extensions_used() {
-            if let Some(note) = unread_extension(extension) {
-                self.notes.push(note);
-            }
-        }
-    }
-
-    /// Notes of what a mesh's primitives carry that the importer leaves out: primitives that
-    /// are not triangles, vertex colours, morph targets.
-    fn note_mesh(&mut self, mesh: &gltf::Mesh) {
-        let what = format!("mesh {}", describe_mesh(mesh));
-        for prim in mesh.primitives() {
-            if !triangle_mode(prim.mode()) {
-                self.notes.push(format!(
-                    "{what} primitive {} draws {:?}, not triangles: skipped",
-                    prim.index(),
-                    prim.mode()
-                ));
-            }
-            if prim.get(&gltf::mesh::Semantic::Colors(0)).is_some() {
-                self.notes.push(format!(
-                    "{what} has vertex colours (COLOR_0), which are ignored: the material's \
-                     colour alone"
-                ));
-            }
-            if prim.morph_targets().next().is_some() {
-                self.notes.push(format!(
-                    "{what} has morph targets, which are ignored: its base shape is drawn"
-                ));
-            }
-        }
-    }
-
-    /// The note of a node's orthographic camera, which the importer skips.
-    fn orthographic_camera(&self, node: &gltf::Node) -> Option<String> {
-        let camera = node.camera()?;
-        let json = self.doc.as_json().cameras.get(camera.index())?;
-        let orthographic =
-            gltf::json::validation::Checked::Valid(gltf::json::camera::Type::Orthographic);
-        (json.type_ == orthographic).then(|| {
-            format!(
-                "camera {} of node {} is orthographic, which is not supported yet: skipped (the \
-                 first perspective camera is used, or the scene is framed)",
-                describe_camera(&camera),
-                describe_node(node)
-            )
-        })
-    }
-
-    /// Notes of what `m` has that its import as `material` leaves out or approximates:
-    /// emission, alpha masks and blending, rough transmission, rough metal.
-    fn note_material(&mut self, m: &gltf::Material, material: &Material) {
-        let what = match (m.index(), m.name()) {
-            (Some(i), Some(name)) => format!("material {i} (\"{name}\")"),
-            (Some(i), None) => format!("material {i}"),
-            (None, _) => return, // the default material has nothing to leave out
-        };
-        let mut notes = Vec::new();
-        let emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
-        let textured = m.emissive_texture().is_some();
-        if emissive.max_element() > 0.0 || textured {
-            let texture = if textured {
-                "; its emissive texture is left out (the factor alone)"
-            } else {
-                ""
-            };
-            notes.push(match material {
-                Material::Diffuse { .. } => format!(
-                    "{what} emits radiance {emissive} (emissive factor times strength): seen \
-                     directly and in reflections and refractions, but it lights nothing (emissive \
-                     surfaces are not light sources here){texture}"
-                ),
-                _ => format!(
-                    "{what} emits radiance {emissive} but is imported as {}: left out (only \
-                     diffuse surfaces emit)",
-                    if matches!(material, Material::Glass { .. }) {
-                        "glass"
-                    } else {
-                        "metal"
-                    }
-                ),
-            });
-        }
-        match m.alpha_mode() {
-            gltf::material::AlphaMode::Opaque => {}
-            gltf::material::AlphaMode::Mask => notes.push(format!(
-                "{what} is alpha-masked (MASK, cutoff {}), which is not supported yet: rendered \
-                 opaque",
-                m.alpha_cutoff().unwrap_or(0.5)
-            )),
-            gltf::material::AlphaMode::Blend => notes.push(format!(
-                "{what} is alpha-blended (BLEND), which is not supported yet: rendered opaque"
-            )),
-        }
-        let roughness = m.pbr_metallic_roughness().roughness_factor();
-        match material {
-            Material::Glass { .. } if roughness > 0.0 => notes.push(format!(
-                "{what} transmits with roughness {roughness}: rendered as smooth glass"
-            )),
-            Material::Metal { .. } if roughness > 0.0 => notes.push(format!(
-                "{what} is metal with roughness {roughness}: rendered as a smooth mirror"
-            )),
-            _ => {}
-        }
-        self.notes.extend(notes);
-    }
-
     /// The camera of a perspective camera node (`None` for any other node): exact from the
     /// extras while they agree with the node, else derived from it.
-    fn camera_at(&self, node: &gltf::Node, world: Mat4) -> Result<Option<FoundCamera>, String> {
+    pub(super) fn camera_at(
+        &self,
+        node: &gltf::Node,
+        world: Mat4,
+    ) -> Result<Option<FoundCamera>, String> {
         // The camera's JSON is read directly: `gltf::Camera::projection` unwraps the
         // projection named by `type`, which validation does not require to be present.
         let perspective = node
@@ -691,33 +544,7 @@ pub(super) fn describe_node(node: &gltf::Node) -> String {
     }
 }
 
-fn describe_light(light: &gltf::khr_lights_punctual::Light) -> String {
-    match light.name() {
-        Some(n) => format!("{} (\"{n}\")", light.index()),
-        None => light.index().to_string(),
-    }
-}
-
-/// The note of a glTF extension the importer does not read (`None` for those it reads).
-fn unread_extension(name: &str) -> Option<String> {
-    let effect = match name {
-        "KHR_lights_punctual"
-        | "KHR_materials_ior"
-        | "KHR_materials_transmission"
-        | "KHR_materials_emissive_strength" => return None,
-        "KHR_materials_volume" => {
-            "absorption inside glass (attenuation colour and distance) is left out, the glass is clear"
-        }
-        "KHR_texture_transform" => "textures repeat untransformed",
-        "KHR_materials_unlit" => "unlit materials are shaded as diffuse",
-        _ => "what it adds is left out",
-    };
-    Some(format!(
-        "the file uses {name}, which the importer does not read: {effect}"
-    ))
-}
-
-fn describe_camera(camera: &gltf::Camera) -> String {
+pub(super) fn describe_camera(camera: &gltf::Camera) -> String {
     match camera.name() {
         Some(n) => format!("{} (\"{n}\")", camera.index()),
         None => camera.index().to_string(),
@@ -862,53 +689,4 @@ impl VolumeExtras {
             motion: motion_from(&v.motion),
         }
     }
-}
-
-/// A `KHR_lights_punctual` light at its node: the exact intensity (and direction) from the
-/// extras while they agree with the core light, else the core colour and intensity (candela
-/// for point and spot lights, lux for directional ones) over 683 lm/W, and the node's -Z
-/// axis. A spot keeps its inner and outer cone angles and glTF's falloff between them.
-fn punctual_light(
-    node: &gltf::Node,
-    light: &gltf::khr_lights_punctual::Light,
-    world: Mat4,
-) -> Result<Light, String> {
-    let what = format!("light {}", light.index());
-    let c = Vec3::from(light.color());
-    let derived = c * light.intensity() / LUMENS_PER_WATT;
-    let exact: Option<LightExtras> = read_extras(light.extras(), &what)?;
-    let intensity = match &exact {
-        Some(x) if close(vec3(x.intensity), derived, 1e-4) => vec3(x.intensity),
-        _ => derived,
-    };
-    let axis = world
-        .transform_vector3(Vec3::NEG_Z)
-        .normalize_or(Vec3::NEG_Z);
-    let direction = match exact.and_then(|x| x.direction) {
-        Some(d) if close(vec3(d), axis, 1e-4) => vec3(d),
-        _ => axis,
-    };
-    let name = light
-        .name()
-        .or(node.name())
-        .map(str::to_string)
-        .unwrap_or_else(|| format!("light {}", light.index()));
-    let kind = match light.kind() {
-        gltf::khr_lights_punctual::Kind::Point => LightKind::Point,
-        gltf::khr_lights_punctual::Kind::Directional => LightKind::Directional { direction },
-        gltf::khr_lights_punctual::Kind::Spot {
-            inner_cone_angle,
-            outer_cone_angle,
-        } => LightKind::Spot {
-            direction,
-            inner_cone: inner_cone_angle,
-            outer_cone: outer_cone_angle,
-        },
-    };
-    Ok(Light {
-        name,
-        position: world.transform_point3(Vec3::ZERO),
-        intensity,
-        kind,
-    })
 }

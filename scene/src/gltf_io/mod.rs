@@ -93,9 +93,13 @@
 //!   other side).
 //!
 //! Every texture becomes an embedded PNG image (RGBA8, exact) and a texture with a
-//! repeat/linear sampler. Each point light becomes a node (translation = position) with a
-//! `KHR_lights_punctual` point light of colour = intensity / max(intensity) and intensity
-//! = 683 * max(intensity) candela. The scene camera becomes a camera node (`yfov` in
+//! repeat/linear sampler. Each light becomes a node (translation = position, its -Z rotated
+//! onto a spot's or directional light's direction) with a `KHR_lights_punctual` light of its
+//! type, colour = intensity / max(intensity) and intensity = 683 * max(intensity) (candela
+//! for point and spot lights, lux for directional ones), a spot with its cone angles (the
+//! inner written a hair below the outer where they are equal, as glTF requires). A diffuse
+//! material that emits gets `emissiveFactor` = emission / max(1, peak) and, past 1,
+//! `KHR_materials_emissive_strength` = the peak. The scene camera becomes a camera node (`yfov` in
 //! radians, `znear`/`zfar` = [`Camera::NEAR`]/[`Camera::FAR`]). Motion keys, building
 //! room sizes, volumes and the camera path are not expressed in core glTF (no animations
 //! are written); they exist only in `extras`.
@@ -126,19 +130,23 @@
 //!                         "building": { "room_size": [..] } } }   ("building": buildings only)
 //! nodes[i].extras     { "scene_model": { "eye": [..], "target": [..], "up": [..],
 //!                                        "fov_y_deg": f } }   (the camera node)
-//! materials[i].extras { "scene_model": { "kind": "diffuse", "albedo": [..] } }
+//! materials[i].extras { "scene_model": { "kind": "diffuse", "albedo": [..],
+//!                                        "emission": [..] } }   ("emission": emitters only)
 //!                     { "scene_model": { "kind": "metal", "n": [..], "k": [..] } }
 //!                     { "scene_model": { "kind": "glass", "ior": x } }
 //! KHR_lights_punctual lights[i].extras
-//!                     { "scene_model": { "intensity": [r, g, b] } }   (W/sr)
+//!                     { "scene_model": { "intensity": [r, g, b],   (W/sr; W/m^2 for a sun)
+//!                                        "direction": [..],        (spot and directional)
+//!                                        "cone": [inner, outer] } } (spot; radians)
 //! ```
 //!
 //! A diffuse material's texture is its core `baseColorTexture` (exact already).
 //!
 //! Object transforms and light positions are always read from the nodes (which hold them
-//! exactly), so moving things in an editor is respected. The exact camera and light
-//! intensity in `extras` are used only while they agree with the core glTF camera node and
-//! light (to 1e-4); if an editor changed those, the core values win. Materials, roles,
+//! exactly), so moving things in an editor is respected. The exact camera, light intensity,
+//! direction and cone and emission in `extras` are used only while they agree with the core
+//! glTF camera node, light and material (to 1e-4); if an editor changed those, the core
+//! values win. Materials, roles,
 //! motion, buildings, volumes, the camera path and the background come from `extras`
 //! whenever present. An `extras.scene_model.version` above 1 is an error.
 //!
@@ -184,11 +192,13 @@ use std::path::Path;
 mod export;
 mod extras;
 mod importer;
+mod notes;
 mod read;
 pub use export::glb;
 use export::*;
 use extras::*;
 use importer::*;
+use notes::*;
 use read::*;
 
 /// The key under which the exact workspace data sits in every `extras` object.

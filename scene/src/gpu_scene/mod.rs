@@ -3,9 +3,10 @@
 //! `GpuScene` uploads every object once (object-space vertices, those of a deforming object
 //! rewritten at each new time; one index range per object; a storage buffer of per-object
 //! transforms and materials; the lights; the diffuse textures as one texture array) and owns
-//! one distance shadow map per light: a cube map around a light inside (or near) the scene's
-//! bounding sphere, or one 2D map fitted to that sphere for a light farther than 1.5 radii
-//! from its centre (`FittedShadow`). Its raster pass
+//! one distance shadow map per light: a cube map around a point or spot light inside (or near)
+//! the scene's bounding sphere, or one 2D map fitted to that sphere for one farther than 1.5
+//! radii from its centre, and for a directional light an orthographic one along its direction
+//! (`FittedShadow`). Its raster pass
 //! shades diffuse surfaces exactly like the CPU reference (`shaders/scene.wgsl`), so every
 //! technique differs from the reference only where its special objects are.
 //!
@@ -39,7 +40,7 @@ pub const SHADOW_BUDGET_BYTES: u64 = 512 << 20;
 /// [`shadow_map_size`]).
 pub const MIN_SHADOW_MAP_SIZE: u32 = 64;
 
-/// The side of the shadow maps for `lights` point lights on a device whose texture arrays
+/// The side of the shadow maps for `lights` lights on a device whose texture arrays
 /// hold at most `max_layers` layers: the largest power of two up to [`SHADOW_MAP_SIZE`] whose
 /// maps fit [`SHADOW_BUDGET_BYTES`]. Fails, naming the limit, when even
 /// [`MIN_SHADOW_MAP_SIZE`] does not fit or the cube maps need more layers than the device has
@@ -59,7 +60,7 @@ pub fn shadow_map_size(lights: usize, max_layers: u32) -> Result<u32, SceneError
     if lights > max_lights || bytes(size as u64) > SHADOW_BUDGET_BYTES {
         let by_budget = SHADOW_BUDGET_BYTES / (7 * 4 * (MIN_SHADOW_MAP_SIZE as u64).pow(2));
         return Err(SceneError::Invalid(format!(
-            "the scene has {lights} point lights; the GPU scene keeps a shadow cube map per \
+            "the scene has {lights} lights; the GPU scene keeps a shadow cube map per \
              light and takes at most {} on this adapter ({max_layers} texture array layers, \
              six per light; {} MB of shadow maps at {MIN_SHADOW_MAP_SIZE} texels per side); \
              the CPU reference has no such limit",

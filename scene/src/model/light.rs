@@ -194,8 +194,10 @@ mod tests {
         assert_eq!(at(0.0), 1.0);
         assert_eq!(at(0.29), 1.0);
         assert_eq!(at(0.51), 0.0);
+        // Between the cones, glTF's ramp: the square of a linear ramp in the cosine.
         let mid = at(0.4);
-        assert!(mid > 0.0 && mid < 1.0, "{mid}");
+        let ramp = (0.4f32.cos() - 0.5f32.cos()) / (0.3f32.cos() - 0.5f32.cos());
+        assert!((mid - ramp * ramp).abs() < 1e-6, "{mid} vs {}", ramp * ramp);
         // Monotone between the cones.
         let mut last = 1.0;
         for i in 0..=100 {

@@ -186,7 +186,8 @@ fn surface_albedo(object: u32, uv: vec2f) -> vec3f {
 // Visibility of light `i` from p. The shadow map stores the distance from the light to the
 // nearest surface per direction: a cube map around a light inside the scene, or one 2D map
 // fitted to the scene's bounding sphere for a light outside it (a cube face would spend
-// almost all its texels on empty space). p is lit when it is not farther than the stored
+// almost all its texels on empty space), orthographic for a directional light (distances from
+// the map's eye behind the sphere, scene::LightKind::Directional). p is lit when it is not farther than the stored
 // distance, with a bias of the texel's footprint at that distance, grown with the slope.
 fn light_visibility(i: u32, p: vec3f, n: vec3f) -> f32 {
     return light_visibility_in(shadow_maps, fitted_shadow_maps, i, p, n);
@@ -221,7 +222,11 @@ fn light_visibility_in(
             texel_angle = 2.0 * light.shadow_params.y / (scene_info.shadow_size * d);
         }
     }
-    let cos_l = clamp(dot(n, -to_p / d), 0.05, 1.0);
+    // The slope against the light's rays: along a directional light's direction in its
+    // orthographic map (the map's eye sees the point from a little aside).
+    var toward_light = -to_p / d;
+    if (light.shadow_params.y > 0.0) { toward_light = -light.direction.xyz; }
+    let cos_l = clamp(dot(n, toward_light), 0.05, 1.0);
     let bias = d * texel_angle * (1.5 + sqrt(1.0 - cos_l * cos_l) / cos_l) + 1e-4 * max(1.0, d);
     return select(0.0, 1.0, d - bias <= stored);
 }
