@@ -202,30 +202,31 @@ fn light_visibility_in(
     p: vec3f,
     n: vec3f,
 ) -> f32 {
-    let light = lights[i];
-    let to_p = p - light.position.xyz;
+    let position = lights[i].position;
+    let shadow_params = lights[i].shadow_params;
+    let to_p = p - position.xyz;
     let d = length(to_p);
     var stored: f32;
     var texel_angle: f32;
-    if (light.position.w < 0.5) {
+    if (position.w < 0.5) {
         stored = textureSampleLevel(cube_maps, shadow_sampler, to_p, i32(i), 0.0).r;
         texel_angle = 2.0 / scene_info.shadow_size;
     } else {
-        let clip = light.shadow_view_proj * vec4f(p, 1.0);
+        let clip = lights[i].shadow_view_proj * vec4f(p, 1.0);
         let ndc = clip.xy / clip.w;
         if (clip.w <= 0.0 || any(abs(ndc) > vec2f(1.0))) { return 1.0; }
         let uv = vec2f(0.5 * ndc.x + 0.5, 0.5 - 0.5 * ndc.y);
         stored = textureSampleLevel(fitted_maps, shadow_sampler, uv, i32(i), 0.0).r;
-        texel_angle = 2.0 * light.shadow_params.x / scene_info.shadow_size;
-        if (light.shadow_params.y > 0.0) {
+        texel_angle = 2.0 * shadow_params.x / scene_info.shadow_size;
+        if (shadow_params.y > 0.0) {
             // Orthographic: a texel is the same width at every distance.
-            texel_angle = 2.0 * light.shadow_params.y / (scene_info.shadow_size * d);
+            texel_angle = 2.0 * shadow_params.y / (scene_info.shadow_size * d);
         }
     }
     // The slope against the light's rays: along a directional light's direction in its
     // orthographic map (the map's eye sees the point from a little aside).
     var toward_light = -to_p / d;
-    if (light.shadow_params.y > 0.0) { toward_light = -light.direction.xyz; }
+    if (shadow_params.y > 0.0) { toward_light = -lights[i].direction.xyz; }
     let cos_l = clamp(dot(n, toward_light), 0.05, 1.0);
     let bias = d * texel_angle * (1.5 + sqrt(1.0 - cos_l * cos_l) / cos_l) + 1e-4 * max(1.0, d);
     return select(0.0, 1.0, d - bias <= stored);
@@ -250,18 +251,21 @@ fn shade_diffuse_ng(p: vec3f, n: vec3f, ng: vec3f, albedo: vec3f) -> vec3f {
 // The vector from p toward light i (scene::Light::toward): to the light's position, whose
 // squared length divides the intensity, or the unit vector against a directional light's
 // direction (no falloff: its intensity is an irradiance).
+// (Fields are read one by one, not the record whole: a copy of the record costs lavapipe a
+// load of all its 12 vec4s per call, which showed in every raster pass.)
 fn light_toward(i: u32, p: vec3f) -> vec3f {
-    let light = lights[i];
-    if (light.direction.w == LIGHT_DIRECTIONAL) { return -light.direction.xyz; }
-    return light.position.xyz - p;
+    let direction = lights[i].direction;
+    if (direction.w == LIGHT_DIRECTIONAL) { return -direction.xyz; }
+    return lights[i].position.xyz - p;
 }
 
 // Light i's intensity toward a point seen in the unit direction l from it: a spot's cone
 // falloff applied (scene::Light::emission_factor).
 fn light_intensity_toward(i: u32, l: vec3f) -> vec3f {
-    let light = lights[i];
-    if (light.direction.w != LIGHT_SPOT) { return light.intensity.rgb; }
-    return light.intensity.rgb * spot_falloff(dot(light.direction.xyz, -l), light.cone.x, light.cone.y);
+    let direction = lights[i].direction;
+    if (direction.w != LIGHT_SPOT) { return lights[i].intensity.rgb; }
+    let cone = lights[i].cone;
+    return lights[i].intensity.rgb * spot_falloff(dot(direction.xyz, -l), cone.x, cone.y);
 }
 
 // KHR_lights_punctual's spot falloff (scene::spot_falloff).
