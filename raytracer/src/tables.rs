@@ -2,8 +2,8 @@
 //! objects, the texture table, the sRGB table) and every texture's texels.
 
 use glam::Vec3;
+use scene::Scene;
 use scene::emission::Emitter;
-use scene::{LightKind, Scene};
 
 /// Lights, volumes, emitters, objects, the texture table and the sRGB table in one buffer of
 /// vec4s (the layout `tracer.wgsl`'s accessors read), and every texture's texels.
@@ -20,21 +20,9 @@ impl Tables {
         let mut data: Vec<[f32; 4]> = Vec::new();
         let lights = data.len() as u32;
         for l in &scene.lights {
-            // As tracer.wgsl's `light` reads them: the kind in position.w (0 point, 1 spot,
-            // 2 directional), the direction, a spot's cone cosines.
-            let (kind, direction, cone) = match l.kind {
-                LightKind::Point => (0.0, Vec3::ZERO, [0.0; 4]),
-                LightKind::Spot {
-                    direction,
-                    inner_cone,
-                    outer_cone,
-                } => (
-                    1.0,
-                    direction,
-                    [inner_cone.cos(), outer_cone.cos(), 0.0, 0.0],
-                ),
-                LightKind::Directional { direction } => (2.0, direction, [0.0; 4]),
-            };
+            // As tracer.wgsl's `light` reads them: the kind in position.w, the direction, a
+            // spot's cone cosines.
+            let (kind, direction, cone) = l.shader_fields();
             data.push(l.position.extend(kind).to_array());
             data.push(l.intensity.extend(0.0).to_array());
             data.push(direction.extend(0.0).to_array());

@@ -117,11 +117,7 @@ impl Importer<'_> {
                 _ => format!(
                     "{what} emits radiance {emissive} but is imported as {}: left out (only \
                      diffuse surfaces emit)",
-                    if matches!(material, Material::Glass { .. }) {
-                        "glass"
-                    } else {
-                        "metal"
-                    }
+                    material.kind_name()
                 ),
             });
         }

@@ -233,19 +233,7 @@ pub(super) fn light_records(
 /// is its fitted map's eye (the distances its shadow map holds are measured from there), and
 /// it always has a fitted map ([`FittedShadow::for_direction`]).
 fn light_record(l: &Light, f: Option<&FittedShadow>) -> LightGpu {
-    let (kind, direction, cone) = match l.kind {
-        LightKind::Point => (LIGHT_POINT, Vec3::ZERO, [0.0; 4]),
-        LightKind::Spot {
-            direction,
-            inner_cone,
-            outer_cone,
-        } => (
-            LIGHT_SPOT,
-            direction,
-            [inner_cone.cos(), outer_cone.cos(), 0.0, 0.0],
-        ),
-        LightKind::Directional { direction } => (LIGHT_DIRECTIONAL, direction, [0.0; 4]),
-    };
+    let (kind, direction, cone) = l.shader_fields();
     let position = f.and_then(|f| f.eye).unwrap_or(l.position);
     LightGpu {
         position: position
@@ -263,8 +251,3 @@ fn light_record(l: &Light, f: Option<&FittedShadow>) -> LightGpu {
         cone,
     }
 }
-
-/// `LightGpu.direction.w`: the light's kind, as `scene.wgsl` names them.
-const LIGHT_POINT: f32 = 0.0;
-const LIGHT_SPOT: f32 = 1.0;
-const LIGHT_DIRECTIONAL: f32 = 2.0;

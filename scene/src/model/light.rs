@@ -125,6 +125,26 @@ impl Light {
         (len > 0.0).then(|| (seg / len, len))
     }
 
+    /// The light as both GPU renderers' records encode it (`scene.wgsl`'s `LightGpu`, the ray
+    /// tracer's table): its kind (0 point, 1 spot, 2 directional), the direction it points or
+    /// travels (zero for a point light) and a spot's cosines of its inner and outer half-angles
+    /// (zero otherwise).
+    pub fn shader_fields(&self) -> (f32, Vec3, [f32; 4]) {
+        match self.kind {
+            LightKind::Point => (0.0, Vec3::ZERO, [0.0; 4]),
+            LightKind::Spot {
+                direction,
+                inner_cone,
+                outer_cone,
+            } => (
+                1.0,
+                direction,
+                [inner_cone.cos(), outer_cone.cos(), 0.0, 0.0],
+            ),
+            LightKind::Directional { direction } => (2.0, direction, [0.0; 4]),
+        }
+    }
+
     /// The words a message names the light's type with.
     pub fn kind_name(&self) -> &'static str {
         match self.kind {

@@ -128,6 +128,14 @@ impl Material {
     pub fn is_specular(&self) -> bool {
         !matches!(self, Material::Diffuse { .. })
     }
+    /// The word a message names the material's kind with.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Material::Diffuse { .. } => "diffuse",
+            Material::Metal { .. } => "metal",
+            Material::Glass { .. } => "glass",
+        }
+    }
 
     /// Glass indices of refraction the renderers accept: below 1 is an interface seen from
     /// the denser side (`glass-0.75`), 2.42 is diamond.

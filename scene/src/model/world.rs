@@ -162,11 +162,7 @@ impl Scene {
             return Some(format!(
                 "object \"{}\" is {} and emits {}; only diffuse surfaces emit",
                 o.name,
-                if matches!(o.material, Material::Glass { .. }) {
-                    "glass"
-                } else {
-                    "metal"
-                },
+                o.material.kind_name(),
                 o.emission
             ));
         }
