@@ -90,6 +90,7 @@ pub fn mirror_and_glass_room() -> Scene {
         target: Vec3::new(0.0, 0.5, -0.4),
         up: Vec3::Y,
         fov_y_deg: 65.0,
+        orthographic: None,
     };
     Scene {
         name: "mirror and glass room".into(),
@@ -165,6 +166,7 @@ pub fn street() -> Scene {
         target: Vec3::new(0.0, 12.0, 0.0),
         up: Vec3::Y,
         fov_y_deg: 60.0,
+        orthographic: None,
     };
     Scene {
         name: "street".into(),

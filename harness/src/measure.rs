@@ -287,6 +287,7 @@ pub fn run_containing(
     contained: &[Contained],
     on_step: &mut OnStep,
 ) -> Result<TechniqueRun> {
+    scene::orthographic_refusal(technique, &scene.scene)?;
     let mut timer = GpuTimer::new(ctx, 64);
     let (kind, timing) = (timer.kind(), technique.timing());
     let target = Target::new(ctx, size.width, size.height)?;

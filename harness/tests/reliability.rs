@@ -460,3 +460,45 @@ fn a_refused_scene_is_refused_with_the_reason() {
         assert!(e.contains(light), "{e}");
     }
 }
+
+/// An orthographic camera: `render` draws it with the reference, and a technique refuses it
+/// with one line naming the reason and a non-zero exit (#37 item 3).
+#[test]
+fn an_orthographic_camera_is_rendered_exactly_or_refused_with_the_reason() {
+    let dir = tmp("orthographic");
+    let scene = "cornell-sphere:camera=orthographic";
+    let png = dir.join("reference.png");
+    let out = harness(&[
+        "render",
+        "--scene",
+        scene,
+        "--technique",
+        "reference",
+        "--out",
+        path(&png),
+        "--size",
+        "24x24",
+        "--ref-photons",
+        "0",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let image = image::open(&png).unwrap().to_rgb8();
+    assert!(image.pixels().any(|p| p.0 != [0, 0, 0]), "black");
+    let png = dir.join("raster.png");
+    let e = fails_within(
+        60,
+        &[
+            "render",
+            "--scene",
+            scene,
+            "--technique",
+            "raster",
+            "--out",
+            path(&png),
+            "--size",
+            "24x24",
+        ],
+    );
+    assert!(e.contains("raster needs a pinhole camera"), "{e}");
+    assert!(e.contains("orthographic"), "{e}");
+}

@@ -32,6 +32,7 @@ fn main() {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 40.0,
+        orthographic: None,
     };
     let eye = Eye::of_camera(&camera, 128, 128);
     let buffers = FrontBack::sphere(&eye, Vec3::ZERO, 1.0);

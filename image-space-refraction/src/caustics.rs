@@ -325,6 +325,7 @@ pub fn light_camera(
         target: centre,
         up,
         fov_y_deg: (2.0 * half).to_degrees(),
+        orthographic: None,
     };
     Some((camera, 2.0 * half.tan() / size as f32))
 }

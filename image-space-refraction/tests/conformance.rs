@@ -30,6 +30,7 @@ fn eye() -> Eye {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 40.0,
+        orthographic: None,
     };
     Eye::of_camera(&camera, W, H)
 }

@@ -18,6 +18,7 @@ fn eye() -> Eye {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 40.0,
+        orthographic: None,
     };
     Eye::of_camera(&camera, SIZE, SIZE)
 }
@@ -294,6 +295,7 @@ fn photons_land_near_their_exact_landing_points() {
         target: centre,
         up: Vec3::Y,
         fov_y_deg: (2.0 * half).to_degrees(),
+        orthographic: None,
     };
     let e = Eye::of_camera(&camera, size, size);
     let buffers = search::FrontBack::sphere(&e, centre, RADIUS);

@@ -38,6 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             target,
             up: Vec3::Y,
             fov_y_deg: 60.0,
+            orthographic: None,
         };
         for id in ["interior-mapping/textured", "interior-mapping/furniture"] {
             let mut technique = testkit::technique(interior_mapping::techniques(), id);

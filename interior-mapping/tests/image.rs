@@ -282,6 +282,7 @@ fn camera_inside_a_room_matches_reference() {
         target: glam::Vec3::new(9.37, 5.05, -1.6),
         up: glam::Vec3::Y,
         fov_y_deg: 36.0,
+        orthographic: None,
     };
     let reference = reference(&scene, &view);
     dump("inside_reference", &reference.image);

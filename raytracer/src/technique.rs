@@ -120,6 +120,9 @@ impl Technique for RayTracer {
     fn params(&self) -> Vec<Param> {
         self.settings.params()
     }
+    fn orthographic_camera(&self) -> bool {
+        true
+    }
 
     fn set_param(&mut self, name: &str, value: f64) -> TechniqueResult<()> {
         set_checked(&self.id(), &mut self.settings, name, value)?;

@@ -835,16 +835,17 @@ fn params_of(
     scene: &Scene,
 ) -> ParamsGpu {
     let (forward, right, up) = camera.basis();
-    let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    // The view's half height: on the image plane at unit distance, or in the world.
+    let (pinhole, half) = match camera.orthographic {
+        Some(h) => (0.0, h),
+        None => (1.0, (camera.fov_y_deg.to_radians() * 0.5).tan()),
+    };
     let aspect = width as f32 / height as f32;
-    let pixel_area = (2.0 * tan_half) * (2.0 * tan_half) * aspect / (width as f32 * height as f32);
-    // The light pass's forward (Eye::new) is the normalised eye-to-target vector, which
-    // `basis()` also returns for any camera whose target differs from its eye.
     ParamsGpu {
-        eye: camera.eye.extend(1.0).to_array(),
-        forward: forward.extend(tan_half).to_array(),
+        eye: camera.eye.extend(pinhole).to_array(),
+        forward: forward.extend(half).to_array(),
         right: right.extend(aspect).to_array(),
-        up: up.extend(pixel_area).to_array(),
+        up: up.extend(camera.film(width, height).pixel_area).to_array(),
         view_proj: camera.view_proj(width, height).to_cols_array_2d(),
         size: [width, height, settings.max_depth, 0],
         counts: tables.counts,

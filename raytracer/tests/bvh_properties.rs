@@ -25,6 +25,7 @@ fn scene_of(objects: Vec<Object>) -> Scene {
             target: Vec3::ZERO,
             up: Vec3::Y,
             fov_y_deg: 60.0,
+            orthographic: None,
         },
         camera_path: CameraPath::default(),
         volumes: vec![],
@@ -205,6 +206,7 @@ fn a_deep_tree_agrees_on_camera_rays() {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 45.0,
+        orthographic: None,
     };
     for y in 0..48 {
         for x in 0..48 {

@@ -8,7 +8,8 @@
 //!   a shared edge and is assigned the neighbouring triangle.
 //! * `raytracer/caustics` matches the whole reference within the noise of the two photon sets,
 //!   and its caustic converges to the reference's as the photon count grows.
-//! * Both hold under a spot and a sun too (`scene::builtin::LIGHT_VARIANTS`).
+//! * Both hold under a spot and a sun too (`scene::builtin::LIGHT_VARIANTS`), and through an
+//!   orthographic camera (`scene::builtin::CAMERA_VARIANTS`).
 //! * No image has a NaN or infinite pixel.
 
 use gpu::HdrImage;
@@ -66,7 +67,10 @@ fn render(variant: Variant, params: &[(&str, f64)], spec: &str, time: f32, size:
 fn whitted_equals_the_reference_without_photons_on_every_built_in_scene() {
     let mut report = Vec::new();
     let names = scene::builtin::builtin_scenes().into_iter().map(|i| i.name);
-    for spec in names.chain(scene::builtin::LIGHT_VARIANTS) {
+    let variants = scene::builtin::LIGHT_VARIANTS
+        .into_iter()
+        .chain(scene::builtin::CAMERA_VARIANTS);
+    for spec in names.chain(variants) {
         let scene = scene::load(spec).unwrap();
         for time in scene::technique::check_times(scene.camera_path.duration()) {
             let shot = Shot::along_path(&scene, time, SIZE);
@@ -116,6 +120,8 @@ fn caustics_match_the_reference_within_photon_noise() {
         "cornell-sphere:light=spot",
         "pool:light=sun",
         "murky-pool:light=sun",
+        "cornell-sphere:camera=orthographic",
+        "cornell-box:camera=orthographic,light=spot",
     ] {
         let scene = scene::load(spec).unwrap();
         let duration = scene.camera_path.duration();

@@ -389,6 +389,7 @@ mod tests {
                 target: Vec3::ZERO,
                 up: Vec3::Y,
                 fov_y_deg: 60.0,
+                orthographic: None,
             },
             camera_path: CameraPath::default(),
             volumes: vec![],

@@ -43,7 +43,7 @@ pub use shading::{
 };
 pub use technique::{
     Contained, Declared, Family, Frame, ImageCheck, Param, ParamValue, Settings, Technique,
-    TechniqueError, TechniqueResult, Timing, View, point_lights_only,
+    TechniqueError, TechniqueResult, Timing, View, orthographic_refusal, point_lights_only,
 };
 
 use std::path::Path;

@@ -321,6 +321,22 @@ pub fn point_lights_only(technique: &str, what: &str, scene: &crate::Scene) -> T
     }
 }
 
+/// Refuses, with the reason, a scene seen by an orthographic camera for a technique that does
+/// not render one ([`Technique::orthographic_camera`]).
+pub fn orthographic_refusal(
+    technique: &dyn Technique,
+    scene: &crate::Scene,
+) -> TechniqueResult<()> {
+    if technique.orthographic_camera() || !scene.camera.is_orthographic() {
+        return Ok(());
+    }
+    Err(TechniqueError::Unsupported(format!(
+        "{} needs a pinhole camera (its shaders derive view rays from the eye point); the \
+         scene's camera is orthographic, which the reference and the ray tracer render",
+        technique.id()
+    )))
+}
+
 /// Where a technique's frame time comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Timing {
@@ -356,6 +372,13 @@ pub trait Technique {
     }
     /// Whether the technique can render this scene (for example: it has a refractor).
     fn supports(&self, scene: &Scene) -> bool;
+    /// Whether the technique renders an orthographic camera's view
+    /// ([`crate::Camera::orthographic`]). The techniques' shaders derive their view rays, and
+    /// the views of their maps, from the eye point of a pinhole, so only the exact renderers
+    /// say yes; [`orthographic_refusal`] gives the harness the reason for the others.
+    fn orthographic_camera(&self) -> bool {
+        false
+    }
     fn timing(&self) -> Timing {
         Timing::Gpu
     }

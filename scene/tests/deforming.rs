@@ -56,6 +56,7 @@ fn morphing_scene() -> Scene {
             target: Vec3::ZERO,
             up: Vec3::Y,
             fov_y_deg: 45.0,
+            orthographic: None,
         },
         camera_path: Default::default(),
         volumes: vec![],

@@ -61,6 +61,7 @@ fn scene_of(objects: Vec<Object>) -> Scene {
             target: Vec3::ZERO,
             up: Vec3::Y,
             fov_y_deg: FOV_Y_DEGREES,
+            orthographic: None,
         },
         camera_path: Default::default(),
         volumes: vec![],

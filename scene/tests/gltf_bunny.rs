@@ -105,6 +105,7 @@ fn convert_bunny_from_npm() {
             target: Vec3::new(0.0, 0.45, 0.0),
             up: Vec3::Y,
             fov_y_deg: 40.0,
+            orthographic: None,
         },
         camera_path: CameraPath::default(),
         volumes: vec![],

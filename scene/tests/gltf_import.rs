@@ -765,13 +765,13 @@ fn no_panic_on_corrupted_input() {
 
 /// Everything of a file the importer leaves out or approximates is named in a note, one line
 /// each, naming the light, camera or material (Blender's exports have all of these): spot and
-/// directional lights, an orthographic camera, emission, alpha masks and blending, rough glass
+/// directional lights, cameras not used, emission, alpha masks and blending, rough glass
 /// and rough metal. The scene itself is imported as before.
 #[test]
 fn what_is_left_out_is_named() {
     let mut f = fixture();
     let j = &mut f.json;
-    j["nodes"][2]["children"] = json!([6, 7, 8]);
+    j["nodes"][2]["children"] = json!([6, 7]);
     for node in [
         json!({ "name": "sun", "extensions": { "KHR_lights_punctual": { "light": 1 } } }),
         json!({ "name": "spot", "translation": [0.0, 3.0, 0.0], "extensions": { "KHR_lights_punctual": { "light": 2 } } }),
@@ -781,7 +781,8 @@ fn what_is_left_out_is_named() {
     ] {
         j["nodes"].as_array_mut().unwrap().push(node);
     }
-    j["scenes"][0]["nodes"] = json!([0, 4, 5, 9, 10]);
+    // The plan view comes after the fixture's camera: the latter stays the view.
+    j["scenes"][0]["nodes"] = json!([0, 4, 5, 8, 9, 10]);
     // What the importer ignores: a skin, an animation, vertex colours, morph targets, two
     // extensions it does not read, a light's range (the floor's lines primitive is the
     // fixture's own).
@@ -860,10 +861,10 @@ fn what_is_left_out_is_named() {
         )
     );
     let expected = [
-        "the view is camera 0 of node 5 (\"camera\"), the first perspective camera",
+        "the view is perspective camera 0 of node 5 (\"camera\"), the first camera in the node tree",
         "light 3 (\"Wide\") of node 10 (\"wide\") has an outer cone angle of 2 rad, past glTF's pi/2",
         "light 3 (\"Wide\") of node 10 (\"wide\") has an inner cone angle of 2.5 rad, past its outer one",
-        "camera 2 (\"Spare\") of node 9 (\"spare view\") is not used",
+        "perspective camera 2 (\"Spare\") of node 9 (\"spare view\") is not used",
         "light 2 (\"Spot\") of node 7 (\"spot\") has a range of 10 m, which is ignored",
         "node 4 (\"floor\") is skinned: drawn in its bind pose",
         "the file's 1 animation(s) are ignored",
@@ -872,7 +873,7 @@ fn what_is_left_out_is_named() {
         "mesh 2 (\"floor\") primitive 1 draws Lines, not triangles: skipped",
         "mesh 0 (\"box\") has vertex colours (COLOR_0), which are ignored",
         "mesh 0 (\"box\") has morph targets, which are ignored",
-        "camera 1 (\"Plan\") of node 8 (\"plan view\") is orthographic",
+        "orthographic camera 1 (\"Plan\") of node 8 (\"plan view\") is not used",
         "material 0 (\"glass\") transmits with roughness 0.1: rendered as smooth glass",
         "material 1 (\"mirror\") is alpha-masked (MASK, cutoff 0.5)",
         "material 1 (\"mirror\") is metal with roughness 0.3: rendered as a smooth mirror",
@@ -887,4 +888,47 @@ fn what_is_left_out_is_named() {
     }
     assert_eq!(notes.len(), expected.len(), "{notes:#?}");
     assert!(notes.iter().all(|n| !n.contains('\n')), "one line each");
+}
+
+/// An orthographic camera met first is the view (Blender's orthographic cameras): its `ymag` is
+/// the view's half height, a note names it, and another note says that its `xmag` is not
+/// used where it differs (the width follows the image). A degenerate `ymag` is an error that
+/// names the node.
+#[test]
+fn an_orthographic_camera_is_the_view() {
+    let mut f = fixture();
+    f.json["cameras"][0] = json!({ "name": "Top", "type": "orthographic", "orthographic": { "xmag": 3.0, "ymag": 2.0, "znear": 0.1, "zfar": 20.0 } });
+    let (s, notes) = scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "ortho.gltf").unwrap();
+    let c = s.camera;
+    assert_eq!(c.orthographic, Some(2.0));
+    assert_eq!(c.eye, Vec3::new(0.0, 1.0, 5.0));
+    assert!(
+        (c.target - c.eye)
+            .normalize()
+            .abs_diff_eq(Vec3::NEG_Z, 1e-6)
+    );
+    let expected = [
+        "the view is orthographic camera 0 (\"Top\") of node 5 (\"camera\"), the first camera",
+        "orthographic camera 0 (\"Top\") of node 5 (\"camera\") has xmag 3 and ymag 2: the view \
+         is 4 high and as wide as the rendered image's aspect makes it (xmag is not used)",
+    ];
+    for line in expected {
+        let found = notes.iter().filter(|n| n.starts_with(line)).count();
+        assert_eq!(found, 1, "{line:?} in {notes:#?}");
+    }
+    // Every ray of the view is parallel: the corners' directions are the centre's.
+    let (o0, d0) = c.ray(0.5, 0.5, 32, 16);
+    let (o1, d1) = c.ray(31.5, 15.5, 32, 16);
+    assert_eq!(d0, d1);
+    // 32 x 16 pixels: 4 m high, 8 m wide; the corners' centres are a pixel's width in.
+    assert!(
+        (o1 - o0).abs_diff_eq(Vec3::new(7.75, -3.75, 0.0), 1e-5),
+        "{}",
+        o1 - o0
+    );
+    for ymag in [0.0, -1.0] {
+        f.json["cameras"][0]["orthographic"]["ymag"] = json!(ymag);
+        let e = scene::gltf_io::import_slice(&f.gltf_bytes(), "ortho.gltf").unwrap_err();
+        assert!(e.to_string().contains("node 5"), "{e}");
+    }
 }

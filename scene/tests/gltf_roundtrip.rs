@@ -88,6 +88,7 @@ fn builtin_variants_round_trip_exactly() {
     ]
     .into_iter()
     .chain(scene::builtin::LIGHT_VARIANTS)
+    .chain(scene::builtin::CAMERA_VARIANTS)
     {
         round_trip(&scene::load(spec).unwrap(), spec);
     }

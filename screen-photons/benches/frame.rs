@@ -25,6 +25,7 @@ fn main() {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     };
     let eye = Eye {
         view_proj: cam.view_proj(128, 128),

@@ -691,6 +691,7 @@ mod tests {
             target: Vec3::ZERO,
             up: Vec3::Y,
             fov_y_deg: 45.0,
+            orthographic: None,
         };
         Eye {
             view_proj: cam.view_proj(64, 48),

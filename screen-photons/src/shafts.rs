@@ -330,6 +330,7 @@ mod tests {
             target: Vec3::new(0.0, -1.0, -4.0),
             up: Vec3::Y,
             fov_y_deg: 60.0,
+            orthographic: None,
         };
         ShaftView::new(&camera, 96, 64)
     }

@@ -19,6 +19,7 @@ fn eye() -> Eye {
         target: Vec3::new(0.0, 0.0, -1.0),
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     };
     Eye {
         view_proj: cam.view_proj(W, H),
@@ -545,6 +546,7 @@ fn the_wgsl_beam_fragments_match_the_twin() {
             target: Vec3::new(rnd(-1.0, 1.0), rnd(-2.0, 0.0), -6.0),
             up: Vec3::Y,
             fov_y_deg: rnd(40.0, 80.0),
+            orthographic: None,
         };
         let view = ShaftView::new(&camera, 64, 48);
         let origin = Vec3::new(rnd(-2.0, 2.0), rnd(0.0, 1.0), rnd(-5.0, -2.0));

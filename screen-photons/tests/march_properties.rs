@@ -18,6 +18,7 @@ fn eye() -> Eye {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     };
     Eye {
         view_proj: cam.view_proj(W, H),
@@ -289,6 +290,7 @@ fn the_line_march_hits_near_the_crossing_on_a_fine_screen() {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     };
     let (w, h) = (256, 192);
     let eye = Eye {

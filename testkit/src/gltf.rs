@@ -59,6 +59,7 @@ pub fn small_scene() -> Scene {
             target: Vec3::new(0.0, 0.3, 0.0),
             up: Vec3::Y,
             fov_y_deg: 50.0,
+            orthographic: None,
         },
         camera_path: Default::default(),
         volumes: vec![],

@@ -67,6 +67,7 @@ fn close_up(scene: &Scene, object: usize) -> Camera {
         target: c,
         up: Vec3::Y,
         fov_y_deg: 40.0,
+        orthographic: None,
     }
 }
 

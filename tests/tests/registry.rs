@@ -175,3 +175,29 @@ fn every_technique_shows_emission_directly_and_in_its_reflections() {
     }
     assert!(checked > 10, "{checked} techniques");
 }
+
+/// Through an orthographic camera only the exact renderers draw the scene; every technique
+/// refuses it with the reason, before preparing anything (`scene::orthographic_refusal`, which
+/// the harness's measuring engine asks first).
+#[test]
+fn only_the_exact_renderers_take_an_orthographic_camera() {
+    for spec in scene::builtin::CAMERA_VARIANTS {
+        let scene = scene::load(spec).unwrap();
+        assert!(scene.camera.is_orthographic(), "{spec}");
+        for technique in harness::registry() {
+            let id = technique.id();
+            let exact = id == "reference" || id.starts_with("raytracer/");
+            match scene::orthographic_refusal(technique.as_ref(), &scene) {
+                Ok(()) => assert!(exact, "{id} claims {spec}'s orthographic camera"),
+                Err(e) => {
+                    assert!(!exact, "{id} refuses {spec}: {e}");
+                    let message = e.to_string();
+                    assert!(
+                        message.contains(&id) && message.contains("orthographic"),
+                        "{id}: {message}"
+                    );
+                }
+            }
+        }
+    }
+}

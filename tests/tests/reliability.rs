@@ -109,7 +109,7 @@ proptest! {
         parallel in any::<bool>(),
     ) {
         let up = if parallel { dir * 3.0 } else { up };
-        let camera = Camera { eye, target: eye + dir, up, fov_y_deg: 60.0 };
+        let camera = Camera { eye, target: eye + dir, up, fov_y_deg: 60.0 , orthographic: None };
         let (f, r, u) = camera.basis();
         for v in [f, r, u] {
             prop_assert!((v.length() - 1.0).abs() < 1e-4, "{v}");
@@ -565,6 +565,7 @@ fn any_camera(lo: Vec3, hi: Vec3) -> impl Strategy<Value = Camera> {
                 target: eye + dir,
                 up: if parallel { -dir } else { up },
                 fov_y_deg: fov,
+                orthographic: None,
             }
         })
 }

@@ -41,9 +41,9 @@ pub fn primary_hits(
     let mut out = Vec::with_capacity((width * height) as usize);
     for y in 0..height {
         for x in 0..width {
-            let dir = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, width, height);
+            let (origin, dir) = camera.ray(x as f32 + 0.5, y as f32 + 0.5, width, height);
             let t = bvh
-                .closest_hit(camera.eye, dir, f32::INFINITY)
+                .closest_hit(origin, dir, f32::INFINITY)
                 .map_or(f32::INFINITY, |h| h.t);
             out.push(f(t, dir));
         }
@@ -51,21 +51,21 @@ pub fn primary_hits(
     out
 }
 
-/// Applies `f(pixel index, primary ray direction, base radiance)` to every pixel of `base`
-/// (alpha kept).
+/// Applies `f(pixel index, primary ray origin, primary ray direction, base radiance)` to every
+/// pixel of `base` (alpha kept).
 pub fn per_pixel(
     camera: &Camera,
     base: &HdrImage,
-    f: impl Fn(usize, Vec3, Vec3) -> Vec3,
+    f: impl Fn(usize, Vec3, Vec3, Vec3) -> Vec3,
 ) -> HdrImage {
     let (w, h) = (base.width, base.height);
     let mut out = base.clone();
     for y in 0..h {
         for x in 0..w {
             let i = (y * w + x) as usize;
-            let dir = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, w, h);
+            let (origin, dir) = camera.ray(x as f32 + 0.5, y as f32 + 0.5, w, h);
             let p = base.pixels[i];
-            let c = f(i, dir, Vec3::new(p[0], p[1], p[2]));
+            let c = f(i, origin, dir, Vec3::new(p[0], p[1], p[2]));
             out.pixels[i] = [c.x, c.y, c.z, p[3]];
         }
     }
@@ -92,7 +92,7 @@ pub fn with_reference_media(
         "with_reference_media: one distance per pixel"
     );
     let media = Media::new(scene, time);
-    per_pixel(camera, base, |i, dir, behind| {
-        media.composite(camera.eye, dir, distances[i], behind)
+    per_pixel(camera, base, |i, origin, dir, behind| {
+        media.composite(origin, dir, distances[i], behind)
     })
 }

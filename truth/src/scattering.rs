@@ -33,6 +33,10 @@
 //!   dI_j = Phi T_beam(s) sigma_s p(w . w_c) T_eye(s) W / d(s)^2 ds      (x(s) seen in pixel j)
 //!   ```
 //!
+//!   An orthographic camera's film gathers the parallel light straight back along its view
+//!   direction, `W / d^2` becoming `1 / A_pix` with `A_pix` the pixel's area in the world
+//!   (`scene::Film::importance`).
+//!
 //!   [`BeamSplatter::splat`] integrates this along each beam by the midpoint rule, at least
 //!   two steps per pixel the beam crosses on the image, each step added to the pixel it
 //!   projects into: the estimate is deterministic (the photons are), unbiased as the photon
@@ -55,7 +59,7 @@ use crate::offset_epsilon;
 use glam::{Mat4, Vec2, Vec3};
 use scene::bvh::SceneBvh;
 use scene::medium::{EYE_CLEARANCE, henyey_greenstein, transmittance_of};
-use scene::{Camera, Medium, Scene};
+use scene::{Camera, Film, Medium, Scene};
 
 /// Midpoint steps per light of the direct in-scattering along one ray segment.
 pub const INSCATTER_STEPS: u32 = 64;
@@ -157,9 +161,9 @@ pub struct BeamSplatter<'a> {
     camera: Camera,
     view_proj: Mat4,
     forward: Vec3,
+    film: Film,
     width: u32,
     height: u32,
-    pixel_area: f32,
     /// Per pixel, the view-space depth of the surface the pixel's centre ray meets (infinite
     /// where it meets none).
     depths: &'a [f32],
@@ -175,17 +179,14 @@ impl<'a> BeamSplatter<'a> {
         height: u32,
         depths: &'a [f32],
     ) -> Self {
-        let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
-        let aspect = width as f32 / height as f32;
         BeamSplatter {
             medium,
             camera: *camera,
             view_proj: camera.view_proj(width, height),
             forward: camera.basis().0,
+            film: camera.film(width, height),
             width,
             height,
-            pixel_area: (2.0 * tan_half) * (2.0 * tan_half) * aspect
-                / (width as f32 * height as f32),
             depths,
         }
     }
@@ -213,20 +214,13 @@ impl<'a> BeamSplatter<'a> {
         let ds = (span.y - span.x) / steps as f32;
         let sigma_t = m.extinction();
         let g = m.anisotropy;
-        let eye = self.camera.eye;
         for i in 0..steps {
             let s = span.x + (i as f32 + 0.5) * ds;
             let x = origin + dir * s;
-            let to_eye = eye - x;
-            let d2 = to_eye.length_squared();
-            if d2 <= 0.0 {
+            let (w_c, d) = self.camera.toward_camera(x);
+            if !(d >= EYE_CLEARANCE) {
                 continue;
             }
-            let d = d2.sqrt();
-            if d < EYE_CLEARANCE {
-                continue;
-            }
-            let w_c = to_eye / d;
             let cos_camera = self.forward.dot(-w_c);
             if cos_camera <= 0.0 {
                 continue;
@@ -234,11 +228,11 @@ impl<'a> BeamSplatter<'a> {
             let Some(pixel) = self.pixel_of(x, cos_camera * d) else {
                 continue;
             };
-            let importance = 1.0 / (self.pixel_area * cos_camera * cos_camera * cos_camera);
+            let importance = self.film.importance(cos_camera, d);
             let beam = transmittance_of(sigma_t, s - inside.x);
             let seen = m.transmittance(x, w_c, d);
             let phase = henyey_greenstein(dir.dot(w_c), g);
-            image[pixel] += power * beam * m.scattering * seen * (phase * importance / d2 * ds);
+            image[pixel] += power * beam * m.scattering * seen * (phase * importance * ds);
         }
         steps
     }

@@ -56,6 +56,9 @@ impl Technique for ReferenceTechnique {
     fn timing(&self) -> Timing {
         Timing::Cpu
     }
+    fn orthographic_camera(&self) -> bool {
+        true
+    }
     fn prepare(&mut self, _frame: &mut Frame, _scene: &GpuScene) -> TechniqueResult<()> {
         Ok(())
     }

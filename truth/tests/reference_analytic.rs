@@ -220,6 +220,7 @@ fn diffuse_plane_is_exactly_the_shading_formula() {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     };
     let scene = scene_with(vec![floor()], camera);
     let analytic = Analytic {
@@ -238,6 +239,7 @@ fn perfect_mirror_sphere_matches_closed_form() {
         target: CENTER,
         up: Vec3::Y,
         fov_y_deg: 28.0,
+        orthographic: None,
     };
     let scene = sphere_scene(Material::perfect_mirror(), camera);
     let analytic = Analytic {
@@ -257,6 +259,7 @@ fn gold_sphere_matches_closed_form_per_channel() {
         target: CENTER,
         up: Vec3::Y,
         fov_y_deg: 30.0,
+        orthographic: None,
     };
     let scene = sphere_scene(Material::gold(), camera);
     let analytic = Analytic {
@@ -275,6 +278,7 @@ fn glass_sphere_matches_closed_form() {
         target: Vec3::new(0.0, 0.6, 0.0),
         up: Vec3::Y,
         fov_y_deg: 30.0,
+        orthographic: None,
     };
     let glass = Material::glass(1.5);
     let scene = sphere_scene(glass.clone(), camera);
@@ -295,6 +299,7 @@ fn textured_plane_multiplies_albedo_by_texture() {
         target: Vec3::new(0.0, 0.0, -0.5),
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     };
     let mut plane = floor();
     plane.material = Material::Diffuse {
@@ -357,6 +362,7 @@ fn low_index_glass_sphere_matches_closed_form() {
         target: Vec3::new(0.0, 0.6, 0.0),
         up: Vec3::Y,
         fov_y_deg: 30.0,
+        orthographic: None,
     };
     let glass = Material::glass(0.75);
     let scene = sphere_scene(glass.clone(), camera);
@@ -377,6 +383,7 @@ fn depth_zero_makes_specular_black() {
         target: CENTER,
         up: Vec3::Y,
         fov_y_deg: 28.0,
+        orthographic: None,
     };
     let scene = sphere_scene(Material::perfect_mirror(), camera);
     let opts = ReferenceOptions {
@@ -399,6 +406,7 @@ fn object_ids_and_mask() {
         target: CENTER,
         up: Vec3::Y,
         fov_y_deg: 40.0,
+        orthographic: None,
     };
     let mut scene = sphere_scene(Material::perfect_mirror(), camera);
     // A volume in front of the floor on the left half of the image, not touching the sphere.
@@ -472,6 +480,7 @@ fn emission_is_seen_directly_and_in_a_mirror_and_lights_nothing() {
         target: CENTER,
         up: Vec3::Y,
         fov_y_deg: 40.0,
+        orthographic: None,
     };
     let emission = Vec3::new(0.3, 0.15, 0.05);
     let mut scene = sphere_scene(Material::perfect_mirror(), camera);
@@ -498,6 +507,7 @@ fn spot_and_sun_light_the_floor_as_the_formula_says() {
         target: Vec3::new(0.0, 0.0, 0.3),
         up: Vec3::Y,
         fov_y_deg: 55.0,
+        orthographic: None,
     };
     let spot = Light {
         kind: scene::LightKind::Spot {

@@ -29,6 +29,7 @@ fn ball_scene(density: f32) -> (Scene, Volume) {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 40.0,
+        orthographic: None,
     };
     let ball = Volume {
         name: "ball".into(),

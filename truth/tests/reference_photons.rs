@@ -57,12 +57,31 @@ fn floor(half: f32, albedo: Vec3) -> Object {
 /// 0.4%; tolerances are 6% per block and 1% on the whole image.
 #[test]
 fn light_tracing_matches_direct_lighting() {
-    let camera = Camera {
+    light_tracing_matches_direct_lighting_for(Camera {
         eye: Vec3::new(0.0, 3.0, 2.5),
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 70.0,
-    };
+        orthographic: None,
+    });
+}
+
+/// The same check for an orthographic camera, whose importance is `1 / A_pix` with the
+/// pixel's area in the world, whatever the distance (`scene::Film::importance`): a missing or
+/// extra `cos^3` or `d^2` would be off by a factor of 2 or more here (the plane is 2.4 to 5.4 m
+/// from the view's plane, seen at 50 degrees from its normal).
+#[test]
+fn light_tracing_matches_direct_lighting_through_an_orthographic_camera() {
+    light_tracing_matches_direct_lighting_for(Camera {
+        eye: Vec3::new(0.0, 3.0, 2.5),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y_deg: 45.0,
+        orthographic: Some(1.5),
+    });
+}
+
+fn light_tracing_matches_direct_lighting_for(camera: Camera) {
     let scene = scene_with(
         vec![floor(10.0, Vec3::new(0.5, 0.4, 0.3))],
         Vec3::new(0.3, 1.5, 0.2),
@@ -209,6 +228,7 @@ fn caustic_power_matches_fresnel_transmission() {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     };
     let scene = scene_with(
         vec![floor(FLOOR_HALF, Vec3::splat(0.5)), sphere],
@@ -308,6 +328,7 @@ fn overlapping_caster_cones_are_not_double_counted() {
         target: Vec3::ZERO,
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     };
     let place = Mat4::from_translation(CENTER);
     // A light off to the side so that both halves are seen and reflect down onto the floor.

@@ -16,6 +16,7 @@ pub fn close_camera() -> Camera {
         target: Vec3::new(10.0, 9.5, 4.0),
         up: Vec3::Y,
         fov_y_deg: 50.0,
+        orthographic: None,
     }
 }
 

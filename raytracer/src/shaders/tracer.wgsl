@@ -22,13 +22,13 @@
 #import raytracer::queries::{trace_any, trace_closest}
 
 struct Params {
-    // xyz: the eye.
+    // xyz: the eye; w: 1 for a pinhole, 0 for an orthographic camera.
     eye: vec4f,
-    // xyz: forward; w: tan(fov_y / 2).
+    // xyz: forward; w: tan(fov_y / 2), or an orthographic view's half height.
     forward: vec4f,
     // xyz: right; w: aspect (width / height).
     right: vec4f,
-    // xyz: up; w: area of one pixel on the image plane at unit distance.
+    // xyz: up; w: area of one pixel (scene::Film::pixel_area).
     up: vec4f,
     view_proj: mat4x4f,
     // width, height, max_depth, 1 when caustics are traced.
@@ -459,12 +459,58 @@ struct Pending {
     throughput: vec3f,
 };
 
-fn ray_dir(x: f32, y: f32) -> vec3f {
+struct Ray {
+    origin: vec3f,
+    dir: vec3f,
+};
+
+// Whether the camera is orthographic (scene::Camera::orthographic): params.eye.w is 0.
+fn orthographic() -> bool { return params.eye.w == 0.0; }
+
+// Camera::ray's coordinates of pixel (x, y) across the view, along right and up: on the image
+// plane at unit distance for a pinhole, on the plane through the eye for an orthographic
+// camera (forward.w is then the view's half height).
+fn pixel_coordinates(x: f32, y: f32) -> vec2f {
     let w = f32(params.size.x);
     let h = f32(params.size.y);
     let sx = (2.0 * x / w - 1.0) * params.forward.w * params.right.w;
     let sy = (1.0 - 2.0 * y / h) * params.forward.w;
-    return normalize(params.forward.xyz + sx * params.right.xyz + sy * params.up.xyz);
+    return vec2f(sx, sy);
+}
+
+// Camera::ray: the primary ray through pixel (x, y).
+fn camera_ray(x: f32, y: f32) -> Ray {
+    let s = pixel_coordinates(x, y);
+    if (orthographic()) {
+        return Ray(params.eye.xyz + s.x * params.right.xyz + s.y * params.up.xyz, params.forward.xyz);
+    }
+    return Ray(params.eye.xyz, normalize(params.forward.xyz + s.x * params.right.xyz + s.y * params.up.xyz));
+}
+
+// Camera::toward_camera: light leaving p for the camera goes along w_c for dist, to `film`
+// (the eye of a pinhole, a point of an orthographic camera's plane).
+struct CameraLink {
+    w_c: vec3f,
+    dist: f32,
+    film: vec3f,
+};
+
+fn toward_camera(p: vec3f) -> CameraLink {
+    let forward = params.forward.xyz;
+    if (orthographic()) {
+        let dist = dot(p - params.eye.xyz, forward);
+        return CameraLink(-forward, dist, p - forward * dist);
+    }
+    let to_eye = params.eye.xyz - p;
+    let dist = sqrt(dot(to_eye, to_eye));
+    return CameraLink(to_eye / dist, dist, params.eye.xyz);
+}
+
+// Film::importance: one pixel's importance for light arriving at cos_camera from dist away,
+// its spreading included (params.up.w: the pixel's area, Camera::film).
+fn film_importance(cos_camera: f32, dist: f32) -> f32 {
+    if (orthographic()) { return 1.0 / params.up.w; }
+    return 1.0 / (params.up.w * cos_camera * cos_camera * cos_camera) / (dist * dist);
 }
 
 fn max3(v: vec3f) -> f32 { return max(max(v.x, v.y), v.z); }
@@ -473,8 +519,8 @@ fn max3(v: vec3f) -> f32 { return max(max(v.x, v.y), v.z); }
 fn eye_pass(@builtin(global_invocation_id) gid: vec3u) {
     if (gid.x >= params.size.x || gid.y >= params.size.y) { return; }
     var stack: array<Pending, PENDING_RAYS>;
-    stack[0] = Pending(params.eye.xyz, 0u, ray_dir(f32(gid.x) + 0.5, f32(gid.y) + 0.5),
-                       vec3f(1.0), vec3f(1.0));
+    let primary = camera_ray(f32(gid.x) + 0.5, f32(gid.y) + 0.5);
+    stack[0] = Pending(primary.origin, 0u, primary.dir, vec3f(1.0), vec3f(1.0));
     var top = 1u;
     var l = vec3f(0.0);
     // View-space depth of the centre ray's first surface (photon beams hide behind it).
@@ -622,10 +668,12 @@ const NEAR: f32 = 0.01;
 const BEAM_STEPS_PER_PIXEL: f32 = 2.0;
 const MAX_BEAM_STEPS: u32 = 16384u;
 
-// Pixel coordinates (continuous) of x, as Camera::project computes them; z < 0 behind the eye.
+// Pixel coordinates (continuous) of x, as Camera::project computes them; z < 0 behind the eye
+// (behind the plane through an orthographic camera's eye).
 fn project(x: vec3f) -> vec3f {
     let clip = params.view_proj * vec4f(x, 1.0);
-    if (clip.w <= 1e-6) { return vec3f(0.0, 0.0, -1.0); }
+    let depth = select(clip.w - 1e-6, dot(x - params.eye.xyz, params.forward.xyz), orthographic());
+    if (depth <= 0.0) { return vec3f(0.0, 0.0, -1.0); }
     let ndc = clip.xyz / clip.w;
     return vec3f((ndc.x + 1.0) * 0.5 * f32(params.size.x), (1.0 - ndc.y) * 0.5 * f32(params.size.y), 1.0);
 }
@@ -665,23 +713,21 @@ fn splat_beam(o: vec3f, d: vec3f, length: f32, power: vec3f) -> u32 {
     for (var i = 0u; i < steps; i++) {
         let s = a + (f32(i) + 0.5) * ds;
         let x = o + d * s;
-        let to_eye = eye - x;
-        let d2 = dot(to_eye, to_eye);
-        if (d2 <= 0.0) { continue; }
-        let dist = sqrt(d2);
-        if (dist < EYE_CLEARANCE) { continue; }
-        let w_c = to_eye / dist;
+        let link = toward_camera(x);
+        let dist = link.dist;
+        if (!(dist >= EYE_CLEARANCE)) { continue; }
+        let w_c = link.w_c;
         let cos_camera = dot(forward, -w_c);
         if (cos_camera <= 0.0) { continue; }
         let p = project(x);
         if (p.z < 0.0 || !(p.x >= 0.0 && p.y >= 0.0 && p.x < w && p.y < h)) { continue; }
         let pixel = min(u32(p.y), params.size.y - 1u) * params.size.x + min(u32(p.x), params.size.x - 1u);
         if (!(cos_camera * dist < radiance[pixel].w)) { continue; }
-        let importance = 1.0 / (params.up.w * cos_camera * cos_camera * cos_camera);
+        let importance = film_importance(cos_camera, dist);
         let beam = transmittance_of(sigma_t, s - inside.x);
         let seen = medium_transmittance(m, x, w_c, dist);
         let phase = henyey_greenstein(dot(d, w_c), g);
-        add_fixed_rgb(pixel, power * beam * m.scattering.rgb * seen * (phase * importance / d2 * ds));
+        add_fixed_rgb(pixel, power * beam * m.scattering.rgb * seen * (phase * importance * ds));
     }
     return steps;
 }
@@ -695,38 +741,32 @@ fn add_fixed_rgb(p: u32, v: vec3f) {
 
 // Eye::connect: the pixel a photon landed at `s` is seen in, and what it adds there.
 fn connect(s: Surface, rho: vec3f, photon_dir: vec3f, power: vec3f, rays: ptr<function, u32>) -> bool {
-    let eye = params.eye.xyz;
-    let to_eye = eye - s.p;
-    let d2 = dot(to_eye, to_eye);
-    if (d2 <= 0.0) { return false; }
-    let w_c = to_eye / sqrt(d2);
+    let link = toward_camera(s.p);
+    if (!(link.dist > 0.0)) { return false; }
+    let w_c = link.w_c;
     let cos_surface = dot(s.ng, w_c);
     let cos_camera = dot(params.forward.xyz, -w_c);
     if (cos_surface <= 0.0 || cos_camera <= 0.0) { return false; }
-    let clip = params.view_proj * vec4f(s.p, 1.0);
-    if (clip.w <= 1e-6) { return false; }
-    let ndc = clip.xyz / clip.w;
+    let p = project(s.p);
     let w = f32(params.size.x);
     let h = f32(params.size.y);
-    let px = vec2f((ndc.x + 1.0) * 0.5 * w, (1.0 - ndc.y) * 0.5 * h);
-    if (!(px.x >= 0.0 && px.y >= 0.0 && px.x < w && px.y < h)) { return false; }
-    let x = min(u32(px.x), params.size.x - 1u);
-    let y = min(u32(px.y), params.size.y - 1u);
+    if (p.z < 0.0 || !(p.x >= 0.0 && p.y >= 0.0 && p.x < w && p.y < h)) { return false; }
+    let x = min(u32(p.x), params.size.x - 1u);
+    let y = min(u32(p.y), params.size.y - 1u);
     *rays += 1u;
     let origin = above(s);
-    let seg = eye - origin;
+    let seg = link.film - origin;
     let len = length(seg);
     if (trace_any(origin, seg / len, len)) { return false; }
     let w_i = -photon_dir;
     let cos_i_g = max(dot(s.ng, w_i), 1e-6);
     let correction = min(max(dot(s.ns, w_i), 0.0) / cos_i_g, MAX_SHADING_CORRECTION);
-    let importance = 1.0 / (params.up.w * cos_camera * cos_camera * cos_camera);
-    let dist = sqrt(d2);
-    var seen = vec3f(march(eye, -w_c, dist).transmittance);
+    let importance = film_importance(cos_camera, link.dist);
+    var seen = vec3f(march(link.film, -w_c, link.dist).transmittance);
     if (medium_present(params.medium)) {
-        seen *= medium_transmittance(params.medium, eye, -w_c, dist);
+        seen *= medium_transmittance(params.medium, link.film, -w_c, link.dist);
     }
-    let value = power * rho * (1.0 / PI) * (correction * cos_surface / d2 * importance) * seen;
+    let value = power * rho * (1.0 / PI) * (correction * cos_surface * importance) * seen;
     add_fixed_rgb(y * params.size.x + x, value);
     return true;
 }

@@ -54,6 +54,7 @@ pub fn refraction_bunny(ior: f32) -> Result<Scene, SceneError> {
         target,
         up: Vec3::Y,
         fov_y_deg: 45.0,
+        orthographic: None,
     };
     let camera = orbit(0.0);
 

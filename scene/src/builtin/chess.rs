@@ -270,6 +270,7 @@ pub fn chess(material: &str, ior: f32, slices: u32) -> Result<Scene, SceneError>
         target: Vec3::new(0.0, 0.0, -0.1),
         up: Vec3::Y,
         fov_y_deg: 45.0,
+        orthographic: None,
     };
     let side_view = Camera {
         eye: Vec3::new(-0.9, 1.1, 1.6),

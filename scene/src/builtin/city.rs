@@ -120,6 +120,7 @@ pub fn city(
         target: Vec3::new(street_x - 3.0, 12.0, -z - 60.0),
         up: Vec3::Y,
         fov_y_deg: 60.0,
+        orthographic: None,
     };
     let n = ROOM_TEXTURE_SIZE;
     Ok(Scene {

@@ -16,6 +16,37 @@ pub const LIGHT_HELP: &str = "point: the ceiling's point light; spot: a spot han
                               pointing down, full within 20 degrees of the vertical and dark \
                               beyond 30";
 
+pub const CAMERA_HELP: &str = "pinhole: the perspective view from the room's front; \
+                               orthographic: a parallel view 1.2 m high looking 45 degrees down \
+                               at the sphere and the floor round it, sliding 4 cm and zooming \
+                               in by 5% over the camera path";
+
+/// The room seen by an orthographic camera (`Camera::orthographic`): looking 45 degrees down
+/// at the sphere and the floor round it (its caustic), the view 1.2 m high. The view's plane
+/// lies inside the room however the camera slides (every ray starts inside; the walls face
+/// inwards).
+pub fn orthographic_view(mut scene: Scene) -> Scene {
+    let camera = Camera {
+        eye: Vec3::new(0.0, 1.25, 0.55),
+        target: Vec3::new(0.0, 0.25, -0.45),
+        up: Vec3::Y,
+        fov_y_deg: 45.0,
+        orthographic: Some(0.6),
+    };
+    let slid = Vec3::new(0.04, 0.0, 0.0);
+    let moved = Camera {
+        eye: camera.eye + slid,
+        target: camera.target + slid,
+        orthographic: Some(0.6 * 0.95),
+        ..camera
+    };
+    scene.camera = camera;
+    scene.camera_path = CameraPath {
+        keys: vec![(0.0, camera), (1.0, moved), (2.0, camera)],
+    };
+    scene
+}
+
 /// The room lit by a spot instead of its point light: the ceiling light pointing straight down,
 /// full within 20 degrees of the vertical and dark beyond 30 (a pool of light round the
 /// sphere, the walls dark but for the cone's edge), 1.6 times as intense.
@@ -153,6 +184,7 @@ fn cornell(tall_box: bool, material: &str, sphere_x: f32) -> Result<Scene, Scene
         target: Vec3::new(0.0, 0.5, -0.5),
         up: Vec3::Y,
         fov_y_deg: 62.0,
+        orthographic: None,
     };
     let moved = Camera {
         eye: Vec3::new(0.3, 1.1, 0.9),

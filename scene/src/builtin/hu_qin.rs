@@ -113,6 +113,7 @@ pub fn hu_qin(o: &HuQin) -> Result<Scene, SceneError> {
         target,
         up: Vec3::Y,
         fov_y_deg: 40.0,
+        orthographic: None,
     };
     let camera = orbit(0.0);
 

@@ -191,6 +191,7 @@ fn room_and_object_scenes() -> Vec<Builtin> {
     let material = |default| word("material", default, cornell::MATERIAL_HELP);
     let sphere_x = || real("sphere_x", "0", (-0.6, 0.6), "sphere centre x (m)");
     let light = || word("light", "point", cornell::LIGHT_HELP);
+    let camera = || word("camera", "pinhole", cornell::CAMERA_HELP);
     let ior = crate::Material::IOR_RANGE;
     vec![
         Builtin {
@@ -198,11 +199,11 @@ fn room_and_object_scenes() -> Vec<Builtin> {
                 name: "cornell-sphere",
                 description: "closed Cornell-style room, one point light, one sphere that moves \
                               along x over the camera path",
-                params: vec![material("glass-1.5"), sphere_x(), light()],
+                params: vec![material("glass-1.5"), sphere_x(), light(), camera()],
             },
             build: |a| {
                 let scene = cornell::cornell_sphere(&a.get("material"), a.num("sphere_x")?)?;
-                lit(scene, a, "spot", cornell::spot_lit)
+                viewed(lit(scene, a, "spot", cornell::spot_lit)?, a)
             },
         },
         Builtin {
@@ -210,11 +211,11 @@ fn room_and_object_scenes() -> Vec<Builtin> {
                 name: "cornell-box",
                 description: "the same room with a tall box that makes it concave (the distance-\
                               impostor paper's hard case)",
-                params: vec![material("mirror"), sphere_x(), light()],
+                params: vec![material("mirror"), sphere_x(), light(), camera()],
             },
             build: |a| {
                 let scene = cornell::cornell_box(&a.get("material"), a.num("sphere_x")?)?;
-                lit(scene, a, "spot", cornell::spot_lit)
+                viewed(lit(scene, a, "spot", cornell::spot_lit)?, a)
             },
         },
         Builtin {
@@ -442,6 +443,17 @@ fn lit(
     }
 }
 
+/// A Cornell room under its `camera` parameter: `pinhole` (its own view) or `orthographic`.
+fn viewed(scene: Scene, a: &SceneArgs) -> Result<Scene, SceneError> {
+    match a.get("camera").as_str() {
+        "pinhole" => Ok(scene),
+        "orthographic" => Ok(cornell::orthographic_view(scene)),
+        w => Err(SceneError::BadParam(format!(
+            "camera={w}: expected pinhole or orthographic"
+        ))),
+    }
+}
+
 /// `pool` or `murky-pool` from its parameters.
 fn build_pool(a: &SceneArgs) -> Result<Scene, SceneError> {
     let scene = pool::pool(&a.get("view"), pool_murk(a)?)?;
@@ -466,6 +478,13 @@ pub const LIGHT_VARIANTS: [&str; 5] = [
     "pool:light=sun",
     "pool:view=above,light=sun",
     "murky-pool:light=sun",
+];
+
+/// The built-in scenes seen by an orthographic camera, which the reference and the ray tracer
+/// render and every technique refuses with the reason.
+pub const CAMERA_VARIANTS: [&str; 2] = [
+    "cornell-sphere:camera=orthographic",
+    "cornell-box:camera=orthographic,light=spot",
 ];
 
 /// Every built-in scene.

@@ -290,6 +290,7 @@ fn cameras() -> (CameraKeys, CameraKeys) {
         target,
         up: Vec3::Y,
         fov_y_deg: 60.0,
+        orthographic: None,
     };
     let target = Vec3::new(-0.1, -1.2, -1.0);
     let below = vec![

@@ -89,6 +89,7 @@ pub fn smoke(particles: usize) -> Scene {
         target: Vec3::new(0.5, 0.9, 0.0),
         up: Vec3::Y,
         fov_y_deg: 55.0,
+        orthographic: None,
     };
     let side = Camera {
         eye: Vec3::new(3.5, 1.8, 4.5),

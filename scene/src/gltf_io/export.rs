@@ -199,11 +199,19 @@ impl Exporter {
             "rotation": arr(&rotation.to_array()),
             "extras": wrap(&CameraExtras::from_camera(c)),
         }));
-        let cameras = json!([{
-            "name": "camera",
-            "type": "perspective",
-            "perspective": { "yfov": num(c.fov_y_deg.to_radians()), "znear": num(Camera::NEAR), "zfar": num(Camera::FAR) },
-        }]);
+        let cameras = match c.orthographic {
+            // xmag = ymag: the width follows the image's aspect, as the importer reads it.
+            Some(h) => json!([{
+                "name": "camera",
+                "type": "orthographic",
+                "orthographic": { "xmag": num(h), "ymag": num(h), "znear": num(Camera::NEAR), "zfar": num(Camera::FAR) },
+            }]),
+            None => json!([{
+                "name": "camera",
+                "type": "perspective",
+                "perspective": { "yfov": num(c.fov_y_deg.to_radians()), "znear": num(Camera::NEAR), "zfar": num(Camera::FAR) },
+            }]),
+        };
 
         let (mut images, mut textures) = (vec![], vec![]);
         for (i, t) in scene.textures.iter().enumerate() {

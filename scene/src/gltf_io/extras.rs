@@ -64,6 +64,9 @@ pub(super) struct CameraExtras {
     pub(super) target: V3,
     pub(super) up: V3,
     pub(super) fov_y_deg: f64,
+    /// An orthographic camera's half height (`Camera::orthographic`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) orthographic: Option<f64>,
 }
 
 impl CameraExtras {
@@ -73,6 +76,7 @@ impl CameraExtras {
             target: v3(c.target),
             up: v3(c.up),
             fov_y_deg: c.fov_y_deg as f64,
+            orthographic: c.orthographic.map(f64::from),
         }
     }
     pub(super) fn camera(&self) -> Camera {
@@ -81,6 +85,7 @@ impl CameraExtras {
             target: vec3(self.target),
             up: vec3(self.up),
             fov_y_deg: self.fov_y_deg as f32,
+            orthographic: self.orthographic.map(|h| h as f32),
         }
     }
 }

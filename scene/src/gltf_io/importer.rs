@@ -26,8 +26,8 @@ pub(super) struct Importer<'a> {
     pub(super) triangles: usize,
 }
 
-/// The first perspective camera: exact from the extras, or from the node (its target is
-/// placed once the scene's bounds are known).
+/// The first camera: exact from the extras, or from the node (its target is placed once the
+/// scene's bounds are known).
 pub(super) enum FoundCamera {
     Exact(Camera),
     Derived {
@@ -35,7 +35,44 @@ pub(super) enum FoundCamera {
         forward: Vec3,
         up: Vec3,
         fov_y_deg: f32,
+        /// An orthographic camera's `ymag`.
+        orthographic: Option<f32>,
     },
+}
+
+/// What a glTF camera projects with: a pinhole's `yfov` in degrees, or an orthographic view's
+/// `ymag` (with `xmag`, which only a note uses).
+pub(super) enum Lens {
+    Pinhole { fov_y_deg: f32 },
+    Orthographic { ymag: f32, xmag: f32 },
+}
+
+impl Lens {
+    /// The lens of camera `c` of the file, or `None` when its type names no projection it
+    /// has. The JSON is read directly: `gltf::Camera::projection` unwraps the projection
+    /// named by `type`, which validation does not require to be present.
+    pub(super) fn of(c: &gltf::json::Camera) -> Option<Lens> {
+        use gltf::json::camera::Type;
+        use gltf::json::validation::Checked::Valid;
+        match c.type_ {
+            Valid(Type::Perspective) => c.perspective.as_ref().map(|p| Lens::Pinhole {
+                fov_y_deg: p.yfov.to_degrees(),
+            }),
+            Valid(Type::Orthographic) => c.orthographic.as_ref().map(|o| Lens::Orthographic {
+                ymag: o.ymag,
+                xmag: o.xmag,
+            }),
+            _ => None,
+        }
+    }
+    /// `(fov_y_deg, orthographic)` of the scene's camera: an orthographic camera keeps the
+    /// default 45 degrees it does not use.
+    fn projection(&self) -> (f32, Option<f32>) {
+        match *self {
+            Lens::Pinhole { fov_y_deg } => (fov_y_deg, None),
+            Lens::Orthographic { ymag, .. } => (45.0, Some(ymag)),
+        }
+    }
 }
 
 impl Importer<'_> {
@@ -255,30 +292,21 @@ impl Importer<'_> {
                 describe_node(node)
             ));
         }
-        if let Some(note) = self.orthographic_camera(node) {
-            self.notes.push(note);
-        }
         self.choose_camera(node, world)
     }
 
-    /// The camera of a perspective camera node (`None` for any other node): exact from the
-    /// extras while they agree with the node, else derived from it.
+    /// The camera of a camera node (`None` for any other node): exact from the extras while
+    /// they agree with the node, else derived from it.
     pub(super) fn camera_at(
         &self,
         node: &gltf::Node,
         world: Mat4,
     ) -> Result<Option<FoundCamera>, String> {
-        // The camera's JSON is read directly: `gltf::Camera::projection` unwraps the
-        // projection named by `type`, which validation does not require to be present.
-        let perspective = node
+        let lens = node
             .camera()
             .and_then(|c| self.doc.as_json().cameras.get(c.index()))
-            .filter(|c| {
-                c.type_
-                    == gltf::json::validation::Checked::Valid(gltf::json::camera::Type::Perspective)
-            })
-            .and_then(|c| c.perspective.as_ref());
-        let Some(p) = perspective else {
+            .and_then(Lens::of);
+        let Some(lens) = lens else {
             return Ok(None);
         };
         let eye = world.transform_point3(Vec3::ZERO);
@@ -290,26 +318,37 @@ impl Importer<'_> {
                 describe_node(node)
             ));
         }
+        let (fov_y_deg, orthographic) = lens.projection();
+        if let Some(ymag) = orthographic.filter(|h| !(h.is_finite() && *h > 0.0)) {
+            return Err(format!(
+                "orthographic camera node {} has ymag {ymag}; it needs a positive height",
+                describe_node(node)
+            ));
+        }
         // A node that carries other extras under our key is not an error here: the
         // camera is then derived from the node.
         let exact: Option<CameraExtras> =
             read_extras(node.extras(), &format!("node {}", node.index()))
                 .ok()
                 .flatten();
-        let fov_y_deg = p.yfov.to_degrees();
+        let agrees = |c: &Camera| {
+            let same_lens = match (c.orthographic, orthographic) {
+                (None, None) => (c.fov_y_deg - fov_y_deg).abs() <= 1e-3 * c.fov_y_deg.abs(),
+                (Some(a), Some(b)) => (a - b).abs() <= 1e-4 * a.abs(),
+                _ => false,
+            };
+            close(c.eye, eye, 1e-4)
+                && (c.target - c.eye).normalize_or_zero().dot(forward) > 1.0 - 1e-4
+                && same_lens
+        };
         let camera = match exact.map(|x| x.camera()) {
-            Some(c)
-                if close(c.eye, eye, 1e-4)
-                    && (c.target - c.eye).normalize_or_zero().dot(forward) > 1.0 - 1e-4
-                    && (c.fov_y_deg - fov_y_deg).abs() <= 1e-3 * c.fov_y_deg.abs() =>
-            {
-                FoundCamera::Exact(c)
-            }
+            Some(c) if agrees(&c) => FoundCamera::Exact(c),
             _ => FoundCamera::Derived {
                 eye,
                 forward,
                 up,
                 fov_y_deg,
+                orthographic,
             },
         };
         Ok(Some(camera))
@@ -644,11 +683,12 @@ pub(super) fn frame_objects(objects: &[Object]) -> Camera {
         target: center,
         up: Vec3::Y,
         fov_y_deg,
+        orthographic: None,
     }
 }
 
-/// The scene camera from the first perspective camera met: exact, or at the node looking at
-/// the centre of the objects' bounds; else one that frames the objects.
+/// The scene camera from the first camera met: exact, or at the node looking at the centre
+/// of the objects' bounds; else one that frames the objects.
 fn placed_camera(camera: Option<FoundCamera>, objects: &[Object]) -> Camera {
     match camera {
         Some(FoundCamera::Exact(c)) => c,
@@ -657,6 +697,7 @@ fn placed_camera(camera: Option<FoundCamera>, objects: &[Object]) -> Camera {
             forward,
             up,
             fov_y_deg,
+            orthographic,
         }) => {
             let (lo, hi) = crate::world_bounds(objects);
             let d = ((lo + hi) * 0.5 - eye).length();
@@ -666,6 +707,7 @@ fn placed_camera(camera: Option<FoundCamera>, objects: &[Object]) -> Camera {
                 target: eye + forward * d,
                 up,
                 fov_y_deg,
+                orthographic,
             }
         }
         None => frame_objects(objects),

@@ -55,13 +55,15 @@
 //!   upper side and a uniform sky), and a note says so ([`import_noted`]).
 //! - **Normals**: zero-length or non-finite normals are replaced by geometric ones
 //!   ([`Mesh::repair_normals`]), with a note.
-//! - **Camera**: the first perspective camera node met becomes [`Scene::camera`]: eye = the
-//!   node's origin, looking down its -Z with its +Y up, fov = `yfov` in degrees, target on
-//!   the view direction at the distance of the centre of the objects' bounds (glTF marks no
-//!   camera as active: a note names the one chosen, and each other perspective camera as not
-//!   used; a file this module wrote carries its camera exactly and gets no note). Orthographic
-//!   cameras are skipped, each with a note naming it. With no camera, the camera frames the
-//!   bounds of all objects (45 degrees, from the +Z side and a little above).
+//! - **Camera**: the first camera node met, perspective or orthographic, becomes
+//!   [`Scene::camera`]: eye = the node's origin, looking down its -Z with its +Y up, fov =
+//!   `yfov` in degrees or [`Camera::orthographic`] = `ymag` (the view's width follows the
+//!   rendered image's aspect; a note says so where `xmag` differs from `ymag`), target on the
+//!   view direction at the distance of the centre of the objects' bounds (glTF marks no camera
+//!   as active: a note names the one chosen, and each other camera as not used; a file this
+//!   module wrote carries its camera exactly and gets no note). `znear` and `zfar` are not
+//!   used. With no camera, the camera frames the bounds of all objects (45 degrees, from the
+//!   +Z side and a little above).
 //! - **Emission**: a diffuse material's emissive factor times `KHR_materials_emissive_strength`
 //!   becomes its objects' [`Object::emission`], radiance seen directly and in reflections and
 //!   refractions that lights nothing; the emissive texture is left out, and so is the emission
@@ -100,7 +102,8 @@
 //! inner written a hair below the outer where they are equal, as glTF requires). A diffuse
 //! material that emits gets `emissiveFactor` = emission / max(1, peak) and, past 1,
 //! `KHR_materials_emissive_strength` = the peak. The scene camera becomes a camera node (`yfov` in
-//! radians, `znear`/`zfar` = [`Camera::NEAR`]/[`Camera::FAR`]). Motion keys, building
+//! radians, or `xmag` = `ymag` = the orthographic half height; `znear`/`zfar` =
+//! [`Camera::NEAR`]/[`Camera::FAR`]). Motion keys, building
 //! room sizes, volumes and the camera path are not expressed in core glTF (no animations
 //! are written); they exist only in `extras`.
 //!
@@ -215,8 +218,8 @@ pub fn import(path: &Path) -> Result<Scene, SceneError> {
 }
 
 /// [`import`], with the notes of what the importer supplied, repaired or left out (default
-/// lighting for a file without lights, replaced degenerate normals, skipped orthographic
-/// cameras, materials' emission (which lights nothing), alpha and roughness),
+/// lighting for a file without lights, replaced degenerate normals, the camera chosen and
+/// those not used, materials' emission (which lights nothing), alpha and roughness),
 /// one sentence each naming the light, camera or material: the harness prints them as
 /// warnings and writes them to `results.json`.
 pub fn import_noted(path: &Path) -> Result<(Scene, Vec<String>), SceneError> {

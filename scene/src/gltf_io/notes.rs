@@ -4,27 +4,48 @@
 use super::*;
 
 impl Importer<'_> {
-    /// The first perspective camera met in the node tree is the view: glTF marks no camera as
-    /// active. A file's own camera (not ours, whose extras carry it exactly) is named in a
-    /// note, and so is every other perspective camera, which is not used.
+    /// The first camera met in the node tree (perspective or orthographic) is the view: glTF
+    /// marks no camera as active. A file's own camera (not ours, whose extras carry it
+    /// exactly) is named in a note, and so is every other camera, which is not used, and an
+    /// orthographic camera's `xmag` where the view's width does not follow it.
     pub(super) fn choose_camera(&mut self, node: &gltf::Node, world: Mat4) -> Result<(), String> {
         let Some(found) = self.camera_at(node, world)? else {
             return Ok(());
         };
-        let camera = node
-            .camera()
-            .map(|c| describe_camera(&c))
-            .unwrap_or_default();
-        let what = format!("camera {camera} of node {}", describe_node(node));
+        let camera = node.camera().expect("camera_at found a camera");
+        let lens = self
+            .doc
+            .as_json()
+            .cameras
+            .get(camera.index())
+            .and_then(Lens::of);
+        let kind = match lens {
+            Some(Lens::Orthographic { .. }) => "orthographic",
+            _ => "perspective",
+        };
+        let what = format!(
+            "{kind} camera {} of node {}",
+            describe_camera(&camera),
+            describe_node(node)
+        );
         match (&self.camera, &found) {
             (None, FoundCamera::Derived { .. }) => self.notes.push(format!(
-                "the view is {what}, the first perspective camera in the node tree (glTF marks \
-                 no camera as active)"
+                "the view is {what}, the first camera in the node tree (glTF marks no camera as \
+                 active)"
             )),
             (Some(_), _) => self.notes.push(format!(
-                "{what} is not used: the view is the first perspective camera in the node tree"
+                "{what} is not used: the view is the first camera in the node tree"
             )),
             (None, FoundCamera::Exact(_)) => {}
+        }
+        if let (None, Some(Lens::Orthographic { xmag, ymag })) = (&self.camera, &lens) {
+            if (xmag.abs() - ymag.abs()).abs() > 1e-4 * ymag.abs() {
+                self.notes.push(format!(
+                    "{what} has xmag {xmag} and ymag {ymag}: the view is {} high and as wide \
+                     as the rendered image's aspect makes it (xmag is not used)",
+                    2.0 * ymag.abs()
+                ));
+            }
         }
         if self.camera.is_none() {
             self.camera = Some(found);
@@ -73,22 +94,6 @@ impl Importer<'_> {
                 ));
             }
         }
-    }
-
-    /// The note of a node's orthographic camera, which the importer skips.
-    pub(super) fn orthographic_camera(&self, node: &gltf::Node) -> Option<String> {
-        let camera = node.camera()?;
-        let json = self.doc.as_json().cameras.get(camera.index())?;
-        let orthographic =
-            gltf::json::validation::Checked::Valid(gltf::json::camera::Type::Orthographic);
-        (json.type_ == orthographic).then(|| {
-            format!(
-                "camera {} of node {} is orthographic, which is not supported yet: skipped (the \
-                 first perspective camera is used, or the scene is framed)",
-                describe_camera(&camera),
-                describe_node(node)
-            )
-        })
     }
 
     /// Notes of what `m` has that its import as `material` leaves out or approximates:

@@ -9,8 +9,10 @@
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::borrow::Cow;
 
+mod camera;
 mod light;
 mod world;
+pub use camera::*;
 pub use light::*;
 pub use world::*;
 
@@ -492,110 +494,7 @@ impl Object {
     }
 }
 
-/// A pinhole camera: eye, target, up and vertical field of view in degrees.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Camera {
-    pub eye: Vec3,
-    pub target: Vec3,
-    pub up: Vec3,
-    pub fov_y_deg: f32,
-}
-
-impl Camera {
-    pub const NEAR: f32 = 0.01;
-    pub const FAR: f32 = 1000.0;
-
-    /// The camera's orthonormal frame `(forward, right, up)`, built robustly: `up` is only a
-    /// hint, and when it is zero, not finite or parallel to the view direction (a top-down
-    /// camera with up +Y, a skewed glTF camera node) the world's +Y stands in for it, or +Z
-    /// when the camera looks along Y. Every renderer (`view`, `ray_dir`, the techniques that
-    /// face billboards to the camera) builds its frame here, so none of them can produce a
-    /// NaN ray from a camera that `Scene::validate` accepts.
-    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
-        let forward = (self.target - self.eye).normalize_or(Vec3::NEG_Z);
-        let hint = if self.up.is_finite() {
-            self.up
-        } else {
-            Vec3::ZERO
-        };
-        let mut right = forward.cross(hint);
-        // Relative test: |forward x up| = sin(angle) |up|.
-        if !(right.length_squared() > 1e-10 * hint.length_squared().max(f32::MIN_POSITIVE)) {
-            let fallback = if forward.y.abs() < 0.999 {
-                Vec3::Y
-            } else {
-                Vec3::Z
-            };
-            right = forward.cross(fallback);
-        }
-        let right = right.normalize();
-        (forward, right, right.cross(forward))
-    }
-
-    /// World to view matrix (right-handed, looking down -Z), from [`Camera::basis`].
-    pub fn view(&self) -> Mat4 {
-        let (forward, _, up) = self.basis();
-        glam::camera::rh::view::look_to_mat4(self.eye, forward, up)
-    }
-    /// Perspective projection with depth in [0, 1] (wgpu convention).
-    pub fn projection(&self, aspect: f32) -> Mat4 {
-        glam::camera::rh::proj::directx::perspective(
-            self.fov_y_deg.to_radians(),
-            aspect,
-            Self::NEAR,
-            Self::FAR,
-        )
-    }
-    pub fn view_proj(&self, width: u32, height: u32) -> Mat4 {
-        self.projection(width as f32 / height as f32) * self.view()
-    }
-    /// World-space unit direction through pixel (x, y) given in pixels; pixel centres are
-    /// at (i + 0.5, j + 0.5) and row 0 is the top, exactly as the rasterizer samples.
-    pub fn ray_dir(&self, x: f32, y: f32, width: u32, height: u32) -> Vec3 {
-        let (forward, right, up) = self.basis();
-        let tan_half = (self.fov_y_deg.to_radians() * 0.5).tan();
-        let aspect = width as f32 / height as f32;
-        let sx = (2.0 * x / width as f32 - 1.0) * tan_half * aspect;
-        let sy = (1.0 - 2.0 * y / height as f32) * tan_half;
-        (forward + sx * right + sy * up).normalize()
-    }
-    /// Pixel coordinates (continuous) of a world point, or None behind the camera.
-    pub fn project(&self, p: Vec3, width: u32, height: u32) -> Option<Vec2> {
-        let clip = self.view_proj(width, height) * p.extend(1.0);
-        if clip.w <= 1e-6 {
-            return None;
-        }
-        let ndc = clip.truncate() / clip.w;
-        Some(Vec2::new(
-            (ndc.x + 1.0) * 0.5 * width as f32,
-            (1.0 - ndc.y) * 0.5 * height as f32,
-        ))
-    }
-}
-
-/// Keyframed camera for animated runs (`--frames N`): eye, target and fov are interpolated
-/// linearly between keys.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct CameraPath {
-    pub keys: Vec<(f32, Camera)>,
-}
-
-impl CameraPath {
-    pub fn duration(&self) -> f32 {
-        self.keys.last().map(|k| k.0).unwrap_or(0.0)
-    }
-    pub fn sample(&self, time: f32) -> Option<Camera> {
-        sample_keys(&self.keys, time, |a, b, s| Camera {
-            eye: a.eye.lerp(b.eye, s),
-            target: a.target.lerp(b.target, s),
-            // Opposite ups cross zero halfway: `Camera::basis` falls back there.
-            up: a.up.lerp(b.up, s).normalize_or_zero(),
-            fov_y_deg: a.fov_y_deg + (b.fov_y_deg - a.fov_y_deg) * s,
-        })
-    }
-}
-
-fn sample_keys<T: Copy>(
+pub(super) fn sample_keys<T: Copy>(
     keys: &[(f32, T)],
     time: f32,
     lerp: impl Fn(&T, &T, f32) -> T,
@@ -746,6 +645,7 @@ mod tests {
                 target: Vec3::Y,
                 up: Vec3::Y,
                 fov_y_deg: 45.0,
+                orthographic: None,
             },
             camera_path: CameraPath::default(),
             volumes: vec![],

@@ -137,10 +137,36 @@ impl Scene {
                  {MAX_WORLD_COORDINATE:e} m the renderers accept"
             ));
         }
-        if !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0) {
+        match c.orthographic {
+            Some(h) if !(h > 0.0 && h <= MAX_WORLD_COORDINATE) => {
+                return bad(format!(
+                    "the orthographic camera's half height {h} is not in (0, \
+                     {MAX_WORLD_COORDINATE:e}] m"
+                ));
+            }
+            Some(_) => {}
+            None if !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0) => {
+                return bad(format!(
+                    "camera field of view {} is not in (0, 180)",
+                    c.fov_y_deg
+                ));
+            }
+            None => {}
+        }
+        let mixed = self.camera_path.keys.iter().find(|(_, k)| {
+            k.is_orthographic() != c.is_orthographic()
+                || k.orthographic
+                    .is_some_and(|h| !(h > 0.0 && h <= MAX_WORLD_COORDINATE))
+        });
+        if let Some((time, _)) = mixed {
             return bad(format!(
-                "camera field of view {} is not in (0, 180)",
-                c.fov_y_deg
+                "the camera path's key at {time} s is not a camera of the scene's kind ({}) \
+                 with a valid view",
+                if c.is_orthographic() {
+                    "orthographic"
+                } else {
+                    "pinhole"
+                }
             ));
         }
         Ok(())

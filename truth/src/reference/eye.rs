@@ -1,9 +1,9 @@
-//! The pinhole camera as the light pass sees it.
+//! The camera as the light pass sees it.
 
 use super::*;
 
-/// The pinhole camera as the light pass sees it: where a point lands on the image and
-/// what one pixel's importance is.
+/// The camera (pinhole or orthographic) as the light pass sees it: where a point lands on
+/// the image, and what one pixel's importance is (`Camera::pixel_importance`).
 pub(super) struct Eye<'a> {
     pub(super) camera: Camera,
     /// Media between a landed photon and the eye attenuate it, as they attenuate the eye
@@ -12,10 +12,9 @@ pub(super) struct Eye<'a> {
     /// So does the scattering medium.
     pub(super) medium: Option<&'a Medium>,
     pub(super) forward: Vec3,
+    pub(super) film: Film,
     pub(super) width: u32,
     pub(super) height: u32,
-    /// Area of one pixel on the image plane at unit distance.
-    pub(super) pixel_area: f32,
 }
 
 impl<'a> Eye<'a> {
@@ -26,17 +25,14 @@ impl<'a> Eye<'a> {
         media: &'a Media,
         medium: Option<&'a Medium>,
     ) -> Self {
-        let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
-        let aspect = width as f32 / height as f32;
         Eye {
             camera: *camera,
             media,
             medium,
-            forward: (camera.target - camera.eye).normalize(),
+            forward: camera.basis().0,
+            film: camera.film(width, height),
             width,
             height,
-            pixel_area: (2.0 * tan_half) * (2.0 * tan_half) * aspect
-                / (width as f32 * height as f32),
         }
     }
 
@@ -51,13 +47,11 @@ impl<'a> Eye<'a> {
         power: Vec3,
         rays: &mut u64,
     ) -> Option<(usize, Vec3)> {
-        let to_eye = self.camera.eye - s.p;
-        let d2 = to_eye.length_squared();
-        if d2 <= 0.0 {
+        let (w_c, distance) = self.camera.toward_camera(s.p);
+        if !(distance > 0.0) {
             return None;
         }
-        let w_c = to_eye / d2.sqrt();
-        let cos_surface = s.ng.dot(w_c); // eye on the lit side?
+        let cos_surface = s.ng.dot(w_c); // camera on the lit side?
         let cos_camera = self.forward.dot(-w_c); // cos theta_c
         if cos_surface <= 0.0 || cos_camera <= 0.0 {
             return None;
@@ -72,7 +66,9 @@ impl<'a> Eye<'a> {
         );
         *rays += 1;
         let origin = s.above();
-        let seg = self.camera.eye - origin;
+        // The eye, or the point of an orthographic camera's film that sees s.p.
+        let film = s.p + w_c * distance;
+        let seg = film - origin;
         let len = seg.length();
         if bvh.any_hit(origin, seg / len, len) {
             return None;
@@ -81,13 +77,12 @@ impl<'a> Eye<'a> {
         let w_i = -photon_dir;
         let cos_i_g = s.ng.dot(w_i).max(1e-6);
         let correction = (s.ns.dot(w_i).max(0.0) / cos_i_g).min(MAX_SHADING_CORRECTION);
-        let importance = 1.0 / (self.pixel_area * cos_camera * cos_camera * cos_camera);
-        let seen = self.media.transmittance(self.camera.eye, -w_c, d2.sqrt())
-            * self.medium.map_or(Vec3::ONE, |m| {
-                m.transmittance(self.camera.eye, -w_c, d2.sqrt())
-            });
-        let value =
-            power * albedo * FRAC_1_PI * (correction * cos_surface / d2 * importance * seen);
+        let importance = self.film.importance(cos_camera, distance);
+        let seen = self.media.transmittance(film, -w_c, distance)
+            * self
+                .medium
+                .map_or(Vec3::ONE, |m| m.transmittance(film, -w_c, distance));
+        let value = power * albedo * FRAC_1_PI * (correction * cos_surface * importance * seen);
         Some(((y * self.width + x) as usize, value))
     }
 }

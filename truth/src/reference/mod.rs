@@ -209,7 +209,7 @@ use gpu::prelude::{fresnel_dielectric, fresnel_nk, ray_sphere, reflect_dir, refr
 use rayon::prelude::*;
 use scene::bvh::{Hit, SceneBvh};
 use scene::emission::{emitters, photon_power};
-use scene::{Camera, Material, Medium, Scene};
+use scene::{Camera, Film, Material, Medium, Scene};
 use std::f32::consts::FRAC_1_PI;
 use std::time::Instant;
 
@@ -420,17 +420,14 @@ impl EyePass<'_> {
         let mut depths = Vec::with_capacity(self.width as usize);
         for x in 0..self.width {
             let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
-            let dir = self.camera.ray_dir(px, py, self.width, self.height);
+            let (origin, dir) = self.camera.ray(px, py, self.width, self.height);
             counts.camera += 1;
-            let centre_hit = self
-                .tracer
-                .bvh
-                .closest_hit(self.camera.eye, dir, f32::INFINITY);
+            let centre_hit = self.tracer.bvh.closest_hit(origin, dir, f32::INFINITY);
             let t_hit = centre_hit.map_or(f32::INFINITY, |h| h.t);
             let special =
                 centre_hit.is_some_and(|h| !self.tracer.scene.objects[h.object].roles.is_empty());
             let in_volume = self.volumes.iter().any(|&(c, r)| {
-                let s = ray_sphere(self.camera.eye, dir, c, r);
+                let s = ray_sphere(origin, dir, c, r);
                 s.x <= s.y && s.y > 0.0 && s.x < t_hit
             });
             ids.push(centre_hit.map_or(-1, |h| h.object as i32));
@@ -442,20 +439,15 @@ impl EyePass<'_> {
                     None => self.tracer.scene.background,
                 };
                 self.tracer
-                    .through_media(self.camera.eye, dir, t_hit, behind, true, &mut counts)
+                    .through_media(origin, dir, t_hit, behind, true, &mut counts)
             } else {
                 let mut sum = Vec3::ZERO;
                 for i in 0..self.spp {
                     let o = pixel_sample(i, self.spp);
-                    let d = self.camera.ray_dir(
-                        x as f32 + o.x,
-                        y as f32 + o.y,
-                        self.width,
-                        self.height,
-                    );
-                    sum += self
-                        .tracer
-                        .radiance(self.camera.eye, d, 0, Vec3::ONE, &mut counts);
+                    let (origin, d) =
+                        self.camera
+                            .ray(x as f32 + o.x, y as f32 + o.y, self.width, self.height);
+                    sum += self.tracer.radiance(origin, d, 0, Vec3::ONE, &mut counts);
                 }
                 sum / self.spp as f32
             };

@@ -115,15 +115,8 @@ pub fn variant_model(
         "variant_model: one distance per pixel"
     );
     let spheres = spheres(scene, spec.set, time, spec.opacity);
-    per_pixel(camera, base, |i, dir, behind| {
-        layers(
-            &spheres,
-            camera.eye,
-            dir,
-            distances[i],
-            behind,
-            spec.opacity,
-        )
+    per_pixel(camera, base, |i, origin, dir, behind| {
+        layers(&spheres, origin, dir, distances[i], behind, spec.opacity)
     })
 }
 
