@@ -17,8 +17,9 @@
 //!
 //! `<scene>` and `<technique>` are made file names by [`crate::file_name`] (`/` becomes `__`).
 //! A technique whose `supports(scene)` is false is left out quietly; one whose required
-//! features the adapter lacks is left out with the reason printed; both are listed under
-//! `skipped` in `results.json`. A technique that fails (an error, a GPU validation error or a
+//! features the adapter lacks is left out with the reason printed, and so is every technique
+//! on a scene seen by an orthographic camera (`scene::orthographic_refusal`; one line per
+//! scene); all are listed under `skipped` in `results.json`. A technique that fails (an error, a GPU validation error or a
 //! panic) gets a row with the error and the run goes on. If the reference fails, the rows of
 //! that scene have timings but no error figures, and the reason is in `results.json`.
 
@@ -28,6 +29,7 @@ use crate::plan::{self, Plan, PlanKind, PlannedRow, PlannedScene, TechniqueSpec}
 use crate::report::Skipped;
 use crate::{Env, Frames, Size};
 use anyhow::Result;
+use std::collections::BTreeMap;
 
 /// What to compare.
 #[derive(Clone, Debug)]
@@ -91,6 +93,8 @@ pub fn plan(env: &Env, opts: &CompareOptions) -> Result<Plan> {
             if !technique.supports(&loaded.scene) {
                 plan.skipped
                     .push(skip("does not support this scene".into()));
+            } else if let Err(e) = scene::orthographic_refusal(technique.as_ref(), &loaded.scene) {
+                plan.skipped.push(skip(e.to_string()));
             } else if let Err(e) = env.ctx.require(technique.required_features()) {
                 plan.skipped.push(skip(e.to_string()));
             } else {
@@ -111,10 +115,22 @@ pub fn plan(env: &Env, opts: &CompareOptions) -> Result<Plan> {
 /// Runs the comparison (see the module documentation) and writes every file.
 pub fn run(env: &Env, opts: &CompareOptions, exec: &ExecOptions) -> Result<RunReport> {
     let plan = plan(env, opts)?;
+    // An orthographic camera leaves out every technique: one line per scene says so.
+    let pinhole_only = |s: &&Skipped| s.reason.contains(scene::PINHOLE_ONLY);
+    let mut pinhole_skips: BTreeMap<&str, usize> = BTreeMap::new();
+    for s in plan.skipped.iter().filter(pinhole_only) {
+        *pinhole_skips.entry(s.scene.as_str()).or_default() += 1;
+    }
+    for (scene, count) in pinhole_skips {
+        eprintln!(
+            "skipped: {scene}: {count} techniques, which need a pinhole camera (the scene's \
+             camera is orthographic; the reference and the ray tracer render it)"
+        );
+    }
     for s in plan
         .skipped
         .iter()
-        .filter(|s| !s.reason.starts_with("does not"))
+        .filter(|s| !s.reason.starts_with("does not") && !pinhole_only(s))
     {
         eprintln!("skipped: {} / {}: {}", s.scene, s.technique, s.reason);
     }

@@ -501,4 +501,20 @@ fn an_orthographic_camera_is_rendered_exactly_or_refused_with_the_reason() {
     );
     assert!(e.contains("raster needs a pinhole camera"), "{e}");
     assert!(e.contains("orthographic"), "{e}");
+    // `compare` leaves the technique out with one line for the scene.
+    let out = raster_compare(&dir.join("compare"), scene);
+    let stderr = text(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "skipped: {scene}: 1 techniques, which need a pinhole camera"
+        )),
+        "{stderr}"
+    );
+    let csv = std::fs::read_to_string(dir.join("compare/results.csv")).unwrap();
+    assert_eq!(
+        csv.lines().count(),
+        1,
+        "no row (raster was the only technique): {csv}"
+    );
 }

@@ -42,8 +42,9 @@ pub use shading::{
     scene_pipeline_with_depth, scene_vertex_module, shader, shader_importing, shader_of,
 };
 pub use technique::{
-    Contained, Declared, Family, Frame, ImageCheck, Param, ParamValue, Settings, Technique,
-    TechniqueError, TechniqueResult, Timing, View, orthographic_refusal, point_lights_only,
+    Contained, Declared, Family, Frame, ImageCheck, PINHOLE_ONLY, Param, ParamValue, Settings,
+    Technique, TechniqueError, TechniqueResult, Timing, View, orthographic_refusal,
+    point_lights_only,
 };
 
 use std::path::Path;

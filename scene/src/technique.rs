@@ -331,11 +331,14 @@ pub fn orthographic_refusal(
         return Ok(());
     }
     Err(TechniqueError::Unsupported(format!(
-        "{} needs a pinhole camera (its shaders derive view rays from the eye point); the \
-         scene's camera is orthographic, which the reference and the ray tracer render",
+        "{} {PINHOLE_ONLY} (its shaders derive view rays from the eye point); the scene's \
+         camera is orthographic, which the reference and the ray tracer render",
         technique.id()
     )))
 }
+
+/// The words of [`orthographic_refusal`]'s reason after the technique's id.
+pub const PINHOLE_ONLY: &str = "needs a pinhole camera";
 
 /// Where a technique's frame time comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
