@@ -543,9 +543,54 @@ pub fn technique_family(id: &str) -> &str {
     id.split('/').next().unwrap_or(id)
 }
 
+/// What an unknown technique name was probably meant to be: the ids (and families) closest to
+/// it by edit distance, at most five, or `harness list` when none is close.
+fn suggestion(name: &str, all_ids: &[String]) -> String {
+    if all_ids.is_empty() {
+        return " (no technique is registered)".into();
+    }
+    let mut families: Vec<&str> = all_ids.iter().map(|id| technique_family(id)).collect();
+    families.dedup();
+    let candidates = families
+        .into_iter()
+        .chain(all_ids.iter().map(String::as_str));
+    let mut scored: Vec<(usize, &str)> = candidates
+        .map(|c| (edit_distance(name, c), c))
+        .filter(|&(d, c)| d <= (c.len().max(name.len()) / 3).max(2))
+        .collect();
+    scored.sort();
+    scored.dedup();
+    let close: Vec<&str> = scored.iter().take(5).map(|&(_, c)| c).collect();
+    let all = all_ids.len();
+    match close.as_slice() {
+        [] => format!("; `harness list` shows all {all} technique ids"),
+        [one] => format!("; did you mean {one}? (`harness list` shows all {all})"),
+        many => format!(
+            "; did you mean one of {}? (`harness list` shows all {all})",
+            many.join(", ")
+        ),
+    }
+}
+
+/// Levenshtein distance between two strings, in characters.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let substitute = diagonal + usize::from(ca != cb);
+            diagonal = row[j + 1];
+            row[j + 1] = substitute.min(row[j] + 1).min(row[j + 1] + 1);
+        }
+    }
+    row[b.len()]
+}
+
 /// Resolves `--techniques` names against the ids a factory offers: an exact id, or a family
-/// (`impostors` or `impostors/`) for all its variants. Unknown names are an error that lists
-/// the known ids. `None` selects every technique.
+/// (`impostors` or `impostors/`) for all its variants. An unknown name is an error that
+/// suggests the closest ids. `None` selects every technique.
 pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Result<Vec<String>> {
     let Some(wanted) = wanted else {
         return Ok(all_ids.to_vec());
@@ -558,12 +603,7 @@ pub fn select_techniques(all_ids: &[String], wanted: Option<&[String]>) -> Resul
             .filter(|id| *id == name || technique_family(id) == family && !family.is_empty())
             .collect();
         if matches.is_empty() {
-            let known = if all_ids.is_empty() {
-                "none registered".to_string()
-            } else {
-                all_ids.join(", ")
-            };
-            bail!("unknown technique \"{name}\" (techniques: {known})");
+            bail!("unknown technique \"{name}\"{}", suggestion(name, all_ids));
         }
         for id in matches {
             if !out.contains(id) {
@@ -772,9 +812,18 @@ mod tests {
         );
         let err = pick(&["nope"]).unwrap_err().to_string();
         assert!(
-            err.contains("unknown technique \"nope\"") && err.contains("reference"),
+            err.contains("unknown technique \"nope\"") && err.contains("harness list"),
             "{err}"
         );
+        let err = pick(&["impostor/clasic"]).unwrap_err().to_string();
+        assert!(
+            err.ends_with("did you mean impostors/classic? (`harness list` shows all 3)"),
+            "{err}"
+        );
+        let err = pick(&["impostor"]).unwrap_err().to_string();
+        assert!(err.contains("did you mean impostors?"), "{err}");
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+        assert_eq!(edit_distance("", "abc"), 3);
         assert_eq!(select_techniques(&ids, None).unwrap().len(), 3);
     }
 }

@@ -55,7 +55,13 @@ impl TechniqueSpec {
         let mut technique = techniques()
             .into_iter()
             .find(|t| t.id() == self.id)
-            .ok_or_else(|| anyhow!("unknown technique \"{}\" (see `harness list`)", self.id))?;
+            .ok_or_else(|| {
+                let ids: Vec<String> = techniques().iter().map(|t| t.id()).collect();
+                match crate::select_techniques(&ids, Some(std::slice::from_ref(&self.id))) {
+                    Err(e) => e,
+                    Ok(_) => anyhow!("unknown technique \"{}\"", self.id),
+                }
+            })?;
         for (name, value) in &self.params {
             technique
                 .set_param(name, *value)
