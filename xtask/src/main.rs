@@ -37,7 +37,9 @@
 //! - `ray-query`: that last step alone;
 //! - `compare`: the same test build (`cargo test --workspace --no-run`: nothing to compile
 //!   after `cargo xtask test`), then the `harness` binary it contains: `harness compare --out
-//!   out [ARGS...]` (`--out DIR` in ARGS replaces `--out out`). `cargo run -p rtapprox-harness` would
+//!   out [ARGS...]` (`--out DIR` in ARGS replaces `--out out`), run in the folder `cargo
+//!   xtask` was run from, so paths in ARGS (`--scenes my.glb`, `--out`) are the user's; the
+//!   default `out/` is the workspace root's wherever that is. `cargo run -p rtapprox-harness` would
 //!   unify features over the harness's dependencies alone and recompile the wgpu stack (3-6
 //!   min on the 2-core machine). The dev profile optimizes the dependencies and the `truth`
 //!   and `scene` crates at opt-level 3 (the CPU reference and its BVH, FLIP, wgpu), so it runs
@@ -106,9 +108,14 @@ fn main() -> ExitCode {
             Ok(artifacts) => tests_on_backported_lavapipe(&artifacts),
             Err(code) => code,
         },
+        // `compare --release`: cargo finds the workspace from the user's folder too.
         _ => match compare_driver() {
-            Some(icd) => run_with(&command, &[("VK_ICD_FILENAMES", icd.as_os_str())]),
-            None => run(&command),
+            Some(icd) => run_in(
+                &user_dir(),
+                &command,
+                &[("VK_ICD_FILENAMES", icd.as_os_str())],
+            ),
+            None => run_in(&user_dir(), &command, &[]),
         },
     }
 }
@@ -375,16 +382,27 @@ fn compare_with_test_build(rest: &[String]) -> ExitCode {
     };
     let mut cmd = vec![harness, "compare".to_string()];
     if !has_flag(rest, &["--out"]) {
-        cmd.extend(["--out", "out"].map(String::from));
+        cmd.extend(["--out".to_string(), default_out()]);
     }
     cmd.extend(rest.iter().cloned());
     match compare_driver() {
         Some(icd) => {
             eprintln!("+ VK_ICD_FILENAMES={}", icd.display());
-            run_with(&cmd, &[("VK_ICD_FILENAMES", icd.as_os_str())])
+            run_in(&user_dir(), &cmd, &[("VK_ICD_FILENAMES", icd.as_os_str())])
         }
-        None => run(&cmd),
+        None => run_in(&user_dir(), &cmd, &[]),
     }
+}
+
+/// Where `compare` writes without `--out`: `out/` at the workspace's root, wherever it runs.
+fn default_out() -> String {
+    workspace_root().join("out").to_string_lossy().into_owned()
+}
+
+/// The folder the user ran `cargo xtask` from (cargo runs it there): `compare` runs the
+/// harness in it, so `--scenes my.glb` and `--out` mean what they say there.
+fn user_dir() -> PathBuf {
+    std::env::current_dir().unwrap_or_else(|_| workspace_root())
 }
 
 /// The Vulkan driver `cargo xtask compare` runs the harness on: on a machine whose only
@@ -661,7 +679,7 @@ fn compare_command(rest: &[String]) -> Vec<String> {
     }
     cmd.extend(["-p", "rtapprox-harness", "--", "compare"].map(String::from));
     if !has_flag(&pass, &["--out"]) {
-        cmd.extend(["--out", "out"].map(String::from));
+        cmd.extend(["--out".to_string(), default_out()]);
     }
     cmd.extend(pass);
     cmd
@@ -703,10 +721,15 @@ fn run(cmd: &[String]) -> ExitCode {
 
 /// [`run`] with extra environment variables.
 fn run_with(cmd: &[String], env: &[(&str, &std::ffi::OsStr)]) -> ExitCode {
+    run_in(&workspace_root(), cmd, env)
+}
+
+/// [`run_with`] in folder `dir`.
+fn run_in(dir: &Path, cmd: &[String], env: &[(&str, &std::ffi::OsStr)]) -> ExitCode {
     print_command(cmd);
     let status = Command::new(&cmd[0])
         .args(&cmd[1..])
-        .current_dir(workspace_root())
+        .current_dir(dir)
         .envs(env.iter().copied())
         .env("CARGO_INCREMENTAL", ONE_BUILD_INCREMENTAL)
         .env("NODEVICE_SELECT", "1")
@@ -958,9 +981,10 @@ mod tests {
                 "--",
                 "compare",
                 "--out",
-                "out"
+                &default_out()
             ])
         );
+        assert!(default_out().ends_with("/out") && Path::new(&default_out()).is_absolute());
         assert_eq!(
             compare_command(&strings(&["--release", "--out=x", "--size", "64x64"]))[1..],
             strings(&[
