@@ -336,12 +336,19 @@ fn main() -> ExitCode {
                 let _ = e.print();
                 return ExitCode::from(e.exit_code() as u8);
             }
-            // The message up to the first blank line (clap's usage and hint follow it).
+            // The message up to the first blank line, with clap's tips ("a similar argument
+            // exists: '--size'"), on one line; its usage block is left to --help.
             let rendered = e.render().to_string();
             let head: String = rendered.split("\n\n").next().unwrap_or("").to_string();
             let line = one_line(&head);
             let line = line.strip_prefix("error: ").unwrap_or(&line);
-            eprintln!("error: {line} (see harness --help)");
+            let tips: Vec<&str> = rendered
+                .lines()
+                .map(str::trim)
+                .filter(|l| l.starts_with("tip:"))
+                .collect();
+            let tips: String = tips.iter().map(|t| format!("; {t}")).collect();
+            eprintln!("error: {line}{tips} (see harness --help)");
             return ExitCode::from(2);
         }
     };

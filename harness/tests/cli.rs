@@ -72,6 +72,34 @@ fn unknown_technique() {
         &tmp("x.png").display().to_string(),
     ]);
     assert!(e.contains("unknown technique"), "{e}");
+    // A near miss gets the closest ids, not all of them.
+    let e = fails(&[
+        "compare",
+        "--out",
+        &out_dir(),
+        "--techniques",
+        "impostor/false-postion-4",
+    ]);
+    assert!(
+        e.contains("did you mean one of impostors/false-position-4,") && !e.contains("volumes/"),
+        "{e}"
+    );
+}
+
+/// clap's tip survives on the one line: a misspelt option or subcommand names the right one.
+#[test]
+fn misspelt_arguments_get_clap_s_tip() {
+    let e = fails(&["compare", "--out", &out_dir(), "--sizes", "8x8"]);
+    assert!(
+        e.contains("unexpected argument '--sizes'")
+            && e.contains("tip: a similar argument exists: '--size'"),
+        "{e}"
+    );
+    let e = fails(&["comapre"]);
+    assert!(
+        e.contains("tip: a similar subcommand exists: 'compare'"),
+        "{e}"
+    );
 }
 
 #[test]
