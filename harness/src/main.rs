@@ -34,11 +34,27 @@ macro_rules! out {
     }};
 }
 
+/// The examples and the environment that `harness --help` ends with.
+const AFTER_HELP: &str = "\
+Examples:
+  harness list
+  harness compare --out out
+  harness compare --scenes my-scene.glb,cornell-sphere:light=spot --techniques impostors,raytracer --out out
+  harness render --scene chess --technique refractor-maps/multi-bounce-2 --size 256x256 --out chess.png
+  harness sweep --scene cornell-box --technique impostors/secant-4 --param iterations=1,2,4,8 --out sweep
+
+Environment:
+  WGPU_ADAPTER_NAME  use the adapter whose name contains this (case-insensitive), e.g. \"H100\" or \"llvmpipe\"
+  WGPU_BACKEND       backends to look on: vulkan, metal, dx12, gl (comma separated; default the platform's primary ones)
+  VK_ICD_FILENAMES   the Vulkan driver manifest to load (cargo xtask compare sets Mesa 25's lavapipe on a machine without a GPU)
+  RUST_LOG           wgpu's log level on stderr (default warn; e.g. RUST_LOG=wgpu_core=info)";
+
 #[derive(Parser)]
 #[command(
     name = "harness",
     version,
-    about = "Runs every technique on the same scenes against the same ground truth; writes tables, images and plots."
+    about = "Runs every technique on the same scenes against the same ground truth; writes tables, images and plots.",
+    after_help = AFTER_HELP
 )]
 struct Cli {
     #[command(subcommand)]
@@ -178,6 +194,7 @@ enum Command {
         /// The shards' output folders.
         #[arg(required = true, value_name = "DIR")]
         shards: Vec<PathBuf>,
+        /// The folder the joined run is written to, as the unsharded run writes its --out.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
     },
@@ -188,6 +205,7 @@ enum Command {
         /// results.json files written by compare.
         #[arg(required = true, value_name = "RESULTS.json")]
         results: Vec<PathBuf>,
+        /// The folder `pareto/<scene>.png` and `pareto.json` are written to.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
     },
@@ -195,6 +213,7 @@ enum Command {
     ExportScene {
         /// Scene spec, e.g. cornell-sphere:material=mirror.
         scene: String,
+        /// The binary glTF file to write.
         #[arg(long, value_name = "FILE.glb")]
         out: PathBuf,
     },
@@ -224,6 +243,7 @@ struct CompareArgs {
 
 #[derive(Args)]
 struct SweepArgs {
+    /// The scene: a built-in spec (`cornell-box:material=gold`) or a .gltf/.glb path.
     #[arg(long, value_name = "SCENE")]
     scene: String,
     /// The technique's id, with other parameters fixed for the whole sweep if wanted:
@@ -253,6 +273,7 @@ struct MeasureArgs {
 
 #[derive(Args)]
 struct BenchArgs {
+    /// The scene: a built-in spec (`chess`) or a .gltf/.glb path.
     #[arg(long, value_name = "SCENE")]
     scene: String,
     /// A technique, `id` or `id:name=value[:name=value]`; repeat it, the first is the
@@ -279,16 +300,20 @@ struct BenchArgs {
     #[arg(long, default_value_t = 3, value_name = "N",
           value_parser = clap::value_parser!(u32).range(0..=10_000))]
     warmup: u32,
+    /// A folder to write bench.json and bench.md to (default: the table on stdout only).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
 }
 
 #[derive(Args)]
 struct RenderArgs {
+    /// The scene: a built-in spec (`pool:light=sun`) or a .gltf/.glb path.
     #[arg(long, value_name = "SCENE")]
     scene: String,
+    /// A technique id (`harness list`), or `reference` for the ground truth.
     #[arg(long, value_name = "ID")]
     technique: String,
+    /// The image to write: .png (sRGB of the clamped radiance) or .exr (linear radiance).
     #[arg(long, value_name = "FILE")]
     out: PathBuf,
     #[arg(long, default_value = "256x256", value_name = "WxH")]

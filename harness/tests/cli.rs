@@ -408,3 +408,45 @@ fn export_render_and_reimport() {
     let img = image::open(&png).unwrap();
     assert_eq!((img.width(), img.height()), (16, 12));
 }
+
+/// Every option of every subcommand says what it is for, and the top-level help ends with
+/// examples and the environment variables that choose the adapter (#34 item 6).
+#[test]
+fn every_option_has_help_and_the_environment_is_named() {
+    let top = harness(&["--help"]);
+    let text = String::from_utf8_lossy(&top.stdout).into_owned();
+    for needed in [
+        "Examples:",
+        "WGPU_ADAPTER_NAME",
+        "WGPU_BACKEND",
+        "VK_ICD_FILENAMES",
+    ] {
+        assert!(text.contains(needed), "{needed} missing from: {text}");
+    }
+    for command in [
+        "list",
+        "compare",
+        "sweep",
+        "bench",
+        "render",
+        "merge",
+        "pareto",
+        "export-scene",
+    ] {
+        let out = harness(&[command, "--help"]);
+        let help = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(out.status.success(), "{command}: {help}");
+        for line in help.lines().filter(|l| l.trim_start().starts_with('-')) {
+            let words: Vec<&str> = line.split_whitespace().collect();
+            // `--name <VALUE>` or `-h, --help` and then at least one word of help.
+            let option_words = words
+                .iter()
+                .take_while(|w| w.starts_with('-') || w.starts_with('<'))
+                .count();
+            assert!(
+                words.len() > option_words,
+                "{command}: option without help: {line:?}"
+            );
+        }
+    }
+}
