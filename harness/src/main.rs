@@ -172,6 +172,7 @@ impl RunArgs {
 #[derive(Subcommand)]
 enum Command {
     /// Built-in scenes and technique variants.
+    #[command(after_help = "Example: harness list --params")]
     List {
         /// Also show every technique parameter (default, range, help) and scene parameter.
         #[arg(long)]
@@ -179,17 +180,30 @@ enum Command {
     },
     /// Every supported (scene, technique) pair against the reference: results.{csv,json,md}
     /// and images under --out.
+    #[command(
+        after_help = "Example: harness compare --scenes chess,my-scene.glb --techniques refractor-maps,raytracer/caustics --size 256x256 --out out"
+    )]
     Compare(CompareArgs),
     /// One technique on one scene over the values of one parameter: sweep.{csv,json,md,png}.
+    #[command(
+        after_help = "Example: harness sweep --scene cornell-box --technique impostors/secant-4 --param iterations=1,2,4,8 --out sweep"
+    )]
     Sweep(SweepArgs),
     /// Cost of two or more techniques as ratios to the first, measured in one interleaved run
     /// with the spread over rounds: bench.{json,md} under --out when given.
+    #[command(
+        after_help = "Example: harness bench --scene chess --technique raster --technique refractor-maps/single-bounce --technique raytracer/whitted --out bench"
+    )]
     Bench(BenchArgs),
     /// Renders one image of the camera path's view at time 0 (.png or .exr by extension).
     /// `--technique reference` renders the ground truth.
+    #[command(
+        after_help = "Example: harness render --scene pool:light=sun --technique reference --size 256x256 --out pool.exr"
+    )]
     Render(RenderArgs),
     /// Joins the output folders of the shards of one compare or sweep (`--shard 1/N` ...
     /// `--shard N/N`) into one, as the unsharded run writes it.
+    #[command(after_help = "Example: harness merge shard-1 shard-2 shard-3 --out out")]
     Merge {
         /// The shards' output folders.
         #[arg(required = true, value_name = "DIR")]
@@ -201,6 +215,9 @@ enum Command {
     /// Redraws the Pareto view (error against frame time, `pareto/<scene>.png`, and
     /// `pareto.json`) from the results.json of earlier compare runs, one or more (scenes of
     /// several runs side by side; a scene in two files: the later file's rows)
+    #[command(
+        after_help = "Example: harness pareto out/results.json gpu-run/results.json --out pareto"
+    )]
     Pareto {
         /// results.json files written by compare.
         #[arg(required = true, value_name = "RESULTS.json")]
@@ -210,6 +227,9 @@ enum Command {
         out: PathBuf,
     },
     /// Writes a scene (built-in spec or glTF) as binary glTF.
+    #[command(
+        after_help = "Example: harness export-scene cornell-box:light=spot --out cornell-box.glb"
+    )]
     ExportScene {
         /// Scene spec, e.g. cornell-sphere:material=mirror.
         scene: String,
@@ -283,6 +303,7 @@ struct BenchArgs {
     /// The span compared: `frame`, or a span the techniques record (`lookup`, `slices`).
     #[arg(long, default_value = "frame", value_name = "LABEL")]
     span: String,
+    /// Image size.
     #[arg(long, default_value = "256x256", value_name = "WxH")]
     size: Size,
     /// Scene time of the measured view.
@@ -781,4 +802,39 @@ fn render_technique(
         &mut |_, _, _| {},
     )?;
     Ok(run.image().clone())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    /// Every example the help shows parses as the command line it claims to be.
+    #[test]
+    fn the_help_s_examples_parse() {
+        let root = Cli::command();
+        let mut texts = vec![AFTER_HELP.to_string()];
+        for sub in root.get_subcommands() {
+            if let Some(help) = sub.get_after_help() {
+                texts.push(help.to_string());
+            }
+        }
+        let examples: Vec<String> = texts
+            .iter()
+            .flat_map(|t| t.lines())
+            .filter_map(|l| {
+                l.trim()
+                    .trim_start_matches("Example: ")
+                    .strip_prefix("harness ")
+            })
+            .map(|l| format!("harness {l}"))
+            .collect();
+        assert!(examples.len() >= 12, "{examples:?}");
+        for example in examples {
+            let args = example.split_whitespace();
+            if let Err(e) = Cli::try_parse_from(args) {
+                panic!("{example}: {e}");
+            }
+        }
+    }
 }
