@@ -213,22 +213,9 @@ impl Drop for Browser {
 }
 
 fn decode_base64(text: &str) -> Vec<u8> {
-    let value = |c: u8| match c {
-        b'A'..=b'Z' => c - b'A',
-        b'a'..=b'z' => c - b'a' + 26,
-        b'0'..=b'9' => c - b'0' + 52,
-        b'+' => 62,
-        b'/' => 63,
-        _ => panic!("not base64: {c}"),
-    };
-    let digits: Vec<u8> = text.bytes().filter(|&c| c != b'=').map(value).collect();
-    digits
-        .chunks(4)
-        .flat_map(|q| {
-            let n = q.iter().fold(0u32, |n, &d| n << 6 | d as u32) << (6 * (4 - q.len()));
-            n.to_be_bytes()[1..q.len()].to_vec()
-        })
-        .collect()
+    data_encoding::BASE64
+        .decode(text.as_bytes())
+        .expect("base64")
 }
 
 /// results.csv as a header and rows of fields (RFC 4180 quoting).

@@ -574,7 +574,19 @@ fn other_malformed_content() {
         "data:image/png;base64,{}",
         base64(b"not a png at all")
     ));
-    assert!(err_with(&f).contains("image 0 cannot be decoded"));
+    let e = err_with(&f);
+    assert!(e.contains("image 0 is neither PNG nor JPEG"), "{e}");
+    // An image of another format: named, with the formats the importer takes.
+    let mut f = fixture();
+    f.json["images"][0]["uri"] = json!(format!(
+        "data:image/bmp;base64,{}",
+        base64(b"BM\x3a\0\0\0\0\0\0\0\x36\0\0\0")
+    ));
+    let e = err_with(&f);
+    assert!(
+        e.contains("image 0 is a Bmp image; textures may be PNG or JPEG"),
+        "{e}"
+    );
     // Bad base64.
     let mut f = fixture();
     f.json["images"][0]["uri"] = json!("data:image/png;base64,@@@@");
@@ -930,5 +942,30 @@ fn an_orthographic_camera_is_the_view() {
         f.json["cameras"][0]["orthographic"]["ymag"] = json!(ymag);
         let e = scene::gltf_io::import_slice(&f.gltf_bytes(), "ortho.gltf").unwrap_err();
         assert!(e.to_string().contains("node 5"), "{e}");
+    }
+}
+
+/// The importer decodes the two texture formats of core glTF: PNG (the fixture's image, checked
+/// texel for texel by `check_fixture`) and JPEG, here a 16 x 16 image of one colour, which the
+/// encoder keeps within 2 of each channel.
+#[test]
+fn a_jpeg_texture_is_decoded() {
+    use image::ImageEncoder;
+    let colour = [200u8, 120, 40];
+    let texels: Vec<u8> = colour.iter().copied().cycle().take(16 * 16 * 3).collect();
+    let mut jpeg = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut jpeg, 95)
+        .write_image(&texels, 16, 16, image::ExtendedColorType::Rgb8)
+        .unwrap();
+    let mut f = fixture();
+    f.json["images"][0]["uri"] = json!(format!("data:image/jpeg;base64,{}", base64(&jpeg)));
+    let s = load(&f).unwrap();
+    let t = &s.textures[0];
+    assert_eq!((t.width, t.height), (16, 16));
+    for texel in t.rgba8.chunks(4) {
+        for (got, want) in texel[..3].iter().zip(colour) {
+            assert!(got.abs_diff(want) <= 2, "{texel:?} against {colour:?}");
+        }
+        assert_eq!(texel[3], 255, "JPEG has no alpha");
     }
 }

@@ -540,9 +540,18 @@ impl Importer<'_> {
             (None, None) => return Err(format!("{what} has neither a bufferView nor a uri")),
         };
         let reader = || {
-            image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
+            let reader = image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
                 .with_guessed_format()
-                .map_err(|e| format!("{what} cannot be decoded: {e}"))
+                .map_err(|e| format!("{what} cannot be decoded: {e}"))?;
+            match reader.format() {
+                Some(image::ImageFormat::Png | image::ImageFormat::Jpeg) => Ok(reader),
+                Some(other) => Err(format!(
+                    "{what} is a {other:?} image; textures may be PNG or JPEG (glTF's core formats)"
+                )),
+                None => Err(format!(
+                    "{what} is neither PNG nor JPEG, the texture formats the importer decodes"
+                )),
+            }
         };
         let (width, height) = reader()?
             .into_dimensions()

@@ -204,29 +204,22 @@ pub(super) fn read_uri(
     })
 }
 
+/// Decodes the base64 payload of a `data:` URI: the standard or the URL-safe alphabet, with
+/// or without padding, whitespace ignored (writers differ).
 pub(super) fn base64_decode(text: &str) -> Result<Vec<u8>, String> {
-    let mut out = Vec::with_capacity(text.len() * 3 / 4);
-    let (mut acc, mut bits) = (0u32, 0u32);
-    for (i, c) in text.bytes().enumerate() {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' | b'-' => 62,
-            b'/' | b'_' => 63,
-            b'=' => break,
-            b' ' | b'\n' | b'\r' | b'\t' => continue,
-            _ => return Err(format!("character {:?} at position {i}", c as char)),
-        } as u32;
-        acc = (acc << 6) | v;
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
-        }
-    }
-    Ok(out)
+    static LENIENT: std::sync::OnceLock<data_encoding::Encoding> = std::sync::OnceLock::new();
+    let encoding = LENIENT.get_or_init(|| {
+        let mut spec = data_encoding::BASE64_NOPAD.specification();
+        spec.translate.from.push_str("-_");
+        spec.translate.to.push_str("+/");
+        spec.ignore.push_str(" \t\r\n");
+        spec.check_trailing_bits = false;
+        spec.encoding().expect("a valid base64 specification")
+    });
+    let unpadded = text.trim_end_matches(|c: char| c == '=' || c.is_ascii_whitespace());
+    encoding
+        .decode(unpadded.as_bytes())
+        .map_err(|e| e.to_string())
 }
 
 pub(super) fn percent_decode(s: &str) -> Option<String> {
