@@ -140,7 +140,7 @@ pub fn execute(env: &Env, plan: &Plan, opts: &ExecOptions) -> Result<RunReport> 
     for loaded in &scenes {
         run.scene(loaded, &mut report, &mut earlier)?;
     }
-    output.write_sweep_plot(&mut report)?;
+    output.write_sweep_plot(&report)?;
     output.write_all(&report)?;
     Ok(report)
 }

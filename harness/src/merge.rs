@@ -121,7 +121,7 @@ pub fn merge(shards: &[PathBuf], out: &Path) -> Result<RunReport> {
     if report.sweep().is_none() {
         pareto_again(&mut report, out)?;
     }
-    output.write_sweep_plot(&mut report)?;
+    output.write_sweep_plot(&report)?;
     output.write_all(&report)?;
     Ok(report)
 }

@@ -98,9 +98,6 @@ pub struct RunReport {
     pub images: Vec<WrittenImages>,
     /// Per scene: the wall-clock seconds of its references.
     pub scene_walls: Vec<SceneWall>,
-    /// Whether the sweep's `sweep.png` has text (false when no font could be loaded).
-    #[serde(default)]
-    pub plot_has_text: bool,
 }
 
 impl RunReport {
@@ -140,7 +137,6 @@ impl RunReport {
             pareto: Vec::new(),
             images: Vec::new(),
             scene_walls: Vec::new(),
-            plot_has_text: false,
         }
     }
 

@@ -10,7 +10,6 @@
 
 use crate::measure::ErrorFrame;
 use crate::model::{ImageFrame, RunReport};
-use crate::plot::{self, PlotPoint, PlotText};
 use crate::report::ResultRow;
 use crate::{images, report, time_suffix};
 use anyhow::{Context as _, Result, anyhow};
@@ -59,29 +58,17 @@ impl Output {
         crate::html::write_page(&self.dir, report)
     }
 
-    /// A sweep's `sweep.png` (nothing for a compare), drawn once at the end of the run; notes
-    /// in the report whether it has text.
-    pub fn write_sweep_plot(&self, report: &mut RunReport) -> Result<()> {
+    /// A sweep's `sweep.svg` (nothing for a compare), drawn once at the end of the run: the
+    /// report's figures of the sweep one under the other.
+    pub fn write_sweep_plot(&self, report: &RunReport) -> Result<()> {
         let Some(sweep) = report.sweep() else {
             return Ok(());
         };
-        let points: Vec<PlotPoint> = report
-            .rows
-            .iter()
-            .map(|r| PlotPoint {
-                value: r.value.clone().unwrap_or_default(),
-                flip_mean: r.flip_mean,
-                rmse: r.rmse,
-                frame_ms: r.frame_ms_median,
-            })
-            .collect();
-        let title = format!(
-            "{} on {} over {}",
-            sweep.technique, sweep.scene, sweep.param
-        );
-        let text = plot::sweep_plot(&self.dir.join("sweep.png"), &title, &sweep.param, &points)?;
-        report.plot_has_text = text == PlotText::Drawn;
-        Ok(())
+        let figures = crate::html::sweep_plots(report, sweep);
+        write_text(
+            &self.dir.join("sweep.svg"),
+            &crate::html::svg::file(&figures, &[]),
+        )
     }
 }
 

@@ -1,6 +1,7 @@
 //! Error against time, per scene: every technique's frame time beside the exact GPU ray
 //! tracer's (`speedup_vs_raytracer`), and the Pareto front of error and frame time
-//! (`pareto/<scene>.png`, the data in `results.json`'s `pareto`).
+//! (`pareto/<scene>.svg`, drawn by `html::svg` as the report's view is; the data in
+//! `results.json`'s `pareto`).
 //!
 //! The yardstick is [`YARDSTICK`] (`raytracer/caustics`: the reference's whole image traced on
 //! the same adapter in the same run). A row's speed-up is the yardstick's median frame time
@@ -15,7 +16,6 @@
 
 use crate::report::ResultRow;
 use anyhow::{Result, anyhow};
-use plotters::prelude::*;
 use std::path::Path;
 
 /// The technique every row's speed-up is measured against.
@@ -130,9 +130,9 @@ pub fn mark_front(points: &mut [ParetoPoint]) {
     }
 }
 
-/// One scene's speed-ups, points and plot (`out/pareto/<dir_name>.png`, written when the
+/// One scene's speed-ups, points and plot (`out/pareto/<dir_name>.svg`, written when the
 /// tracer and at least one other technique were measured): what `compare` does after each
-/// scene, and `harness pareto` for the rows of earlier runs. A plot that cannot be drawn is a
+/// scene, and `harness pareto` for the rows of earlier runs. A plot that cannot be written is a
 /// warning (returned), not an error.
 pub fn write_scene(
     out: &Path,
@@ -145,16 +145,29 @@ pub fn write_scene(
     let mut points = scene_points(scene, rows);
     let mut warning = None;
     if points.yardstick_ms.is_some() && points.points.len() > 1 {
-        let file = format!("pareto/{dir_name}.png");
-        std::fs::create_dir_all(out.join("pareto"))
-            .map_err(|e| anyhow!("cannot create {}: {e}", out.join("pareto").display()))?;
-        let title = format!("{scene}: error against frame time, {adapter}");
-        match draw(&out.join(&file), &title, &points) {
+        let file = format!("pareto/{dir_name}.svg");
+        match write_plot(&out.join(&file), adapter, &points) {
             Ok(()) => points.plot = Some(file),
             Err(e) => warning = Some(format!("{scene}: {e:#}")),
         }
     }
     Ok((points, warning))
+}
+
+/// The scene's Pareto view as an SVG file: the report's figure (frame time on a log scale
+/// across, error up, the front as a red staircase, the tracer in blue, each point numbered),
+/// then the numbers' legend with the adapter.
+fn write_plot(path: &Path, adapter: &str, scene: &ParetoScene) -> Result<()> {
+    let figure = crate::html::svg::pareto(scene)
+        .ok_or_else(|| anyhow!("no technique with a frame time and an error"))?;
+    let mut legend = crate::html::svg::pareto_legend(scene);
+    legend.push(format!("measured on {adapter}"));
+    let text = crate::html::svg::file(&[figure], &legend);
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| anyhow!("cannot create {}: {e}", dir.display()))?;
+    }
+    std::fs::write(path, text).map_err(|e| anyhow!("cannot write {}: {e}", path.display()))
 }
 
 /// The rows of a `results.json` written by `compare` (the fields the Pareto view reads), and
@@ -189,154 +202,6 @@ pub fn rows_from_json(text: &str) -> Result<(String, Vec<ResultRow>)> {
         .unwrap_or("unknown adapter")
         .to_string();
     Ok((adapter, rows))
-}
-
-fn err(e: impl std::fmt::Display) -> anyhow::Error {
-    anyhow!("pareto plot: {e}")
-}
-
-/// Draws the scene's points: frame time (log scale) across, error up, the front as a staircase
-/// in red, the tracer in blue. Each point carries a number; the panel on the right lists the
-/// numbers with the techniques, their times and errors, fastest first (names next to the points
-/// would overlap where techniques cost the same). Text needs a font (see `plot`).
-pub fn draw(path: &Path, title: &str, scene: &ParetoScene) -> Result<()> {
-    let text = crate::plot::fonts_available();
-    if scene.points.is_empty() {
-        return Err(anyhow!("no technique with a frame time and an error"));
-    }
-    let mut order: Vec<usize> = (0..scene.points.len()).collect();
-    order.sort_by(|&a, &b| {
-        scene.points[a]
-            .frame_ms
-            .total_cmp(&scene.points[b].frame_ms)
-    });
-    let (lo, hi) = scene
-        .points
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(a, b), p| {
-            (a.min(p.frame_ms), b.max(p.frame_ms))
-        });
-    let (x0, x1) = (lo / 2.0, hi * 2.0);
-    let top = scene.points.iter().map(|p| p.error).fold(0.0f64, f64::max);
-    let y1 = if top > 0.0 { top * 1.1 } else { 1.0 };
-    let rows = scene.points.len() as u32;
-    let height = (760).max(90 + 17 * rows);
-    let root = BitMapBackend::new(path, (1400, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
-    let root = if text {
-        root.titled(title, ("sans-serif", 22)).map_err(err)?
-    } else {
-        root
-    };
-    let (plot_area, legend) = root.split_horizontally(960);
-    let label_area = |n: u32| if text { n } else { 4 };
-    let mut chart = ChartBuilder::on(&plot_area)
-        .margin(16)
-        .x_label_area_size(label_area(44))
-        .y_label_area_size(label_area(70))
-        .build_cartesian_2d((x0..x1).log_scale(), 0.0..y1)
-        .map_err(err)?;
-    {
-        let mut mesh = chart.configure_mesh();
-        if text {
-            mesh.x_desc("frame time, ms (median, log scale)").y_desc(
-                match scene.error_metric.as_str() {
-                    "flip_mean_masked" => "FLIP over the mask (mean along the path)",
-                    _ => "FLIP (mean along the path)",
-                },
-            );
-        } else {
-            mesh.x_labels(0).y_labels(0);
-        }
-        mesh.draw().map_err(err)?;
-    }
-    let front_colour = RGBColor(200, 40, 40);
-    let other = RGBColor(120, 120, 120);
-    let tracer = RGBColor(40, 80, 200);
-    let colour = |p: &ParetoPoint| {
-        if p.technique == YARDSTICK {
-            tracer
-        } else if p.on_front {
-            front_colour
-        } else {
-            other
-        }
-    };
-    chart
-        .draw_series(LineSeries::new(
-            staircase(&scene.points),
-            front_colour.stroke_width(2),
-        ))
-        .map_err(err)?;
-    for (number, &i) in order.iter().enumerate() {
-        let p = &scene.points[i];
-        let c = colour(p);
-        chart
-            .draw_series(std::iter::once(Circle::new(
-                (p.frame_ms, p.error),
-                5,
-                c.filled(),
-            )))
-            .map_err(err)?;
-        if text {
-            chart
-                .draw_series(std::iter::once(Text::new(
-                    format!("{}", number + 1),
-                    (p.frame_ms, p.error),
-                    ("sans-serif", 13).into_font().color(&c),
-                )))
-                .map_err(err)?;
-        }
-    }
-    if text {
-        draw_legend(&legend, scene, &order, &colour)?;
-    }
-    root.present().map_err(err)?;
-    Ok(())
-}
-
-/// The Pareto front as a staircase: from each point on the front, level to the next faster
-/// one's time, then down to its error.
-fn staircase(points: &[ParetoPoint]) -> Vec<(f64, f64)> {
-    let mut front: Vec<&ParetoPoint> = points.iter().filter(|p| p.on_front).collect();
-    front.sort_by(|a, b| a.frame_ms.total_cmp(&b.frame_ms));
-    let mut stairs = Vec::new();
-    for (i, p) in front.iter().enumerate() {
-        if i > 0 {
-            stairs.push((p.frame_ms, front[i - 1].error));
-        }
-        stairs.push((p.frame_ms, p.error));
-    }
-    stairs
-}
-
-/// The panel on the right: each point's number, technique, time and error, fastest first.
-fn draw_legend(
-    legend: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
-    scene: &ParetoScene,
-    order: &[usize],
-    colour: &dyn Fn(&ParetoPoint) -> RGBColor,
-) -> Result<()> {
-    let header = ("sans-serif", 14).into_font().color(&BLACK);
-    legend
-        .draw_text("#  technique: ms, FLIP", &header, (8, 20))
-        .map_err(err)?;
-    for (number, &i) in order.iter().enumerate() {
-        let p = &scene.points[i];
-        let style = ("sans-serif", 13).into_font().color(&colour(p));
-        let line = format!(
-            "{}  {}: {:.3} ms, {:.4}{}",
-            number + 1,
-            p.technique,
-            p.frame_ms,
-            p.measured_error,
-            if p.on_front { "  (front)" } else { "" }
-        );
-        legend
-            .draw_text(&line, &style, (8, 44 + 17 * number as i32))
-            .map_err(err)?;
-    }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -415,8 +280,20 @@ mod tests {
         assert_eq!(scene.points[0].error, 0.0);
         assert_eq!(scene.points[0].measured_error, 0.002);
         assert!(scene.points.iter().all(|p| p.on_front));
-        let path = std::env::temp_dir().join("harness-pareto-test.png");
-        draw(&path, "test", &scene).unwrap();
-        assert!(std::fs::metadata(&path).unwrap().len() > 1000);
+        let path = std::env::temp_dir().join("harness-pareto-test/plot.svg");
+        write_plot(&path, "test adapter", &scene).unwrap();
+        let svg = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            svg.starts_with("<?xml") && svg.ends_with("</svg>\n"),
+            "{svg}"
+        );
+        for text in [
+            "1 raytracer/caustics: 40 ms",
+            "2 raster: 2 ms",
+            "measured on test adapter",
+        ] {
+            assert!(svg.contains(text), "{text} missing: {svg}");
+        }
+        assert!(svg.contains("<style>") && svg.contains("class=\"front\""));
     }
 }

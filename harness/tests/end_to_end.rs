@@ -490,7 +490,7 @@ fn sweep_over_a_technique_and_a_scene_parameter() {
         "{csv}"
     );
     assert!(
-        exists(&out, "sweep.png")
+        exists(&out, "sweep.svg")
             && exists(&out, "sweep.json")
             && exists(&out, "images/reference.png")
     );

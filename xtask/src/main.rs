@@ -5,11 +5,8 @@
 //! - a Vulkan driver: an ICD manifest (`*.json` in `/usr/share/vulkan/icd.d`,
 //!   `/etc/vulkan/icd.d` or `/usr/local/share/vulkan/icd.d`) and the loader `libvulkan.so.1`
 //!   (`ldconfig -p`); Debian packages `mesa-vulkan-drivers libvulkan1` (lavapipe);
-//! - what the native build steps need: a C++ compiler (`nv-flip` builds FLIP from C++) and
-//!   fontconfig's development files through pkg-config (the plots' font lookup); packages
-//!   `g++ pkg-config libfontconfig1-dev`;
-//! - optionally a font for the text in `sweep.png` (`fonts-dejavu-core`; without one the plot
-//!   is drawn without text);
+//! - what the native build steps need: a C++ compiler (`nv-flip` builds FLIP from C++);
+//!   package `g++` (the plots are SVG text: no font or font library is needed);
 //! - for `test` only: headless Chromium (Debian package `chromium`), which opens the HTML
 //!   report in `harness/tests/report_browser.rs`; the tests run with
 //!   `HARNESS_BROWSER_TEST=require`, so that test fails rather than skips without it.
@@ -835,21 +832,6 @@ fn missing_prerequisites(job: &str) -> Vec<Missing> {
             what: "a C++ compiler (nv-flip builds FLIP)",
             packages: &["g++"],
             required: true,
-        });
-    }
-    if !succeeds("pkg-config", &["--exists", "fontconfig"]) {
-        missing.push(Missing {
-            what: "fontconfig development files via pkg-config (plot fonts)",
-            packages: &["pkg-config", "libfontconfig1-dev"],
-            required: true,
-        });
-    }
-    let fonts = output("fc-list", &[]).is_some_and(|o| o.status.success() && !o.stdout.is_empty());
-    if !fonts {
-        missing.push(Missing {
-            what: "a font (text in sweep.png)",
-            packages: &["fonts-dejavu-core"],
-            required: false,
         });
     }
     missing

@@ -226,6 +226,21 @@ fn sweep_group(report: &RunReport, sweep: &SweepInfo) -> Group {
             reference: Some(reference),
         });
     }
+    let what = format!("{} on {}", sweep.technique, sweep.scene);
+    let plots = sweep_plots(report, sweep);
+    Group {
+        title: format!("{what}, over {}", sweep.param),
+        anchor: "sweep".into(),
+        times: times_of(&entries),
+        entries,
+        plots,
+        legend: Vec::new(),
+    }
+}
+
+/// A sweep's figures against the swept value (FLIP, masked FLIP, RMSE, frame time): the
+/// report's plots of the sweep and `sweep.svg`.
+pub fn sweep_plots(report: &RunReport, sweep: &SweepInfo) -> Vec<String> {
     let series = |f: fn(&ResultRow) -> Option<f64>| -> Vec<(String, Option<f64>)> {
         report
             .rows
@@ -234,7 +249,7 @@ fn sweep_group(report: &RunReport, sweep: &SweepInfo) -> Group {
             .collect()
     };
     let what = format!("{} on {}", sweep.technique, sweep.scene);
-    let plots = [
+    [
         ("FLIP (mean)", series(|r| r.flip_mean)),
         ("FLIP over the mask (mean)", series(|r| r.flip_mean_masked)),
         ("RMSE (mean)", series(|r| r.rmse)),
@@ -244,15 +259,7 @@ fn sweep_group(report: &RunReport, sweep: &SweepInfo) -> Group {
     .filter_map(|(figure, points)| {
         svg::sweep(&format!("{what}: {figure}"), &sweep.param, figure, &points)
     })
-    .collect();
-    Group {
-        title: format!("{what}, over {}", sweep.param),
-        anchor: "sweep".into(),
-        times: times_of(&entries),
-        entries,
-        plots,
-        legend: Vec::new(),
-    }
+    .collect()
 }
 
 /// A column of the results table: its CSV name (the `data-col` the test matches against
@@ -568,9 +575,10 @@ impl Page<'_> {
             definitions(&self.provenance)
         );
         Ok(format!(
-            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width\"><title>{}</title><style>{STYLE}</style></head><body>{body}{}<script>{SCRIPT}</script></body></html>\n",
+            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width\"><title>{}</title><style>{STYLE}{plot_style}</style></head><body>{body}{}<script>{SCRIPT}</script></body></html>\n",
             escape(&self.title),
-            data_block(&self.groups)?
+            data_block(&self.groups)?,
+            plot_style = svg::PLOT_STYLE,
         ))
     }
 }

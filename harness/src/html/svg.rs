@@ -1,10 +1,30 @@
-//! The report's plots as SVG text: the Pareto view of a scene (error against frame time) and a
-//! sweep's figures against the swept value. Hand-written rather than drawn with `plotters`'
-//! SVG backend because its text layout needs a font file at generation time, while a browser
-//! lays out SVG text itself; and each point carries a `<title>` the browser shows on hover.
+//! The harness's one plot engine, SVG text: the Pareto view of a scene (error against frame
+//! time) and a sweep's figures against the swept value, inlined in the report and written as
+//! files ([`file`]: `pareto/<scene>.svg`, `sweep.svg`). Hand-written, because the viewer (a
+//! browser, a vector editor) lays out SVG text itself, so drawing needs no font and no system
+//! library; each point carries a `<title>` the browser shows on hover.
 
 use crate::pareto::{ParetoScene, YARDSTICK};
 use std::fmt::Write as _;
+
+/// The plots' style: the report's stylesheet includes it, and every SVG file carries it.
+pub const PLOT_STYLE: &str = "\
+svg.plot { width: 100%; height: auto; font: 11px system-ui, sans-serif; }
+svg.plot .area { fill: #fff; stroke: #999; }
+svg.plot .grid { stroke: #e6e6e6; }
+svg.plot .tick { fill: #555; }
+svg.plot .label { fill: #222; font-size: 12px; }
+svg.plot .title { fill: #222; font-size: 13px; font-weight: 600; }
+svg.plot .category { fill: #555; font-size: 10px; }
+svg.plot .point circle { fill: #888; stroke: #fff; }
+svg.plot .point text { fill: #444; font-size: 10px; }
+svg.plot .point.on-front circle { fill: #c8282a; }
+svg.plot .point.tracer circle { fill: #2850c8; }
+svg.plot .front { fill: none; stroke: #c8282a; stroke-width: 1.5; stroke-dasharray: 4 3; }
+svg.plot .series { fill: none; stroke: #1f5fbf; stroke-width: 1.5; }
+svg.plot .point:hover circle { stroke: #000; stroke-width: 2; }
+svg.plot .legend { fill: #222; font-size: 11px; }
+";
 
 const WIDTH: f64 = 640.0;
 const HEIGHT: f64 = 360.0;
@@ -306,6 +326,65 @@ pub fn sweep(
     }
     out.push_str("</svg>");
     Some(out)
+}
+
+/// An SVG file of `figures` (each one of this module's plots) one under the other, then
+/// `legend`, one line each: what `sweep.svg` and `pareto/<scene>.svg` hold, readable in any
+/// browser or vector editor without the report (the style inside, text laid out by the viewer).
+pub fn file(figures: &[String], legend: &[String]) -> String {
+    let line = 16.0;
+    let legend_height = if legend.is_empty() {
+        0.0
+    } else {
+        line * legend.len() as f64 + 12.0
+    };
+    let height = HEIGHT * figures.len() as f64 + legend_height;
+    let mut out = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"plot\" width=\"{WIDTH}\" height=\"{height}\" viewBox=\"0 0 {WIDTH} {height}\"><style>{PLOT_STYLE}</style><rect width=\"{WIDTH}\" height=\"{height}\" fill=\"#fff\"/>"
+    );
+    for (i, figure) in figures.iter().enumerate() {
+        // Each figure is an <svg> of its own, placed at its slot.
+        let placed = figure.replacen(
+            "<svg ",
+            &format!(
+                r#"<svg y="{}" width="{WIDTH}" height="{HEIGHT}" "#,
+                HEIGHT * i as f64
+            ),
+            1,
+        );
+        out.push_str(&placed);
+    }
+    let top = HEIGHT * figures.len() as f64;
+    for (i, text) in legend.iter().enumerate() {
+        let _ = write!(
+            out,
+            r#"<text x="{}" y="{:.1}" class="legend">{}</text>"#,
+            AREA.0,
+            top + line * (i as f64 + 1.0),
+            escape(text)
+        );
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// The Pareto view's legend lines for [`file`]: each point's number, technique, time and error.
+pub fn pareto_legend(scene: &ParetoScene) -> Vec<String> {
+    scene
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let front = if p.on_front { ", on the front" } else { "" };
+            format!(
+                "{} {}: {} ms, error {}{front}",
+                i + 1,
+                p.technique,
+                short(p.frame_ms),
+                short(p.measured_error)
+            )
+        })
+        .collect()
 }
 
 #[cfg(test)]
