@@ -169,6 +169,7 @@ fn instances(
         if !t.supports(scene) {
             bail!("technique {spec} does not support scene {}", opts.scene);
         }
+        scene::orthographic_refusal(t.as_ref(), scene)?;
         env.ctx
             .require(t.required_features())
             .with_context(|| format!("technique {spec}"))?;

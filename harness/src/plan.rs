@@ -59,7 +59,12 @@ impl TechniqueSpec {
                 let ids: Vec<String> = techniques().iter().map(|t| t.id()).collect();
                 match crate::select_techniques(&ids, Some(std::slice::from_ref(&self.id))) {
                     Err(e) => e,
-                    Ok(_) => anyhow!("unknown technique \"{}\"", self.id),
+                    // A family where one variant is needed.
+                    Ok(variants) => anyhow!(
+                        "\"{}\" is a family; name one of its variants: {}",
+                        self.id,
+                        variants.join(", ")
+                    ),
                 }
             })?;
         for (name, value) in &self.params {

@@ -904,8 +904,8 @@ fn what_is_left_out_is_named() {
 
 /// An orthographic camera met first is the view (Blender's orthographic cameras): its `ymag` is
 /// the view's half height, a note names it, and another note says that its `xmag` is not
-/// used where it differs (the width follows the image). A degenerate `ymag` is an error that
-/// names the node.
+/// used where it differs (the width follows the image). A zero `ymag` is an error that names
+/// the node; a negative one is its size; an unused camera's flaws are not read.
 #[test]
 fn an_orthographic_camera_is_the_view() {
     let mut f = fixture();
@@ -938,11 +938,34 @@ fn an_orthographic_camera_is_the_view() {
         "{}",
         o1 - o0
     );
-    for ymag in [0.0, -1.0] {
-        f.json["cameras"][0]["orthographic"]["ymag"] = json!(ymag);
-        let e = scene::gltf_io::import_slice(&f.gltf_bytes(), "ortho.gltf").unwrap_err();
-        assert!(e.to_string().contains("node 5"), "{e}");
-    }
+    // A negative ymag (which glTF discourages but allows) is its size; 0 is an error that
+    // names the node.
+    f.json["cameras"][0]["orthographic"]["ymag"] = json!(-1.5);
+    let s = scene::gltf_io::import_slice(&f.gltf_bytes(), "ortho.gltf").unwrap();
+    assert_eq!(s.camera.orthographic, Some(1.5));
+    f.json["cameras"][0]["orthographic"]["ymag"] = json!(0.0);
+    let e = scene::gltf_io::import_slice(&f.gltf_bytes(), "ortho.gltf").unwrap_err();
+    assert!(e.to_string().contains("node 5"), "{e}");
+    // A camera that is not used is not read: its flaw is a note's business, not an error.
+    f.json["cameras"].as_array_mut().unwrap().insert(
+        0,
+        json!({ "type": "perspective", "perspective": { "yfov": 0.5, "znear": 0.05 } }),
+    );
+    f.json["nodes"][5]["camera"] = json!(1);
+    f.json["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "name": "front", "camera": 0 }));
+    f.json["scenes"][0]["nodes"] = json!([6, 0, 4, 5]);
+    let (s, notes) = scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "ortho.gltf").unwrap();
+    assert_eq!(s.camera.orthographic, None);
+    assert!(
+        notes
+            .iter()
+            .any(|n| n
+                .starts_with("orthographic camera 1 (\"Top\") of node 5 (\"camera\") is not used")),
+        "{notes:#?}"
+    );
 }
 
 /// The importer decodes the two texture formats of core glTF: PNG (the fixture's image, checked

@@ -250,7 +250,8 @@ impl<'a> BeamSplatter<'a> {
     }
 
     /// Pixel coordinates (continuous) of `x`, as [`Camera::project`] computes them, or `None`
-    /// behind the eye.
+    /// behind a pinhole's eye (its callers have cut the beam at the near plane, which also
+    /// keeps it in front of an orthographic camera's plane).
     fn project(&self, x: Vec3) -> Option<Vec2> {
         let clip = self.view_proj * x.extend(1.0);
         if clip.w <= 1e-6 {

@@ -58,8 +58,9 @@ impl Lens {
             Valid(Type::Perspective) => c.perspective.as_ref().map(|p| Lens::Pinhole {
                 fov_y_deg: p.yfov.to_degrees(),
             }),
+            // glTF: ymag must not be 0 and should not be negative; its size is the height.
             Valid(Type::Orthographic) => c.orthographic.as_ref().map(|o| Lens::Orthographic {
-                ymag: o.ymag,
+                ymag: o.ymag.abs(),
                 xmag: o.xmag,
             }),
             _ => None,
@@ -295,20 +296,14 @@ impl Importer<'_> {
         self.choose_camera(node, world)
     }
 
-    /// The camera of a camera node (`None` for any other node): exact from the extras while
-    /// they agree with the node, else derived from it.
+    /// The camera of camera node `node` with `lens`: exact from the extras while they agree
+    /// with the node, else derived from it.
     pub(super) fn camera_at(
         &self,
         node: &gltf::Node,
         world: Mat4,
-    ) -> Result<Option<FoundCamera>, String> {
-        let lens = node
-            .camera()
-            .and_then(|c| self.doc.as_json().cameras.get(c.index()))
-            .and_then(Lens::of);
-        let Some(lens) = lens else {
-            return Ok(None);
-        };
+        lens: &Lens,
+    ) -> Result<FoundCamera, String> {
         let eye = world.transform_point3(Vec3::ZERO);
         let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
         let up = world.transform_vector3(Vec3::Y).normalize_or_zero();
@@ -321,7 +316,7 @@ impl Importer<'_> {
         let (fov_y_deg, orthographic) = lens.projection();
         if let Some(ymag) = orthographic.filter(|h| !(h.is_finite() && *h > 0.0)) {
             return Err(format!(
-                "orthographic camera node {} has ymag {ymag}; it needs a positive height",
+                "orthographic camera node {} has ymag {ymag}; it needs a height other than 0",
                 describe_node(node)
             ));
         }
@@ -351,7 +346,7 @@ impl Importer<'_> {
                 orthographic,
             },
         };
-        Ok(Some(camera))
+        Ok(camera)
     }
 
     /// The model material, its default roles and its base colour texture (image index and

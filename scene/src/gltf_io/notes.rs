@@ -6,39 +6,51 @@ use super::*;
 impl Importer<'_> {
     /// The first camera met in the node tree (perspective or orthographic) is the view: glTF
     /// marks no camera as active. A file's own camera (not ours, whose extras carry it
-    /// exactly) is named in a note, and so is every other camera, which is not used, and an
-    /// orthographic camera's `xmag` where the view's width does not follow it.
+    /// exactly) is named in a note, and so is every other camera, which is not used (and not
+    /// read: a flaw of its own is no error), and an orthographic camera's `xmag` where the
+    /// view's width does not follow it.
     pub(super) fn choose_camera(&mut self, node: &gltf::Node, world: Mat4) -> Result<(), String> {
-        let Some(found) = self.camera_at(node, world)? else {
+        let Some(camera) = node.camera() else {
             return Ok(());
         };
-        let camera = node.camera().expect("camera_at found a camera");
-        let lens = self
-            .doc
-            .as_json()
-            .cameras
-            .get(camera.index())
-            .and_then(Lens::of);
-        let kind = match lens {
-            Some(Lens::Orthographic { .. }) => "orthographic",
-            _ => "perspective",
+        let json = self.doc.as_json().cameras.get(camera.index());
+        let lens = json.and_then(Lens::of);
+        let kind = match (&lens, json.map(|c| &c.type_)) {
+            (Some(Lens::Orthographic { .. }), _) => "orthographic",
+            (Some(Lens::Pinhole { .. }), _) => "perspective",
+            (None, Some(t)) => match t {
+                gltf::json::validation::Checked::Valid(gltf::json::camera::Type::Orthographic) => {
+                    "orthographic"
+                }
+                _ => "perspective",
+            },
+            (None, None) => "perspective",
         };
         let what = format!(
             "{kind} camera {} of node {}",
             describe_camera(&camera),
             describe_node(node)
         );
-        match (&self.camera, &found) {
-            (None, FoundCamera::Derived { .. }) => self.notes.push(format!(
+        if self.camera.is_some() {
+            self.notes.push(format!(
+                "{what} is not used: the view is the first camera in the node tree"
+            ));
+            return Ok(());
+        }
+        let Some(lens) = lens else {
+            self.notes.push(format!(
+                "{what} has no {kind} projection in the file: skipped"
+            ));
+            return Ok(());
+        };
+        let found = self.camera_at(node, world, &lens)?;
+        if let FoundCamera::Derived { .. } = found {
+            self.notes.push(format!(
                 "the view is {what}, the first camera in the node tree (glTF marks no camera as \
                  active)"
-            )),
-            (Some(_), _) => self.notes.push(format!(
-                "{what} is not used: the view is the first camera in the node tree"
-            )),
-            (None, FoundCamera::Exact(_)) => {}
+            ));
         }
-        if let (None, Some(Lens::Orthographic { xmag, ymag })) = (&self.camera, &lens) {
+        if let Lens::Orthographic { xmag, ymag } = lens {
             if (xmag.abs() - ymag.abs()).abs() > 1e-4 * ymag.abs() {
                 self.notes.push(format!(
                     "{what} has xmag {xmag} and ymag {ymag}: the view is {} high and as wide \
@@ -47,9 +59,7 @@ impl Importer<'_> {
                 ));
             }
         }
-        if self.camera.is_none() {
-            self.camera = Some(found);
-        }
+        self.camera = Some(found);
         Ok(())
     }
 

@@ -3,7 +3,7 @@
 use super::*;
 
 /// The camera (pinhole or orthographic) as the light pass sees it: where a point lands on
-/// the image, and what one pixel's importance is (`Camera::pixel_importance`).
+/// the image, and what one pixel's importance is (`Film::importance`).
 pub(super) struct Eye<'a> {
     pub(super) camera: Camera,
     /// Media between a landed photon and the eye attenuate it, as they attenuate the eye

@@ -159,7 +159,14 @@
 //! `E[sum_{photons landing in A} Phi_k] = integral_A E dA`. Replacing `E dA` by the photons
 //! gives the formula above, one term per photon. The test
 //! `light_tracing_matches_direct_lighting` checks this normalisation against the eye pass
-//! on a plane lit directly. The photon is counted only if `x` is on the side of the surface
+//! on a plane lit directly.
+//!
+//! An orthographic camera's pixel `j` averages the radiance over its footprint on the film,
+//! the plane through the eye, of area `A_pix` in the world: `I_j = 1/A_pix integral L dA_film`.
+//! The film patch that sees `dA` of the surface along the view direction has
+//! `dA_film = cos_s dA`, so `W / d^2` above becomes `1 / A_pix` (`scene::Film::importance`),
+//! and the shadow ray goes from `x` straight back along the view direction to the film
+//! (`Camera::toward_camera`); `..._through_an_orthographic_camera` checks it the same way. The photon is counted only if `x` is on the side of the surface
 //! facing the eye (the side it arrived on), projects into the image, is in front of the
 //! camera, and the segment to the eye is unoccluded (a shadow ray). For smooth-shaded
 //! surfaces the irradiance is corrected to the shading normal like the direct term
