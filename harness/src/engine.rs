@@ -348,8 +348,13 @@ impl Run<'_> {
             .unwrap_or_default();
         let rows = &mut report.rows[first_row..];
         let adapter = report.adapter.name.clone();
-        let (points, warning) =
-            crate::pareto::write_scene(&self.out.dir, &loaded.spec, &dir_name, rows, &adapter)?;
+        let (points, warning) = crate::output::write_pareto_scene(
+            &self.out.dir,
+            &loaded.spec,
+            &dir_name,
+            rows,
+            &adapter,
+        )?;
         if let Some(w) = warning {
             self.say(format!("warning: {w}"));
         }

@@ -61,6 +61,7 @@ pub mod model;
 pub mod output;
 pub mod pareto;
 pub mod plan;
+pub mod plot;
 mod progress;
 pub mod provenance;
 pub mod report;

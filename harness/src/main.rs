@@ -612,7 +612,7 @@ fn pareto(results: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
     let mut all = Vec::new();
     for ((name, adapter, mut rows), dir) in scenes.into_iter().zip(dirs) {
         let (points, warning) =
-            harness::pareto::write_scene(out, &name, &dir, &mut rows, &adapter)?;
+            harness::output::write_pareto_scene(out, &name, &dir, &mut rows, &adapter)?;
         if let Some(w) = warning {
             eprintln!("warning: {w}");
         }

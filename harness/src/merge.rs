@@ -177,7 +177,7 @@ fn pareto_again(report: &mut RunReport, out: &Path) -> Result<()> {
                 .take_while(|r| r.scene == spec)
                 .count();
         let dir_name = report.image_dirs.get(&spec).cloned().unwrap_or_default();
-        let (points, warning) = crate::pareto::write_scene(
+        let (points, warning) = crate::output::write_pareto_scene(
             out,
             &spec,
             &dir_name,

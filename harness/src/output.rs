@@ -67,9 +67,49 @@ impl Output {
         let figures = crate::html::sweep_plots(report, sweep);
         write_text(
             &self.dir.join("sweep.svg"),
-            &crate::html::svg::file(&figures, &[]),
+            &crate::plot::file(&figures, &[]),
         )
     }
+}
+
+/// One scene's speed-ups, points and plot (`out/pareto/<dir_name>.svg`, written when the
+/// tracer and at least one other technique were measured): what `compare` does after each
+/// scene, and `harness pareto` for the rows of earlier runs. A plot that cannot be written is a
+/// warning (returned), not an error.
+pub fn write_pareto_scene(
+    out: &Path,
+    scene: &str,
+    dir_name: &str,
+    rows: &mut [ResultRow],
+    adapter: &str,
+) -> Result<(crate::pareto::ParetoScene, Option<String>)> {
+    crate::pareto::set_speedups(rows);
+    let mut points = crate::pareto::scene_points(scene, rows);
+    let mut warning = None;
+    if points.yardstick_ms.is_some() && points.points.len() > 1 {
+        let file = format!("pareto/{dir_name}.svg");
+        match write_pareto_plot(&out.join(&file), adapter, &points) {
+            Ok(()) => points.plot = Some(file),
+            Err(e) => warning = Some(format!("{scene}: {e:#}")),
+        }
+    }
+    Ok((points, warning))
+}
+
+/// The scene's Pareto view as an SVG file: the report's figure (frame time on a log scale
+/// across, error up, the front as a red staircase, the tracer in blue, each point numbered),
+/// then the numbers' legend with the adapter.
+fn write_pareto_plot(path: &Path, adapter: &str, scene: &crate::pareto::ParetoScene) -> Result<()> {
+    let figure = crate::plot::pareto(scene)
+        .ok_or_else(|| anyhow!("no technique with a frame time and an error"))?;
+    let mut legend = crate::plot::pareto_legend(scene);
+    legend.push(format!("measured on {adapter}"));
+    let text = crate::plot::file(&[figure], &legend);
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| anyhow!("cannot create {}: {e}", dir.display()))?;
+    }
+    std::fs::write(path, text).map_err(|e| anyhow!("cannot write {}: {e}", path.display()))
 }
 
 /// Where the run's wall-clock time went (`wall.md`): what made the run, then the time by
@@ -336,4 +376,48 @@ pub fn write_reference_images(
         .enumerate()
         .map(|(i, (time, image))| write_frame(out, rel_dir, stem, i, *time, image))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plots_are_written() {
+        let rows = vec![
+            ResultRow {
+                technique: crate::pareto::YARDSTICK.into(),
+                frame_ms_median: Some(40.0),
+                flip_mean_masked: Some(0.002),
+                timer: "gpu-timestamp".into(),
+                ..Default::default()
+            },
+            ResultRow {
+                technique: "raster".into(),
+                frame_ms_median: Some(2.0),
+                flip_mean_masked: Some(0.4),
+                timer: "gpu-timestamp".into(),
+                ..Default::default()
+            },
+        ];
+        let scene = crate::pareto::scene_points("test", &rows);
+        assert_eq!(scene.points[0].error, 0.0);
+        assert_eq!(scene.points[0].measured_error, 0.002);
+        assert!(scene.points.iter().all(|p| p.on_front));
+        let path = std::env::temp_dir().join("harness-pareto-test/plot.svg");
+        write_pareto_plot(&path, "test adapter", &scene).unwrap();
+        let svg = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            svg.starts_with("<?xml") && svg.ends_with("</svg>\n"),
+            "{svg}"
+        );
+        for text in [
+            "1 raytracer/caustics: 40 ms",
+            "2 raster: 2 ms",
+            "measured on test adapter",
+        ] {
+            assert!(svg.contains(text), "{text} missing: {svg}");
+        }
+        assert!(svg.contains("<style>") && svg.contains("class=\"front\""));
+    }
 }

@@ -1,6 +1,6 @@
 //! Error against time, per scene: every technique's frame time beside the exact GPU ray
 //! tracer's (`speedup_vs_raytracer`), and the Pareto front of error and frame time
-//! (`pareto/<scene>.svg`, drawn by `html::svg` as the report's view is; the data in
+//! (`pareto/<scene>.svg`, drawn by `plot` as the report's view is; the data in
 //! `results.json`'s `pareto`).
 //!
 //! The yardstick is [`YARDSTICK`] (`raytracer/caustics`: the reference's whole image traced on
@@ -16,7 +16,6 @@
 
 use crate::report::ResultRow;
 use anyhow::{Result, anyhow};
-use std::path::Path;
 
 /// The technique every row's speed-up is measured against.
 pub const YARDSTICK: &str = "raytracer/caustics";
@@ -130,46 +129,6 @@ pub fn mark_front(points: &mut [ParetoPoint]) {
     }
 }
 
-/// One scene's speed-ups, points and plot (`out/pareto/<dir_name>.svg`, written when the
-/// tracer and at least one other technique were measured): what `compare` does after each
-/// scene, and `harness pareto` for the rows of earlier runs. A plot that cannot be written is a
-/// warning (returned), not an error.
-pub fn write_scene(
-    out: &Path,
-    scene: &str,
-    dir_name: &str,
-    rows: &mut [ResultRow],
-    adapter: &str,
-) -> Result<(ParetoScene, Option<String>)> {
-    set_speedups(rows);
-    let mut points = scene_points(scene, rows);
-    let mut warning = None;
-    if points.yardstick_ms.is_some() && points.points.len() > 1 {
-        let file = format!("pareto/{dir_name}.svg");
-        match write_plot(&out.join(&file), adapter, &points) {
-            Ok(()) => points.plot = Some(file),
-            Err(e) => warning = Some(format!("{scene}: {e:#}")),
-        }
-    }
-    Ok((points, warning))
-}
-
-/// The scene's Pareto view as an SVG file: the report's figure (frame time on a log scale
-/// across, error up, the front as a red staircase, the tracer in blue, each point numbered),
-/// then the numbers' legend with the adapter.
-fn write_plot(path: &Path, adapter: &str, scene: &ParetoScene) -> Result<()> {
-    let figure = crate::html::svg::pareto(scene)
-        .ok_or_else(|| anyhow!("no technique with a frame time and an error"))?;
-    let mut legend = crate::html::svg::pareto_legend(scene);
-    legend.push(format!("measured on {adapter}"));
-    let text = crate::html::svg::file(&[figure], &legend);
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| anyhow!("cannot create {}: {e}", dir.display()))?;
-    }
-    std::fs::write(path, text).map_err(|e| anyhow!("cannot write {}: {e}", path.display()))
-}
-
 /// The rows of a `results.json` written by `compare` (the fields the Pareto view reads), and
 /// the adapter's name.
 pub fn rows_from_json(text: &str) -> Result<(String, Vec<ResultRow>)> {
@@ -256,44 +215,5 @@ mod tests {
         let mut alone = vec![row("raster", 2.0, "gpu-timestamp")];
         set_speedups(&mut alone);
         assert_eq!(alone[0].speedup_vs_raytracer, None);
-    }
-
-    #[test]
-    fn plots_are_written() {
-        let rows = vec![
-            ResultRow {
-                technique: YARDSTICK.into(),
-                frame_ms_median: Some(40.0),
-                flip_mean_masked: Some(0.002),
-                timer: "gpu-timestamp".into(),
-                ..Default::default()
-            },
-            ResultRow {
-                technique: "raster".into(),
-                frame_ms_median: Some(2.0),
-                flip_mean_masked: Some(0.4),
-                timer: "gpu-timestamp".into(),
-                ..Default::default()
-            },
-        ];
-        let scene = scene_points("test", &rows);
-        assert_eq!(scene.points[0].error, 0.0);
-        assert_eq!(scene.points[0].measured_error, 0.002);
-        assert!(scene.points.iter().all(|p| p.on_front));
-        let path = std::env::temp_dir().join("harness-pareto-test/plot.svg");
-        write_plot(&path, "test adapter", &scene).unwrap();
-        let svg = std::fs::read_to_string(&path).unwrap();
-        assert!(
-            svg.starts_with("<?xml") && svg.ends_with("</svg>\n"),
-            "{svg}"
-        );
-        for text in [
-            "1 raytracer/caustics: 40 ms",
-            "2 raster: 2 ms",
-            "measured on test adapter",
-        ] {
-            assert!(svg.contains(text), "{text} missing: {svg}");
-        }
-        assert!(svg.contains("<style>") && svg.contains("class=\"front\""));
     }
 }

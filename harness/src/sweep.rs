@@ -8,7 +8,7 @@
 //! reference is rendered, and cached, per value). Every value is checked before any GPU work.
 //!
 //! Writes `sweep.csv` (the compare columns plus `param` and `value`), `sweep.json`, `sweep.md`,
-//! `sweep.svg` (the report's figures, [`crate::html::svg`]) and `images/<technique>__<param>=<value>.{png,exr,flip.png}`
+//! `sweep.svg` (the report's figures, [`crate::plot`]) and `images/<technique>__<param>=<value>.{png,exr,flip.png}`
 //! (with `images/reference__<param>=<value>.{png,exr}` for a scene parameter, or
 //! `images/reference.{png,exr}` for a technique parameter), each at the first error frame; the
 //! later error frames along the camera path add `.t<time>.png` and `.t<time>.flip.png` (see

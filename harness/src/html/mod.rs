@@ -17,7 +17,7 @@
 //! - the failures, skipped techniques and importer notes, and what produced the page
 //!   ([`Provenance`]).
 
-pub mod svg;
+use crate::plot as svg;
 
 use crate::model::{ImageFrame, RunReport, WrittenImages};
 use crate::plan::{ParamOwner, SweepInfo};
