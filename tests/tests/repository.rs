@@ -159,6 +159,107 @@ fn no_readme_repeats_a_paragraph() {
     }
 }
 
+/// The targets of a markdown text's links and images (`[text](target)`, `src="target"`,
+/// `href="target"`), fenced code blocks and inline code left out.
+fn link_targets(text: &str) -> Vec<String> {
+    let mut targets = Vec::new();
+    let mut fenced = false;
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        // Inline code spans: every other piece between backticks.
+        let prose: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+        let mut rest = prose.as_str();
+        while let Some(at) = rest.find("](") {
+            rest = &rest[at + 2..];
+            let end = rest.find(')').unwrap_or(rest.len());
+            targets.push(rest[..end].trim().to_string());
+        }
+        for attribute in ["src=\"", "href=\""] {
+            let mut rest = prose.as_str();
+            while let Some(at) = rest.find(attribute) {
+                rest = &rest[at + attribute.len()..];
+                let end = rest.find('"').unwrap_or(rest.len());
+                targets.push(rest[..end].to_string());
+            }
+        }
+    }
+    targets
+}
+
+/// `path` with `.` and `..` resolved lexically (the target need not exist).
+fn normalized(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for part in path.components() {
+        match part {
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            std::path::Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// What is wrong with link `target` of markdown file `doc`, if anything: a relative link must
+/// name a file or folder of the repository (a user's clone has nothing beside it).
+fn link_problem(root: &Path, doc: &Path, target: &str) -> Option<String> {
+    let external = ["http://", "https://", "mailto:", "#"];
+    if target.is_empty() || external.iter().any(|p| target.starts_with(p)) {
+        return None;
+    }
+    let file = target.split('#').next().unwrap_or("");
+    if file.is_empty() {
+        return None;
+    }
+    let resolved = normalized(&doc.parent().unwrap_or(root).join(file));
+    if !resolved.starts_with(root) {
+        Some(format!("{target} leaves the repository"))
+    } else if !resolved.exists() {
+        Some(format!("{target} does not exist"))
+    } else {
+        None
+    }
+}
+
+/// Every relative link and image of the tracked markdown files resolves inside the repository.
+#[test]
+fn every_relative_link_resolves_inside_the_repository() {
+    let root = workspace_root();
+    let mut checked = 0;
+    let mut problems = Vec::new();
+    for doc in repository_files(&root)
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+    {
+        let text = std::fs::read_to_string(doc).unwrap_or_default();
+        for target in link_targets(&text) {
+            checked += 1;
+            if let Some(problem) = link_problem(&root, doc, &target) {
+                let name = doc.strip_prefix(&root).unwrap_or(doc).display();
+                problems.push(format!("{name}: {problem}"));
+            }
+        }
+    }
+    assert!(checked > 50, "only {checked} links found");
+    assert!(problems.is_empty(), "{problems:#?}");
+    // The check catches both failures.
+    let readme = root.join("README.md");
+    assert!(link_problem(&root, &readme, "../shared/DESIGN.md").is_some());
+    assert!(link_problem(&root, &readme, "docs/no-such-file.md#part").is_some());
+    assert!(link_problem(&root, &readme, "docs/gltf.md#which-techniques-run-on-it").is_none());
+    assert_eq!(
+        link_targets("[a](x.md) `[b](y.md)` <img src=\"z.png\">\n```\n[c](w.md)\n```"),
+        vec!["x.md", "z.png"]
+    );
+}
+
 /// The checks themselves catch the failure they exist for.
 #[test]
 fn the_checks_catch_a_block_inserted_before_every_character() {
