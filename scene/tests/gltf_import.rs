@@ -777,8 +777,8 @@ fn no_panic_on_corrupted_input() {
 
 /// Everything of a file the importer leaves out or approximates is named in a note, one line
 /// each, naming the light, camera or material (Blender's exports have all of these): spot and
-/// directional lights, cameras not used, emission, alpha masks and blending, rough glass
-/// and rough metal. The scene itself is imported as before.
+/// directional lights, cameras not used, emission, alpha blending, rough glass and rough
+/// metal (alpha masks: `alpha_without_a_texture_is_exact`). The scene itself is imported as before.
 #[test]
 fn what_is_left_out_is_named() {
     let mut f = fixture();
@@ -824,7 +824,6 @@ fn what_is_left_out_is_named() {
     cameras.push(json!({ "name": "Spare", "type": "perspective", "perspective": { "yfov": 0.8, "znear": 0.05 } }));
     j["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"] = json!(0.1);
     j["materials"][1]["pbrMetallicRoughness"]["roughnessFactor"] = json!(0.3);
-    j["materials"][1]["alphaMode"] = json!("MASK");
     j["materials"][2]["emissiveFactor"] = json!([1.0, 0.5, 0.0]);
     j["materials"][2]["alphaMode"] = json!("BLEND");
     let (mut s, notes) =
@@ -887,11 +886,11 @@ fn what_is_left_out_is_named() {
         "mesh 0 (\"box\") has morph targets, which are ignored",
         "orthographic camera 1 (\"Plan\") of node 8 (\"plan view\") is not used",
         "material 0 (\"glass\") transmits with roughness 0.1: rendered as smooth glass",
-        "material 1 (\"mirror\") is alpha-masked (MASK, cutoff 0.5)",
         "material 1 (\"mirror\") is metal with roughness 0.3: rendered as a smooth mirror",
         "material 2 (\"floor\") emits radiance [1, 0.5, 0] (emissive factor times strength): \
          seen directly and in reflections and refractions, but it lights nothing",
-        "material 2 (\"floor\") is alpha-blended (BLEND)",
+        "material 2 (\"floor\") is alpha-blended (BLEND) with alpha 1 times its texture's, which \
+         is not supported yet: rendered opaque",
     ];
     println!("{}", notes.join("\n"));
     for line in expected {
@@ -991,4 +990,69 @@ fn a_jpeg_texture_is_decoded() {
         }
         assert_eq!(texel[3], 255, "JPEG has no alpha");
     }
+}
+
+/// A mask or a blend whose alpha is one constant (no texture) is exact: a mask at or above its
+/// cutoff and a blend of alpha 1 are opaque, without a note; a mask below its cutoff and a
+/// blend of alpha 0 leave their primitives out, with a note. A blend in between is rendered
+/// opaque, with a note.
+#[test]
+fn alpha_without_a_texture_is_exact() {
+    let mirror_objects = |s: &scene::Scene| {
+        s.objects
+            .iter()
+            .filter(|o| matches!(o.material, scene::Material::Metal { .. }))
+            .count()
+    };
+    let import = |mode: &str, alpha: f64| {
+        let mut f = fixture();
+        f.json["materials"][1]["alphaMode"] = json!(mode);
+        f.json["materials"][1]["alphaCutoff"] = json!(0.5);
+        f.json["materials"][1]["pbrMetallicRoughness"]["baseColorFactor"][3] = json!(alpha);
+        scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "alpha.gltf").unwrap()
+    };
+    let about_alpha = |notes: &[String]| -> Vec<String> {
+        notes
+            .iter()
+            .filter(|n| n.contains("alpha"))
+            .cloned()
+            .collect()
+    };
+    for (mode, alpha) in [("MASK", 0.5), ("MASK", 0.8), ("BLEND", 1.0)] {
+        let (s, notes) = import(mode, alpha);
+        assert_eq!(mirror_objects(&s), 1, "{mode} {alpha}");
+        assert!(about_alpha(&notes).is_empty(), "{mode} {alpha}: {notes:#?}");
+    }
+    for (mode, alpha, words) in [
+        (
+            "MASK",
+            0.2,
+            "alpha-masked (MASK, cutoff 0.5) with alpha 0.2 and no texture",
+        ),
+        (
+            "BLEND",
+            0.0,
+            "alpha-blended (BLEND) with alpha 0 and no texture",
+        ),
+    ] {
+        let (s, notes) = import(mode, alpha);
+        assert_eq!(mirror_objects(&s), 0, "{mode} {alpha}");
+        assert_eq!(
+            about_alpha(&notes),
+            vec![format!(
+                "material 1 (\"mirror\") is {words}: nothing of it is seen, so its primitives \
+                 are left out"
+            )]
+        );
+    }
+    let (s, notes) = import("BLEND", 0.4);
+    assert_eq!(mirror_objects(&s), 1);
+    assert_eq!(
+        about_alpha(&notes),
+        vec![
+            "material 1 (\"mirror\") is alpha-blended (BLEND) with alpha 0.4, which is not \
+              supported yet: rendered opaque"
+                .to_string()
+        ]
+    );
 }

@@ -236,6 +236,9 @@ impl Importer<'_> {
                 let what = format!("mesh {} primitive {}", describe_mesh(&mesh), prim.index());
                 let (material, default_roles, texture) = self.material(&prim.material())?;
                 self.note_material(&prim.material(), &material);
+                if alpha_coverage(&prim.material()) == Coverage::None {
+                    continue; // wholly cut out or transparent: nothing to render
+                }
                 let uv_set = match &texture {
                     Some((_, set)) => *set,
                     None => 0,
@@ -669,6 +672,36 @@ pub(super) fn flat_shaded(positions: &[Vec3], uvs: &[Vec2], indices: &[u32]) -> 
         m.indices.extend([base, base + 1, base + 2]);
     }
     m
+}
+
+/// How much of a surface of material `m` its alpha leaves standing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Coverage {
+    /// All of it: opaque, or a mask or blend whose constant alpha keeps everything.
+    All,
+    /// None: a mask whose constant alpha is below its cutoff, or a blend of alpha 0.
+    None,
+    /// Some, which the importer does not render: a textured mask or blend (the texture's
+    /// alpha is not read), or a blend between 0 and 1. Rendered opaque, with a note.
+    Partial,
+}
+
+/// The coverage of material `m`'s alpha (glTF's `alphaMode`, `alphaCutoff` and the base
+/// colour's alpha, times the base colour texture's where it has one).
+pub(super) fn alpha_coverage(m: &gltf::Material) -> Coverage {
+    use gltf::material::AlphaMode;
+    let pbr = m.pbr_metallic_roughness();
+    let alpha = pbr.base_color_factor()[3];
+    let textured = pbr.base_color_texture().is_some();
+    match m.alpha_mode() {
+        AlphaMode::Opaque => Coverage::All,
+        _ if textured => Coverage::Partial,
+        AlphaMode::Mask if alpha >= m.alpha_cutoff().unwrap_or(0.5) => Coverage::All,
+        AlphaMode::Mask => Coverage::None,
+        AlphaMode::Blend if alpha >= 1.0 => Coverage::All,
+        AlphaMode::Blend if alpha <= 0.0 => Coverage::None,
+        AlphaMode::Blend => Coverage::Partial,
+    }
 }
 
 /// A camera that sees the world-space bounds of `objects` (45 degrees, from +Z and a little

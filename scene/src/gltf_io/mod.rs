@@ -64,6 +64,10 @@
 //!   module wrote carries its camera exactly and gets no note). `znear` and `zfar` are not
 //!   used. With no camera, the camera frames the bounds of all objects (45 degrees, from the
 //!   +Z side and a little above).
+//! - **Alpha**: a mask or blend whose alpha is one constant (no base colour texture) is taken
+//!   exactly: a mask at or above its `alphaCutoff` and a blend of alpha 1 are opaque, a mask
+//!   below its cutoff and a blend of alpha 0 leave their primitives out (with a note). A
+//!   textured mask or blend, and a blend in between, are rendered opaque, with a note.
 //! - **Emission**: a diffuse material's emissive factor times `KHR_materials_emissive_strength`
 //!   becomes its objects' [`Object::emission`], radiance seen directly and in reflections and
 //!   refractions that lights nothing; the emissive texture is left out, and so is the emission
@@ -71,10 +75,10 @@
 //!
 //! Skins, morph targets, animations, vertex colours, primitives that are not triangles, a
 //! light's `range`, extensions the importer does not read (`KHR_materials_volume`'s
-//! absorption, `KHR_texture_transform`, any other), alpha and the remaining material inputs
-//! are ignored, each named in a note: the skinned node, the mesh, the light, the extension,
-//! and each material whose alpha mode (`MASK`, `BLEND`), transmission roughness or metal
-//! roughness (a smooth mirror stands in for it) is left out, once per material
+//! absorption, `KHR_texture_transform`, any other), partial alpha and the remaining material
+//! inputs are ignored, each named in a note: the skinned node, the mesh, the light, the
+//! extension, and each material whose partial alpha (`MASK`, `BLEND`), transmission roughness
+//! or metal roughness (a smooth mirror stands in for it) is left out, once per material
 //! ([`import_noted`]). A node transform with a negative determinant is
 //! kept as it is (the winding of its triangles is then mirrored in world space).
 //!

@@ -136,15 +136,30 @@ impl Importer<'_> {
                 ),
             });
         }
-        match m.alpha_mode() {
-            gltf::material::AlphaMode::Opaque => {}
-            gltf::material::AlphaMode::Mask => notes.push(format!(
-                "{what} is alpha-masked (MASK, cutoff {}), which is not supported yet: rendered \
-                 opaque",
-                m.alpha_cutoff().unwrap_or(0.5)
+        let alpha = m.pbr_metallic_roughness().base_color_factor()[3];
+        let mode = match m.alpha_mode() {
+            gltf::material::AlphaMode::Mask => {
+                format!(
+                    "alpha-masked (MASK, cutoff {})",
+                    m.alpha_cutoff().unwrap_or(0.5)
+                )
+            }
+            _ => "alpha-blended (BLEND)".to_string(),
+        };
+        match alpha_coverage(m) {
+            Coverage::All => {}
+            Coverage::None => notes.push(format!(
+                "{what} is {mode} with alpha {alpha} and no texture: nothing of it is seen, so \
+                 its primitives are left out"
             )),
-            gltf::material::AlphaMode::Blend => notes.push(format!(
-                "{what} is alpha-blended (BLEND), which is not supported yet: rendered opaque"
+            Coverage::Partial => notes.push(format!(
+                "{what} is {mode} with alpha {alpha}{}, which is not supported yet: rendered \
+                 opaque",
+                if m.pbr_metallic_roughness().base_color_texture().is_some() {
+                    " times its texture's"
+                } else {
+                    ""
+                }
             )),
         }
         let roughness = m.pbr_metallic_roughness().roughness_factor();
