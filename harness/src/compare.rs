@@ -11,7 +11,7 @@
 //!   path as `<technique>.t<time>.png`, `<technique>.t<time>.flip.png` and
 //!   `reference.t<time>.png` (`.t1`, see [`crate::time_suffix`]); beside every PNG its HDR copy
 //!   `.hdr.js` (see [`crate::images::write_hdr_script`]), all listed in the report's `images`;
-//! - `pareto/<scene>.png`, the Pareto view of each scene ([`crate::pareto`]);
+//! - `pareto/<scene>.svg`, the Pareto view of each scene ([`crate::pareto`]);
 //! - `index.html`, the report a person reads (see [`crate::html`]);
 //! - `.cache/` with the references (see [`crate::cache`]).
 //!

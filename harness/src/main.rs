@@ -212,7 +212,7 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
     },
-    /// Redraws the Pareto view (error against frame time, `pareto/<scene>.png`, and
+    /// Redraws the Pareto view (error against frame time, `pareto/<scene>.svg`, and
     /// `pareto.json`) from the results.json of earlier compare runs, one or more (scenes of
     /// several runs side by side; a scene in two files: the later file's rows)
     #[command(
@@ -222,7 +222,7 @@ enum Command {
         /// results.json files written by compare.
         #[arg(required = true, value_name = "RESULTS.json")]
         results: Vec<PathBuf>,
-        /// The folder `pareto/<scene>.png` and `pareto.json` are written to.
+        /// The folder `pareto/<scene>.svg` and `pareto.json` are written to.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
     },

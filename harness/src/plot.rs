@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 
 /// The plots' style: the report's stylesheet includes it, and every SVG file carries it.
 pub const PLOT_STYLE: &str = "\
-svg.plot { width: 100%; height: auto; font: 11px system-ui, sans-serif; }
+svg.plot { font: 11px system-ui, sans-serif; }
 svg.plot .area { fill: #fff; stroke: #999; }
 svg.plot .grid { stroke: #e6e6e6; }
 svg.plot .tick { fill: #555; }

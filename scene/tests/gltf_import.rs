@@ -1027,24 +1027,41 @@ fn alpha_without_a_texture_is_exact() {
         (
             "MASK",
             0.2,
-            "alpha-masked (MASK, cutoff 0.5) with alpha 0.2 and no texture",
+            "alpha-masked (MASK, cutoff 0.5) with alpha 0.2",
         ),
-        (
-            "BLEND",
-            0.0,
-            "alpha-blended (BLEND) with alpha 0 and no texture",
-        ),
+        ("BLEND", 0.0, "alpha-blended (BLEND) with alpha 0"),
     ] {
         let (s, notes) = import(mode, alpha);
         assert_eq!(mirror_objects(&s), 0, "{mode} {alpha}");
         assert_eq!(
             about_alpha(&notes),
             vec![format!(
-                "material 1 (\"mirror\") is {words}: nothing of it is seen, so its primitives \
-                 are left out"
+                "material 1 (\"mirror\") is {words}: nothing of it is seen, so its primitives are \
+                 left out"
             )]
         );
     }
+    // A texture only lowers the alpha: a textured mask below its cutoff is cut out too.
+    let mut f = fixture();
+    f.json["materials"][2]["alphaMode"] = json!("MASK");
+    f.json["materials"][2]["pbrMetallicRoughness"]["baseColorFactor"][3] = json!(0.1);
+    let (s, _) = scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "alpha.gltf").unwrap();
+    assert!(
+        s.objects.iter().all(|o| o.name != "floor"),
+        "the floor is cut out"
+    );
+    // A file whose every triangle is cut out says so.
+    for m in 0..3 {
+        f.json["materials"][m]["alphaMode"] = json!("BLEND");
+        f.json["materials"][m]["pbrMetallicRoughness"]["baseColorFactor"] =
+            json!([1.0, 1.0, 1.0, 0.0]);
+    }
+    let e = scene::gltf_io::import_slice(&f.gltf_bytes(), "alpha.gltf").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("every triangle primitive of the file (3) is cut out by its alpha"),
+        "{e}"
+    );
     let (s, notes) = import("BLEND", 0.4);
     assert_eq!(mirror_objects(&s), 1);
     assert_eq!(

@@ -24,6 +24,8 @@ pub(super) struct Importer<'a> {
     pub(super) notes: Vec<String>,
     /// Triangles of the objects made so far.
     pub(super) triangles: usize,
+    /// Triangle primitives left out because their alpha leaves nothing of them.
+    pub(super) cut_out: usize,
 }
 
 /// The first camera: exact from the extras, or from the node (its target is placed once the
@@ -107,6 +109,13 @@ impl Importer<'_> {
 
         // Depth-first, children in order; a node met twice means a cycle or a shared child.
         self.walk(roots)?;
+        if self.objects.is_empty() && self.cut_out > 0 {
+            return Err(format!(
+                "every triangle primitive of the file ({}) is cut out by its alpha (MASK below \
+                 its cutoff or BLEND of alpha 0): nothing to render",
+                self.cut_out
+            ));
+        }
         if self.objects.is_empty() {
             return Err("the file contains no triangle geometry".into());
         }
@@ -237,6 +246,7 @@ impl Importer<'_> {
                 let (material, default_roles, texture) = self.material(&prim.material())?;
                 self.note_material(&prim.material(), &material);
                 if alpha_coverage(&prim.material()) == Coverage::None {
+                    self.cut_out += 1;
                     continue; // wholly cut out or transparent: nothing to render
                 }
                 let uv_set = match &texture {
@@ -693,13 +703,14 @@ pub(super) fn alpha_coverage(m: &gltf::Material) -> Coverage {
     let pbr = m.pbr_metallic_roughness();
     let alpha = pbr.base_color_factor()[3];
     let textured = pbr.base_color_texture().is_some();
+    // A texture's alpha is at most 1: it can only lower the factor's.
     match m.alpha_mode() {
         AlphaMode::Opaque => Coverage::All,
-        _ if textured => Coverage::Partial,
-        AlphaMode::Mask if alpha >= m.alpha_cutoff().unwrap_or(0.5) => Coverage::All,
-        AlphaMode::Mask => Coverage::None,
-        AlphaMode::Blend if alpha >= 1.0 => Coverage::All,
+        AlphaMode::Mask if alpha < m.alpha_cutoff().unwrap_or(0.5) => Coverage::None,
         AlphaMode::Blend if alpha <= 0.0 => Coverage::None,
+        _ if textured => Coverage::Partial,
+        AlphaMode::Mask => Coverage::All,
+        AlphaMode::Blend if alpha >= 1.0 => Coverage::All,
         AlphaMode::Blend => Coverage::Partial,
     }
 }

@@ -148,10 +148,14 @@ impl Importer<'_> {
         };
         match alpha_coverage(m) {
             Coverage::All => {}
-            Coverage::None => notes.push(format!(
-                "{what} is {mode} with alpha {alpha} and no texture: nothing of it is seen, so \
-                 its primitives are left out"
-            )),
+            Coverage::None => {
+                // Nothing else of a material no one sees is worth a note.
+                self.notes.push(format!(
+                    "{what} is {mode} with alpha {alpha}: nothing of it is seen, so its \
+                     primitives are left out"
+                ));
+                return;
+            }
             Coverage::Partial => notes.push(format!(
                 "{what} is {mode} with alpha {alpha}{}, which is not supported yet: rendered \
                  opaque",

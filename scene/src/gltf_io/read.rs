@@ -30,6 +30,7 @@ pub(super) fn import_impl(
         camera: None,
         notes: vec![],
         triangles: 0,
+        cut_out: 0,
     }
     .run(fallback_name)
 }
