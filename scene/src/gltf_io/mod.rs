@@ -64,10 +64,11 @@
 //!   module wrote carries its camera exactly and gets no note). `znear` and `zfar` are not
 //!   used. With no camera, the camera frames the bounds of all objects (45 degrees, from the
 //!   +Z side and a little above).
-//! - **Alpha**: a mask or blend whose alpha is one constant (no base colour texture) is taken
-//!   exactly: a mask at or above its `alphaCutoff` and a blend of alpha 1 are opaque, a mask
-//!   below its cutoff and a blend of alpha 0 leave their primitives out (with a note). A
-//!   textured mask or blend, and a blend in between, are rendered opaque, with a note.
+//! - **Alpha**: a mask whose base colour alpha is below its `alphaCutoff`, and a blend of
+//!   alpha 0, leave their primitives out, with a note (a texture only lowers alpha). Without a
+//!   base colour texture, a mask at or above its cutoff and a blend of alpha 1 are opaque,
+//!   exactly. A textured mask or blend otherwise, and a blend in between, are rendered
+//!   opaque, with a note.
 //! - **Emission**: a diffuse material's emissive factor times `KHR_materials_emissive_strength`
 //!   becomes its objects' [`Object::emission`], radiance seen directly and in reflections and
 //!   refractions that lights nothing; the emissive texture is left out, and so is the emission
