@@ -65,6 +65,23 @@ fn raster_compare(out: &Path, scenes: &str) -> std::process::Output {
     ])
 }
 
+/// `harness render` of `scene` by `technique` into `png`: 24 x 24, a reference without photons.
+fn render_small(scene: &str, technique: &str, png: &Path) -> std::process::Output {
+    harness(&[
+        "render",
+        "--scene",
+        scene,
+        "--technique",
+        technique,
+        "--out",
+        path(png),
+        "--size",
+        "24x24",
+        "--ref-photons",
+        "0",
+    ])
+}
+
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
 }
@@ -82,19 +99,7 @@ fn top_down_camera_renders() {
     let scene = glb.write_glb(&dir, "top-down");
     for technique in ["reference", "raster"] {
         let png = dir.join(format!("{technique}.png"));
-        let out = harness(&[
-            "render",
-            "--scene",
-            path(&scene),
-            "--technique",
-            technique,
-            "--out",
-            path(&png),
-            "--size",
-            "24x24",
-            "--ref-photons",
-            "0",
-        ]);
+        let out = render_small(path(&scene), technique, &png);
         let stderr = text(&out.stderr);
         assert!(out.status.success(), "{technique}: {stderr}");
         assert!(!stderr.contains("NaN"), "{technique}: {stderr}");
@@ -468,19 +473,7 @@ fn an_orthographic_camera_is_rendered_exactly_or_refused_with_the_reason() {
     let dir = tmp("orthographic");
     let scene = "cornell-sphere:camera=orthographic";
     let png = dir.join("reference.png");
-    let out = harness(&[
-        "render",
-        "--scene",
-        scene,
-        "--technique",
-        "reference",
-        "--out",
-        path(&png),
-        "--size",
-        "24x24",
-        "--ref-photons",
-        "0",
-    ]);
+    let out = render_small(scene, "reference", &png);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let image = image::open(&png).unwrap().to_rgb8();
     assert!(image.pixels().any(|p| p.0 != [0, 0, 0]), "black");
