@@ -28,6 +28,7 @@ pub fn mirror_and_glass_room() -> Scene {
             Material::Diffuse {
                 albedo: Vec3::splat(0.8),
                 texture: Some(0),
+                cutout: None,
             },
         ),
         wall(

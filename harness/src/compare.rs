@@ -124,7 +124,7 @@ pub fn run(env: &Env, opts: &CompareOptions, exec: &ExecOptions) -> Result<RunRe
     for (scene, count) in pinhole_skips {
         eprintln!(
             "skipped: {scene}: {count} techniques, which need a pinhole camera (the scene's \
-             camera is orthographic; the reference and the ray tracer render it)"
+             camera is orthographic; the reference, the ray tracer and raster render it)"
         );
     }
     for s in plan

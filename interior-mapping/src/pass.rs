@@ -113,6 +113,7 @@ fn buildings_scene(buildings: &[Building], lights: &[PointLight]) -> TechniqueRe
         let facade = Material::Diffuse {
             albedo: b.facade,
             texture: None,
+            cutout: None,
         };
         let hull = scene::mesh::cuboid(b.min, b.max);
         let mut object = Object::new(

@@ -104,13 +104,18 @@ pub struct FlatBvh {
     pub info: Vec<TriangleInfo>,
     /// Longest root-to-leaf path (nodes): the traversal stack never holds more than this.
     pub depth: usize,
+    /// The objects' alpha cut-outs ([`cutout_table`]); empty (as [`FlatBvh::from_triangles`]
+    /// leaves it) or `[0]`: none.
+    pub cutouts: Vec<u32>,
 }
 
 impl FlatBvh {
     /// Flattens the BVH of `scene` at `time` (an empty scene gives no node: every query
     /// misses). Fails if the tree is deeper than the GPU's [`STACK_SIZE`].
     pub fn build(scene: &Scene, time: f32) -> Result<Self, TooDeep> {
-        Self::from_triangles(WorldTriangles::of(scene, time))
+        let mut flat = Self::from_triangles(WorldTriangles::of(scene, time))?;
+        flat.cutouts = cutout_table(scene);
+        Ok(flat)
     }
 
     /// Flattens the BVH over `world` (the triangles of one time).
@@ -152,6 +157,7 @@ impl FlatBvh {
             triangles,
             info,
             depth,
+            cutouts: Vec::new(),
         })
     }
 
@@ -164,6 +170,7 @@ impl FlatBvh {
             triangles: world.triangles.iter().map(RtTriangle::from).collect(),
             info: world.info,
             depth: 0,
+            cutouts: Vec::new(),
         }
     }
 
@@ -233,7 +240,10 @@ impl FlatBvh {
                 for i in n.first..n.first + n.count {
                     let t = intersect(&self.triangles[i as usize], &ray);
                     // `intersect` returns t <= tmax for a hit, infinity for none.
-                    if t.is_finite() && (found.is_none() || t < ray.tmax) {
+                    if t.is_finite()
+                        && (found.is_none() || t < ray.tmax)
+                        && !self.in_hole(i as usize, &ray)
+                    {
                         ray.tmax = t;
                         found = Some((i as usize, t));
                         if any {
@@ -271,6 +281,92 @@ impl FlatBvh {
             node = stack[top];
         }
     }
+}
+
+impl FlatBvh {
+    /// Whether `ray` meets triangle `id` in a hole of its object's alpha cut-out.
+    fn in_hole(&self, id: usize, ray: &Ray) -> bool {
+        !self.cutouts.is_empty()
+            && in_hole(
+                &self.cutouts,
+                &self.info[id],
+                self.triangles[id].compute_barycentric(ray),
+            )
+    }
+}
+
+/// The objects' alpha cut-outs ([`scene::Material::cutout`]) as the traversals read them
+/// (`cutouts` in `shaders/triangles.wgsl`): word 0 the number of object records (0 when no
+/// object is cut out), then per object its threshold (f32 bits; 0 for none), the first word of
+/// its texture's alpha, the texture's width and height; then those alphas, one byte per texel
+/// (row 0 first), four to a word, lowest byte first.
+pub fn cutout_table(scene: &Scene) -> Vec<u32> {
+    let cut: Vec<_> = scene
+        .objects
+        .iter()
+        .map(|o| {
+            let (t, c) = o.material.cutout()?;
+            scene.textures.get(t).map(|texture| (t, texture, c))
+        })
+        .collect();
+    if cut.iter().all(Option::is_none) {
+        return vec![0];
+    }
+    let mut table = vec![cut.len() as u32];
+    let mut alphas: Vec<u32> = Vec::new();
+    // Each texture's alphas once, however many objects share it.
+    let mut first_word: std::collections::BTreeMap<usize, u32> = Default::default();
+    let alphas_start = 1 + 4 * cut.len();
+    for object in &cut {
+        let Some((index, texture, threshold)) = object else {
+            table.extend([0; 4]);
+            continue;
+        };
+        let first = *first_word.entry(*index).or_insert_with(|| {
+            let first = (alphas_start + alphas.len()) as u32;
+            let bytes: Vec<u8> = texture.rgba8.chunks_exact(4).map(|c| c[3]).collect();
+            alphas.extend(bytes.chunks(4).map(|w| {
+                w.iter()
+                    .enumerate()
+                    .fold(0u32, |word, (k, &a)| word | (a as u32) << (8 * k))
+            }));
+            first
+        });
+        table.extend([threshold.to_bits(), first, texture.width, texture.height]);
+    }
+    table.extend(alphas);
+    table
+}
+
+/// Whether the hit at barycentrics `b` (weights `(1 - u - v, u, v)`) of a triangle with
+/// attributes `info` lies where its object's cut-out texture (bilinear, wrapping, as
+/// [`scene::Texture::sample_alpha`]) has alpha below the threshold: the twin of `in_hole` in
+/// `shaders/triangles.wgsl`.
+pub fn in_hole(table: &[u32], info: &TriangleInfo, b: Vec2) -> bool {
+    let record = 1 + 4 * info.object as usize;
+    if table[0] == 0 || record + 4 > table.len() {
+        return false;
+    }
+    let threshold = f32::from_bits(table[record]);
+    if threshold <= 0.0 {
+        return false;
+    }
+    let [first, width, height] = [table[record + 1], table[record + 2], table[record + 3]];
+    let (w, h) = (width as i64, height as i64);
+    let alpha = |i: i64, j: i64| {
+        let k = (j.rem_euclid(h) * w + i.rem_euclid(w)) as usize;
+        ((table[first as usize + k / 4] >> (8 * (k % 4))) & 0xff) as f32 / 255.0
+    };
+    let uv = info.uvs[0] * (1.0 - b.x - b.y) + info.uvs[1] * b.x + info.uvs[2] * b.y;
+    let x = uv.x * width as f32 - 0.5;
+    let y = uv.y * height as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let (i, j) = (x0 as i64, y0 as i64);
+    let lerp = |a: f32, b: f32, t: f32| a * (1.0 - t) + b * t; // glam's Vec3::lerp
+    let top = lerp(alpha(i, j), alpha(i + 1, j), fx);
+    let bottom = lerp(alpha(i, j + 1), alpha(i + 1, j + 1), fx);
+    lerp(top, bottom, fy) < threshold
 }
 
 /// Entry distance of the ray into a node's box if it enters before `t_max`: the slab test of

@@ -57,7 +57,9 @@ impl Tables {
         let objects = data.len() as u32;
         for o in &scene.objects {
             let (albedo, texture, kind, ior, n, k) = match o.material {
-                scene::Material::Diffuse { albedo, texture } => (
+                scene::Material::Diffuse {
+                    albedo, texture, ..
+                } => (
                     albedo,
                     texture
                         .filter(|t| *t < scene.textures.len())
@@ -79,7 +81,8 @@ impl Tables {
             data.push(o.emission.extend(0.0).to_array());
         }
         let texture_table = data.len() as u32;
-        let mut texel_offset = 0u32;
+        // Texels follow the cut-out table in the same buffer (`texture_data`).
+        let mut texel_offset = crate::bvh::cutout_table(scene).len() as u32;
         for t in &scene.textures {
             data.push([
                 f32::from_bits(texel_offset),
@@ -112,17 +115,16 @@ impl Tables {
     }
 }
 
-/// Every texture's RGBA8 texels as one u32 each, in scene order.
-pub(crate) fn texels(scene: &Scene) -> Vec<u32> {
-    let mut out: Vec<u32> = scene
-        .textures
-        .iter()
-        .flat_map(|t| {
-            t.rgba8
-                .chunks_exact(4)
-                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        })
-        .collect();
-    out.push(0); // never empty
+/// The objects' alpha cut-outs ([`crate::bvh::cutout_table`]), then every texture's RGBA8
+/// texels as one u32 each (red in the low byte), in scene order: `texture_data` in
+/// `shaders/triangles.wgsl`. One buffer for both keeps the tracer within the eight storage
+/// buffers a shader stage may bind on every adapter.
+pub(crate) fn texture_data(scene: &Scene) -> Vec<u32> {
+    let mut out = crate::bvh::cutout_table(scene);
+    out.extend(scene.textures.iter().flat_map(|t| {
+        t.rgba8
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+    }));
     out
 }

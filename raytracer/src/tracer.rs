@@ -6,7 +6,7 @@
 //! the specular depth bound and the photon count ([`TracerSettings`]).
 
 use crate::bvh::{FlatBvh, NodeGpu};
-use crate::tables::{Tables, texels};
+use crate::tables::{Tables, texture_data};
 use bytemuck::{Pod, Zeroable};
 use gpu::bind::{self, Uniform};
 use gpu::{Context, Frame, Target, wgpu};
@@ -139,7 +139,8 @@ pub struct GpuTracer {
     triangles: wgpu::Buffer,
     attributes: wgpu::Buffer,
     tables: wgpu::Buffer,
-    texels: wgpu::Buffer,
+    /// The objects' alpha cut-outs, then every texture's texels (`tables::texture_data`).
+    texture_data: wgpu::Buffer,
     radiance: wgpu::Buffer,
     photon_sum: wgpu::Buffer,
     stats: wgpu::Buffer,
@@ -232,7 +233,8 @@ pub static QUERIES: gpu::wgsl::Module = gpu::wgsl::Module::new(
 );
 /// The tracer's passes (`eye_pass`, `photon_pass`).
 pub const TRACER_WGSL: &str = include_str!("shaders/tracer.wgsl");
-/// Where the tracer binds the traversal's structure (binding 1) and the triangles (2 and 3).
+/// Where the tracer binds the traversal's structure (binding 1), the triangles (2 and 3) and the
+/// cut-outs and texels (4).
 pub const TRACE_FIRST_BINDING: (&str, gpu::wgsl::Def) =
     ("TRACE_FIRST_BINDING", gpu::wgsl::Def::UInt(1));
 
@@ -347,9 +349,9 @@ impl GpuTracer {
             triangles: placeholder("bvh triangles"),
             attributes: placeholder("bvh attributes"),
             tables: storage("ray tracer tables", bytemuck::cast_slice(&tables.data), dst),
-            texels: storage(
-                "ray tracer texels",
-                bytemuck::cast_slice(&texels(scene)),
+            texture_data: storage(
+                "ray tracer texture data",
+                bytemuck::cast_slice(&texture_data(scene)),
                 empty,
             ),
             radiance: placeholder("eye radiance"),
@@ -476,7 +478,7 @@ impl GpuTracer {
             vertex_count: (3 * flat.triangles.len()) as u32,
             index_format: None,
             index_count: None,
-            flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+            flags: geometry_flags(scene),
         };
         let blas = device.create_blas(
             &wgpu::CreateBlasDescriptor {
@@ -544,7 +546,7 @@ impl GpuTracer {
     /// Builds and uploads the BVH of `scene` at `time` (on the CPU, timed apart).
     fn build_bvh(&mut self, ctx: &Context, scene: &Scene, time: f32) -> TechniqueResult<()> {
         let start = Instant::now();
-        let bvh = FlatBvh::build(scene, time).map_err(|e| {
+        let bvh = FlatBvh::from_triangles(WorldTriangles::of(scene, time)).map_err(|e| {
             TechniqueError::Unsupported(format!(
                 "the scene's BVH is {} levels deep, more than the GPU traversal's stack of {}",
                 e.depth,
@@ -642,8 +644,8 @@ impl GpuTracer {
                 },
                 self.triangles.as_entire_binding(),
                 self.attributes.as_entire_binding(),
+                self.texture_data.as_entire_binding(),
                 self.tables.as_entire_binding(),
-                self.texels.as_entire_binding(),
                 self.radiance.as_entire_binding(),
                 self.photon_sum.as_entire_binding(),
                 self.stats.as_entire_binding(),
@@ -856,8 +858,19 @@ fn params_of(
     }
 }
 
+/// The BLAS geometry's flags: opaque unless an object is cut out, when the shader must see each
+/// candidate hit (`raytracer::ray_query::trace`).
+fn geometry_flags(scene: &Scene) -> wgpu::AccelerationStructureGeometryFlags {
+    if scene.objects.iter().any(|o| o.material.cutout().is_some()) {
+        wgpu::AccelerationStructureGeometryFlags::empty()
+    } else {
+        wgpu::AccelerationStructureGeometryFlags::OPAQUE
+    }
+}
+
 /// The tracer's bindings: its parameters, the BVH (or the scene's acceleration structure),
-/// the scene's tables and texels, and the radiance, photon and statistics accumulators.
+/// the cut-outs and texels, the scene's tables, and the radiance, photon and statistics
+/// accumulators.
 fn tracer_layout(ctx: &Context, traversal: Traversal) -> wgpu::BindGroupLayout {
     bind::layout(
         ctx,
@@ -868,8 +881,8 @@ fn tracer_layout(ctx: &Context, traversal: Traversal) -> wgpu::BindGroupLayout {
             traversal.binding_type(), // bvh_nodes or scene_tlas
             bind::storage(true),      // bvh_triangles
             bind::storage(true),      // bvh_attributes
+            bind::storage(true),      // texture_data
             bind::storage(true),      // tables
-            bind::storage(true),      // texels
             bind::storage(false),     // radiance
             bind::storage(false),     // photon_sum
             bind::storage(false),     // stats

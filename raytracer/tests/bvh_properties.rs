@@ -252,3 +252,46 @@ fn bad_rays_miss_instead_of_panicking() {
         assert!(flat.closest_hit(o, d, t).is_none());
     }
 }
+
+/// An alpha cut-out (`scene::Material::Diffuse`'s `cutout`): the twin (the cut-out table the
+/// GPU reads, `raytracer::bvh::in_hole`) and the reference's BVH (`scene::Texture::
+/// sample_alpha`) skip the same holes: the same object at the same distance on every camera
+/// ray of the perforated Cornell room, with rays through holes among them.
+#[test]
+fn cut_outs_are_skipped_as_the_reference_skips_them() {
+    let spec = scene::builtin::CUTOUT_VARIANTS[0];
+    let s = scene::load(spec).unwrap();
+    let flat = FlatBvh::build(&s, 0.0).unwrap();
+    let reference = SceneBvh::build(&s, 0.0);
+    let screen = s.objects.iter().position(|o| o.material.cutout().is_some());
+    let screen = screen.expect("a cut-out object");
+    let camera = s.camera_at(0.0);
+    let (mut on_screen, mut behind_screen) = (0, 0);
+    let n = 96;
+    for y in 0..n {
+        for x in 0..n {
+            let d = camera.ray_dir(x as f32 + 0.5, y as f32 + 0.5, n, n);
+            let twin = flat.closest_hit(camera.eye, d, f32::INFINITY);
+            let truth = reference.closest_hit(camera.eye, d, f32::INFINITY);
+            let (a, b) = (twin.unwrap(), truth.unwrap());
+            assert_eq!(a.object, b.object, "pixel ({x}, {y}): {a:?} vs {b:?}");
+            assert_eq!(a.t, b.t, "pixel ({x}, {y})");
+            // A hit beyond the screen's plane through its rectangle went through a hole.
+            use scene::builtin::cornell::{SCREEN_X, SCREEN_Z};
+            let at = camera.eye + d * ((SCREEN_Z - camera.eye.z) / d.z);
+            let inside = SCREEN_X.contains(&at.x) && (0.0..0.9).contains(&at.y);
+            if a.object == screen {
+                on_screen += 1;
+            } else if inside && a.t > (at - camera.eye).length() {
+                behind_screen += 1;
+            }
+        }
+    }
+    // A quarter of the screen is holes.
+    assert!(on_screen > 200, "{on_screen} rays hit the screen");
+    let open = behind_screen as f32 / (on_screen + behind_screen) as f32;
+    assert!(
+        (0.15..0.35).contains(&open),
+        "{behind_screen} of the screen's rays pass"
+    );
+}

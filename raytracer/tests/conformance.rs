@@ -9,8 +9,8 @@ use gpu::compute::{kernel_entry, kernel_header, run_kernel_with};
 use gpu::wgpu::{self, util::DeviceExt};
 use raytracer::bvh::{FlatBvh, RayGpu, TraceResultGpu};
 
-/// The kernel's imports; the nodes, triangles and attributes bound from binding 2 (after its
-/// inputs and outputs).
+/// The kernel's imports; the nodes, triangles, attributes and cut-outs bound from binding 2
+/// (after its inputs and outputs).
 const IMPORTS: &str = r#"
 #import raytracer::triangles::{NO_HIT, bvh_triangles, hit_barycentrics, surface_hit}
 #import raytracer::queries::{trace_any, trace_closest}
@@ -56,6 +56,11 @@ fn gpu_trace(bvh: &FlatBvh, rays: &[RayGpu]) -> Vec<TraceResultGpu> {
         .with_defs(&defs);
     let (nodes, triangles, attributes) =
         (bvh.nodes.clone(), bvh.triangle_gpu(), bvh.attributes_gpu());
+    let cutouts = if bvh.cutouts.is_empty() {
+        vec![0u32]
+    } else {
+        bvh.cutouts.clone()
+    };
     let buffer = |contents: &[u8]| {
         ctx.device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -67,6 +72,7 @@ fn gpu_trace(bvh: &FlatBvh, rays: &[RayGpu]) -> Vec<TraceResultGpu> {
     let nodes = buffer(bytemuck::cast_slice(&nodes));
     let triangles = buffer(bytemuck::cast_slice(&triangles));
     let attributes = buffer(bytemuck::cast_slice(&attributes));
+    let cutouts = buffer(bytemuck::cast_slice(&cutouts));
     run_kernel_with(
         ctx,
         kernel,
@@ -77,6 +83,7 @@ fn gpu_trace(bvh: &FlatBvh, rays: &[RayGpu]) -> Vec<TraceResultGpu> {
             (gpu::bind::storage(true), nodes.as_entire_binding()),
             (gpu::bind::storage(true), triangles.as_entire_binding()),
             (gpu::bind::storage(true), attributes.as_entire_binding()),
+            (gpu::bind::storage(true), cutouts.as_entire_binding()),
         ],
     )
     .expect("the traversal kernel runs")
@@ -137,6 +144,7 @@ fn camera_rays_of_built_in_scenes_hit_what_the_twin_hits() {
         "refraction-bunny",
         "chess",
         "hu-qin:refractor=teapot",
+        scene::builtin::CUTOUT_VARIANTS[0],
     ] {
         let scene = scene::load(spec).unwrap();
         let bvh = FlatBvh::build(&scene, 0.0).unwrap();

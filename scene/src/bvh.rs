@@ -37,7 +37,7 @@
 //! - Neither normal is flipped toward the ray: surfaces are two-sided, and the caller decides
 //!   which side it is on (`dot(dir, geometric_normal) > 0` means it hit the back).
 
-use crate::Scene;
+use crate::{Scene, Texture};
 use glam::{Mat3, Vec2, Vec3, Vec3A};
 use obvhs::{
     BvhBuildParams,
@@ -183,6 +183,9 @@ pub struct SceneBvh {
     /// Attributes in the same order as `triangles`.
     info: Vec<TriangleInfo>,
     bounds: (Vec3, Vec3),
+    /// The objects' alpha cut-outs; none when no object has one (every candidate hit then
+    /// stands).
+    cutouts: Option<Cutouts>,
 }
 
 impl SceneBvh {
@@ -199,6 +202,7 @@ impl SceneBvh {
                 triangles: vec![],
                 info: vec![],
                 bounds: (Vec3::ZERO, Vec3::ZERO),
+                cutouts: None,
             };
         }
         // The boxes are built around each triangle's bounds padded by a few ulps: a ray through
@@ -227,7 +231,32 @@ impl SceneBvh {
             triangles,
             info,
             bounds,
+            cutouts: Cutouts::of(scene),
         }
+    }
+
+    /// The ray parameter of `ray`'s hit on primitive `id`, or infinity: a miss, or a hit in a
+    /// hole of its object's alpha cut-out (the surface is not there, the ray goes on).
+    fn candidate(&self, id: usize, ray: &Ray) -> f32 {
+        let t = intersect(&self.triangles[id], ray);
+        if t.is_finite() && self.in_hole(id, ray) {
+            return f32::INFINITY;
+        }
+        t
+    }
+
+    /// Whether `ray` meets primitive `id` where its texture's alpha is below its cut-out.
+    fn in_hole(&self, id: usize, ray: &Ray) -> bool {
+        let info = &self.info[id];
+        let Some(cutouts) = &self.cutouts else {
+            return false;
+        };
+        let Some(Some((texture, cutoff))) = cutouts.objects.get(info.object as usize) else {
+            return false;
+        };
+        let b = self.triangles[id].compute_barycentric(ray);
+        let uv = info.uvs[0] * (1.0 - b.x - b.y) + info.uvs[1] * b.x + info.uvs[2] * b.y;
+        cutouts.textures[*texture].sample_alpha(uv) < *cutoff
     }
 
     /// Number of triangles in the BVH (degenerate triangles are left out).
@@ -258,7 +287,7 @@ impl SceneBvh {
         let mut hit = RayHit::none();
         let found = bvh.ray_traverse(ray, &mut hit, |r, id| {
             if accept(self.info[id].object as usize) {
-                intersect(&self.triangles[id], r)
+                self.candidate(id, r)
             } else {
                 f32::INFINITY
             }
@@ -291,7 +320,7 @@ impl SceneBvh {
         };
         !bvh.ray_traverse_miss(ray, |r, id| {
             if blocks(self.info[id].object as usize) {
-                intersect(&self.triangles[id], r)
+                self.candidate(id, r)
             } else {
                 f32::INFINITY
             }
@@ -303,12 +332,42 @@ impl SceneBvh {
         let bvh = self.bvh.as_ref()?;
         let ray = ray(origin, dir, t_max)?;
         let mut hit = RayHit::none();
-        if !bvh.ray_traverse(ray, &mut hit, |r, id| intersect(&self.triangles[id], r)) {
+        if !bvh.ray_traverse(ray, &mut hit, |r, id| self.candidate(id, r)) {
             return None;
         }
         let t = &self.triangles[hit.primitive_id as usize];
         let v0: Vec3A = t.v0;
         Some([v0.into(), (v0 - t.e1).into(), (v0 + t.e2).into()])
+    }
+}
+
+/// The alpha cut-outs of a scene's objects ([`crate::Material::cutout`]): per object, the index
+/// of its texture in `textures` and its threshold; each texture copied once, however many
+/// objects share it (a forest's leaves share one atlas).
+struct Cutouts {
+    objects: Vec<Option<(usize, f32)>>,
+    textures: Vec<Texture>,
+}
+
+impl Cutouts {
+    /// `None` when no object of `scene` is cut out.
+    fn of(scene: &Scene) -> Option<Self> {
+        let mut slots: std::collections::BTreeMap<usize, usize> = Default::default();
+        let mut textures = Vec::new();
+        let objects: Vec<_> = scene
+            .objects
+            .iter()
+            .map(|o| {
+                let (t, cutoff) = o.material.cutout()?;
+                let texture = scene.textures.get(t)?;
+                let slot = *slots.entry(t).or_insert_with(|| {
+                    textures.push(texture.clone());
+                    textures.len() - 1
+                });
+                Some((slot, cutoff))
+            })
+            .collect();
+        (!textures.is_empty()).then_some(Self { objects, textures })
     }
 }
 

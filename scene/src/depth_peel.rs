@@ -45,7 +45,7 @@ use crate::layer_count::LayerCounter;
 use crate::{Frame, GpuScene, ObjectFilter, scene_pipeline_with};
 
 const PEEL_WGSL: &str = r#"
-#import scene::shading::{SceneVertexOut, camera}
+#import scene::shading::{SceneVertexOut, camera, in_cutout_hole}
 struct Peel {
     layer: u32,
     epsilon: f32,
@@ -64,6 +64,7 @@ struct PeelTargets {
 
 @fragment
 fn peel_fs(in: SceneVertexOut) -> PeelTargets {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     if (peel.layer > 0u) {
         // Keep only what lies strictly behind the previous layer (an empty texel there holds
         // depth 1, so everything is discarded and this layer stays empty too).

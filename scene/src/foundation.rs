@@ -75,6 +75,17 @@ pub fn upload_image(ctx: &Context, target: &Target, pixels: &[[f32; 4]]) {
 #[derive(Default)]
 pub struct RasterTechnique;
 
+/// The point the raster pass turns surfaces toward (`geometric_facing_normal`): a pinhole's
+/// eye; for an orthographic camera, whose rays are parallel, a point a million view heights
+/// back along its view direction, from which every surface faces as it faces those rays (to
+/// within a microradian). The diffuse model needs nothing else of the view.
+pub fn viewpoint(camera: &crate::Camera) -> glam::Vec3 {
+    match camera.orthographic {
+        None => camera.eye,
+        Some(half_height) => camera.eye - camera.basis().0 * (2e6 * half_height.max(1.0)),
+    }
+}
+
 impl Technique for RasterTechnique {
     fn id(&self) -> String {
         "raster".into()
@@ -83,6 +94,11 @@ impl Technique for RasterTechnique {
         "shared raster pass (diffuse model + shadow maps); specular objects as grey diffuse".into()
     }
     fn supports(&self, _scene: &Scene) -> bool {
+        true
+    }
+    /// Diffuse shading needs of the view only which side of a surface it sees, and the
+    /// rasterizer projects either kind ([`viewpoint`]).
+    fn orthographic_camera(&self) -> bool {
         true
     }
     fn prepare(&mut self, _frame: &mut Frame, _scene: &GpuScene) -> TechniqueResult<()> {
@@ -100,7 +116,7 @@ impl Technique for RasterTechnique {
             frame,
             &main_target(target),
             view_proj,
-            view.camera.eye,
+            viewpoint(&view.camera),
             &ObjectFilter::All,
             true,
         );

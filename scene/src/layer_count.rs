@@ -58,11 +58,13 @@ fn counter_shader(ctx: &Context, label: &str, source: &str, group: u32) -> wgpu:
 }
 
 const COUNT_WGSL: &str = r#"
-#import scene::shading::SceneVertexOut
+#import scene::shading::{SceneVertexOut, in_cutout_hole}
 #import scene::layer_count::{count_params, counts}
-// Every fragment of every selected surface, whatever its depth, adds one to its pixel.
+// Every fragment of every selected surface, whatever its depth, adds one to its pixel (but
+// for an alpha cut-out's holes, which no layer holds).
 @fragment
 fn count_fs(in: SceneVertexOut) {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let pixel = vec2u(in.clip.xy);
     atomicAdd(&counts[pixel.y * count_params.width + pixel.x], 1u);
 }

@@ -332,7 +332,7 @@ pub fn orthographic_refusal(
     }
     Err(TechniqueError::Unsupported(format!(
         "{} {PINHOLE_ONLY} (its shaders derive view rays from the eye point); the scene's \
-         camera is orthographic, which the reference and the ray tracer render",
+         camera is orthographic, which the reference, the ray tracer and raster render",
         technique.id()
     )))
 }
@@ -378,7 +378,8 @@ pub trait Technique {
     /// Whether the technique renders an orthographic camera's view
     /// ([`crate::Camera::orthographic`]). The techniques' shaders derive their view rays, and
     /// the views of their maps, from the eye point of a pinhole, so only the exact renderers
-    /// say yes; [`orthographic_refusal`] gives the harness the reason for the others.
+    /// and the `raster` baseline (whose diffuse model needs no view ray) say yes;
+    /// [`orthographic_refusal`] gives the harness the reason for the others.
     fn orthographic_camera(&self) -> bool {
         false
     }

@@ -553,7 +553,9 @@ fn builtin_scenes_peel_into_strictly_increasing_layers() {
     let ctx = testkit::context();
     let _lock = testkit::gpu_lock();
     let size = 48;
-    for spec in ["pool", "refraction-bunny", "chess"] {
+    // The perforated screen: no layer holds its holes (the reference's BVH skips them too).
+    let specs = ["pool", "refraction-bunny", "chess"];
+    for spec in specs.into_iter().chain(scene::builtin::CUTOUT_VARIANTS) {
         let scene = scene::load(spec).expect("scene");
         let mut gpu_scene = GpuScene::new(ctx, &scene).expect("scene uploads");
         let layers = 8;
@@ -577,6 +579,20 @@ fn builtin_scenes_peel_into_strictly_increasing_layers() {
             let mut deepest = 0;
             let bvh = scene::bvh::SceneBvh::build(&scene, time);
             let (mut covered, mut same_object) = (0, 0);
+            // Pixels seen through a cut-out's holes, and those whose layer 0 is what the BVH
+            // sees there (without the discard it would be the screen itself).
+            let screen = scene
+                .objects
+                .iter()
+                .position(|o| o.material.cutout().is_some());
+            let solid = screen.map(|s| {
+                let mut opaque = scene.clone();
+                if let Material::Diffuse { cutout, .. } = &mut opaque.objects[s].material {
+                    *cutout = None;
+                }
+                scene::bvh::SceneBvh::build(&opaque, time)
+            });
+            let (mut through_holes, mut peeled_through) = (0, 0);
             for p in 0..(size * size) as usize {
                 let (x, y) = (
                     (p as u32 % size) as f32 + 0.5,
@@ -586,6 +602,15 @@ fn builtin_scenes_peel_into_strictly_increasing_layers() {
                 if let Some(hit) = bvh.closest_hit(cam.eye, ray, f32::INFINITY) {
                     covered += 1;
                     same_object += (read[0].1[p][0] == hit.object as f32) as usize;
+                    // Where the screen without its holes would be seen: a hole.
+                    let solid_hit = solid
+                        .as_ref()
+                        .and_then(|b| b.closest_hit(cam.eye, ray, hit.t));
+                    if solid_hit.is_some_and(|h| Some(h.object) == screen && h.object != hit.object)
+                    {
+                        through_holes += 1;
+                        peeled_through += (read[0].1[p][0] == hit.object as f32) as usize;
+                    }
                 }
                 let (mut previous, mut previous_depth) = (0.0, -1.0);
                 let mut ended = false;
@@ -623,6 +648,16 @@ fn builtin_scenes_peel_into_strictly_increasing_layers() {
                 }
             }
             assert!(deepest >= 2, "{spec}: only {deepest} layers anywhere");
+            if screen.is_some() {
+                assert!(
+                    through_holes >= 10,
+                    "{spec}: {through_holes} pixels through holes"
+                );
+                assert!(
+                    peeled_through as f64 >= 0.9 * through_holes as f64,
+                    "{spec} t={time}: layer 0 sees through {peeled_through} of {through_holes} holes"
+                );
+            }
             assert!(
                 same_object as f64 >= 0.97 * covered as f64,
                 "{spec} t={time}: layer 0 names the BVH's object at {same_object} of {covered} pixels"

@@ -62,6 +62,7 @@ fn seeds() -> Vec<Vec<u8>> {
     rich.objects[0].material = scene::Material::Diffuse {
         albedo: glam::Vec3::ONE,
         texture: Some(0),
+        cutout: None,
     };
     rich.objects[1].motion.keys = vec![(0.0, glam::Vec3::ZERO), (1.0, glam::Vec3::X)];
     rich.camera_path.keys = vec![(0.0, rich.camera), (2.0, rich.camera)];

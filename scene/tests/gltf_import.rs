@@ -235,7 +235,8 @@ fn check_fixture(s: &scene::Scene) {
         floor.material,
         Material::Diffuse {
             albedo: Vec3::splat(0.5),
-            texture: Some(0)
+            texture: Some(0),
+            cutout: None
         }
     );
     assert_eq!(floor.roles, Roles::NONE);
@@ -719,6 +720,7 @@ fn no_panic_on_corrupted_input() {
     small.objects[0].material = Material::Diffuse {
         albedo: Vec3::ONE,
         texture: Some(0),
+        cutout: None,
     };
     let bytes = to_glb_bytes(&small).unwrap();
     let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
@@ -1049,6 +1051,31 @@ fn alpha_without_a_texture_is_exact() {
     assert!(
         s.objects.iter().all(|o| o.name != "floor"),
         "the floor is cut out"
+    );
+    // A textured mask whose factor keeps some of it is an exact cut-out: glTF compares factor
+    // times texture alpha with the cutoff, so the texture's threshold is cutoff / factor.
+    f.json["materials"][2]["pbrMetallicRoughness"]["baseColorFactor"][3] = json!(0.8);
+    f.json["materials"][2]["alphaCutoff"] = json!(0.4);
+    let (s, notes) = scene::gltf_io::import_slice_noted(&f.gltf_bytes(), "alpha.gltf").unwrap();
+    let floor = s.objects.iter().find(|o| o.name == "floor").unwrap();
+    let (texture, threshold) = floor.material.cutout().expect("the floor is cut out");
+    assert!((threshold - 0.5).abs() < 1e-6, "{threshold}");
+    assert!(texture < s.textures.len());
+    assert!(about_alpha(&notes).is_empty(), "{notes:#?}");
+    // Metal reads no texture: its textured mask is rendered opaque, with a note.
+    let mut g = fixture();
+    g.json["materials"][1]["alphaMode"] = json!("MASK");
+    g.json["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = json!({ "index": 0 });
+    let (s, notes) = scene::gltf_io::import_slice_noted(&g.gltf_bytes(), "alpha.gltf").unwrap();
+    assert_eq!(mirror_objects(&s), 1);
+    assert_eq!(
+        about_alpha(&notes),
+        vec![
+            "material 1 (\"mirror\") is alpha-masked (MASK, cutoff 0.5) with a texture, but it \
+             imports as metal, which reads no texture: rendered opaque (only diffuse surfaces \
+             are cut out)"
+                .to_string()
+        ]
     );
     // A file whose every triangle is cut out says so.
     for m in 0..3 {

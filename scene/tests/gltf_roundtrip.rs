@@ -89,6 +89,7 @@ fn builtin_variants_round_trip_exactly() {
     .into_iter()
     .chain(scene::builtin::LIGHT_VARIANTS)
     .chain(scene::builtin::CAMERA_VARIANTS)
+    .chain(scene::builtin::CUTOUT_VARIANTS)
     {
         round_trip(&scene::load(spec).unwrap(), spec);
     }
@@ -125,6 +126,7 @@ fn awkward_values_round_trip_exactly() {
     s.objects[0].material = Material::Diffuse {
         albedo: Vec3::new(1.0, 0.1, -0.0),
         texture: Some(1),
+        cutout: None,
     };
     s.objects[1].transform = Mat4::from_scale_rotation_translation(
         Vec3::new(0.3, 1.7, 2.1),
@@ -309,6 +311,7 @@ fn core_gltf_alone_imports_to_nearly_the_same_scene() {
         "city:buildings=4",
         "cornell-sphere:light=spot",
         "pool:light=sun",
+        scene::builtin::CUTOUT_VARIANTS[0],
     ] {
         let mut s = scene::load(spec).unwrap();
         if spec == "cornell-sphere:material=glass-1.5" {
@@ -336,13 +339,16 @@ fn core_gltf_alone_imports_to_nearly_the_same_scene() {
                     Material::Diffuse {
                         albedo: a,
                         texture: ta,
+                        cutout: ca,
                     },
                     Material::Diffuse {
                         albedo: e,
                         texture: te,
+                        cutout: ce,
                     },
                 ) => {
-                    assert_eq!(ta, te);
+                    // A cut-out is glTF's own MASK: it needs no extras.
+                    assert_eq!((ta, ca), (te, ce), "{spec}: {}", o.name);
                     assert!((*a - e.clamp(Vec3::ZERO, Vec3::ONE)).abs().max_element() < 1e-6);
                 }
                 (Material::Metal { n, k }, Material::Metal { n: n0, k: k0 }) => {

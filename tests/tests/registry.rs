@@ -9,7 +9,10 @@ fn every_technique_renders_finite_pixels_on_every_supported_scene() {
     let size = 32;
     let mut failures = Vec::new();
     let names = scene::builtin::builtin_scenes().into_iter().map(|i| i.name);
-    for spec in names.chain(scene::builtin::LIGHT_VARIANTS) {
+    let variants = scene::builtin::LIGHT_VARIANTS
+        .into_iter()
+        .chain(scene::builtin::CUTOUT_VARIANTS);
+    for spec in names.chain(variants) {
         let scene = scene::load(spec).unwrap();
         for mut technique in harness::registry() {
             if !technique.supports(&scene) || technique.id() == "reference" {
@@ -176,17 +179,17 @@ fn every_technique_shows_emission_directly_and_in_its_reflections() {
     assert!(checked > 10, "{checked} techniques");
 }
 
-/// Through an orthographic camera only the exact renderers draw the scene; every technique
-/// refuses it with the reason, before preparing anything (`scene::orthographic_refusal`, which
-/// the harness's measuring engine asks first).
+/// Through an orthographic camera only the exact renderers and the raster baseline draw the
+/// scene; every other technique refuses it with the reason, before preparing anything
+/// (`scene::orthographic_refusal`, which the harness's measuring engine asks first).
 #[test]
-fn only_the_exact_renderers_take_an_orthographic_camera() {
+fn only_the_exact_renderers_and_raster_take_an_orthographic_camera() {
     for spec in scene::builtin::CAMERA_VARIANTS {
         let scene = scene::load(spec).unwrap();
         assert!(scene.camera.is_orthographic(), "{spec}");
         for technique in harness::registry() {
             let id = technique.id();
-            let exact = id == "reference" || id.starts_with("raytracer/");
+            let exact = id == "reference" || id.starts_with("raytracer/") || id == "raster";
             match scene::orthographic_refusal(technique.as_ref(), &scene) {
                 Ok(()) => assert!(exact, "{id} claims {spec}'s orthographic camera"),
                 Err(e) => {

@@ -473,6 +473,7 @@ fn texture_arrays_are_not_padded_to_squares() {
     scene.objects[0].material = Material::Diffuse {
         albedo: Vec3::ONE,
         texture: Some(0),
+        cutout: None,
     };
     GpuScene::new(context(), &scene).expect("a 4096 x 2 texture uploads");
 }

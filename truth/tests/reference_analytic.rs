@@ -31,6 +31,7 @@ fn floor() -> Object {
         Material::Diffuse {
             albedo: FLOOR_ALBEDO,
             texture: None,
+            cutout: None,
         },
         Mat4::IDENTITY,
     )
@@ -305,6 +306,7 @@ fn textured_plane_multiplies_albedo_by_texture() {
     plane.material = Material::Diffuse {
         albedo: Vec3::new(0.9, 0.8, 1.0),
         texture: Some(0),
+        cutout: None,
     };
     // uv_scale 40 so that the checker's cells are a few pixels wide.
     plane.mesh = quad(
@@ -530,6 +532,7 @@ fn spot_and_sun_light_the_floor_as_the_formula_says() {
         Material::Diffuse {
             albedo: Vec3::splat(0.5),
             texture: None,
+            cutout: None,
         },
         Mat4::from_translation(CENTER),
     );
@@ -616,4 +619,71 @@ fn spot_and_sun_light_the_floor_as_the_formula_says() {
         );
         assert!(lit > 100 && dark > 15, "{lit} lit and {dark} dark pixels");
     }
+}
+
+/// A quad cut out by its texture's alpha (`Material::Diffuse`'s `cutout`) in front of a wall:
+/// closest- and any-hit queries pass through its holes and stop on the rest, whether the hole
+/// is wide or a texel, and a threshold above every alpha leaves no surface.
+#[test]
+fn rays_pass_through_the_holes_of_an_alpha_cut_out() {
+    use scene::{Texture, bvh::SceneBvh};
+    // Alpha 0 in the left half (texels 0 to 3), 1 in the right, one opaque texel (1) inside
+    // the hole and one clear texel (6) inside the solid half: bilinear between texel centres,
+    // so at the centre of texel 1 the alpha is exactly 1.
+    let alpha = [0u8, 255, 0, 0, 255, 255, 0, 255];
+    let texture = Texture {
+        name: "mask".into(),
+        width: 8,
+        height: 1,
+        rgba8: alpha.iter().flat_map(|&a| [200, 200, 200, a]).collect(),
+    };
+    let panel = |cutout| {
+        Object::new(
+            "panel",
+            quad(Vec3::ZERO, Vec3::X, Vec3::Y, Vec2::ONE),
+            Material::Diffuse {
+                albedo: Vec3::ONE,
+                texture: Some(0),
+                cutout: Some(cutout),
+            },
+            Mat4::IDENTITY,
+        )
+    };
+    let wall = Object::new(
+        "wall",
+        quad(
+            Vec3::new(-1.0, -1.0, -1.0),
+            Vec3::X * 3.0,
+            Vec3::Y * 3.0,
+            Vec2::ONE,
+        ),
+        Material::diffuse(0.5, 0.5, 0.5),
+        Mat4::IDENTITY,
+    );
+    let mut scene = scene::load("cornell-sphere").unwrap();
+    scene.objects = vec![panel(0.5), wall];
+    scene.textures = vec![texture];
+    scene.validate().unwrap();
+    let bvh = SceneBvh::build(&scene, 0.0);
+    // u at the centre of texel i: (i + 0.5) / 8; the quad's uv is its (x, 1 - y).
+    let through = |u: f32| Vec3::new(u, 0.5, 1.0);
+    for (texel, opaque) in [
+        (0.0, false),
+        (2.5, false),
+        (1.0, true),
+        (5.0, true),
+        (6.0, false),
+    ] {
+        let o = through((texel + 0.5) / 8.0);
+        let h = bvh.closest_hit(o, Vec3::NEG_Z, f32::INFINITY).unwrap();
+        let expected = if opaque { (0, 1.0) } else { (1, 2.0) };
+        assert_eq!((h.object, h.t), expected, "texel {texel}");
+        assert_eq!(bvh.any_hit(o, Vec3::NEG_Z, 1.5), opaque, "texel {texel}");
+    }
+    // Threshold 1 cuts out the texel of alpha 254 / 255 too.
+    scene.objects[0] = panel(1.0);
+    scene.textures[0].rgba8[4 * 1 + 3] = 254;
+    let bvh = SceneBvh::build(&scene, 0.0);
+    let h = bvh.closest_hit(through(1.5 / 8.0), Vec3::NEG_Z, f32::INFINITY);
+    assert_eq!(h.unwrap().object, 1);
 }

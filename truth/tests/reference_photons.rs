@@ -40,6 +40,7 @@ fn floor(half: f32, albedo: Vec3) -> Object {
         Material::Diffuse {
             albedo,
             texture: None,
+            cutout: None,
         },
         Mat4::IDENTITY,
     )

@@ -3,7 +3,7 @@
 // (+z); the nearest surface's distance from the plane (its map-frame z) and its map-frame
 // normal. Texels that see no surface keep the clear value (height = -bounds.height). Imports
 // scene::shading.
-#import scene::shading::SceneVertexOut
+#import scene::shading::{SceneVertexOut, in_cutout_hole}
 
 struct HeightMapPass {
     // World -> map frame, relative to the piece's centre (a rotation and a translation).
@@ -14,6 +14,7 @@ struct HeightMapPass {
 
 @fragment
 fn height_map_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let q = height_pass.to_map * vec4f(in.world, 1.0);
     let n = normalize((height_pass.to_map * vec4f(in.normal, 0.0)).xyz);
     return vec4f(n, q.z);

@@ -6,7 +6,7 @@
 // rectangle's impostor texture holds there: surfaces hidden from the refractor behind the
 // object's own front receive none.
 #import gpu::prelude::PI
-#import scene::shading::{SceneVertexOut, surface_albedo}
+#import scene::shading::{SceneVertexOut, in_cutout_hole, surface_albedo}
 #import image_space_refraction::rect::{Rect, rect_project, rect_depth_of}
 
 struct CausticMapParams {
@@ -52,6 +52,7 @@ fn caustic_irradiance(object: u32, p: vec3f) -> vec3f {
 
 @fragment
 fn caustic_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let e = caustic_irradiance(in.object, in.world);
     return vec4f(surface_albedo(in.object, in.uv) / PI * e, 0.0);
 }

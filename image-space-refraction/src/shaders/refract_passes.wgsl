@@ -2,7 +2,7 @@
 // vertex stage, its front and back buffers, and the refractor shaded from the eye. The nearby
 // variants compose this file with image_space_refraction::nearby_radiance overriding the
 // radiance that leaves the refractor.
-#import scene::shading::{SceneVertexIn, SceneVertexOut, camera, scene_vertex, specular_event, specular_shade}
+#import scene::shading::{SceneVertexIn, SceneVertexOut, camera, in_cutout_hole, scene_vertex, specular_event, specular_shade}
 #import image_space_refraction::refract::{RefractorOut, buffer_fragment, normal_thickness, outgoing_radiance, through_refractor}
 
 @vertex
@@ -22,11 +22,13 @@ fn refractor_vs(v: SceneVertexIn, @builtin(instance_index) object: u32,
 
 @fragment
 fn front_buffer_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     return buffer_fragment(in, true);
 }
 
 @fragment
 fn back_buffer_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     return buffer_fragment(in, false);
 }
 

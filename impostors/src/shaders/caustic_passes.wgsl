@@ -1,7 +1,7 @@
 // The caustic passes' entry points (impostors::caustic explains them): the caustic map of
 // either path, the receiver cube, and the apply onto the diffuse surfaces in direct view.
 #import gpu::prelude::PI
-#import scene::shading::{MATERIAL_DIFFUSE, SceneVertexOut, camera, facing_normal, objects, surface_albedo}
+#import scene::shading::{MATERIAL_DIFFUSE, SceneVertexOut, camera, facing_normal, in_cutout_hole, objects, surface_albedo}
 #import scene::chart::chart_uv
 #import scene::receiver::{world_to_local, texel_area, light_map_power}
 #import impostors::localized::{env_distance, env_sampler, params}
@@ -11,6 +11,7 @@
 // Grid path: the photon's landing point.
 @fragment
 fn caustic_map_fs(in: SceneVertexOut) -> PhotonTargets {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     var out: PhotonTargets;
     out.address = vec4f(0.0);
     out.power = vec4f(0.0);
@@ -26,6 +27,7 @@ fn caustic_map_fs(in: SceneVertexOut) -> PhotonTargets {
 // point itself, so it is not quantised to the cube's texels.
 @fragment
 fn caustic_uv_fs(in: SceneVertexOut) -> PhotonTargets {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     var out: PhotonTargets;
     out.address = vec4f(0.0);
     out.power = vec4f(0.0);
@@ -44,6 +46,7 @@ fn caustic_uv_fs(in: SceneVertexOut) -> PhotonTargets {
 
 @fragment
 fn receiver_fs(in: SceneVertexOut) -> ReceiverTargets {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let chart = fragment_chart(in.object, in.world, in.normal);
     var out: ReceiverTargets;
     let to_surface = normalize(in.world - camera.eye.xyz);
@@ -65,6 +68,7 @@ fn receiver_fs(in: SceneVertexOut) -> ReceiverTargets {
 // the texel's area on the surface.
 @fragment
 fn lightmap_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let chart = fragment_chart(in.object, in.world, in.normal);
     if (chart.index < 0) { return vec4f(0.0); }
     let c = charts[chart.index];
@@ -77,6 +81,7 @@ fn lightmap_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
 // indexed by its view).
 @fragment
 fn caustic_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let d = in.world - params.reference.xyz;
     let dist = length(d);
     let seen = textureSampleLevel(env_distance, env_sampler, d, 0.0)[params.distance_channel];

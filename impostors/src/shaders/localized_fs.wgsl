@@ -1,11 +1,12 @@
 // The localized lookup's entry points (impostors::localized): the specular objects shaded
 // through their impostors, and the refractor map of double refraction. A caustic variant
 // composes this file with impostors::caustic overriding the lookups' caustics.
-#import scene::shading::{SceneVertexOut, camera, objects, specular_event, specular_shade}
+#import scene::shading::{SceneVertexOut, camera, in_cutout_hole, objects, specular_event, specular_shade}
 #import impostors::localized::{MODE_DOUBLE, SURFACE_OFFSET, env_lookup, params, through_refractor}
 
 @fragment
 fn localized_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let eye = camera.eye.xyz;
     let v = normalize(in.world - eye);
     let e = specular_event(in.object, in.normal, in.world, eye, v);
@@ -26,5 +27,6 @@ fn localized_fs(in: SceneVertexOut) -> @location(0) vec4f {
 // normal and distance. Drawn without culling and with the nearest surface kept (depth test).
 @fragment
 fn refractor_map_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     return vec4f(normalize(in.normal), distance(in.world, camera.eye.xyz));
 }

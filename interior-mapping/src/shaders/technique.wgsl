@@ -5,7 +5,7 @@
 // by family and shaded with the scene's diffuse model (shade_diffuse, shadow maps included),
 // and the result shows through the windows of the facade.
 #import gpu::prelude::{PI, cube_dir_to_face_uv, fresnel_dielectric, hash_to_unit, pcg_hash, ray_box, reflect_dir}
-#import scene::shading::{LIGHT_DIRECTIONAL, SceneVertexOut, camera, facing_normal, light_intensity_toward, light_toward, light_visibility, lights, object_emission, objects, scene_info, shade_diffuse, surface_albedo}
+#import scene::shading::{LIGHT_DIRECTIONAL, SceneVertexOut, camera, facing_normal, in_cutout_hole, light_intensity_toward, light_toward, light_visibility, lights, object_emission, objects, scene_info, shade_diffuse, surface_albedo}
 #import interior_mapping::rooms::{RoomHit, cast_rooms, plane_uv, room_hash, cubemap_room}
 
 struct BuildingGpu {
@@ -169,12 +169,14 @@ struct InteriorOut {
 // every hull.
 @fragment
 fn interior_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     return interior_shade(in).color;
 }
 
 // With frag_depth: used while the eye is inside a hull's bounding box.
 @fragment
 fn interior_inside_fs(in: SceneVertexOut) -> InteriorOut {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     return interior_shade(in);
 }
 

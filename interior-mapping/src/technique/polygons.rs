@@ -49,6 +49,7 @@ pub fn polygon_scene(scene: &Scene, room_scale: f32, texture_resolution: u32) ->
             let material = Material::Diffuse {
                 albedo: Vec3::ONE,
                 texture: Some(base + texture),
+                cutout: None,
             };
             let mut planes = Object::new(
                 &format!("{} {name}", o.name),

@@ -6,7 +6,7 @@
 // ---------------------------------------------------------------------------------------------
 #define_import_path raytracer::bvh
 
-#import raytracer::triangles::{BvhTriangle, NO_HIT, TraceHit, bvh_triangles}
+#import raytracer::triangles::{BvhTriangle, NO_HIT, TraceHit, bvh_triangles, hit_barycentrics, in_hole}
 
 struct BvhNode {
     min: vec3f,
@@ -76,7 +76,8 @@ fn trace(o: vec3f, d: vec3f, t_max_in: f32, any: bool) -> TraceHit {
         if (n.count > 0u) {
             for (var i = n.first; i < n.first + n.count; i++) {
                 let t = intersect_triangle(bvh_triangles[i], o, d, best.t);
-                if (t >= 0.0 && (best.triangle == NO_HIT || t < best.t)) {
+                if (t >= 0.0 && (best.triangle == NO_HIT || t < best.t)
+                    && !in_hole(i, hit_barycentrics(bvh_triangles[i], o, d))) {
                     best = TraceHit(i, t);
                     if (any) { return best; }
                 }

@@ -18,7 +18,7 @@
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{PI, fresnel_dielectric, fresnel_nk, pcg_hash, ray_sphere, reflect_dir, refract_dir}
 #import scene::medium::{EYE_CLEARANCE, Medium, henyey_greenstein, medium_clip, medium_extinction, medium_present, medium_transmittance, transmittance_of}
-#import raytracer::triangles::{NO_HIT, SurfaceHit, surface_hit}
+#import raytracer::triangles::{NO_HIT, SurfaceHit, surface_hit, texture_data}
 #import raytracer::queries::{trace_any, trace_closest}
 
 struct Params {
@@ -46,12 +46,13 @@ struct Params {
 
 @group(0) @binding(0) var<uniform> params: Params;
 // Binding 1: the traversal's structure (`bvh_nodes`, or `scene_tlas` for ray queries), declared
-// by its module; bindings 2 and 3: the triangles (raytracer::triangles).
+// by its module; bindings 2 to 4: the triangles, and the alpha cut-outs followed by the
+// textures' texels (raytracer::triangles).
 // Lights, volumes, emitters, objects, the texture table and the sRGB decoding table, at
 // `params.offsets` (RayTracerTables in tracer.rs writes them).
-@group(0) @binding(4) var<storage, read> tables: array<vec4f>;
-// Every texture's RGBA8 texels, one u32 each (red in the low byte).
-@group(0) @binding(5) var<storage, read> texels: array<u32>;
+@group(0) @binding(5) var<storage, read> tables: array<vec4f>;
+// Every texture's RGBA8 texels, one u32 each (red in the low byte), follow the cut-out table in
+// raytracer::triangles' `texture_data` (the texture table's offsets count from its start).
 // Eye-pass radiance per pixel (row 0 at the top); w: the view-space depth of the pixel's
 // first surface (infinity where its centre ray meets none), which hides photon beams.
 @group(0) @binding(6) var<storage, read_write> radiance: array<vec4f>;
@@ -142,7 +143,7 @@ fn texel(table: vec4u, i: i32, j: i32) -> vec3f {
     let h = i32(table.z);
     let x = ((i % w) + w) % w;
     let y = ((j % h) + h) % h;
-    let c = texels[table.x + u32(y * w + x)];
+    let c = texture_data[table.x + u32(y * w + x)];
     return vec3f(
         srgb_to_linear(c & 0xffu),
         srgb_to_linear((c >> 8u) & 0xffu),

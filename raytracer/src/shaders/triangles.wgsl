@@ -5,7 +5,8 @@
 // (`surface_hit`). A traversal (raytracer::bvh: the BVH in software; raytracer::ray_query: the
 // hardware's) answers `trace` with a TraceHit (raytracer::queries). The traversal's structure is
 // bound at @group(0) @binding(#{TRACE_FIRST_BINDING}) (the tracer: 1, raytracer::tracer::TRACE_FIRST_BINDING), the
-// triangles and their attributes at the next two bindings.
+// triangles, their attributes and the alpha cut-outs (with the tracer's texels) at the next three
+// bindings.
 //
 // The fields are obvhs' under names without a trailing digit (naga_oil's modules cannot keep
 // those): the vertices v0, v1, v2 are a, b, c, so v0 is `va`, e1 = v0 - v1 is `a_minus_b`,
@@ -35,6 +36,11 @@ struct BvhAttributes {
 
 @group(0) @binding(#{TRACE_FIRST_BINDING} + 1u) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(0) @binding(#{TRACE_FIRST_BINDING} + 2u) var<storage, read> bvh_attributes: array<BvhAttributes>;
+// The objects' alpha cut-outs (raytracer::bvh::cutout_table: word 0 the number of object
+// records, 0 for no cut-out; then per object its threshold's bits or 0, its first alpha word,
+// width and height; then the alphas, one byte per texel, four to a word), followed by whatever
+// the traversal's user stores after them (the tracer: every texture's RGBA8 texels).
+@group(0) @binding(#{TRACE_FIRST_BINDING} + 3u) var<storage, read> texture_data: array<u32>;
 
 const NO_HIT: u32 = 0xffffffffu;
 
@@ -76,4 +82,39 @@ fn surface_hit(h: TraceHit, o: vec3f, d: vec3f) -> SurfaceHit {
     s.geometric_normal = a.geometric_normal;
     s.uv = a.uv_ab.xy * w + a.uv_ab.zw * b.x + a.uv_c * b.y;
     return s;
+}
+
+// The alpha of texel (i, j), wrapping, of the cut-out texture whose alphas start at `first`.
+fn cutout_alpha(first: u32, size: vec2i, i: i32, j: i32) -> f32 {
+    let x = ((i % size.x) + size.x) % size.x;
+    let y = ((j % size.y) + size.y) % size.y;
+    let k = u32(y * size.x + x);
+    return f32((texture_data[first + k / 4u] >> (8u * (k % 4u))) & 0xffu) / 255.0;
+}
+
+// glam's Vec3::lerp, as scene::Texture::sample_alpha filters.
+fn lerp_alpha(a: f32, b: f32, t: f32) -> f32 {
+    return a * (1.0 - t) + b * t;
+}
+
+// Whether the hit at barycentrics b of `triangle` lies where its object's cut-out texture
+// (bilinear, wrapping) has alpha below the threshold: the surface is not there, the ray goes
+// on (raytracer::bvh::in_hole, its twin).
+fn in_hole(triangle: u32, b: vec2f) -> bool {
+    if (texture_data[0] == 0u) { return false; }
+    let a = bvh_attributes[triangle];
+    let record = 1u + 4u * a.object;
+    let threshold = bitcast<f32>(texture_data[record]);
+    if (threshold <= 0.0) { return false; }
+    let first = texture_data[record + 1u];
+    let size = vec2i(i32(texture_data[record + 2u]), i32(texture_data[record + 3u]));
+    let uv = a.uv_ab.xy * (1.0 - b.x - b.y) + a.uv_ab.zw * b.x + a.uv_c * b.y;
+    let p = uv * vec2f(size) - 0.5;
+    let p0 = floor(p);
+    let f = p - p0;
+    let i = i32(p0.x);
+    let j = i32(p0.y);
+    let top = lerp_alpha(cutout_alpha(first, size, i, j), cutout_alpha(first, size, i + 1, j), f.x);
+    let bottom = lerp_alpha(cutout_alpha(first, size, i, j + 1), cutout_alpha(first, size, i + 1, j + 1), f.x);
+    return lerp_alpha(top, bottom, f.y) < threshold;
 }

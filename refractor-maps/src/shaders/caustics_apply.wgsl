@@ -4,7 +4,7 @@
 // scene::chart and scene::receiver. Drawn over the finished image (depth equal,
 // additive).
 #import gpu::prelude::PI
-#import scene::shading::{SceneVertexOut, camera, surface_albedo}
+#import scene::shading::{SceneVertexOut, camera, in_cutout_hole, surface_albedo}
 #import scene::chart::{Chart, signed_axis, chart_uv}
 #import scene::receiver::{world_to_local, normal_to_local, texel_area, light_map_power}
 
@@ -24,6 +24,7 @@ struct ReceiverParams {
 
 @fragment
 fn caustics_apply_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let c = receiver.chart;
     let n = normal_to_local(in.object, in.normal);
     // Photons land on the lit side of the chart's face only (the side the eye must see).

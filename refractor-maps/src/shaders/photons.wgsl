@@ -12,7 +12,7 @@
 // Gaussian quad per photon into the light map.
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::{fresnel_dielectric, ray_plane, reflect_dir, refract_dir}
-#import scene::shading::{SceneVertexOut, emission_jitter, jittered_emission, objects, specular_event}
+#import scene::shading::{SceneVertexOut, emission_jitter, in_cutout_hole, jittered_emission, objects, specular_event}
 #import scene::chart::{Chart, chart_uv}
 #import scene::receiver::world_to_local
 #import scene::trace::{SURFACE_OFFSET, piece_of_object}
@@ -108,8 +108,10 @@ struct PhotonTargets {
 
 @fragment
 fn photon_fs(pixel_in: SceneVertexOut) -> PhotonTargets {
+    // Derivatives first: naga's discard ends the invocation, so none may follow it.
     let jitter = emission_jitter(pixel_in.clip.xy, 0u) * f32(photons.jitter);
     let in = jittered_emission(pixel_in, jitter);
+    if (in_cutout_hole(pixel_in.object, pixel_in.uv)) { discard; }
     var out: PhotonTargets;
     out.address = vec4f(0.0);
     out.power = vec4f(0.0);

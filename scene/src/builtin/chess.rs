@@ -353,6 +353,7 @@ fn board_objects() -> Vec<Object> {
             Material::Diffuse {
                 albedo: Vec3::ONE,
                 texture: Some(0),
+                cutout: None,
             },
             id,
         ),

@@ -81,6 +81,7 @@ pub fn city(
     let facade_material = Material::Diffuse {
         albedo: Vec3::splat(0.8),
         texture: Some(facade),
+        cutout: None,
     };
     for b in 0..buildings {
         let (col, row) = (b % columns, b / columns);
@@ -194,6 +195,7 @@ fn room_plane_objects(
         let material = Material::Diffuse {
             albedo: Vec3::ONE,
             texture: Some(texture),
+            cutout: None,
         };
         objects.push(
             Object::new(&format!("building {b} {name}"), mesh, material, transform)

@@ -21,6 +21,61 @@ pub const CAMERA_HELP: &str = "pinhole: the perspective view from the room's fro
                                at the sphere and the floor round it, sliding 4 cm and zooming \
                                in by 5% over the camera path";
 
+pub const SCREEN_HELP: &str = "none: the room as it is; perforated: a panel 0.7 m wide and \
+                               0.9 m high stands on the floor at the left, behind the sphere, \
+                               cut out by its texture's alpha into 6 x 6 round holes (glTF's \
+                               MASK): the room shows through it and it throws a dotted shadow \
+                               onto the wall behind";
+
+/// Holes per side of [`perforated_screen`]'s texture.
+const SCREEN_HOLES: u32 = 6;
+/// Where [`perforated_screen`] stands: its x extent and its plane (z); it is 0.9 m high.
+pub const SCREEN_X: std::ops::Range<f32> = -0.9..-0.2;
+pub const SCREEN_Z: f32 = -0.55;
+
+/// The room with a perforated panel standing on the floor, left of centre and behind the
+/// sphere (which passes before it over the camera path), facing the camera and the light: a
+/// diffuse panel whose texture's alpha is 0 in 6 x 6 round holes (a quarter of the panel's
+/// area) and 1 elsewhere, cut out at 0.5 ([`Material::Diffuse`]'s `cutout`). The red wall and
+/// the back wall show through the holes, and the light throws the panel's dotted shadow onto
+/// them and the floor behind it.
+pub fn perforated_screen(mut scene: Scene) -> Scene {
+    let size = 96;
+    let cell = size / SCREEN_HOLES;
+    let mut texture =
+        super::textures::from_texels("perforated screen", size, |_, _| [205, 120, 60]);
+    for j in 0..size {
+        for i in 0..size {
+            // Texel centres within 0.28 cells of a hole's centre are open.
+            let centre = |k: u32| (k % cell) as f32 + 0.5 - cell as f32 * 0.5;
+            let r = (centre(i).powi(2) + centre(j).powi(2)).sqrt() / cell as f32;
+            if r < 0.28 {
+                texture.rgba8[(4 * (j * size + i) + 3) as usize] = 0;
+            }
+        }
+    }
+    let index = scene.textures.len();
+    scene.textures.push(texture);
+    let panel = quad(
+        Vec3::new(SCREEN_X.start, 0.0, SCREEN_Z),
+        Vec3::X * (SCREEN_X.end - SCREEN_X.start),
+        Vec3::Y * 0.9,
+        Vec2::ONE,
+    );
+    let material = Material::Diffuse {
+        albedo: Vec3::ONE,
+        texture: Some(index),
+        cutout: Some(0.5),
+    };
+    scene.objects.push(Object::new(
+        "perforated screen",
+        panel,
+        material,
+        Mat4::IDENTITY,
+    ));
+    scene
+}
+
 /// The room seen by an orthographic camera (`Camera::orthographic`): looking 45 degrees down
 /// at the sphere and the floor round it (its caustic), the view 1.2 m high. The view's plane
 /// lies inside the room however the camera slides (every ray starts inside; the walls face

@@ -282,10 +282,12 @@ fn distant_hall() -> Vec<Object> {
     let checker = Material::Diffuse {
         albedo: Vec3::ONE,
         texture: Some(0),
+        cutout: None,
     };
     let tint = |r, g, b| Material::Diffuse {
         albedo: Vec3::new(r, g, b),
         texture: Some(0),
+        cutout: None,
     };
     let size = 2.0 * h;
     // (name, corner, u edge, v edge, material): each quad's normal is u x v, facing in.

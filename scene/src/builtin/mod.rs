@@ -186,24 +186,30 @@ fn registry() -> Vec<Builtin> {
     all
 }
 
-/// The Cornell rooms, the bunny, the chess board and the city (the papers' scenes).
-fn room_and_object_scenes() -> Vec<Builtin> {
+/// `cornell-sphere` and `cornell-box`, with the parameters they share.
+fn cornell_rooms() -> Vec<Builtin> {
     let material = |default| word("material", default, cornell::MATERIAL_HELP);
     let sphere_x = || real("sphere_x", "0", (-0.6, 0.6), "sphere centre x (m)");
     let light = || word("light", "point", cornell::LIGHT_HELP);
     let camera = || word("camera", "pinhole", cornell::CAMERA_HELP);
-    let ior = crate::Material::IOR_RANGE;
+    let screen = || word("screen", "none", cornell::SCREEN_HELP);
     vec![
         Builtin {
             info: SceneInfo {
                 name: "cornell-sphere",
                 description: "closed Cornell-style room, one point light, one sphere that moves \
                               along x over the camera path",
-                params: vec![material("glass-1.5"), sphere_x(), light(), camera()],
+                params: vec![
+                    material("glass-1.5"),
+                    sphere_x(),
+                    light(),
+                    camera(),
+                    screen(),
+                ],
             },
             build: |a| {
                 let scene = cornell::cornell_sphere(&a.get("material"), a.num("sphere_x")?)?;
-                viewed(lit(scene, a, "spot", cornell::spot_lit)?, a)
+                screened(viewed(lit(scene, a, "spot", cornell::spot_lit)?, a)?, a)
             },
         },
         Builtin {
@@ -211,13 +217,21 @@ fn room_and_object_scenes() -> Vec<Builtin> {
                 name: "cornell-box",
                 description: "the same room with a tall box that makes it concave (the distance-\
                               impostor paper's hard case)",
-                params: vec![material("mirror"), sphere_x(), light(), camera()],
+                params: vec![material("mirror"), sphere_x(), light(), camera(), screen()],
             },
             build: |a| {
                 let scene = cornell::cornell_box(&a.get("material"), a.num("sphere_x")?)?;
-                viewed(lit(scene, a, "spot", cornell::spot_lit)?, a)
+                screened(viewed(lit(scene, a, "spot", cornell::spot_lit)?, a)?, a)
             },
         },
+    ]
+}
+
+/// The Cornell rooms, the bunny, the chess board and the city (the papers' scenes).
+fn room_and_object_scenes() -> Vec<Builtin> {
+    let ior = crate::Material::IOR_RANGE;
+    let mut all = cornell_rooms();
+    all.extend(vec![
         Builtin {
             info: SceneInfo {
                 name: "refraction-bunny",
@@ -290,7 +304,8 @@ fn room_and_object_scenes() -> Vec<Builtin> {
                 )
             },
         },
-    ]
+    ]);
+    all
 }
 
 /// The smoke, the pools and Hu and Qin's scene.
@@ -454,6 +469,17 @@ fn viewed(scene: Scene, a: &SceneArgs) -> Result<Scene, SceneError> {
     }
 }
 
+/// A Cornell room under its `screen` parameter: `none`, or `perforated` (an alpha cut-out).
+fn screened(scene: Scene, a: &SceneArgs) -> Result<Scene, SceneError> {
+    match a.get("screen").as_str() {
+        "none" => Ok(scene),
+        "perforated" => Ok(cornell::perforated_screen(scene)),
+        w => Err(SceneError::BadParam(format!(
+            "screen={w}: expected none or perforated"
+        ))),
+    }
+}
+
 /// `pool` or `murky-pool` from its parameters.
 fn build_pool(a: &SceneArgs) -> Result<Scene, SceneError> {
     let scene = pool::pool(&a.get("view"), pool_murk(a)?)?;
@@ -480,12 +506,16 @@ pub const LIGHT_VARIANTS: [&str; 5] = [
     "murky-pool:light=sun",
 ];
 
-/// The built-in scenes seen by an orthographic camera, which the reference and the ray tracer
-/// render and every technique refuses with the reason.
+/// The built-in scenes seen by an orthographic camera, which the reference, the ray tracer and
+/// the raster baseline render and every other technique refuses with the reason.
 pub const CAMERA_VARIANTS: [&str; 2] = [
     "cornell-sphere:camera=orthographic",
     "cornell-box:camera=orthographic,light=spot",
 ];
+
+/// The built-in scenes with an alpha cut-out (`Material::Diffuse`'s `cutout`), which every
+/// renderer draws with its holes.
+pub const CUTOUT_VARIANTS: [&str; 1] = ["cornell-box:screen=perforated"];
 
 /// Every built-in scene.
 pub fn builtin_scenes() -> Vec<SceneInfo> {

@@ -158,6 +158,7 @@ pub fn pool(view: &str, murk: Option<Murk>) -> Result<Scene, SceneError> {
     let tiles = Material::Diffuse {
         albedo: Vec3::ONE,
         texture: Some(0),
+        cutout: None,
     };
     let (hx, hz, height) = (HALF_WIDTH, HALF_LENGTH, DEPTH + COPING);
     let floor_y = -DEPTH;

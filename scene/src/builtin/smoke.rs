@@ -28,6 +28,7 @@ pub fn smoke(particles: usize) -> Scene {
         Material::Diffuse {
             albedo: Vec3::splat(0.8),
             texture: Some(0),
+            cutout: None,
         },
         Mat4::IDENTITY,
     )];

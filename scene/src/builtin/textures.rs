@@ -54,6 +54,7 @@ pub fn floor_and_checker_wall(near_z: f32, depth: f32, wall_z: f32) -> [Object; 
     let checker = Material::Diffuse {
         albedo: Vec3::ONE,
         texture: Some(0),
+        cutout: None,
     };
     [
         Object::new(

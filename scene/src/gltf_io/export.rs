@@ -355,7 +355,11 @@ fn add_emission(material: &mut Value, emission: Vec3) {
 pub(super) fn material_json(o: &Object) -> Value {
     let name = format!("{} material", o.name);
     match &o.material {
-        Material::Diffuse { albedo, texture } => {
+        Material::Diffuse {
+            albedo,
+            texture,
+            cutout,
+        } => {
             let c = albedo.clamp(Vec3::ZERO, Vec3::ONE);
             let mut pbr = json!({ "baseColorFactor": arr(&[c.x, c.y, c.z, 1.0]), "metallicFactor": 0.0, "roughnessFactor": 1.0 });
             if let Some(t) = texture {
@@ -363,6 +367,10 @@ pub(super) fn material_json(o: &Object) -> Value {
             }
             let emission = (o.emission != Vec3::ZERO).then_some(v3(o.emission));
             let mut m = json!({ "name": name, "pbrMetallicRoughness": pbr, "extras": wrap(&MaterialExtras::Diffuse { albedo: v3(*albedo), emission }) });
+            if let Some(cutoff) = cutout.filter(|_| texture.is_some()) {
+                m["alphaMode"] = json!("MASK");
+                m["alphaCutoff"] = num(cutoff);
+            }
             add_emission(&mut m, o.emission);
             m
         }

@@ -380,6 +380,7 @@ impl Importer<'_> {
             Some(MaterialExtras::Diffuse { albedo, .. }) => Material::Diffuse {
                 albedo: vec3(albedo),
                 texture: None,
+                cutout: None,
             },
             Some(MaterialExtras::Metal { n, k }) => Material::Metal {
                 n: vec3(n),
@@ -405,6 +406,7 @@ impl Importer<'_> {
                     Material::Diffuse {
                         albedo: base_rgb,
                         texture: None,
+                        cutout: None,
                     }
                 }
             }
@@ -414,10 +416,15 @@ impl Importer<'_> {
             Material::Metal { .. } => Roles::REFLECTOR | Roles::CAUSTIC_CASTER,
             Material::Glass { .. } => Roles::REFRACTOR | Roles::CAUSTIC_CASTER,
         };
-        let texture = if matches!(material, Material::Diffuse { .. }) {
-            texture
-        } else {
-            None
+        let mut material = material;
+        let texture = match &mut material {
+            Material::Diffuse { cutout, .. } => {
+                if let (Some(_), Coverage::Cutout(c)) = (texture, alpha_coverage(m)) {
+                    *cutout = Some(c);
+                }
+                texture
+            }
+            _ => None,
         };
         Ok((material, roles, texture))
     }
@@ -685,14 +692,20 @@ pub(super) fn flat_shaded(positions: &[Vec3], uvs: &[Vec2], indices: &[u32]) -> 
 }
 
 /// How much of a surface of material `m` its alpha leaves standing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Coverage {
     /// All of it: opaque, or a mask or blend whose constant alpha keeps everything.
     All,
     /// None: a mask whose constant alpha is below its cutoff, or a blend of alpha 0.
     None,
-    /// Some, which the importer does not render: a textured mask or blend (the texture's
-    /// alpha is not read), or a blend between 0 and 1. Rendered opaque, with a note.
+    /// Where the base colour texture's alpha is at least this value: a textured mask whose
+    /// factor keeps some of it (glTF compares factor times texture alpha with the cutoff, so
+    /// the texture's own threshold is the cutoff over the factor). Exact for a diffuse
+    /// material ([`Material::Diffuse`]'s `cutout`); metal and glass read no texture and are
+    /// rendered opaque, with a note.
+    Cutout(f32),
+    /// Some, which the importer does not render: a textured blend, or a blend between 0 and 1.
+    /// Rendered opaque, with a note.
     Partial,
 }
 
@@ -702,13 +715,15 @@ pub(super) fn alpha_coverage(m: &gltf::Material) -> Coverage {
     use gltf::material::AlphaMode;
     let pbr = m.pbr_metallic_roughness();
     let alpha = pbr.base_color_factor()[3];
+    let cutoff = m.alpha_cutoff().unwrap_or(0.5);
     let textured = pbr.base_color_texture().is_some();
     // A texture's alpha is at most 1: it can only lower the factor's.
     match m.alpha_mode() {
         AlphaMode::Opaque => Coverage::All,
-        AlphaMode::Mask if alpha < m.alpha_cutoff().unwrap_or(0.5) => Coverage::None,
+        AlphaMode::Mask if alpha < cutoff => Coverage::None,
         AlphaMode::Blend if alpha <= 0.0 => Coverage::None,
-        _ if textured => Coverage::Partial,
+        AlphaMode::Mask if textured && cutoff > 0.0 => Coverage::Cutout(cutoff / alpha),
+        _ if textured && m.alpha_mode() == AlphaMode::Blend => Coverage::Partial,
         AlphaMode::Mask => Coverage::All,
         AlphaMode::Blend if alpha >= 1.0 => Coverage::All,
         AlphaMode::Blend => Coverage::Partial,

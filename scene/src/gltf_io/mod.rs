@@ -67,8 +67,11 @@
 //! - **Alpha**: a mask whose base colour alpha is below its `alphaCutoff`, and a blend of
 //!   alpha 0, leave their primitives out, with a note (a texture only lowers alpha). Without a
 //!   base colour texture, a mask at or above its cutoff and a blend of alpha 1 are opaque,
-//!   exactly. A textured mask or blend otherwise, and a blend in between, are rendered
-//!   opaque, with a note.
+//!   exactly. A textured mask on a diffuse material is an alpha cut-out, exactly
+//!   ([`Material::Diffuse`]'s `cutout`: the surface is absent where the texture's alpha is
+//!   below the cutoff over the factor's alpha), which every renderer draws with its holes; on
+//!   a material imported as metal or glass (which read no texture) it is rendered opaque, with
+//!   a note. A textured blend, and a blend in between, are rendered opaque, with a note.
 //! - **Emission**: a diffuse material's emissive factor times `KHR_materials_emissive_strength`
 //!   becomes its objects' [`Object::emission`], radiance seen directly and in reflections and
 //!   refractions that lights nothing; the emissive texture is left out, and so is the emission
@@ -76,12 +79,12 @@
 //!
 //! Skins, morph targets, animations, vertex colours, primitives that are not triangles, a
 //! light's `range`, extensions the importer does not read (`KHR_materials_volume`'s
-//! absorption, `KHR_texture_transform`, any other), partial alpha and the remaining material
+//! absorption, `KHR_texture_transform`, any other), blending and the remaining material
 //! inputs are ignored, each named in a note: the skinned node, the mesh, the light, the
-//! extension, and each material whose partial alpha (`MASK`, `BLEND`), transmission roughness
-//! or metal roughness (a smooth mirror stands in for it) is left out, once per material
-//! ([`import_noted`]). A node transform with a negative determinant is
-//! kept as it is (the winding of its triangles is then mirrored in world space).
+//! extension, and each material whose partial alpha (a blend, or a mask on metal or glass),
+//! transmission roughness or metal roughness (a smooth mirror stands in for it) is left out,
+//! once per material ([`import_noted`]). A node transform with a negative determinant is kept
+//! as it is (the winding of its triangles is then mirrored in world space).
 //!
 //! # What the exporter writes
 //!

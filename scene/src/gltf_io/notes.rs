@@ -156,6 +156,12 @@ impl Importer<'_> {
                 ));
                 return;
             }
+            Coverage::Cutout(_) if matches!(material, Material::Diffuse { .. }) => {}
+            Coverage::Cutout(_) => notes.push(format!(
+                "{what} is {mode} with a texture, but it imports as {}, which reads no \
+                 texture: rendered opaque (only diffuse surfaces are cut out)",
+                material.kind_name()
+            )),
             Coverage::Partial => notes.push(format!(
                 "{what} is {mode} with alpha {alpha}{}, which is not supported yet: rendered \
                  opaque",

@@ -323,15 +323,20 @@ impl GpuScene {
             })
             .collect();
         // The shadow pass writes the shadow maps, so it must not bind them: its group 1 holds
-        // only the object buffer (all that scene_vs and shadow_fs read).
-        let objects_layout = objects_only_layout(ctx);
+        // only the objects, lights and albedo textures (all that scene_vs and shadow_fs read).
+        let surfaces_layout = surfaces_only_layout(ctx);
         let shadow_bind_group = bind::group(
             ctx,
-            "scene objects only",
-            &objects_layout,
-            &[object_buffer.as_entire_binding()],
+            "scene surfaces only",
+            &surfaces_layout,
+            &[
+                object_buffer.as_entire_binding(),
+                light_buffer.as_entire_binding(),
+                bind::view(&albedo_view),
+                bind::sampler_resource(&samplers.linear_repeat),
+            ],
         );
-        let shadow_layout = pipeline_layout(ctx, &camera_layout, &objects_layout, &[]);
+        let shadow_layout = pipeline_layout(ctx, &camera_layout, &surfaces_layout, &[]);
         let shadow_pipeline = scene_pipeline(
             ctx,
             "shadow",

@@ -23,9 +23,17 @@ pub(super) fn camera_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
     bind::layout(ctx, "camera", stages, &[bind::uniform()])
 }
 
-pub(super) fn objects_only_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+/// The first four bindings of `@group(1)`: objects, lights, albedo textures and their sampler,
+/// all that `scene_vs` and `shadow_fs` read (the object's place, its alpha cut-out).
+pub(super) fn surfaces_only_layout(ctx: &Context) -> wgpu::BindGroupLayout {
     let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
-    bind::layout(ctx, "scene objects only", stages, &[bind::storage(true)])
+    let entries = [
+        bind::storage(true),      // objects
+        bind::storage(true),      // lights
+        bind::texture_2d_array(), // albedo textures
+        bind::sampler(),          // albedo sampler
+    ];
+    bind::layout(ctx, "scene surfaces only", stages, &entries)
 }
 
 /// `@group(1)` of scene.wgsl.
@@ -86,7 +94,9 @@ pub(super) fn object_records(scene: &Scene, time: f32) -> Vec<ObjectGpu> {
         .map(|o| {
             let normal = Mat4::from_mat3(o.normal_matrix_at(time));
             let (albedo, kind, ior, n, k) = match &o.material {
-                Material::Diffuse { albedo, texture } => (
+                Material::Diffuse {
+                    albedo, texture, ..
+                } => (
                     albedo.extend(texture.map_or(-1.0, |t| t as f32)),
                     0.0,
                     1.0,
@@ -106,7 +116,12 @@ pub(super) fn object_records(scene: &Scene, time: f32) -> Vec<ObjectGpu> {
                 model: o.world_at(time).to_cols_array_2d(),
                 normal_matrix: normal.to_cols_array_2d(),
                 albedo: albedo.to_array(),
-                material: [kind, ior, o.roles.bits() as f32, 0.0],
+                material: [
+                    kind,
+                    ior,
+                    o.roles.bits() as f32,
+                    o.material.cutout().map_or(0.0, |(_, c)| c),
+                ],
                 n: n.extend(0.0).to_array(),
                 k: k.extend(0.0).to_array(),
                 emission: o.emission.extend(0.0).to_array(),

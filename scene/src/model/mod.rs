@@ -89,6 +89,12 @@ pub enum Material {
     Diffuse {
         albedo: Vec3,
         texture: Option<usize>,
+        /// An alpha cut-out (glTF's `MASK`): the surface is absent wherever the texture's
+        /// alpha, filtered as its colour is ([`Texture::sample_alpha`]), is below this value.
+        /// Only with a texture, in (0, 1]: a constant alpha is decided at import (the
+        /// primitive is kept or left out). Every renderer skips the hole: the reference's
+        /// and the tracer's rays pass through it, rasterized passes discard it.
+        cutout: Option<f32>,
     },
     /// Conductor with the seeds' Fresnel approximation; n = 0, k = 1 is a perfect mirror.
     Metal { n: Vec3, k: Vec3 },
@@ -97,10 +103,23 @@ pub enum Material {
 }
 
 impl Material {
+    /// The alpha cut-out of a textured diffuse material: (texture index, the alpha below which
+    /// the surface is absent). See [`Material::Diffuse`].
+    pub fn cutout(&self) -> Option<(usize, f32)> {
+        match *self {
+            Material::Diffuse {
+                texture: Some(t),
+                cutout: Some(c),
+                ..
+            } => Some((t, c)),
+            _ => None,
+        }
+    }
     pub fn diffuse(r: f32, g: f32, b: f32) -> Self {
         Material::Diffuse {
             albedo: Vec3::new(r, g, b),
             texture: None,
+            cutout: None,
         }
     }
     /// F = 1 at every angle with the seeds' approximation: ((0-1)^2 + 1) / ((0+1)^2 + 1).
@@ -197,6 +216,22 @@ impl Texture {
     /// Bilinear lookup returning linear RGB (the GPU samples an `Rgba8UnormSrgb` view the
     /// same way: decode each texel, then filter).
     pub fn sample(&self, uv: Vec2) -> Vec3 {
+        self.bilinear(uv, |t| {
+            Vec3::new(
+                srgb_to_linear(t[0]),
+                srgb_to_linear(t[1]),
+                srgb_to_linear(t[2]),
+            )
+        })
+    }
+
+    /// Bilinear lookup of the alpha channel, which sRGB formats store linearly (byte / 255).
+    pub fn sample_alpha(&self, uv: Vec2) -> f32 {
+        self.bilinear(uv, |t| Vec3::splat(t[3] as f32 / 255.0)).x
+    }
+
+    /// Filters `decode(texel)` between the four texel centres around `uv`, wrapping around.
+    fn bilinear(&self, uv: Vec2, decode: impl Fn(&[u8]) -> Vec3) -> Vec3 {
         let x = uv.x * self.width as f32 - 0.5;
         let y = uv.y * self.height as f32 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
@@ -205,11 +240,7 @@ impl Texture {
             let i = i.rem_euclid(self.width as i64) as usize;
             let j = j.rem_euclid(self.height as i64) as usize;
             let o = 4 * (j * self.width as usize + i);
-            Vec3::new(
-                srgb_to_linear(self.rgba8[o]),
-                srgb_to_linear(self.rgba8[o + 1]),
-                srgb_to_linear(self.rgba8[o + 2]),
-            )
+            decode(&self.rgba8[o..o + 4])
         };
         let (i, j) = (x0 as i64, y0 as i64);
         let top = texel(i, j).lerp(texel(i + 1, j), fx);

@@ -248,11 +248,25 @@ impl Scene {
             }
         }
         if let Material::Diffuse {
-            texture: Some(t), ..
+            texture, cutout, ..
         } = o.material
         {
-            if t >= self.textures.len() {
+            if let Some(t) = texture.filter(|&t| t >= self.textures.len()) {
                 return Some(format!("object \"{}\" uses missing texture {t}", o.name));
+            }
+            if let Some(c) = cutout {
+                if texture.is_none() {
+                    return Some(format!(
+                        "object \"{}\" has an alpha cut-out but no texture to read alpha from",
+                        o.name
+                    ));
+                }
+                if !(c > 0.0 && c <= 1.0) {
+                    return Some(format!(
+                        "object \"{}\" has an alpha cut-out of {c}; it must lie in (0, 1]",
+                        o.name
+                    ));
+                }
             }
         }
         None

@@ -22,7 +22,8 @@ struct ObjectGpu {
     normal_matrix: mat4x4f,
     // rgb: diffuse albedo; w: texture layer, or -1 when untextured.
     albedo: vec4f,
-    // x: material kind (0 diffuse, 1 metal, 2 glass); y: ior; z: role bits; w: unused.
+    // x: material kind (0 diffuse, 1 metal, 2 glass); y: ior; z: role bits; w: the alpha
+    // cut-out's threshold, 0 for none (in_cutout_hole).
     material: vec4f,
     // Metal n and k per channel.
     n: vec4f,
@@ -174,6 +175,18 @@ fn geometric_facing_normal(p: vec3f, eye: vec3f) -> vec3f {
 fn shading_normal(n: vec3f, ng_facing: vec3f) -> vec3f {
     let nn = normalize(n);
     return select(nn, -nn, dot(nn, ng_facing) < 0.0);
+}
+
+// Whether the surface of `object` is absent at `uv`: its alpha cut-out (scene::Material's
+// `cutout`, in material.w, 0 for none) is above its texture's alpha there. Every fragment
+// shader that draws the scene's surfaces discards such fragments, as the reference's and the
+// tracer's rays pass through them: first, or right after any derivative it takes (naga
+// writes `discard` as OpKill, which ends the invocation, so no derivative may follow it).
+fn in_cutout_hole(object: u32, uv: vec2f) -> bool {
+    let o = objects[object];
+    if (o.material.w <= 0.0) { return false; }
+    let alpha = textureSampleLevel(albedo_textures, albedo_sampler, uv, i32(o.albedo.w), 0.0).a;
+    return alpha < o.material.w;
 }
 
 fn surface_albedo(object: u32, uv: vec2f) -> vec3f {

@@ -1,7 +1,7 @@
 // The diffuse surfaces shaded like the raster pass (raster.wgsl: the reference's rules) with
 // the screen-space visibility of the first four lights instead of their shadow maps.
 #import gpu::prelude::PI
-#import scene::shading::{SceneVertexOut, camera, geometric_facing_normal, light_visibility, lights, object_emission, scene_info, shading_normal, surface_albedo}
+#import scene::shading::{SceneVertexOut, camera, geometric_facing_normal, in_cutout_hole, light_visibility, lights, object_emission, scene_info, shading_normal, surface_albedo}
 #import screen_photons::ldi::ldi
 
 @group(3) @binding(0) var<storage, read> shadow_mask: array<vec4f>;
@@ -9,7 +9,9 @@
 @fragment
 fn shadowed_fs(in: SceneVertexOut) -> @location(0) vec4f {
     let eye = camera.eye.xyz;
+    // Derivatives first: naga's discard ends the invocation, so none may follow it.
     let ng = geometric_facing_normal(in.world, eye);
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let n = shading_normal(in.normal, ng);
     let albedo = surface_albedo(in.object, in.uv);
     let px = vec2u(in.clip.xy);

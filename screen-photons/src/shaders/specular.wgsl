@@ -13,7 +13,7 @@
 // traced segment is attenuated by its transmittance (what the eye's own segment loses is
 // composite.wgsl's; light scattered into these rays is not added).
 // ---------------------------------------------------------------------------------------------
-#import scene::shading::{SceneVertexOut, camera, facing_normal, object_emission, scene_info, scene_medium, shade_diffuse, specular_event, specular_shade, surface_albedo}
+#import scene::shading::{SceneVertexOut, camera, facing_normal, in_cutout_hole, object_emission, scene_info, scene_medium, shade_diffuse, specular_event, specular_shade, surface_albedo}
 #import scene::medium::{medium_transmittance, medium_transmittance_between}
 #import screen_photons::ldi::{ldi, ldi_surfaces, refractor_surfaces, LdiTexel, LDI_SCENE, LDI_REFRACTORS, ldi_texel, Segment, scene_range, clip_segment, point_on_surface, segment_step, SIDE_INSIDE, side_of, LdiHit, march_dda, march_tolerance, march_monotone}
 
@@ -129,6 +129,7 @@ fn through_refractor(origin: vec3f, dir_in: vec3f) -> vec3f {
 
 @fragment
 fn specular_fs(in: SceneVertexOut) -> @location(0) vec4f {
+    if (in_cutout_hole(in.object, in.uv)) { discard; }
     let eye = camera.eye.xyz;
     let view = normalize(in.world - eye);
     let e = specular_event(in.object, in.normal, in.world, eye, view);

@@ -12,7 +12,7 @@
 // share times cos^3 off the view's axis (0 everywhere: no photon).
 // ---------------------------------------------------------------------------------------------
 #import gpu::prelude::oct_encode
-#import scene::shading::{MATERIAL_GLASS, MATERIAL_METAL, SceneVertexOut, emission_jitter, jittered_emission, objects, specular_event}
+#import scene::shading::{MATERIAL_GLASS, MATERIAL_METAL, SceneVertexOut, emission_jitter, in_cutout_hole, jittered_emission, objects, specular_event}
 
 struct TransferParams {
     // Light position; w unused.
@@ -39,7 +39,9 @@ struct TransferTargets {
 
 @fragment
 fn transfer_fs(pixel_in: SceneVertexOut) -> TransferTargets {
+    // Derivatives first: naga's discard ends the invocation, so none may follow it.
     let in = jittered_emission(pixel_in, emission_jitter(pixel_in.clip.xy, 0u) * f32(transfer.jitter));
+    if (in_cutout_hole(pixel_in.object, pixel_in.uv)) { discard; }
     let light = transfer.light.xyz;
     let dir = normalize(in.world - light);
     let e = specular_event(in.object, in.normal, in.world, light, dir);

@@ -762,12 +762,12 @@ impl Tracer<'_> {
     /// Diffuse albedo at a hit (albedo times the texture, if any).
     fn albedo(&self, hit: &Hit) -> Vec3 {
         match &self.scene.objects[hit.object].material {
-            Material::Diffuse { albedo, texture } => {
-                match texture.and_then(|t| self.scene.textures.get(t)) {
-                    Some(tex) => *albedo * tex.sample(hit.uv),
-                    None => *albedo,
-                }
-            }
+            Material::Diffuse {
+                albedo, texture, ..
+            } => match texture.and_then(|t| self.scene.textures.get(t)) {
+                Some(tex) => *albedo * tex.sample(hit.uv),
+                None => *albedo,
+            },
             _ => Vec3::ZERO,
         }
     }
