@@ -42,6 +42,7 @@ Examples:
   harness compare --scenes my-scene.glb,cornell-sphere:light=spot --techniques impostors,raytracer --out out
   harness render --scene chess --technique refractor-maps/multi-bounce-2 --size 256x256 --out chess.png
   harness sweep --scene cornell-box --technique impostors/secant-4 --param iterations=1,2,4,8 --out sweep
+  harness report out/results.json --techniques impostors --markdown impostors-evidence.md
 
 Environment:
   WGPU_ADAPTER_NAME  use the adapter whose name contains this (case-insensitive), e.g. \"H100\" or \"llvmpipe\"
@@ -225,6 +226,22 @@ enum Command {
         /// The folder `pareto/<scene>.svg` and `pareto.json` are written to.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
+    },
+    /// Writes the rows of chosen techniques from an earlier run's results.json as markdown,
+    /// with what made the run: a crate's evidence table, regenerated instead of copied.
+    #[command(
+        after_help = "Example: harness report out-all/results.json --techniques impostors,raster --markdown evidence.md"
+    )]
+    Report {
+        /// A results.json written by compare or sweep.
+        #[arg(value_name = "RESULTS.json")]
+        results: PathBuf,
+        /// Technique ids or families (every variant of it), comma separated.
+        #[arg(long, value_name = "X,Y", value_delimiter = ',', required = true)]
+        techniques: Vec<String>,
+        /// The markdown file to write.
+        #[arg(long, value_name = "FILE.md")]
+        markdown: PathBuf,
     },
     /// Writes a scene (built-in spec or glTF) as binary glTF.
     #[command(
@@ -420,6 +437,11 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Render(args) => render(&args),
         Command::Pareto { results, out } => pareto(&results, &out),
         Command::Merge { shards, out } => merge(&shards, &out),
+        Command::Report {
+            results,
+            techniques,
+            markdown,
+        } => report(&results, &techniques, &markdown),
         Command::ExportScene { scene, out } => export_scene(&scene, &out),
     }
 }
@@ -587,6 +609,25 @@ fn finish(
         eprintln!("error: --strict: the run had errors or non-finite pixels");
         return Ok(ExitCode::from(3));
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `harness report`: the rows of `techniques` in `results` as a markdown file.
+fn report(
+    results: &std::path::Path,
+    techniques: &[String],
+    markdown: &std::path::Path,
+) -> Result<ExitCode> {
+    let run = RunReport::read(results)?;
+    let command = format!(
+        "harness report {} --techniques {} --markdown {}",
+        results.display(),
+        techniques.join(","),
+        markdown.display()
+    );
+    let text = harness::output::selected_markdown(&run, techniques, &command)?;
+    harness::output::write_text(markdown, &text)?;
+    outln!("wrote {}", markdown.display());
     Ok(ExitCode::SUCCESS)
 }
 

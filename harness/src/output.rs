@@ -286,6 +286,46 @@ pub fn results_markdown(report: &RunReport) -> String {
     )
 }
 
+/// The rows of `report` whose technique is one of `techniques` (an id, or a family: every id
+/// under it), written as `results.md` writes a run: what made the run, a line saying which
+/// rows `command` picked from it, then the table. A crate's evidence is regenerated this way
+/// from a run's `results.json` instead of being copied by hand. A technique that no row has is
+/// an error naming it.
+pub fn selected_markdown(
+    report: &RunReport,
+    techniques: &[String],
+    command: &str,
+) -> Result<String> {
+    let of = |id: &str, t: &str| id == t || id.starts_with(&format!("{t}/"));
+    if let Some(t) = techniques
+        .iter()
+        .find(|t| !report.rows.iter().any(|r| of(&r.technique, t)))
+    {
+        anyhow::bail!(
+            "no row of the results is of \"{t}\" (they have {} rows of {} techniques)",
+            report.rows.len(),
+            report
+                .rows
+                .iter()
+                .map(|r| r.technique.as_str())
+                .collect::<std::collections::BTreeSet<_>>()
+                .len()
+        );
+    }
+    let rows: Vec<ResultRow> = report
+        .rows
+        .iter()
+        .filter(|r| techniques.iter().any(|t| of(&r.technique, t)))
+        .cloned()
+        .collect();
+    Ok(format!(
+        "# Results\n\n{}- rows: those of {}, picked from the run's results.json by `{command}`\n\n{}",
+        provenance_markdown(report),
+        techniques.join(", "),
+        report::to_markdown(&rows, report.sweep().is_some())
+    ))
+}
+
 /// The markdown table of a report.
 pub fn markdown(report: &RunReport) -> String {
     report::to_markdown(&report.rows, report.sweep().is_some())

@@ -369,6 +369,56 @@ fn compare_with_the_registered_techniques_at_32x32() {
     // --all-variants: every supported variant (the references come from the cache).
     let csv = compare(&["--all-variants"]);
     assert_eq!(csv.lines().count(), 1 + supported.len(), "{csv}");
+
+    // `report` writes the rows of chosen techniques with the run's provenance.
+    let results = out.join("results.json").display().to_string();
+    let evidence = out.join("evidence.md").display().to_string();
+    let run = harness(&[
+        "report",
+        &results,
+        "--techniques",
+        "impostors,raster",
+        "--markdown",
+        &evidence,
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = std::fs::read_to_string(&evidence).unwrap();
+    assert!(
+        text.starts_with("# Results") && text.contains("- git commit:"),
+        "{text}"
+    );
+    assert!(
+        text.contains("picked from the run's results.json by `harness report"),
+        "{text}"
+    );
+    let picked = |id: &str| id == "raster" || id.starts_with("impostors/");
+    let expected = csv
+        .lines()
+        .skip(1)
+        .filter(|l| picked(l.split(',').nth(1).unwrap()));
+    let rows: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("| cornell-sphere |"))
+        .collect();
+    assert_eq!(rows.len(), expected.count(), "{text}");
+    assert!(
+        rows.iter()
+            .all(|l| picked(l.split('|').nth(2).unwrap().trim())),
+        "{text}"
+    );
+    let e = fails(&[
+        "report",
+        &results,
+        "--techniques",
+        "no-such",
+        "--markdown",
+        &evidence,
+    ]);
+    assert!(e.contains("no row of the results is of \"no-such\""), "{e}");
     let _ = std::fs::remove_dir_all(&out);
 }
 
