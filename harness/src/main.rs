@@ -227,16 +227,18 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
     },
-    /// Writes the rows of chosen techniques from an earlier run's results.json as markdown,
-    /// with what made the run: a crate's evidence table, regenerated instead of copied.
+    /// Writes the rows of chosen techniques from an earlier run's results.json (or a sweep's
+    /// sweep.json) as markdown, with what made the run: a crate's evidence table, regenerated
+    /// instead of copied.
     #[command(
         after_help = "Example: harness report out-all/results.json --techniques impostors,raster --markdown evidence.md"
     )]
     Report {
-        /// A results.json written by compare or sweep.
+        /// The results.json of a compare, or the sweep.json of a sweep.
         #[arg(value_name = "RESULTS.json")]
         results: PathBuf,
-        /// Technique ids or families (every variant of it), comma separated.
+        /// Technique ids (with or without parameters) or families (every variant), comma
+        /// separated.
         #[arg(long, value_name = "X,Y", value_delimiter = ',', required = true)]
         techniques: Vec<String>,
         /// The markdown file to write.
@@ -621,11 +623,12 @@ fn report(
     let run = RunReport::read(results)?;
     let command = format!(
         "harness report {} --techniques {} --markdown {}",
-        results.display(),
-        techniques.join(","),
-        markdown.display()
+        harness::provenance::quote(&results.display().to_string()),
+        harness::provenance::quote(&techniques.join(",")),
+        harness::provenance::quote(&markdown.display().to_string())
     );
-    let text = harness::output::selected_markdown(&run, techniques, &command)?;
+    let file = results.display().to_string();
+    let text = harness::output::selected_markdown(&run, techniques, &file, &command)?;
     harness::output::write_text(markdown, &text)?;
     outln!("wrote {}", markdown.display());
     Ok(ExitCode::SUCCESS)

@@ -286,44 +286,56 @@ pub fn results_markdown(report: &RunReport) -> String {
     )
 }
 
-/// The rows of `report` whose technique is one of `techniques` (an id, or a family: every id
-/// under it), written as `results.md` writes a run: what made the run, a line saying which
-/// rows `command` picked from it, then the table. A crate's evidence is regenerated this way
-/// from a run's `results.json` instead of being copied by hand. A technique that no row has is
-/// an error naming it.
+/// The rows of `report` whose technique is one of `techniques` (an id with or without its
+/// parameters, or a family: every id under it), written as `results.md` writes a run: what
+/// made the run, a line saying which rows `command` picked from which file, then the table. A
+/// crate's evidence is regenerated this way from a run's `results.json` instead of being
+/// copied by hand. A technique that no row has is an error naming the ones there are.
 pub fn selected_markdown(
     report: &RunReport,
     techniques: &[String],
+    file: &str,
     command: &str,
 ) -> Result<String> {
-    let of = |id: &str, t: &str| id == t || id.starts_with(&format!("{t}/"));
     if let Some(t) = techniques
         .iter()
-        .find(|t| !report.rows.iter().any(|r| of(&r.technique, t)))
+        .find(|t| !report.rows.iter().any(|r| technique_is(&r.technique, t)))
     {
+        let there: std::collections::BTreeSet<&str> = report
+            .rows
+            .iter()
+            .map(|r| r.technique.split(':').next().unwrap_or_default())
+            .collect();
+        let there: Vec<&str> = there.into_iter().collect();
         anyhow::bail!(
-            "no row of the results is of \"{t}\" (they have {} rows of {} techniques)",
-            report.rows.len(),
-            report
-                .rows
-                .iter()
-                .map(|r| r.technique.as_str())
-                .collect::<std::collections::BTreeSet<_>>()
-                .len()
+            "no row of {file} is of \"{t}\"; its rows are of {}",
+            there.join(", ")
         );
     }
     let rows: Vec<ResultRow> = report
         .rows
         .iter()
-        .filter(|r| techniques.iter().any(|t| of(&r.technique, t)))
+        .filter(|r| techniques.iter().any(|t| technique_is(&r.technique, t)))
         .cloned()
         .collect();
+    let title = if report.sweep().is_some() {
+        "Sweep"
+    } else {
+        "Results"
+    };
     Ok(format!(
-        "# Results\n\n{}- rows: those of {}, picked from the run's results.json by `{command}`\n\n{}",
+        "# {title}\n\n{}- rows: those of {}, picked from {file} by `{command}`\n\n{}",
         provenance_markdown(report),
         techniques.join(", "),
         report::to_markdown(&rows, report.sweep().is_some())
     ))
+}
+
+/// Whether a row's technique label (`id` or `id:name=value,...`) is `wanted`: that id, that
+/// label, or a variant of that family.
+fn technique_is(label: &str, wanted: &str) -> bool {
+    let id = label.split(':').next().unwrap_or_default();
+    label == wanted || id == wanted || id.starts_with(&format!("{wanted}/"))
 }
 
 /// The markdown table of a report.
@@ -421,6 +433,34 @@ pub fn write_reference_images(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_technique_is_its_id_its_label_or_a_variant_of_its_family() {
+        for (label, wanted) in [
+            ("impostors/secant-4", "impostors/secant-4"),
+            ("impostors/secant-4", "impostors"),
+            ("impostors/secant-4:iterations=2", "impostors/secant-4"),
+            (
+                "impostors/secant-4:iterations=2",
+                "impostors/secant-4:iterations=2",
+            ),
+            ("impostors/secant-4:iterations=2", "impostors"),
+            ("raster", "raster"),
+        ] {
+            assert!(technique_is(label, wanted), "{label} is {wanted}");
+        }
+        for (label, wanted) in [
+            ("impostors/secant-4", "impostor"),
+            ("impostors/secant-4", "impostors/secant"),
+            (
+                "impostors/secant-4:iterations=2",
+                "impostors/secant-4:iterations=4",
+            ),
+            ("raster", "raytracer"),
+        ] {
+            assert!(!technique_is(label, wanted), "{label} is not {wanted}");
+        }
+    }
 
     #[test]
     fn plots_are_written() {
