@@ -72,7 +72,12 @@ fn smallest_compare(out: &Path, scenes: &str, technique: &str) -> std::process::
 
 /// `harness render` of `scene` by `technique` into `png`: 24 x 24, a reference without photons.
 fn render_small(scene: &str, technique: &str, png: &Path) -> std::process::Output {
-    harness(&[
+    harness(&small_render_args(scene, technique, png))
+}
+
+/// The arguments of [`render_small`].
+fn small_render_args<'a>(scene: &'a str, technique: &'a str, png: &'a Path) -> [&'a str; 11] {
+    [
         "render",
         "--scene",
         scene,
@@ -84,7 +89,7 @@ fn render_small(scene: &str, technique: &str, png: &Path) -> std::process::Outpu
         "24x24",
         "--ref-photons",
         "0",
-    ])
+    ]
 }
 
 fn path(p: &Path) -> &str {
@@ -487,20 +492,7 @@ fn an_orthographic_camera_is_rendered_exactly_or_refused_with_the_reason() {
     }
     let technique = "envmap/classic";
     let png = dir.join("classic.png");
-    let e = fails_within(
-        60,
-        &[
-            "render",
-            "--scene",
-            scene,
-            "--technique",
-            technique,
-            "--out",
-            path(&png),
-            "--size",
-            "24x24",
-        ],
-    );
+    let e = fails_within(60, &small_render_args(scene, technique, &png));
     assert!(e.contains("envmap/classic needs a pinhole camera"), "{e}");
     assert!(e.contains("orthographic"), "{e}");
     // `compare` leaves the technique out with one line for the scene.

@@ -291,22 +291,24 @@ impl GpuScene {
         let camera_layout = camera_bind_group_layout(ctx);
         let scene_layout = scene_bind_group_layout(ctx);
         let samplers = &ctx.samplers;
+        // The resources of `surface_bindings` (upload.rs), which both groups start with.
+        let surfaces = || {
+            [
+                object_buffer.as_entire_binding(),
+                light_buffer.as_entire_binding(),
+                bind::view(&albedo_view),
+                bind::sampler_resource(&samplers.linear_repeat),
+            ]
+        };
         let bind = |info: &Uniform<SceneInfoGpu>| {
-            bind::group(
-                ctx,
-                "scene",
-                &scene_layout,
-                &[
-                    object_buffer.as_entire_binding(),
-                    light_buffer.as_entire_binding(),
-                    bind::view(&albedo_view),
-                    bind::sampler_resource(&samplers.linear_repeat),
-                    bind::view(&shadows.cube_view),
-                    bind::sampler_resource(&samplers.nearest_clamp),
-                    info.binding(),
-                    bind::view(&shadows.fitted_array_view),
-                ],
-            )
+            let mut resources = surfaces().to_vec();
+            resources.extend([
+                bind::view(&shadows.cube_view),
+                bind::sampler_resource(&samplers.nearest_clamp),
+                info.binding(),
+                bind::view(&shadows.fitted_array_view),
+            ]);
+            bind::group(ctx, "scene", &scene_layout, &resources)
         };
         let scene_bind_group = bind(&info_buffer);
         let raster_bind_group = bind(&raster_info_buffer);
@@ -325,17 +327,8 @@ impl GpuScene {
         // The shadow pass writes the shadow maps, so it must not bind them: its group 1 holds
         // only the objects, lights and albedo textures (all that scene_vs and shadow_fs read).
         let surfaces_layout = surfaces_only_layout(ctx);
-        let shadow_bind_group = bind::group(
-            ctx,
-            "scene surfaces only",
-            &surfaces_layout,
-            &[
-                object_buffer.as_entire_binding(),
-                light_buffer.as_entire_binding(),
-                bind::view(&albedo_view),
-                bind::sampler_resource(&samplers.linear_repeat),
-            ],
-        );
+        let shadow_bind_group =
+            bind::group(ctx, "scene surfaces only", &surfaces_layout, &surfaces());
         let shadow_layout = pipeline_layout(ctx, &camera_layout, &surfaces_layout, &[]);
         let shadow_pipeline = scene_pipeline(
             ctx,

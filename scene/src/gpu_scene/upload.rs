@@ -24,37 +24,35 @@ pub(super) fn camera_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
 }
 
 /// The first four bindings of `@group(1)`: objects, lights, albedo textures and their sampler,
-/// all that `scene_vs` and `shadow_fs` read (the object's place, its alpha cut-out).
-pub(super) fn surfaces_only_layout(ctx: &Context) -> wgpu::BindGroupLayout {
-    let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
-    let entries = [
+/// all that `scene_vs` and `shadow_fs` read (the object's place, its alpha cut-out). The shadow
+/// pass binds these alone ([`surfaces_only_layout`]); the scene group begins with them.
+fn surface_bindings() -> [wgpu::BindingType; 4] {
+    [
         bind::storage(true),      // objects
         bind::storage(true),      // lights
         bind::texture_2d_array(), // albedo textures
         bind::sampler(),          // albedo sampler
-    ];
-    bind::layout(ctx, "scene surfaces only", stages, &entries)
+    ]
+}
+
+/// [`surface_bindings`] alone: what the shadow pass, which writes the shadow maps, may bind.
+pub(super) fn surfaces_only_layout(ctx: &Context) -> wgpu::BindGroupLayout {
+    let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    bind::layout(ctx, "scene surfaces only", stages, &surface_bindings())
 }
 
 /// `@group(1)` of scene.wgsl.
 pub(super) fn scene_bind_group_layout(ctx: &Context) -> wgpu::BindGroupLayout {
     use wgpu::TextureViewDimension::{CubeArray, D2Array};
     let stages = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
-    bind::layout(
-        ctx,
-        "scene",
-        stages,
-        &[
-            bind::storage(true),             // objects
-            bind::storage(true),             // lights
-            bind::texture_2d_array(),        // albedo textures
-            bind::sampler(),                 // albedo sampler
-            bind::texture(CubeArray, false), // shadow cube maps
-            bind::sampler_non_filtering(),   // shadow sampler
-            bind::uniform(),                 // scene info
-            bind::texture(D2Array, false),   // fitted shadow maps
-        ],
-    )
+    let mut types = surface_bindings().to_vec();
+    types.extend([
+        bind::texture(CubeArray, false), // shadow cube maps
+        bind::sampler_non_filtering(),   // shadow sampler
+        bind::uniform(),                 // scene info
+        bind::texture(D2Array, false),   // fitted shadow maps
+    ]);
+    bind::layout(ctx, "scene", stages, &types)
 }
 
 pub(super) fn pack_meshes(objects: &[Object]) -> (Vec<Vertex>, Vec<u32>, Vec<DrawRange>) {
