@@ -13,15 +13,21 @@
 //!   specular chains (n/k Fresnel for metals, glass with total internal reflection), the
 //!   emission-absorption volumes and the scattering medium's transmittance and direct
 //!   in-scattering; the light pass of caustic photons into a fixed-point accumulator.
+//! * [`pass`]: the tracer as a pass of a renderer's own frame ([`pass::TracerPass`]): its
+//!   colour and depth formats, its camera's matrices, its world as a `scene::Scene`, no
+//!   `GpuScene` and no timer.
 //! * [`technique`]: `raytracer/whitted`, `raytracer/caustics` and `raytracer/ray-query` (the
 //!   caustics variant with the hardware's ray queries in place of the BVH traversal, where the
 //!   adapter offers wgpu's experimental ray queries).
 
 pub mod bvh;
+pub mod pass;
+mod resolve;
 mod tables;
 pub mod technique;
 pub mod tracer;
 
+pub use pass::TracerPass;
 pub use technique::{RayTracer, Variant};
 pub use tracer::{GpuTracer, RayCounts, TracerSettings, Traversal};
 

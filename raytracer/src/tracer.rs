@@ -1,11 +1,13 @@
-//! The GPU side of the tracer: the BVH, the scene tables and the three passes of
-//! `shaders/tracer.wgsl` (eye, photons, resolve), recorded into a frame.
+//! The GPU side of the tracer: the BVH, the scene tables and the two passes of
+//! `shaders/tracer.wgsl` (eye, photons), recorded into a frame, then the resolve
+//! (`crate::resolve`) into the target.
 //!
 //! Inputs: the uploaded scene's CPU model (objects, materials, textures, lights, volumes,
 //! medium) at the frame's time, and the view. Output: linear radiance in the target. Parameters:
 //! the specular depth bound and the photon count ([`TracerSettings`]).
 
 use crate::bvh::{FlatBvh, NodeGpu};
+use crate::resolve::{Resolve, ResolveParamsGpu};
 use crate::tables::{Tables, texture_data};
 use bytemuck::{Pod, Zeroable};
 use gpu::bind::{self, Uniform};
@@ -147,13 +149,12 @@ pub struct GpuTracer {
     stats_readback: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     group: wgpu::BindGroup,
-    resolve_layout: wgpu::BindGroupLayout,
-    /// Width, height, 1 when photons were traced, frames in the photon sum.
-    resolve_params: Uniform<[u32; 4]>,
-    resolve_group: wgpu::BindGroup,
+    /// The resolve into the harness's targets.
+    resolve: Resolve,
+    /// What the last frame traced, as its resolve reads it.
+    last_frame: ResolveParamsGpu,
     eye_pipeline: wgpu::ComputePipeline,
     photon_pipeline: wgpu::ComputePipeline,
-    resolve_pipeline: wgpu::RenderPipeline,
     /// Pixels the per-pixel buffers hold.
     pixels: u64,
     /// The view the photon sum holds frames of, and how many.
@@ -254,35 +255,6 @@ impl Traversal {
     }
 }
 
-const RESOLVE_WGSL: &str = r#"
-#import gpu::fullscreen::FullscreenOut
-// width, height, 1 when photons were traced, frames the photon sum holds.
-struct ResolveParams { size: vec4u, };
-@group(0) @binding(0) var<uniform> resolve: ResolveParams;
-@group(0) @binding(1) var<storage, read> eye_radiance: array<vec4f>;
-@group(0) @binding(2) var<storage, read> photon_counts: array<u32>;
-
-// The fixed-point photon sum of channel c of pixel p (tracer.wgsl's add_fixed: 2^32 units per
-// unit of radiance, so the high word counts whole units).
-fn photon_radiance(p: u32, c: u32) -> f32 {
-    let i = 2u * (3u * p + c);
-    return f32(photon_counts[i + 1u]) + f32(photon_counts[i]) / 4294967296.0;
-}
-
-@fragment
-fn fs_main(in: FullscreenOut) -> @location(0) vec4f {
-    let x = min(u32(in.position.x), resolve.size.x - 1u);
-    let y = min(u32(in.position.y), resolve.size.y - 1u);
-    let p = y * resolve.size.x + x;
-    var l = eye_radiance[p].rgb;
-    if (resolve.size.z == 1u) {
-        let frames = f32(max(resolve.size.w, 1u));
-        l += vec3f(photon_radiance(p, 0u), photon_radiance(p, 1u), photon_radiance(p, 2u)) / frames;
-    }
-    return vec4f(l, 1.0);
-}
-"#;
-
 impl GpuTracer {
     /// Builds the tracer of `scene` (the BVH at `time`).
     pub fn new(
@@ -309,23 +281,9 @@ impl GpuTracer {
         let empty = wgpu::BufferUsages::empty();
         let dst = wgpu::BufferUsages::COPY_DST;
         let layout = tracer_layout(ctx, traversal);
-        let resolve_layout = bind::layout(
-            ctx,
-            "ray tracer resolve",
-            wgpu::ShaderStages::FRAGMENT,
-            &[bind::uniform(), bind::storage(true), bind::storage(true)],
-        );
         let module = traversal.shader(ctx);
         let pipeline = |entry: &str| gpu::compute::pipeline(ctx, entry, &[&layout], &module, entry);
         let (eye_pipeline, photon_pipeline) = (pipeline("eye_pass"), pipeline("photon_pass"));
-        let resolve_pipeline = gpu::fullscreen::pipeline(
-            ctx,
-            "ray tracer resolve",
-            gpu::wgsl::Shader::new("ray tracer resolve", RESOLVE_WGSL),
-            &[Some(&resolve_layout)],
-            gpu::HDR_FORMAT,
-            None,
-        );
         let emitters = Self::emitters_of(scene, time, 1);
         let tables = Tables::new(scene, time, &emitters);
         let stats = storage(
@@ -359,13 +317,11 @@ impl GpuTracer {
             stats,
             stats_readback,
             group: placeholder_group(ctx),
-            resolve_params: Uniform::new(ctx, "ray tracer resolve", &[0u32; 4]),
-            resolve_group: placeholder_group(ctx),
+            resolve: Resolve::new(ctx, gpu::TargetFormats::HDR, false),
+            last_frame: ResolveParamsGpu::zeroed(),
             layout,
-            resolve_layout,
             eye_pipeline,
             photon_pipeline,
-            resolve_pipeline,
             pixels: 0,
             accumulated: None,
             bvh_time: f32::NAN,
@@ -651,16 +607,7 @@ impl GpuTracer {
                 self.stats.as_entire_binding(),
             ],
         );
-        self.resolve_group = bind::group(
-            ctx,
-            "ray tracer resolve",
-            &self.resolve_layout,
-            &[
-                self.resolve_params.binding(),
-                self.radiance.as_entire_binding(),
-                self.photon_sum.as_entire_binding(),
-            ],
-        );
+        self.resolve.bind(ctx, &self.radiance, &self.photon_sum);
         self.pixels = pixels;
     }
 
@@ -691,11 +638,29 @@ impl GpuTracer {
         view: &View,
         target: &Target,
     ) -> TechniqueResult<()> {
+        self.trace(frame, scene, view, (target.width, target.height))?;
+        let params = self.last_frame;
+        frame.span("resolve", |frame| {
+            let color = &target.color_view;
+            self.resolve
+                .draw(frame.gpu, frame.encoder, &params, color, None);
+        });
+        Ok(())
+    }
+
+    /// Records the eye pass and the light pass of one `width` x `height` frame of `view` (the
+    /// photon sum adds up the frames of an unchanged view); its resolve is the caller's.
+    pub(crate) fn trace(
+        &mut self,
+        frame: &mut Frame,
+        scene: &Scene,
+        view: &View,
+        (width, height): (u32, u32),
+    ) -> TechniqueResult<()> {
         let ctx = frame.gpu;
         if self.moves && self.bvh_time != view.time {
             self.build_geometry(ctx, scene, view.time)?;
         }
-        let (width, height) = (target.width, target.height);
         self.ensure_pixels(ctx, width as u64 * height as u64);
         let photons = self.photons(width, height);
         let k = self.next_frame_of(view);
@@ -729,8 +694,8 @@ impl GpuTracer {
             ),
         );
         // The photon sum holds k + 1 frames' estimates: their mean is the image's.
-        self.resolve_params
-            .write(ctx, &[width, height, (traced > 0) as u32, k + 1]);
+        let projection = view.camera.projection(width as f32 / height as f32);
+        self.last_frame = ResolveParamsGpu::new((width, height), traced > 0, k + 1, &projection);
         if matches!(self.structure, Structure::RayQuery { stale: true, .. }) {
             frame.span("build", |frame| {
                 self.build_acceleration_structures(frame.encoder);
@@ -764,37 +729,28 @@ impl GpuTracer {
                 pass.dispatch_workgroups(x, y, 1);
             });
         }
-        frame.span("resolve", |frame| {
-            self.draw_resolve(frame.encoder, "ray tracer resolve", target)
-        });
         let encoder = &mut *frame.encoder;
         encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, 16);
         Ok(())
+    }
+
+    /// The buffers the last frame traced into (eye radiance with each pixel's first-hit depth,
+    /// and the photon sum) and how its resolve reads them.
+    pub(crate) fn last_frame(&self) -> (&wgpu::Buffer, &wgpu::Buffer, ResolveParamsGpu) {
+        (&self.radiance, &self.photon_sum, self.last_frame)
     }
 
     /// Draws the last frame's eye pass alone (its Whitted image, no photons) into `target`:
     /// record it after that frame's submission (it rewrites the resolve's parameters, which
     /// the next frame sets again).
     pub fn resolve_eye_only(&self, frame: &mut Frame, target: &Target) {
-        let ctx = frame.gpu;
-        self.resolve_params
-            .write(ctx, &[target.width, target.height, 0, 1]);
-        self.draw_resolve(frame.encoder, "ray tracer resolve (eye pass)", target);
-    }
-
-    /// The resolve pass: the eye pass's radiance plus the photon sum (as its parameters say)
-    /// into `target`.
-    fn draw_resolve(&self, encoder: &mut wgpu::CommandEncoder, label: &str, target: &Target) {
-        let mut pass = gpu::pass::begin(
-            encoder,
-            label,
-            &[gpu::pass::color(&target.color_view, gpu::pass::CLEAR_BLACK)],
-            None,
-            None,
-        );
-        pass.set_pipeline(&self.resolve_pipeline);
-        pass.set_bind_group(0, &self.resolve_group, &[]);
-        gpu::fullscreen::draw(&mut pass);
+        let params = ResolveParamsGpu {
+            size: [target.width, target.height, 0, 1],
+            ..self.last_frame
+        };
+        let color = &target.color_view;
+        self.resolve
+            .draw(frame.gpu, frame.encoder, &params, color, None);
     }
 
     /// The rays the last recorded frame cast (after its submission finished).
