@@ -64,6 +64,7 @@ pub mod plan;
 pub mod plot;
 mod progress;
 pub mod provenance;
+pub mod rays;
 pub mod report;
 pub mod score;
 pub mod sweep;

@@ -245,6 +245,13 @@ enum Command {
         #[arg(long, value_name = "FILE.md")]
         markdown: PathBuf,
     },
+    /// The ground truth's speed on this machine: rays per second of the reference's BVH
+    /// (coherent and incoherent, closest-hit and any-hit) and one reference render split into
+    /// its phases and parts, on a stated number of threads (CPU only; no adapter)
+    #[command(
+        after_help = "Example: harness rays --scene refraction-bunny --threads 2 --markdown rays.md"
+    )]
+    Rays(RaysArgs),
     /// Writes a scene (built-in spec or glTF) as binary glTF.
     #[command(
         after_help = "Example: harness export-scene cornell-box:light=spot --out cornell-box.glb"
@@ -362,6 +369,49 @@ struct RenderArgs {
     reference: RefArgs,
 }
 
+#[derive(Args)]
+struct RaysArgs {
+    /// Scene specs or .gltf/.glb paths, comma separated (default: every built-in scene).
+    #[arg(long, value_name = "A,B")]
+    scenes: Option<String>,
+    /// One camera ray per pixel, and the reference render's size.
+    #[arg(long, default_value = "256x256", value_name = "WxH")]
+    size: Size,
+    /// Threads [default: one per logical core].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+    /// Rounds each ray set is cast (the table gives the median and the spread).
+    #[arg(long, default_value_t = 5, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=100))]
+    rounds: u32,
+    /// Also write the table to this markdown file.
+    #[arg(long, value_name = "FILE.md")]
+    markdown: Option<PathBuf>,
+    #[command(flatten)]
+    reference: RefArgs,
+}
+
+fn rays(args: RaysArgs) -> Result<ExitCode> {
+    let scenes = match scene_list(args.scenes)? {
+        specs if specs.is_empty() => harness::builtin_scene_names(),
+        specs => specs,
+    };
+    let options = harness::rays::RaysOptions {
+        scenes,
+        size: args.size,
+        threads: args.threads.map(|t| t as usize),
+        rounds: args.rounds,
+        reference: args.reference.reference(),
+    };
+    let markdown = harness::rays::markdown(&harness::rays::measure(&options)?);
+    out!("{markdown}");
+    if let Some(path) = args.markdown {
+        std::fs::write(&path, &markdown)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 /// The adapter line and a markdown table, as compare, sweep and bench print them.
 fn print_table(ctx: &gpu::Context, timer_kind: &str, markdown: &str) {
     outln!("adapter: {} (timer: {timer_kind})", ctx.summary);
@@ -445,6 +495,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             markdown,
         } => report(&results, &techniques, &markdown),
         Command::ExportScene { scene, out } => export_scene(&scene, &out),
+        Command::Rays(args) => rays(args),
     }
 }
 

@@ -494,6 +494,7 @@ fn every_option_has_help_and_the_environment_is_named() {
         "pareto",
         "report",
         "export-scene",
+        "rays",
     ] {
         let out = harness(&[command, "--help"]);
         let help = String::from_utf8_lossy(&out.stdout).into_owned();
@@ -511,4 +512,66 @@ fn every_option_has_help_and_the_environment_is_named() {
             );
         }
     }
+}
+
+/// `harness rays` measures the four ray sets and splits a reference render, prints the table
+/// and writes it: every rate positive, every set's rays counted, the render's phases within its
+/// total, the thread count it was asked for. A bad thread count is refused in one line.
+#[test]
+fn rays_reports_the_reference_throughput_and_its_render_split() {
+    let md = tmp("rays.md");
+    let out = harness(&[
+        "rays",
+        "--scenes",
+        "cornell-sphere,smoke",
+        "--size",
+        "24x16",
+        "--threads",
+        "1",
+        "--rounds",
+        "2",
+        "--ref-photons",
+        "20000",
+        "--markdown",
+        md.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(std::fs::read_to_string(&md).unwrap(), stdout);
+    assert!(stdout.contains(": 1 thread of "), "{stdout}");
+    let cells = |row: &str| -> Vec<String> {
+        let line = stdout.lines().find(|l| l.starts_with(&format!("| {row}")));
+        let line = line.unwrap_or_else(|| panic!("no row {row}: {stdout}"));
+        line.split('|').map(|c| c.trim().to_string()).collect()
+    };
+    for set in [
+        "coherent closest-hit",
+        "incoherent closest-hit",
+        "coherent any-hit",
+        "incoherent any-hit",
+    ] {
+        let row = cells(set);
+        let rays: usize = row[3].parse().unwrap();
+        let median: f64 = row[5].parse().unwrap();
+        assert!(rays > 0 && rays <= 24 * 16, "{set}: {row:?}");
+        assert!(median > 0.0 && median.is_finite(), "{set}: {row:?}");
+    }
+    let seconds = |row: &str| -> f64 { cells(row)[2].parse().unwrap() };
+    let total = seconds("whole render");
+    let phases = seconds("BVH build") + seconds("eye pass") + seconds("light pass");
+    assert!(
+        total > 0.0 && phases <= total * 1.001 + 1e-3,
+        "{phases} of {total}: {stdout}"
+    );
+    assert!(stdout.contains("20000 photons"), "{stdout}");
+    assert!(
+        stdout.contains("## smoke") && stdout.contains("| smoke | "),
+        "{stdout}"
+    );
+    let e = fails(&["rays", "--scenes", "cornell-sphere", "--threads", "0"]);
+    assert!(e.contains("--threads"), "{e}");
 }

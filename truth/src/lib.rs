@@ -12,6 +12,9 @@
 //! - [`metrics`]: RMSE, PSNR, FLIP (nv-flip), masked FLIP, NaN count, sRGB conversion.
 //! - [`techniques`]: the reference as a `scene::Technique` (`reference`), for the harness's
 //!   registry.
+//! - [`throughput`]: rays per second of the reference's BVH on four fixed ray sets (coherent
+//!   and incoherent, closest-hit and any-hit), what `harness rays` reports beside the
+//!   reference's time by phase and part ([`reference::render_profiled`]).
 //!
 //! This is its own crate, beside `scene`, so that a technique crate (which depends on `gpu` and
 //! `scene` only) never compiles rayon or nv-flip: technique crates use `truth` as a
@@ -24,6 +27,7 @@ pub mod metrics;
 pub mod reference;
 pub mod scattering;
 mod technique;
+pub mod throughput;
 
 pub use technique::ReferenceTechnique;
 

@@ -40,17 +40,15 @@ pub(super) const CHUNKS_PER_BATCH: usize = 32;
 
 /// The light pass. `depths` (view depth of each pixel's first surface, [`view_depths`]) hides
 /// photon beams behind surfaces; it is only read when the scene has a scattering medium.
-#[allow(clippy::too_many_arguments)]
+/// `clock` times the connections to the eye and the beams of a profiled render.
 pub(super) fn light_trace_with(
     scene: &Scene,
     bvh: &SceneBvh,
-    camera: &Camera,
-    time: f32,
-    width: u32,
-    height: u32,
+    (camera, time, width, height): (&Camera, f32, u32, u32),
     opts: &ReferenceOptions,
     setup: &PhotonSetup,
     depths: &[f32],
+    clock: &PartClock,
 ) -> LightTrace {
     let n_lights = scene.lights.len();
     let pixels = (width * height) as usize;
@@ -68,6 +66,7 @@ pub(super) fn light_trace_with(
         media: &media,
         medium,
         max_depth: opts.max_depth,
+        clock,
     };
     let eye = Eye::new(camera, width, height, &media, medium);
     let beams = medium.map(|m| BeamSplatter::new(m, camera, width, height, depths));
@@ -101,12 +100,14 @@ pub(super) fn light_trace_with(
                 &mut rays,
                 |_hit, s, albedo, dir, p| {
                     out.deposited[e.light] += p;
+                    let _timer = clock.timer(Part::Connections);
                     if let Some(splat) = eye.connect(bvh, s, albedo, dir, p, &mut eye_rays) {
                         out.splats.push(splat);
                     }
                 },
                 |origin, dir, length, p| {
                     if let Some(b) = &beams {
+                        let _timer = clock.timer(Part::Beams);
                         b.splat(origin, dir, length, p, beam_image);
                     }
                 },

@@ -222,8 +222,11 @@ use std::time::Instant;
 
 mod eye;
 mod light_trace;
+mod parts;
 use eye::*;
 use light_trace::*;
+use parts::{Part, PartClock};
+pub use parts::{RenderParts, RenderPhases};
 
 /// Eye-tree branches whose accumulated throughput is below this in every channel are
 /// dropped (documented bias below 1e-4 of the radiance behind them).
@@ -292,6 +295,8 @@ pub struct ReferenceStats {
     pub photon_rays: u64,
     /// Wall-clock seconds of the whole render (BVH build, eye pass, light pass).
     pub seconds: f64,
+    /// The same split by phase.
+    pub phases: RenderPhases,
     /// All rays above divided by `seconds`.
     pub rays_per_second: f64,
     /// Photons that landed on a diffuse surface after a specular interaction and were added
@@ -321,6 +326,30 @@ pub fn render(
     height: u32,
     opts: &ReferenceOptions,
 ) -> ReferenceImage {
+    let frame = (camera, time, width, height);
+    render_with(scene, frame, opts, &PartClock::new(false))
+}
+
+/// [`render`], with the time of its parts measured on every thread (the image is the same).
+pub fn render_profiled(
+    scene: &Scene,
+    camera: &Camera,
+    time: f32,
+    width: u32,
+    height: u32,
+    opts: &ReferenceOptions,
+) -> (ReferenceImage, RenderParts) {
+    let clock = PartClock::new(true);
+    let image = render_with(scene, (camera, time, width, height), opts, &clock);
+    (image, clock.parts(rayon::current_num_threads()))
+}
+
+fn render_with(
+    scene: &Scene,
+    (camera, time, width, height): (&Camera, f32, u32, u32),
+    opts: &ReferenceOptions,
+    clock: &PartClock,
+) -> ReferenceImage {
     let start = Instant::now();
     let bvh = SceneBvh::build(scene, time);
     let media = Media::new(scene, time);
@@ -330,7 +359,9 @@ pub fn render(
         media: &media,
         medium: scene.medium.as_ref(),
         max_depth: opts.max_depth,
+        clock,
     };
+    let bvh_seconds = start.elapsed().as_secs_f64();
     let eye_pass = EyePass {
         tracer: &tracer,
         camera,
@@ -345,10 +376,12 @@ pub fn render(
         spp: opts.samples_per_pixel.max(1),
     };
     // Eye pass, one row per task; rows come back in order.
+    let eye_start = Instant::now();
     let rows: Vec<Row> = (0..height)
         .into_par_iter()
         .map(|y| eye_pass.row(y))
         .collect();
+    let eye_seconds = eye_start.elapsed().as_secs_f64();
 
     let mut image = HdrImage {
         width,
@@ -368,12 +401,12 @@ pub fn render(
     }
 
     // Light pass: caustics.
+    let light_start = Instant::now();
     let mut photons_stored = 0;
     if opts.photons > 0 {
         let setup = PhotonSetup::caustics(scene);
-        let lt = light_trace_with(
-            scene, &bvh, camera, time, width, height, opts, &setup, &depths,
-        );
+        let frame = (camera, time, width, height);
+        let lt = light_trace_with(scene, &bvh, frame, opts, &setup, &depths, clock);
         for (px, add) in image.pixels.iter_mut().zip(&lt.radiance) {
             px[0] += add.x;
             px[1] += add.y;
@@ -383,6 +416,7 @@ pub fn render(
         photons_stored = lt.photons_stored;
     }
 
+    let light_seconds = light_start.elapsed().as_secs_f64();
     let seconds = start.elapsed().as_secs_f64();
     let rays = counts.camera + counts.shadow + counts.photon;
     ReferenceImage {
@@ -394,6 +428,11 @@ pub fn render(
             shadow_rays: counts.shadow,
             photon_rays: counts.photon,
             seconds,
+            phases: RenderPhases {
+                bvh_seconds,
+                eye_seconds,
+                light_seconds,
+            },
             rays_per_second: if seconds > 0.0 {
                 rays as f64 / seconds
             } else {
@@ -532,9 +571,9 @@ pub fn light_trace(
     } else {
         vec![]
     };
-    light_trace_with(
-        scene, &bvh, camera, time, width, height, opts, setup, &depths,
-    )
+    let frame = (camera, time, width, height);
+    let clock = PartClock::new(false);
+    light_trace_with(scene, &bvh, frame, opts, setup, &depths, &clock)
 }
 
 /// One row of the eye pass.
@@ -657,6 +696,8 @@ struct Tracer<'a> {
     /// The scattering medium every ray, photon and shadow ray is attenuated by.
     medium: Option<&'a Medium>,
     max_depth: u32,
+    /// Times the parts of a profiled render ([`render_profiled`]).
+    clock: &'a PartClock,
 }
 
 impl Tracer<'_> {
@@ -695,6 +736,9 @@ impl Tracer<'_> {
         primary: bool,
         c: &mut Counts,
     ) -> Vec3 {
+        // Timed only where there are media (a clock read costs about what a ray step does).
+        let has_media = !self.media.is_empty() || self.medium.is_some();
+        let _timer = has_media.then(|| self.clock.timer(Part::EyeMedia));
         let l = self.media.composite(origin, dir, t_hit, behind);
         let Some(m) = self.medium else {
             return l;
@@ -774,6 +818,7 @@ impl Tracer<'_> {
 
     /// `sum_lights rho / pi * I * max(0, n_s . l) / d^2 * V`.
     fn direct_light(&self, s: &Surface, albedo: Vec3, c: &mut Counts) -> Vec3 {
+        let _timer = self.clock.timer(Part::DirectLight);
         let origin = s.above();
         let mut sum = Vec3::ZERO;
         for light in &self.scene.lights {

@@ -1,0 +1,256 @@
+//! Rays per second of the reference's BVH (`scene::bvh::SceneBvh`, built by obvhs), measured
+//! as ray-tracing papers and Mitsuba's benchmarks measure a traversal: fixed sets of rays cast
+//! one at a time on every thread of rayon's pool, each set timed apart.
+//!
+//! Four sets, each as many rays as the image has pixels:
+//!
+//! - *coherent closest-hit*: one camera ray through each pixel centre (`Camera::ray`), what the
+//!   reference's eye pass starts with;
+//! - *incoherent closest-hit*: rays from random points in the scene's bounds in random
+//!   directions (uniform on the sphere), like the photons of the light pass;
+//! - *coherent any-hit*: the eye pass's shadow rays, from each pixel's first surface (pushed
+//!   off it as the reference pushes) to the scene's first light;
+//! - *incoherent any-hit*: segments between two random points of the scene's bounds.
+//!
+//! The rays are made once, before any is timed; each set is cast `rounds` times and each
+//! round's rate kept, so a table can give the median and the spread.
+
+use glam::Vec3;
+use rayon::prelude::*;
+use scene::bvh::SceneBvh;
+use scene::{Camera, Scene};
+use std::time::Instant;
+
+/// What a ray asks of the BVH.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Query {
+    /// The nearest hit (`SceneBvh::closest_hit`).
+    Closest,
+    /// Whether anything lies on the segment (`SceneBvh::any_hit`): a shadow ray.
+    Any,
+}
+
+/// One ray of a set: origin, unit direction, largest distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TestRay {
+    pub origin: Vec3,
+    pub dir: Vec3,
+    pub t_max: f32,
+}
+
+/// A named set of rays and the query they make.
+#[derive(Clone, Debug)]
+pub struct RaySet {
+    pub name: &'static str,
+    pub query: Query,
+    pub rays: Vec<TestRay>,
+}
+
+/// The four sets of the module documentation for `camera` at `width` x `height` (random points
+/// and directions from `seed`).
+pub fn ray_sets(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    camera: &Camera,
+    (width, height): (u32, u32),
+    seed: u32,
+) -> Vec<RaySet> {
+    let camera_rays: Vec<TestRay> = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (origin, dir) = camera.ray(x as f32 + 0.5, y as f32 + 0.5, width, height);
+            TestRay {
+                origin,
+                dir,
+                t_max: f32::INFINITY,
+            }
+        })
+        .collect();
+    let count = camera_rays.len();
+    let shadow_rays = shadow_rays(scene, bvh, &camera_rays);
+    let mut random = Random(seed);
+    let (low, high) = bvh.bounds();
+    let mut point = || low + (high - low) * Vec3::new(random.unit(), random.unit(), random.unit());
+    let mut scattered = Vec::with_capacity(count);
+    let mut segments = Vec::with_capacity(count);
+    while segments.len() < count {
+        let (a, b, c) = (point(), point(), point());
+        // A direction uniform on the sphere: the normalised difference of two points of a box
+        // is not, so it is drawn from the unit ball by rejection.
+        let d = (b - c) / (high - low).max(Vec3::splat(1e-6));
+        if d.length_squared() > 1.0 || d.length_squared() < 1e-8 {
+            continue;
+        }
+        scattered.push(TestRay {
+            origin: a,
+            dir: d.normalize(),
+            t_max: f32::INFINITY,
+        });
+        let (to, length) = ((b - a).normalize_or_zero(), (b - a).length());
+        if length > 0.0 {
+            segments.push(TestRay {
+                origin: a,
+                dir: to,
+                t_max: length,
+            });
+        }
+    }
+    scattered.truncate(count);
+    vec![
+        RaySet {
+            name: "coherent closest-hit (camera rays)",
+            query: Query::Closest,
+            rays: camera_rays,
+        },
+        RaySet {
+            name: "incoherent closest-hit (random rays in the bounds)",
+            query: Query::Closest,
+            rays: scattered,
+        },
+        RaySet {
+            name: "coherent any-hit (the eye pass's shadow rays)",
+            query: Query::Any,
+            rays: shadow_rays,
+        },
+        RaySet {
+            name: "incoherent any-hit (random segments in the bounds)",
+            query: Query::Any,
+            rays: segments,
+        },
+    ]
+}
+
+/// From each camera ray's first surface to the first light (none where the scene has no
+/// light or the ray no surface).
+fn shadow_rays(scene: &Scene, bvh: &SceneBvh, camera_rays: &[TestRay]) -> Vec<TestRay> {
+    let Some(light) = scene.lights.first() else {
+        return Vec::new();
+    };
+    camera_rays
+        .iter()
+        .filter_map(|r| {
+            let hit = bvh.closest_hit(r.origin, r.dir, r.t_max)?;
+            let facing = if hit.geometric_normal.dot(r.dir) < 0.0 {
+                hit.geometric_normal
+            } else {
+                -hit.geometric_normal
+            };
+            let origin = hit.position + facing * crate::offset_epsilon(hit.position);
+            let (dir, t_max) = light.shadow_ray(origin)?;
+            Some(TestRay { origin, dir, t_max })
+        })
+        .collect()
+}
+
+/// A set's rays cast `rounds` times: the rays, how many hit, and each round's seconds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Throughput {
+    pub name: &'static str,
+    pub query: Query,
+    pub rays: usize,
+    pub hits: usize,
+    pub round_seconds: Vec<f64>,
+}
+
+impl Throughput {
+    /// Millions of rays per second of each round, slowest first.
+    pub fn mrays_per_second(&self) -> Vec<f64> {
+        let mut rates: Vec<f64> = self
+            .round_seconds
+            .iter()
+            .map(|s| self.rays as f64 / s / 1e6)
+            .collect();
+        rates.sort_by(f64::total_cmp);
+        rates
+    }
+
+    /// The median round's rate (millions of rays per second).
+    pub fn median(&self) -> f64 {
+        let rates = self.mrays_per_second();
+        rates.get(rates.len() / 2).copied().unwrap_or(0.0)
+    }
+}
+
+/// Rays per task: enough that rayon's scheduling is a small share, few enough to balance.
+const CHUNK: usize = 1024;
+
+/// Casts `set` `rounds` times on rayon's current pool.
+pub fn measure(bvh: &SceneBvh, set: &RaySet, rounds: u32) -> Throughput {
+    let cast = |r: &TestRay| match set.query {
+        Query::Closest => bvh.closest_hit(r.origin, r.dir, r.t_max).is_some(),
+        Query::Any => bvh.any_hit(r.origin, r.dir, r.t_max),
+    };
+    let mut hits = 0;
+    let mut round_seconds = Vec::new();
+    for _ in 0..rounds.max(1) {
+        let start = Instant::now();
+        hits = set
+            .rays
+            .par_chunks(CHUNK)
+            .map(|chunk| chunk.iter().filter(|r| cast(r)).count())
+            .sum();
+        round_seconds.push(start.elapsed().as_secs_f64().max(1e-9));
+    }
+    Throughput {
+        name: set.name,
+        query: set.query,
+        rays: set.rays.len(),
+        hits,
+        round_seconds,
+    }
+}
+
+/// A small deterministic generator (PCG hash of a counter), uniform in [0, 1).
+struct Random(u32);
+
+impl Random {
+    fn unit(&mut self) -> f32 {
+        self.0 = gpu::prelude::pcg_hash(self.0);
+        (self.0 >> 8) as f32 / (1u32 << 24) as f32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every set has one ray per pixel (the shadow rays: one per pixel that sees a surface and
+    /// a light), unit directions and positive lengths; casting them finds what the BVH finds
+    /// ray by ray; the rounds are kept and their median lies among them.
+    #[test]
+    fn sets_are_what_they_say_and_measuring_counts_their_hits() {
+        let scene = scene::load("cornell-sphere").unwrap();
+        let bvh = SceneBvh::build(&scene, 0.0);
+        let sets = ray_sets(&scene, &bvh, &scene.camera, (16, 12), 7);
+        assert_eq!(sets.len(), 4);
+        for set in &sets {
+            let expected = if set.query == Query::Any && set.name.contains("shadow") {
+                assert!(!set.rays.is_empty() && set.rays.len() <= 16 * 12);
+                set.rays.len()
+            } else {
+                16 * 12
+            };
+            assert_eq!(set.rays.len(), expected, "{}", set.name);
+            for r in &set.rays {
+                assert!((r.dir.length() - 1.0).abs() < 1e-4, "{}: {r:?}", set.name);
+                assert!(r.t_max > 0.0, "{}: {r:?}", set.name);
+            }
+            let measured = measure(&bvh, set, 3);
+            let hits = set
+                .rays
+                .iter()
+                .filter(|r| match set.query {
+                    Query::Closest => bvh.closest_hit(r.origin, r.dir, r.t_max).is_some(),
+                    Query::Any => bvh.any_hit(r.origin, r.dir, r.t_max),
+                })
+                .count();
+            assert_eq!(measured.hits, hits, "{}", set.name);
+            assert_eq!(measured.round_seconds.len(), 3);
+            let rates = measured.mrays_per_second();
+            assert!(rates[0] <= measured.median() && measured.median() <= rates[2]);
+        }
+        // Inside the closed box every camera ray and every random ray meets a wall.
+        assert_eq!(measure(&bvh, &sets[0], 1).hits, 16 * 12);
+        assert_eq!(measure(&bvh, &sets[1], 1).hits, 16 * 12);
+    }
+}
