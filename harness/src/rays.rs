@@ -3,6 +3,7 @@
 //! and one reference render of the scene's view split into its phases and parts
 //! ([`truth::reference::render_profiled`]), on a stated number of threads: the figures a
 //! comparison with another renderer (Mitsuba 3's ray casts on the same exported scene) needs.
+//! Everything is seen by the scene's own camera at time 0.
 
 use crate::provenance::Provenance;
 use crate::{CpuReference, Size};
@@ -67,7 +68,9 @@ fn measure_scene(
     pool: &rayon::ThreadPool,
 ) -> Result<RaysReport> {
     let (w, h) = (options.size.width, options.size.height);
-    let camera = scene.camera_at(0.0);
+    // The scene's own camera, the one `harness export-scene` writes: another renderer given the
+    // exported file casts the same camera rays.
+    let camera = scene.camera;
     let reference = options.reference.options_for(w, h);
     pool.install(|| {
         let bvh = scene::bvh::SceneBvh::build(scene, 0.0);
