@@ -392,12 +392,8 @@ struct RaysArgs {
 }
 
 fn rays(args: RaysArgs) -> Result<ExitCode> {
-    let scenes = match scene_list(args.scenes)? {
-        specs if specs.is_empty() => harness::builtin_scene_names(),
-        specs => specs,
-    };
     let options = harness::rays::RaysOptions {
-        scenes,
+        scenes: scene_list(args.scenes)?,
         size: args.size,
         threads: args.threads.map(|t| t as usize),
         rounds: args.rounds,

@@ -15,7 +15,7 @@ use truth::throughput::{Query, Throughput};
 /// What `harness rays` measures.
 #[derive(Clone, Debug)]
 pub struct RaysOptions {
-    /// Built-in scene specs or .gltf/.glb paths.
+    /// Built-in scene specs or .gltf/.glb paths (none: every built-in scene).
     pub scenes: Vec<String>,
     /// The image: one camera ray per pixel, and the size of the reference render.
     pub size: Size,
@@ -45,8 +45,11 @@ pub struct RaysReport {
 /// Runs the measurements of every scene in turn on a pool of `options.threads` threads
 /// (every scene loaded first, so a bad one fails before any is measured).
 pub fn measure(options: &RaysOptions) -> Result<Vec<RaysReport>> {
-    let scenes = options
-        .scenes
+    let specs = match options.scenes.is_empty() {
+        true => crate::builtin_scene_names(),
+        false => options.scenes.clone(),
+    };
+    let scenes = specs
         .iter()
         .map(|spec| Ok((spec, crate::load_scene(spec)?)))
         .collect::<Result<Vec<_>>>()?;
@@ -94,8 +97,9 @@ fn measure_scene(
     })
 }
 
-/// The reports as markdown: what made them, a summary row per scene, then each scene's ray sets
-/// and render split.
+/// The reports as markdown: what made them, then three tables with a row per scene (or per
+/// scene and ray set): the rates and the render's phases, each ray set's spread, the render's
+/// phases and parts.
 pub fn markdown(reports: &[RaysReport]) -> String {
     let Some(first) = reports.first() else {
         return String::new();
@@ -133,20 +137,69 @@ pub fn markdown(reports: &[RaysReport]) -> String {
             stats.phases.light_seconds
         );
     }
-    md.push_str("\nRates in millions of rays per second (the median of the rounds).\n");
+    md.push_str(
+        "\nRates in millions of rays per second (the median of the rounds); times in seconds of \
+         one reference render of the view.\n\n## Ray sets\n\n",
+    );
+    md.push_str("| scene | ray set | query | rays | hits | Mrays/s (median) | min - max |\n");
+    md.push_str("| --- | --- | --- | --- | --- | --- | --- |\n");
     for r in reports {
-        md.push('\n');
-        md.push_str(&r.markdown());
+        md.push_str(&r.ray_set_rows());
     }
+    md.push_str(&split_table(reports));
+    md
+}
+
+/// The reference renders' phases and parts, a row per scene.
+fn split_table(reports: &[RaysReport]) -> String {
+    let mut md = String::from(
+        "\n## The reference render, by phase and part\n\n\
+         | scene | size | photons | camera rays | shadow rays | photon rays | whole s | BVH s | \
+         eye pass s | direct light s | media s | light pass s | connections s | beams s | \
+         profiled whole s |\n",
+    );
+    md.push_str(&"| --- ".repeat(15));
+    md.push_str("|\n");
+    for r in reports {
+        let (stats, phases) = (&r.plain.stats, &r.plain.stats.phases);
+        let parts = &r.profiled.1;
+        let _ = writeln!(
+            md,
+            "| {} | {}x{} | {} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | \
+             {:.3} | {:.3} | {:.3} |",
+            r.scene,
+            r.plain.image.width,
+            r.plain.image.height,
+            r.photons,
+            stats.camera_rays,
+            stats.shadow_rays,
+            stats.photon_rays,
+            stats.seconds,
+            phases.bvh_seconds,
+            phases.eye_seconds,
+            parts.direct_light_seconds,
+            parts.eye_media_seconds,
+            phases.light_seconds,
+            parts.connection_seconds,
+            parts.beam_seconds,
+            r.profiled.0.stats.seconds
+        );
+    }
+    md.push_str(
+        "\nThe phases (whole, BVH, eye pass, light pass) are wall-clock seconds of the render. \
+         The parts are timed in a second, profiled render of the same view, as the thread-seconds \
+         spent in each divided by the threads: direct light with its shadow rays and the media \
+         (the volumes, the medium's transmittance and in-scattering) inside the eye pass, the \
+         connections of landed photons to the eye and the photon beams inside the light pass. \
+         The profiled render's whole time against the first's is what timing them cost.\n",
+    );
     md
 }
 
 impl RaysReport {
-    /// One scene's section: the ray sets' rates, the render's split.
-    pub fn markdown(&self) -> String {
-        let mut md = format!("## {}\n\n{} triangles.\n\n", self.scene, self.triangles);
-        md.push_str("| ray set | query | rays | hits | Mrays/s (median) | min - max |\n");
-        md.push_str("| --- | --- | --- | --- | --- | --- |\n");
+    /// This scene's rows of the ray-set table.
+    fn ray_set_rows(&self) -> String {
+        let mut md = String::new();
         for t in &self.throughput {
             let rates = t.mrays_per_second();
             let (low, high) = (rates[0], rates[rates.len() - 1]);
@@ -156,84 +209,14 @@ impl RaysReport {
             };
             let _ = writeln!(
                 md,
-                "| {} | {query} | {} | {} | {:.2} | {low:.2} - {high:.2} |",
+                "| {} | {} | {query} | {} | {} | {:.2} | {low:.2} - {high:.2} |",
+                self.scene,
                 t.name,
                 t.rays,
                 t.hits,
                 t.median()
             );
         }
-        md.push('\n');
-        md.push_str(&self.split_markdown());
-        md
-    }
-
-    /// The reference render's seconds by phase and part.
-    fn split_markdown(&self) -> String {
-        let plain = &self.plain.stats;
-        let (profiled, parts) = (&self.profiled.0.stats, &self.profiled.1);
-        let mut md = format!(
-            "Reference render, {} x {}, {} photons: {} camera, {} shadow and {} photon rays.\n\n",
-            self.plain.image.width,
-            self.plain.image.height,
-            self.photons,
-            plain.camera_rays,
-            plain.shadow_rays,
-            plain.photon_rays
-        );
-        md.push_str("| part | seconds | share | profiled run |\n| --- | --- | --- | --- |\n");
-        let row = |md: &mut String, name: &str, plain: Option<f64>, profiled: f64| {
-            let total = self.plain.stats.seconds.max(1e-9);
-            let (seconds, share) = match plain {
-                Some(s) => (format!("{s:.3}"), format!("{:.0} %", 100.0 * s / total)),
-                None => ("".into(), "".into()),
-            };
-            let _ = writeln!(md, "| {name} | {seconds} | {share} | {profiled:.3} |");
-        };
-        let (phases, profiled_phases) = (&plain.phases, &profiled.phases);
-        row(
-            &mut md,
-            "whole render",
-            Some(plain.seconds),
-            profiled.seconds,
-        );
-        row(
-            &mut md,
-            "BVH build",
-            Some(phases.bvh_seconds),
-            profiled_phases.bvh_seconds,
-        );
-        row(
-            &mut md,
-            "eye pass",
-            Some(phases.eye_seconds),
-            profiled_phases.eye_seconds,
-        );
-        row(
-            &mut md,
-            "- direct light and its shadow rays",
-            None,
-            parts.direct_light_seconds,
-        );
-        row(&mut md, "- media", None, parts.eye_media_seconds);
-        row(
-            &mut md,
-            "light pass (photons)",
-            Some(phases.light_seconds),
-            profiled_phases.light_seconds,
-        );
-        row(
-            &mut md,
-            "- connections to the eye",
-            None,
-            parts.connection_seconds,
-        );
-        row(&mut md, "- photon beams", None, parts.beam_seconds);
-        md.push_str(
-            "\nThe parts (rows starting with -) are timed only in a second, profiled render: \
-             the thread-seconds spent in each, divided by the threads. Its column's whole \
-             render against the first's is what timing them cost.\n",
-        );
         md
     }
 }

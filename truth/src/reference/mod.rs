@@ -226,7 +226,7 @@ mod parts;
 use eye::*;
 use light_trace::*;
 use parts::{Part, PartClock};
-pub use parts::{RenderParts, RenderPhases};
+pub use parts::{ReferenceStats, RenderParts, RenderPhases};
 
 /// Eye-tree branches whose accumulated throughput is below this in every channel are
 /// dropped (documented bias below 1e-4 of the radiance behind them).
@@ -280,28 +280,6 @@ impl ReferenceOptions {
             ..Self::default()
         }
     }
-}
-
-/// What a render cost. Every ray cast is counted once.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ReferenceStats {
-    /// Closest-hit rays of the eye pass: primary rays (plus one centre ray per pixel for ids
-    /// when `samples_per_pixel > 1`) and every reflected or refracted ray.
-    pub camera_rays: u64,
-    /// Any-hit rays from diffuse points of the eye pass to the lights.
-    pub shadow_rays: u64,
-    /// Rays of the light pass: every photon path segment plus each landed photon's
-    /// visibility ray to the eye.
-    pub photon_rays: u64,
-    /// Wall-clock seconds of the whole render (BVH build, eye pass, light pass).
-    pub seconds: f64,
-    /// The same split by phase.
-    pub phases: RenderPhases,
-    /// All rays above divided by `seconds`.
-    pub rays_per_second: f64,
-    /// Photons that landed on a diffuse surface after a specular interaction and were added
-    /// to a pixel (visible to the eye).
-    pub photons_stored: u64,
 }
 
 /// A reference image with the per-pixel bookkeeping the metrics need.

@@ -1,10 +1,32 @@
-//! Where a reference render's time goes: its phases (BVH build, eye pass, light pass), always
-//! measured, and inside them the parts a profiled render ([`render_profiled`]) times on every
+//! What a reference render cost: its rays ([`ReferenceStats`]), its phases (BVH build, eye pass,
+//! light pass), always measured, and inside them the parts a profiled render ([`render_profiled`]) times on every
 //! thread: direct light with its shadow rays, the eye pass's media, the light pass's connections
 //! to the eye and its photon beams.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
+
+/// What a render cost. Every ray cast is counted once.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReferenceStats {
+    /// Closest-hit rays of the eye pass: primary rays (plus one centre ray per pixel for ids
+    /// when `samples_per_pixel > 1`) and every reflected or refracted ray.
+    pub camera_rays: u64,
+    /// Any-hit rays from diffuse points of the eye pass to the lights.
+    pub shadow_rays: u64,
+    /// Rays of the light pass: every photon path segment plus each landed photon's
+    /// visibility ray to the eye.
+    pub photon_rays: u64,
+    /// Wall-clock seconds of the whole render (BVH build, eye pass, light pass).
+    pub seconds: f64,
+    /// The same split by phase.
+    pub phases: RenderPhases,
+    /// All rays above divided by `seconds`.
+    pub rays_per_second: f64,
+    /// Photons that landed on a diffuse surface after a specular interaction and were added
+    /// to a pixel (visible to the eye).
+    pub photons_stored: u64,
+}
 
 /// Wall-clock seconds of a render's phases (they add up to its `seconds`, to the bookkeeping
 /// between them).
