@@ -4,7 +4,8 @@
 //! whole scene model (so an edited built-in scene or glTF file is never served stale), the
 //! camera, the time and the size. The `.json` file holds the full key and the renderer's
 //! statistics; an entry is used only when its stored key matches exactly. Delete the folder to
-//! force new references.
+//! force new references. A miss says why ([`miss_reason`]): the cache holds no entry of the
+//! scene, or what its nearest entry differs in.
 
 use crate::{GroundTruth, Reference, ReferenceStats, Size, images};
 use anyhow::{Context as _, Result};
@@ -79,8 +80,30 @@ fn stem(dir: &Path, key: &str) -> PathBuf {
     dir.join(format!("reference-{:016x}", h.0))
 }
 
-/// The reference for this view, from `cache_dir` if present, else rendered and stored.
-/// Returns it and whether it came from the cache. A broken cache entry is re-rendered.
+/// Where a reference came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Cached {
+    /// The cache's entry for this exact key.
+    Hit,
+    /// Rendered, and why the cache could not serve it ([`miss_reason`]).
+    Miss(String),
+}
+
+/// Whether `cache_dir` holds this view's reference, and if not, why ([`miss_reason`]): what
+/// a run asks of every view before it renders any, so that the reasons describe the cache as
+/// the run found it.
+pub fn status(cache_dir: &Path, truth: &dyn GroundTruth, view: &RefView) -> Cached {
+    let key = reference_key(truth, view);
+    let json = stem(cache_dir, &key).with_extension("json");
+    let entry = std::fs::read_to_string(json).ok();
+    match entry.and_then(|text| serde_json::from_str::<Entry>(&text).ok()) {
+        Some(entry) if entry.key == key => Cached::Hit,
+        _ => Cached::Miss(miss_reason(cache_dir, &key)),
+    }
+}
+
+/// The reference for this view, from `cache_dir` if present, else rendered and stored; the
+/// second value says whether it came from the cache. A broken cache entry is re-rendered.
 pub fn reference(
     cache_dir: &Path,
     truth: &dyn GroundTruth,
@@ -126,6 +149,54 @@ pub fn reference(
     Ok((reference, false))
 }
 
+/// The parts of a key ([`reference_key`]) with what a difference in each means to a user.
+const KEY_PARTS: [(&str, &str); 6] = [
+    ("v", "the cache's format"),
+    ("cpu-reference", "the ground truth's options (--ref-*)"),
+    (
+        "scene",
+        "the scene model (an edited scene or glTF file, or another version of a built-in scene)",
+    ),
+    ("camera", "the camera"),
+    ("time", "the time"),
+    ("size", "the image size"),
+];
+
+/// Why `cache_dir` holds no entry for `key`: that it holds none of this scene, or what the
+/// nearest entry of the same scene (the fewest parts different) differs in.
+pub fn miss_reason(cache_dir: &Path, key: &str) -> String {
+    let parts = |k: &str| k.split(" | ").map(str::to_string).collect::<Vec<_>>();
+    let wanted = parts(key);
+    let spec_of = |p: &[String]| {
+        p.get(2)
+            .and_then(|s| s.rsplit_once(" #"))
+            .map(|s| s.0.to_string())
+    };
+    let entries: Vec<Vec<String>> = std::fs::read_dir(cache_dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter(|e| e.path().extension().is_some_and(|x| x == "json"))
+        .filter_map(|e| std::fs::read_to_string(e.path()).ok())
+        .filter_map(|text| serde_json::from_str::<Entry>(&text).ok())
+        .map(|entry| parts(&entry.key))
+        .filter(|p| p.len() == wanted.len() && spec_of(p) == spec_of(&wanted))
+        .collect();
+    let differing = |p: &Vec<String>| -> Vec<&str> {
+        (0..wanted.len())
+            .filter(|&i| p[i] != wanted[i])
+            .map(|i| KEY_PARTS.get(i).map_or("the key", |(_, what)| *what))
+            .collect()
+    };
+    match entries.iter().map(differing).min_by_key(|d| d.len()) {
+        None => "no cached reference of this scene".into(),
+        Some(d) => format!(
+            "the nearest cached reference of this scene differs in {}",
+            d.join(" and ")
+        ),
+    }
+}
+
 fn load(
     paths: &(PathBuf, PathBuf, PathBuf),
     key: &str,
@@ -147,4 +218,52 @@ fn load(
         mask,
         stats: entry.stats,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(options: &str, hash: &str, time: &str) -> String {
+        format!(
+            "v3 | cpu-reference {options} | scene my.glb #{hash} | camera C | time {time} | size 64x64"
+        )
+    }
+
+    fn store(dir: &Path, key: &str) {
+        let entry = Entry {
+            key: key.to_string(),
+            stats: ReferenceStats::default(),
+        };
+        let path = stem(dir, key).with_extension("json");
+        std::fs::write(path, serde_json::to_string(&entry).unwrap()).unwrap();
+    }
+
+    /// A miss names what the nearest cached entry of the same scene differs in (the fewest
+    /// parts), or that the cache holds none of the scene; `status` finds a stored key.
+    #[test]
+    fn a_miss_names_what_the_nearest_entry_of_the_scene_differs_in() {
+        let dir = std::env::temp_dir().join(format!("harness-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let none = "no cached reference of this scene";
+        assert_eq!(miss_reason(&dir, &key("a", "01", "0")), none);
+        store(&dir, &key("a", "01", "0"));
+        store(&dir, &key("b", "02", "0.5"));
+        let says = |k: &str, what: &str| {
+            let reason = miss_reason(&dir, k);
+            assert!(reason.ends_with(&format!("differs in {what}")), "{reason}");
+        };
+        says(&key("a", "02", "0"), KEY_PARTS[2].1);
+        says(&key("a", "01", "1"), "the time");
+        says(&key("c", "01", "0"), "the ground truth's options (--ref-*)");
+        says(
+            &key("c", "03", "2"),
+            "the ground truth's options (--ref-*) and the scene model \
+             (an edited scene or glTF file, or another version of a built-in scene) and the time",
+        );
+        let other_scene = key("a", "01", "0").replace("my.glb", "other.glb");
+        assert_eq!(miss_reason(&dir, &other_scene), none);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

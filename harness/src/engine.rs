@@ -362,6 +362,45 @@ impl Run<'_> {
         Ok(())
     }
 
+    /// Records each reference of the scene in the report, and says in one line how many were
+    /// rendered rather than read from the cache, and why.
+    fn note_references(
+        &self,
+        loaded: &LoadedScene,
+        timed: &[(TimedReference, cache::Cached)],
+        report: &mut RunReport,
+    ) {
+        let mut reasons: Vec<String> = Vec::new();
+        for (r, cached) in timed {
+            let miss = match cached {
+                cache::Cached::Hit => None,
+                cache::Cached::Miss(reason) => Some(reason.clone()),
+            };
+            if let Some(reason) = miss.as_ref().filter(|r| !reasons.contains(r)) {
+                reasons.push(reason.clone());
+            }
+            report.references.push(ReferenceInfo {
+                scene: loaded.spec.clone(),
+                time: r.time,
+                cached: miss.is_none(),
+                miss,
+                stats: Some(r.reference.stats.clone()),
+                masked_pixels: r.reference.mask.iter().filter(|&&m| m).count(),
+                error: None,
+            });
+        }
+        if !reasons.is_empty() {
+            let rendered = timed.iter().filter(|(_, c)| *c != cache::Cached::Hit);
+            self.say(format!(
+                "{}: {} of {} references rendered ({})",
+                loaded.spec,
+                rendered.count(),
+                timed.len(),
+                reasons.join("; ")
+            ));
+        }
+    }
+
     /// The references at every error time of the scene, through the cache, their images
     /// written; none (and the error in the report) when the reference fails.
     fn references(
@@ -374,16 +413,7 @@ impl Run<'_> {
         let rendered = path_references(self.env, self.out, loaded, self.plan);
         let references = match rendered {
             Ok(timed) => {
-                for (r, cached) in &timed {
-                    report.references.push(ReferenceInfo {
-                        scene: loaded.spec.clone(),
-                        time: r.time,
-                        cached: *cached,
-                        stats: Some(r.reference.stats.clone()),
-                        masked_pixels: r.reference.mask.iter().filter(|&&m| m).count(),
-                        error: None,
-                    });
-                }
+                self.note_references(loaded, &timed, report);
                 let timed: Vec<TimedReference> = timed.into_iter().map(|(r, _)| r).collect();
                 let images: Vec<(f32, &gpu::HdrImage)> =
                     timed.iter().map(|r| (r.time, &r.reference.image)).collect();
@@ -409,6 +439,7 @@ impl Run<'_> {
                     scene: loaded.spec.clone(),
                     time: 0.0,
                     cached: false,
+                    miss: None,
                     stats: None,
                     masked_pixels: 0,
                     error: Some(format!("{e:#}")),
@@ -766,22 +797,40 @@ fn path_references(
     out: &Output,
     loaded: &LoadedScene,
     plan: &Plan,
-) -> Result<Vec<(TimedReference, bool)>> {
-    plan.frames
+) -> Result<Vec<(TimedReference, cache::Cached)>> {
+    let cache_dir = out.dir.join(".cache");
+    let views: Vec<RefView> = plan
+        .frames
         .error_times_for(&loaded.scene)
         .into_iter()
-        .map(|time| {
-            let view = RefView {
-                spec: &loaded.spec,
-                scene: &loaded.scene,
-                camera: loaded.scene.camera_at(time),
-                time,
-                size: plan.size,
+        .map(|time| RefView {
+            spec: &loaded.spec,
+            scene: &loaded.scene,
+            camera: loaded.scene.camera_at(time),
+            time,
+            size: plan.size,
+        })
+        .collect();
+    // Every view's status before any is rendered: the reasons describe the cache as found.
+    let found: Vec<cache::Cached> = views
+        .iter()
+        .map(|view| cache::status(&cache_dir, env.ground_truth, view))
+        .collect();
+    views
+        .iter()
+        .zip(found)
+        .map(|(view, found)| {
+            let time = view.time;
+            let (reference, cached) = cache::reference(&cache_dir, env.ground_truth, view)
+                .with_context(|| format!("reference at time {time}"))?;
+            let how = match (cached, found) {
+                (true, _) => cache::Cached::Hit,
+                (false, cache::Cached::Miss(reason)) => cache::Cached::Miss(reason),
+                (false, cache::Cached::Hit) => {
+                    cache::Cached::Miss("its cache entry could not be read back".into())
+                }
             };
-            let (reference, cached) =
-                cache::reference(&out.dir.join(".cache"), env.ground_truth, &view)
-                    .with_context(|| format!("reference at time {time}"))?;
-            Ok((TimedReference { time, reference }, cached))
+            Ok((TimedReference { time, reference }, how))
         })
         .collect()
 }

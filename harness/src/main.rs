@@ -249,7 +249,7 @@ enum Command {
     /// (coherent and incoherent, closest-hit and any-hit) and one reference render split into
     /// its phases and parts, on a stated number of threads (CPU only; no adapter)
     #[command(
-        after_help = "Example: harness rays --scene refraction-bunny --threads 2 --markdown rays.md"
+        after_help = "Example: harness rays --scenes refraction-bunny,my-scene.glb --threads 2 --markdown rays.md"
     )]
     Rays(RaysArgs),
     /// Writes a scene (built-in spec or glTF) as binary glTF.

@@ -17,6 +17,9 @@ pub struct ReferenceInfo {
     pub scene: String,
     pub time: f32,
     pub cached: bool,
+    /// Why the cache could not serve it (`cache::miss_reason`); none when it did.
+    #[serde(default)]
+    pub miss: Option<String>,
     pub stats: Option<ReferenceStats>,
     pub masked_pixels: usize,
     pub error: Option<String>,

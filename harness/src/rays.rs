@@ -150,23 +150,37 @@ pub fn markdown(reports: &[RaysReport]) -> String {
     md
 }
 
-/// The reference renders' phases and parts, a row per scene.
+/// The reference renders' phases and parts, a row per scene: the plain render's phases, then
+/// the profiled render's own phases with the parts inside them.
 fn split_table(reports: &[RaysReport]) -> String {
     let mut md = String::from(
         "\n## The reference render, by phase and part\n\n\
-         | scene | size | photons | camera rays | shadow rays | photon rays | whole s | BVH s | \
-         eye pass s | direct light s | media s | light pass s | connections s | beams s | \
-         profiled whole s |\n",
+         | scene | size | photons asked | camera rays | shadow rays | photon rays | whole s | \
+         BVH s | eye pass s | light pass s | profiled: whole s | eye pass s | direct light s | \
+         media s | light pass s | connections s | beams s |\n",
     );
-    md.push_str(&"| --- ".repeat(15));
+    md.push_str(&"| --- ".repeat(17));
     md.push_str("|\n");
     for r in reports {
         let (stats, phases) = (&r.plain.stats, &r.plain.stats.phases);
-        let parts = &r.profiled.1;
+        let (profiled, parts) = (&r.profiled.0.stats, &r.profiled.1);
+        let seconds = [
+            stats.seconds,
+            phases.bvh_seconds,
+            phases.eye_seconds,
+            phases.light_seconds,
+            profiled.seconds,
+            profiled.phases.eye_seconds,
+            parts.direct_light_seconds,
+            parts.eye_media_seconds,
+            profiled.phases.light_seconds,
+            parts.connection_seconds,
+            parts.beam_seconds,
+        ];
+        let seconds: Vec<String> = seconds.iter().map(|s| format!("{s:.3}")).collect();
         let _ = writeln!(
             md,
-            "| {} | {}x{} | {} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | \
-             {:.3} | {:.3} | {:.3} |",
+            "| {} | {}x{} | {} | {} | {} | {} | {} |",
             r.scene,
             r.plain.image.width,
             r.plain.image.height,
@@ -174,24 +188,18 @@ fn split_table(reports: &[RaysReport]) -> String {
             stats.camera_rays,
             stats.shadow_rays,
             stats.photon_rays,
-            stats.seconds,
-            phases.bvh_seconds,
-            phases.eye_seconds,
-            parts.direct_light_seconds,
-            parts.eye_media_seconds,
-            phases.light_seconds,
-            parts.connection_seconds,
-            parts.beam_seconds,
-            r.profiled.0.stats.seconds
+            seconds.join(" | ")
         );
     }
     md.push_str(
-        "\nThe phases (whole, BVH, eye pass, light pass) are wall-clock seconds of the render. \
-         The parts are timed in a second, profiled render of the same view, as the thread-seconds \
-         spent in each divided by the threads: direct light with its shadow rays and the media \
-         (the volumes, the medium's transmittance and in-scattering) inside the eye pass, the \
-         connections of landed photons to the eye and the photon beams inside the light pass. \
-         The profiled render's whole time against the first's is what timing them cost.\n",
+        "\nThe phases (whole, BVH, eye pass, light pass) are wall-clock seconds of a render; \
+         photons are asked of every scene, and traced only where a specular object casts \
+         caustics. A second, profiled render of the same view times the parts on every thread, \
+         as the thread-seconds spent in each divided by the threads, beside its own phases: \
+         direct light with its shadow rays and the media (the volumes, the medium's \
+         transmittance and in-scattering) inside its eye pass, the connections of landed \
+         photons to the eye and the photon beams inside its light pass. The two renders' \
+         wholes differ by the timers' cost and by the machine's run-to-run noise.\n",
     );
     md
 }

@@ -562,14 +562,17 @@ fn rays_reports_the_reference_throughput_and_its_render_split() {
             assert!(rays > 0 && rays <= 24 * 16, "{set}: {row:?}");
             assert!(median > 0.0 && median.is_finite(), "{set}: {row:?}");
         }
-        // | scene | size | photons | camera | shadow | photon | whole | BVH | eye | direct |
-        // media | light | connections | beams | profiled |
+        // | scene | size | photons | camera | shadow | photon | whole | BVH | eye | light |
+        // profiled: whole | eye | direct light | media | light | connections | beams |
         let split = cells(scene, "24x16");
         let seconds = |i: usize| -> f64 { split[i].parse().unwrap() };
         assert_eq!(split[3], "20000", "{split:?}");
-        let (whole, phases) = (seconds(7), seconds(8) + seconds(9) + seconds(12));
+        let (whole, phases) = (seconds(7), seconds(8) + seconds(9) + seconds(10));
         assert!(whole > 0.0 && phases <= whole * 1.001 + 1e-3, "{split:?}");
-        assert!(seconds(10) <= seconds(9) * 2.0 + 1e-3, "{split:?}");
+        let eye_parts = seconds(13) + seconds(14);
+        assert!(eye_parts <= seconds(12) * 1.05 + 1e-3, "{split:?}");
+        let light_parts = seconds(16) + seconds(17);
+        assert!(light_parts <= seconds(15) * 1.05 + 1e-3, "{split:?}");
     }
     let e = fails(&["rays", "--scenes", "cornell-sphere", "--threads", "0"]);
     assert!(e.contains("--threads"), "{e}");

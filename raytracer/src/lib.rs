@@ -15,7 +15,7 @@
 //!   in-scattering; the light pass of caustic photons into a fixed-point accumulator.
 //! * [`pass`]: the tracer as a pass of a renderer's own frame ([`pass::TracerPass`]): its
 //!   colour and depth formats, its camera's matrices, its world as a `scene::Scene`, no
-//!   `GpuScene` and no timer.
+//!   `GpuScene`, the timer optional.
 //! * [`technique`]: `raytracer/whitted`, `raytracer/caustics` and `raytracer/ray-query` (the
 //!   caustics variant with the hardware's ray queries in place of the BVH traversal, where the
 //!   adapter offers wgpu's experimental ray queries).

@@ -23,7 +23,9 @@
 //!   (`gpu::Frame::untimed` where it is not timed).
 //!
 //! Frames of an unchanged view (camera, time, size) add up their caustic photons, as in the
-//! harness: a still camera's caustics converge.
+//! harness: a still camera's caustics converge. One pass draws one view per submission: its
+//! uniforms and per-pixel buffers are the pass's own, so two views in one submission (a split
+//! screen) need two passes.
 
 use crate::resolve::{Resolve, ResolveParamsGpu};
 use crate::tracer::{GpuTracer, RayCounts, TracerSettings, Traversal};
@@ -171,10 +173,14 @@ pub fn camera_of(view: &EyeView) -> TechniqueResult<Camera> {
              `orthographic`, not off-centre or jittered)",
         );
     }
+    if !(p.y_axis.y > 0.0 && p.x_axis.x > 0.0) {
+        return refuse(
+            "a projection that keeps the view's x right and y up (this one mirrors an axis: \
+             flip the image after the pass instead)",
+        );
+    }
     let aspect = view.width as f32 / view.height as f32;
-    if !(p.y_axis.y > 0.0 && p.x_axis.x > 0.0)
-        || ((p.y_axis.y / p.x_axis.x) / aspect - 1.0).abs() > TOLERANCE
-    {
+    if ((p.y_axis.y / p.x_axis.x) / aspect - 1.0).abs() > TOLERANCE {
         return refuse(&format!(
             "square pixels: the projection's aspect ratio must be the targets' {}x{}",
             view.width, view.height

@@ -26,7 +26,7 @@ struct ResolveParams {
 @group(0) @binding(1) var<storage, read> eye_radiance: array<vec4f>;
 @group(0) @binding(2) var<storage, read> photon_counts: array<u32>;
 
-// What the eye pass marks a pixel without a first hit with (tracer.wgsl's INFINITY).
+// At or beyond this the eye pass found no first hit (it writes tracer.wgsl's INFINITY, 3.4e38).
 const NO_HIT_DEPTH: f32 = 1e30;
 
 // The fixed-point photon sum of channel c of pixel p (tracer.wgsl's add_fixed: 2^32 units per
@@ -235,16 +235,22 @@ impl Resolve {
 mod tests {
     use super::*;
 
-    /// A conventional projection's far limit is depth 1, a reversed one's 0, an orthographic
-    /// one's (finite far plane) clamped to 1.
+    /// A conventional projection's far limit is depth 1 and a reversed one's 0, perspective
+    /// (finite or infinite far plane) or orthographic (clamped).
     #[test]
     fn the_background_lies_at_the_projections_far_limit() {
         let conventional = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 100.0);
         let reversed = glam::camera::rh::proj::directx::perspective_infinite_reverse(1.0, 1.0, 0.1);
         let ortho = glam::camera::rh::proj::directx::orthographic(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0);
+        // Near and far swapped: reversed depth, finite.
+        let reversed_ortho =
+            glam::camera::rh::proj::directx::orthographic(-1.0, 1.0, -1.0, 1.0, 10.0, 0.1);
+        let reversed_finite = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 100.0, 0.1);
         let of = |p: &Mat4| ResolveParamsGpu::new((4, 4), false, 1, p).background_depth[0];
         assert_eq!(of(&conventional), 1.0);
         assert_eq!(of(&reversed), 0.0);
         assert_eq!(of(&ortho), 1.0);
+        assert_eq!(of(&reversed_ortho), 0.0);
+        assert_eq!(of(&reversed_finite), 0.0);
     }
 }

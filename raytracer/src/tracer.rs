@@ -661,6 +661,7 @@ impl GpuTracer {
         if self.moves && self.bvh_time != view.time {
             self.build_geometry(ctx, scene, view.time)?;
         }
+        check_pixel_buffers(ctx, width, height)?;
         self.ensure_pixels(ctx, width as u64 * height as u64);
         let photons = self.photons(width, height);
         let k = self.next_frame_of(view);
@@ -774,6 +775,24 @@ impl GpuTracer {
             photons_stored: counts[3] as u64,
         })
     }
+}
+
+/// The per-pixel buffers a `width` x `height` frame binds (the photon sum, 24 bytes a pixel, is
+/// the larger) must fit the device's storage binding limit: a sentence instead of a validation
+/// panic on a renderer's device with default limits (128 MiB: about 2560 x 2160).
+fn check_pixel_buffers(ctx: &Context, width: u32, height: u32) -> TechniqueResult<()> {
+    let bytes = width as u64 * height as u64 * 24;
+    let limit = ctx.device.limits().max_storage_buffer_binding_size as u64;
+    if bytes <= limit {
+        return Ok(());
+    }
+    Err(TechniqueError::Unsupported(format!(
+        "the ray tracer's photon sum for {width}x{height} is {} MiB, over this device's \
+         storage binding limit of {} MiB: request a device with a higher \
+         max_storage_buffer_binding_size (the adapter's own limit), or trace a smaller view",
+        bytes >> 20,
+        limit >> 20
+    )))
 }
 
 fn placeholder_group(ctx: &Context) -> wgpu::BindGroup {

@@ -151,7 +151,8 @@ fn into_float_targets_it_draws_the_harness_image_and_the_first_surfaces_depth() 
 }
 
 /// A reversed projection (infinite far plane, depth 1 at the near plane): the background at
-/// depth 0, the surfaces where that projection puts them.
+/// depth 0, the surfaces where that projection puts them; then the same view through a
+/// conventional projection, the background at 1.
 #[test]
 fn a_reversed_projection_gets_its_own_depth() {
     let ctx = testkit::context();
@@ -181,6 +182,19 @@ fn a_reversed_projection_gets_its_own_depth() {
             (d - e).abs() <= 1e-5 * e.max(1e-3) + 1e-9,
             "pixel {i}: {d} against {e}"
         );
+    }
+    // The same open view through a conventional projection: the background at depth 1.
+    let conventional = eye_view_of(&camera, SIZE, SIZE);
+    draw(ctx, &mut pass, &conventional, &targets);
+    let depth = gpu::read_texture_f32(ctx, &targets.depth, 0).unwrap();
+    let expected = expected_depth(&world, &camera, &conventional, 1.0);
+    assert_eq!(
+        depth.iter().filter(|&&d| d == 1.0).count(),
+        background,
+        "the background is where the reversed view found it"
+    );
+    for (i, (d, e)) in depth.iter().zip(&expected).enumerate() {
+        assert!((d - e).abs() <= 1e-5, "pixel {i}: {d} against {e}");
     }
 }
 
@@ -258,4 +272,13 @@ fn what_it_cannot_draw_is_refused() {
         error.contains("centred perspective or orthographic"),
         "{error}"
     );
+    // A view whose per-pixel buffers no device binds: refused before anything is allocated.
+    let huge = eye_view_of(&world().camera, 1 << 16, 1 << 16);
+    let refusal = Frame::untimed(ctx, &mut encoder, |frame| {
+        pass.draw(frame, &huge, 0.0, &color, &depth)
+    });
+    let error = refusal
+        .expect_err("a view too large is refused")
+        .to_string();
+    assert!(error.contains("storage binding limit"), "{error}");
 }

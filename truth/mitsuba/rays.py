@@ -13,7 +13,8 @@ The sets, each one ray per pixel of a --size image (random sets: as many rays):
 - incoherent closest-hit: rays from random points in the scene's bounds, directions uniform on
   the sphere;
 - coherent any-hit: from each camera ray's first surface, pushed off it by 1e-4 max(1, |p|)
-  toward the ray's side, to the file's first light;
+  toward the ray's side, to the file's first light (the same rays as the reference's set:
+  the table's hit counts show it);
 - incoherent any-hit: segments between two random points of the bounds.
 Each set is cast --rounds times after one warm-up round (Dr.Jit compiles a kernel the first
 time); the table gives the median round's millions of rays per second, and with --ours the
@@ -233,7 +234,8 @@ def main():
         if light is not None:
             spec, world = light
             if spec["type"] == "directional":
-                to = np.tile(-world[:3, 2] / np.linalg.norm(world[:3, 2]), (len(origin), 1))
+                # glTF's directional light shines along its node's -Z: the light lies along +Z.
+                to = np.tile(world[:3, 2] / np.linalg.norm(world[:3, 2]), (len(origin), 1))
                 shadow = (origin, to, np.full(len(origin), np.inf))
             else:
                 seg = world[:3, 3] - origin
@@ -245,15 +247,16 @@ def main():
             ("coherent any", shadow, False),
             ("incoherent any", segments, False),
         ]
-        rates = []
+        rates, hits = [], []
         for label, rays, closest in sets:
             if rays is None or len(rays[0]) == 0:
                 rates.append(None)
+                hits.append(None)
                 continue
-            rate, hits = cast(scene, ray_of(*rays), closest, args.rounds)
+            rate, hit = cast(scene, ray_of(*rays), closest, args.rounds)
             rates.append(rate)
-            print(f"{name}: {label}: {len(rays[0])} rays, {hits} hits", file=sys.stderr)
-        rows.append((name, triangles, rates, ours.get(name)))
+            hits.append((len(rays[0]), hit))
+        rows.append((name, triangles, rates, hits, ours.get(name)))
 
     md = render(rows, args, size, mi, dr)
     sys.stdout.write(md)
@@ -262,15 +265,18 @@ def main():
 
 
 def read_ours(path):
-    """Scene -> the four medians of `harness rays`' summary table."""
+    """Scene -> the four medians of `harness rays`' summary table, and the (rays, hits) of each
+    set from its ray-set table, in the sets' order."""
     ours = {}
     for line in open(path):
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) == 9 and cells[1].isdigit():
             try:
-                ours[cells[0]] = [float(c) for c in cells[2:6]]
+                ours[cells[0]] = ([float(c) for c in cells[2:6]], [])
             except ValueError:
                 pass
+        elif len(cells) == 7 and cells[2] in ("closest", "any") and cells[0] in ours:
+            ours[cells[0]][1].append((int(cells[3]), int(cells[4])))
     return ours
 
 
@@ -293,16 +299,34 @@ def render(rows, args, size, mi, dr):
     md += " (`harness rays`' table" + (f", {args.ours})" if args.ours else ")") + ".\n\n"
     md += "| scene | triangles | coherent closest | incoherent closest | coherent any | incoherent any |\n"
     md += "| --- | --- | --- | --- | --- | --- |\n"
-    for name, triangles, rates, ours in rows:
+    for name, triangles, rates, _hits, ours in rows:
         cells = []
         for k, rate in enumerate(rates):
             if rate is None:
                 cells.append("")
-            elif ours and ours[k] > 0:
-                cells.append(f"{rate:.2f} ({rate / ours[k]:.1f} x)")
+            elif ours and ours[0][k] > 0:
+                cells.append(f"{rate:.2f} ({rate / ours[0][k]:.1f} x)")
             else:
                 cells.append(f"{rate:.2f}")
         md += f"| {name} | {triangles} | " + " | ".join(cells) + " |\n"
+    md += "\nHits of each set, Mitsuba's against the reference's (rays in brackets where the sets' "
+    md += "sizes differ): the coherent sets are the same rays, so their counts agree to the odd "
+    md += "ray that grazes an edge; the random sets are drawn alike by two generators.\n\n"
+    md += "| scene | coherent closest | incoherent closest | coherent any | incoherent any |\n"
+    md += "| --- | --- | --- | --- | --- |\n"
+    for name, _triangles, _rates, hits, ours in rows:
+        cells = []
+        for k, h in enumerate(hits):
+            theirs = ours[1][k] if ours and len(ours[1]) > k else None
+            if h is None:
+                cells.append("")
+            elif theirs is None:
+                cells.append(f"{h[1]}")
+            elif theirs[0] != h[0]:
+                cells.append(f"{h[1]} of {h[0]} / {theirs[1]} of {theirs[0]}")
+            else:
+                cells.append(f"{h[1]} / {theirs[1]}")
+        md += f"| {name} | " + " | ".join(cells) + " |\n"
     return md
 
 

@@ -86,3 +86,34 @@ fn samples_per_pixel_average_around_the_centre() {
     };
     assert!((mean(&one) / mean(&four) - 1.0).abs() < 0.05);
 }
+
+/// Timing the parts of a render (`render_profiled`) changes no bit of its image, on a scene
+/// with caustics, one with volumes and one with a scattering medium (its beams), and its parts
+/// lie within their phases.
+#[test]
+fn a_profiled_render_is_the_same_image() {
+    use truth::reference::render_profiled;
+    let opts = ReferenceOptions {
+        photons: 60_000,
+        ..Default::default()
+    };
+    for spec in ["cornell-sphere", "smoke", "murky-pool"] {
+        let scene = scene::load(spec).unwrap();
+        let plain = render(&scene, &scene.camera, 0.0, 32, 24, &opts);
+        let (profiled, parts) = render_profiled(&scene, &scene.camera, 0.0, 32, 24, &opts);
+        assert_eq!(bits(&plain), bits(&profiled), "{spec}");
+        let phases = profiled.stats.phases;
+        let slack = 1e-3;
+        assert!(
+            parts.direct_light_seconds + parts.eye_media_seconds <= phases.eye_seconds + slack,
+            "{spec}: {parts:?} {phases:?}"
+        );
+        assert!(
+            parts.connection_seconds + parts.beam_seconds <= phases.light_seconds + slack,
+            "{spec}: {parts:?} {phases:?}"
+        );
+        if spec != "cornell-sphere" {
+            assert!(parts.eye_media_seconds > 0.0, "{spec}: media untimed");
+        }
+    }
+}
