@@ -1,5 +1,6 @@
 //! `harness rays`: how fast the ground truth is on this machine. The reference's BVH throughput
-//! on four ray sets ([`truth::throughput`]: coherent and incoherent, closest-hit and any-hit)
+//! on five ray sets ([`truth::throughput`]: coherent and incoherent, closest-hit and any-hit,
+//! and the light pass's own photon paths)
 //! and one reference render of the scene's view split into its phases and parts
 //! ([`truth::reference::render_profiled`]), on a stated number of threads: the figures a
 //! comparison with another renderer (Mitsuba 3's ray casts on the same exported scene) needs.
@@ -116,14 +117,17 @@ pub fn markdown(reports: &[RaysReport]) -> String {
     );
     md.push_str(
         "| scene | triangles | coherent closest | incoherent closest | coherent any | \
-         incoherent any | reference s | eye pass s | light pass s |\n",
+         incoherent any | photon paths | reference s | eye pass s | light pass s |\n",
     );
-    md.push_str("| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+    md.push_str("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
     for r in reports {
         let rates: Vec<String> = r
             .throughput
             .iter()
-            .map(|t| format!("{:.2}", t.median()))
+            .map(|t| match t.rays {
+                0 => "".to_string(),
+                _ => format!("{:.2}", t.median()),
+            })
             .collect();
         let stats = &r.plain.stats;
         let _ = writeln!(
@@ -208,7 +212,7 @@ impl RaysReport {
     /// This scene's rows of the ray-set table.
     fn ray_set_rows(&self) -> String {
         let mut md = String::new();
-        for t in &self.throughput {
+        for t in self.throughput.iter().filter(|t| t.rays > 0) {
             let rates = t.mrays_per_second();
             let (low, high) = (rates[0], rates[rates.len() - 1]);
             let query = match t.query {

@@ -270,13 +270,14 @@ def read_ours(path):
     ours = {}
     for line in open(path):
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) == 9 and cells[1].isdigit():
+        if len(cells) == 10 and cells[1].isdigit():
             try:
                 ours[cells[0]] = ([float(c) for c in cells[2:6]], [])
             except ValueError:
                 pass
         elif len(cells) == 7 and cells[2] in ("closest", "any") and cells[0] in ours:
-            ours[cells[0]][1].append((int(cells[3]), int(cells[4])))
+            if len(ours[cells[0]][1]) < 4:  # the photon paths have no Mitsuba counterpart
+                ours[cells[0]][1].append((int(cells[3]), int(cells[4])))
     return ours
 
 

@@ -12,8 +12,8 @@
 //! - [`metrics`]: RMSE, PSNR, FLIP (nv-flip), masked FLIP, NaN count, sRGB conversion.
 //! - [`techniques`]: the reference as a `scene::Technique` (`reference`), for the harness's
 //!   registry.
-//! - [`throughput`]: rays per second of the reference's BVH on four fixed ray sets (coherent
-//!   and incoherent, closest-hit and any-hit), what `harness rays` reports beside the
+//! - [`throughput`]: rays per second of the reference's BVH on five fixed ray sets (coherent
+//!   and incoherent, closest-hit and any-hit, and the light pass's photon paths), what `harness rays` reports beside the
 //!   reference's time by phase and part ([`reference::render_profiled`]).
 //!
 //! This is its own crate, beside `scene`, so that a technique crate (which depends on `gpu` and

@@ -2,7 +2,7 @@
 //! as ray-tracing papers and Mitsuba's benchmarks measure a traversal: fixed sets of rays cast
 //! one at a time on every thread of rayon's pool, each set timed apart.
 //!
-//! Four sets, of one ray per pixel of the image:
+//! Five sets, of one ray (or photon) per pixel of the image:
 //!
 //! - *coherent closest-hit*: one camera ray through each pixel centre (`Camera::ray`), what the
 //!   reference's eye pass starts with;
@@ -12,7 +12,12 @@
 //!   it as the reference pushes), to the scene's first light: shadow rays as the eye pass casts
 //!   them from a diffuse first surface (this set starts on every kind of surface, and casts
 //!   none for a pixel that sees the background or a scene without lights);
-//! - *incoherent any-hit*: segments between two points uniform in the scene's bounds.
+//! - *incoherent any-hit*: segments between two points uniform in the scene's bounds;
+//! - *photon paths*, closest-hit: the light pass's own rays ([`crate::reference::photon_rays`]),
+//!   every segment of the caustic photons the reference traces, as many photons as pixels (a
+//!   few rays each; none in a scene without a caustic caster). Photons refracted into a glass
+//!   object cross it from inside, the hard case of a BVH over a closed mesh, and these are most
+//!   of a reference render's rays.
 //!
 //! The rays are made once, before any is timed; each set is cast `rounds` times and each
 //! round's rate kept, so a table can give the median and the spread.
@@ -48,7 +53,7 @@ pub struct RaySet {
     pub rays: Vec<TestRay>,
 }
 
-/// The four sets of the module documentation for `camera` at `width` x `height` (random points
+/// The five sets of the module documentation for `camera` at `width` x `height` (random points
 /// and directions from `seed`).
 pub fn ray_sets(
     scene: &Scene,
@@ -112,7 +117,25 @@ pub fn ray_sets(
             query: Query::Any,
             rays: segments,
         },
+        RaySet {
+            name: "photon paths (the light pass's rays)",
+            query: Query::Closest,
+            rays: photon_paths(scene, count as u64),
+        },
     ]
+}
+
+/// Every segment of `photons` caustic photons, as the reference's light pass traces them.
+fn photon_paths(scene: &Scene, photons: u64) -> Vec<TestRay> {
+    let options = crate::reference::ReferenceOptions::default();
+    crate::reference::photon_rays(scene, 0.0, photons, &options)
+        .into_iter()
+        .map(|(origin, dir)| TestRay {
+            origin,
+            dir,
+            t_max: f32::INFINITY,
+        })
+        .collect()
 }
 
 /// From each camera ray's first surface to the first light (none where the scene has no
@@ -226,10 +249,14 @@ mod tests {
         let scene = scene::load("cornell-sphere").unwrap();
         let bvh = SceneBvh::build(&scene, 0.0);
         let sets = ray_sets(&scene, &bvh, &scene.camera, (16, 12), 7);
-        assert_eq!(sets.len(), 4);
+        assert_eq!(sets.len(), 5);
         for set in &sets {
             let expected = if set.name.contains("first light") {
                 assert!(!set.rays.is_empty() && set.rays.len() <= 16 * 12);
+                set.rays.len()
+            } else if set.name.contains("photon") {
+                // At least a segment per photon (light to caster), and more through the glass.
+                assert!(set.rays.len() > 2 * 16 * 12, "{}", set.rays.len());
                 set.rays.len()
             } else {
                 16 * 12

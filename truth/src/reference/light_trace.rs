@@ -190,3 +190,45 @@ impl Sums {
         self.rays += r.rays;
     }
 }
+
+/// The closest-hit rays the light pass casts for `photons` caustic photons of `scene` at
+/// `time`: every segment of every photon path, as [`render`]'s light pass draws them (the same
+/// emitters, seeds and random choices), without the visibility rays of the connections to the
+/// eye. `truth::throughput` casts them as the light pass's own rays, the reference's main work
+/// on the glass scenes.
+pub fn photon_rays(
+    scene: &Scene,
+    time: f32,
+    photons: u64,
+    opts: &ReferenceOptions,
+) -> Vec<(Vec3, Vec3)> {
+    let bvh = SceneBvh::build(scene, time);
+    let media = Media::new(scene, time);
+    let clock = PartClock::new(false);
+    let tracer = Tracer {
+        scene,
+        bvh: &bvh,
+        media: &media,
+        medium: scene.medium.as_ref(),
+        max_depth: opts.max_depth,
+        clock: &clock,
+    };
+    let setup = PhotonSetup::caustics(scene);
+    let emitters = emitters(scene, time, &setup.targets, photons);
+    let mut rays = Vec::new();
+    for (ei, first, count) in work_units(&emitters) {
+        let e = &emitters[ei];
+        let light = &scene.lights[e.light];
+        let mut rng = SplitMix64(chunk_seed(opts.seed, ei, first));
+        for _ in 0..count {
+            let (u, v) = (rng.next_f32(), rng.next_f32());
+            let (from, w) = e.sample(u, v);
+            let power = photon_power(light, &emitters, ei, from, w);
+            let record = |o: Vec3, d: Vec3, _: f32, _: Vec3| rays.push((o, d));
+            // Every segment from the first (min_bounces 0); the choices are the caustic pass's.
+            let land = |_: &Hit, _: &Surface, _: Vec3, _: Vec3, _: Vec3| {};
+            tracer.trace_photon(from, w, power, 0, &mut rng, &mut 0, land, record);
+        }
+    }
+    rays
+}

@@ -224,6 +224,7 @@ mod eye;
 mod light_trace;
 mod parts;
 use eye::*;
+pub use light_trace::photon_rays;
 use light_trace::*;
 use parts::{Part, PartClock};
 pub use parts::{ReferenceStats, RenderParts, RenderPhases};
