@@ -310,7 +310,7 @@ def render(rows, args, size, mi, dr):
             else:
                 cells.append(f"{rate:.2f}")
         md += f"| {name} | {triangles} | " + " | ".join(cells) + " |\n"
-    md += "\nHits of each set, Mitsuba's against the reference's (rays in brackets where the sets' "
+    md += "\nHits of each set, Mitsuba's against the reference's (\"hits of rays\" where the sets' "
     md += "sizes differ): the coherent sets are the same rays, so their counts agree to the odd "
     md += "ray that grazes an edge; the random sets are drawn alike by two generators.\n\n"
     md += "| scene | coherent closest | incoherent closest | coherent any | incoherent any |\n"
