@@ -162,16 +162,28 @@ const KEY_PARTS: [(&str, &str); 6] = [
     ("size", "the image size"),
 ];
 
+/// A key's six parts ([`reference_key`]): format, ground truth, scene (spec and model hash),
+/// camera, time, size. The ground truth's key may itself hold the separator, so the last four
+/// are taken from the right.
+fn key_parts(key: &str) -> Option<Vec<String>> {
+    let parts: Vec<&str> = key.split(" | ").collect();
+    let n = parts.len();
+    if n < KEY_PARTS.len() {
+        return None;
+    }
+    let mut out = vec![parts[0].to_string(), parts[1..n - 4].join(" | ")];
+    out.extend(parts[n - 4..].iter().map(|p| p.to_string()));
+    Some(out)
+}
+
 /// Why `cache_dir` holds no entry for `key`: that it holds none of this scene, or what the
 /// nearest entry of the same scene (the fewest parts different) differs in.
 pub fn miss_reason(cache_dir: &Path, key: &str) -> String {
-    let parts = |k: &str| k.split(" | ").map(str::to_string).collect::<Vec<_>>();
-    let wanted = parts(key);
-    let spec_of = |p: &[String]| {
-        p.get(2)
-            .and_then(|s| s.rsplit_once(" #"))
-            .map(|s| s.0.to_string())
+    let none = "no cached reference of this scene".to_string();
+    let Some(wanted) = key_parts(key) else {
+        return none;
     };
+    let spec_of = |p: &[String]| p[2].rsplit_once(" #").map(|(spec, _)| spec.to_string());
     let entries: Vec<Vec<String>> = std::fs::read_dir(cache_dir)
         .into_iter()
         .flatten()
@@ -179,17 +191,18 @@ pub fn miss_reason(cache_dir: &Path, key: &str) -> String {
         .filter(|e| e.path().extension().is_some_and(|x| x == "json"))
         .filter_map(|e| std::fs::read_to_string(e.path()).ok())
         .filter_map(|text| serde_json::from_str::<Entry>(&text).ok())
-        .map(|entry| parts(&entry.key))
-        .filter(|p| p.len() == wanted.len() && spec_of(p) == spec_of(&wanted))
+        .filter_map(|entry| key_parts(&entry.key))
+        .filter(|p| spec_of(p) == spec_of(&wanted))
         .collect();
     let differing = |p: &Vec<String>| -> Vec<&str> {
         (0..wanted.len())
             .filter(|&i| p[i] != wanted[i])
-            .map(|i| KEY_PARTS.get(i).map_or("the key", |(_, what)| *what))
+            .map(|i| KEY_PARTS[i].1)
             .collect()
     };
     match entries.iter().map(differing).min_by_key(|d| d.len()) {
-        None => "no cached reference of this scene".into(),
+        None => none,
+        Some(d) if d.is_empty() => "its cache entry could not be read back".into(),
         Some(d) => format!(
             "the nearest cached reference of this scene differs in {}",
             d.join(" and ")
@@ -240,7 +253,7 @@ mod tests {
     }
 
     /// A miss names what the nearest cached entry of the same scene differs in (the fewest
-    /// parts), or that the cache holds none of the scene; `status` finds a stored key.
+    /// parts), or that the cache holds none of the scene.
     #[test]
     fn a_miss_names_what_the_nearest_entry_of_the_scene_differs_in() {
         let dir = std::env::temp_dir().join(format!("harness-cache-{}", std::process::id()));
@@ -264,6 +277,14 @@ mod tests {
         );
         let other_scene = key("a", "01", "0").replace("my.glb", "other.glb");
         assert_eq!(miss_reason(&dir, &other_scene), none);
+        // A ground truth whose own key holds the separator: the parts are read from the right.
+        store(&dir, &key("x | y", "01", "0"));
+        says(&key("x | y", "01", "9"), "the time");
+        // An entry whose key matches but whose files are gone reads as broken, not as a match.
+        assert_eq!(
+            miss_reason(&dir, &key("a", "01", "0")),
+            "its cache entry could not be read back"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -362,23 +362,19 @@ impl Run<'_> {
         Ok(())
     }
 
-    /// Records each reference of the scene in the report, and says in one line how many were
-    /// rendered rather than read from the cache, and why.
+    /// Records each reference of the scene in the report, with why the cache could not serve
+    /// it.
     fn note_references(
         &self,
         loaded: &LoadedScene,
         timed: &[(TimedReference, cache::Cached)],
         report: &mut RunReport,
     ) {
-        let mut reasons: Vec<String> = Vec::new();
         for (r, cached) in timed {
             let miss = match cached {
                 cache::Cached::Hit => None,
                 cache::Cached::Miss(reason) => Some(reason.clone()),
             };
-            if let Some(reason) = miss.as_ref().filter(|r| !reasons.contains(r)) {
-                reasons.push(reason.clone());
-            }
             report.references.push(ReferenceInfo {
                 scene: loaded.spec.clone(),
                 time: r.time,
@@ -388,16 +384,6 @@ impl Run<'_> {
                 masked_pixels: r.reference.mask.iter().filter(|&&m| m).count(),
                 error: None,
             });
-        }
-        if !reasons.is_empty() {
-            let rendered = timed.iter().filter(|(_, c)| *c != cache::Cached::Hit);
-            self.say(format!(
-                "{}: {} of {} references rendered ({})",
-                loaded.spec,
-                rendered.count(),
-                timed.len(),
-                reasons.join("; ")
-            ));
         }
     }
 
@@ -410,7 +396,8 @@ impl Run<'_> {
         report: &mut RunReport,
     ) -> Result<Vec<TimedReference>> {
         let start = Instant::now();
-        let rendered = path_references(self.env, self.out, loaded, self.plan);
+        let say = |line: String| self.say(line);
+        let rendered = path_references(self.env, self.out, loaded, self.plan, &say);
         let references = match rendered {
             Ok(timed) => {
                 self.note_references(loaded, &timed, report);
@@ -790,6 +777,27 @@ fn reference_run(references: &[TimedReference]) -> TechniqueRun {
     }
 }
 
+/// Says, before they are rendered, how many of a scene's references the cache cannot serve and
+/// why (each distinct reason once).
+fn say_misses(spec: &str, found: &[cache::Cached], say: &dyn Fn(String)) {
+    let mut reasons: Vec<&str> = Vec::new();
+    for cached in found {
+        if let cache::Cached::Miss(reason) = cached
+            && !reasons.contains(&reason.as_str())
+        {
+            reasons.push(reason);
+        }
+    }
+    if !reasons.is_empty() {
+        let misses = found.iter().filter(|c| **c != cache::Cached::Hit).count();
+        say(format!(
+            "{spec}: rendering {misses} of {} references ({})",
+            found.len(),
+            reasons.join("; ")
+        ));
+    }
+}
+
 /// The references at every error-frame time of the plan on the scene's camera path, each with
 /// whether it came from the cache.
 fn path_references(
@@ -797,6 +805,7 @@ fn path_references(
     out: &Output,
     loaded: &LoadedScene,
     plan: &Plan,
+    say: &dyn Fn(String),
 ) -> Result<Vec<(TimedReference, cache::Cached)>> {
     let cache_dir = out.dir.join(".cache");
     let views: Vec<RefView> = plan
@@ -816,6 +825,7 @@ fn path_references(
         .iter()
         .map(|view| cache::status(&cache_dir, env.ground_truth, view))
         .collect();
+    say_misses(&loaded.spec, &found, say);
     views
         .iter()
         .zip(found)

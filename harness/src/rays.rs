@@ -78,7 +78,7 @@ fn measure_scene(
     let reference = options.reference.options_for(w, h);
     pool.install(|| {
         let bvh = scene::bvh::SceneBvh::build(scene, 0.0);
-        let sets = truth::throughput::ray_sets(scene, &bvh, &camera, (w, h), 0x5eed);
+        let sets = truth::throughput::ray_sets(scene, &bvh, &camera, (w, h), (0x5eed, &reference));
         let throughput = sets
             .iter()
             .map(|set| truth::throughput::measure(&bvh, set, options.rounds))

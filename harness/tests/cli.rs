@@ -514,7 +514,7 @@ fn every_option_has_help_and_the_environment_is_named() {
     }
 }
 
-/// `harness rays` measures the four ray sets and splits a reference render, prints the table
+/// `harness rays` measures the five ray sets and splits a reference render, prints the table
 /// and writes it: every rate positive, every set's rays counted, the render's phases within its
 /// total, the thread count it was asked for. A bad thread count is refused in one line.
 #[test]
@@ -549,6 +549,26 @@ fn rays_reports_the_reference_throughput_and_its_render_split() {
         let line = line.unwrap_or_else(|| panic!("no row {first} {second}: {stdout}"));
         line.split('|').map(|c| c.trim().to_string()).collect()
     };
+    // The summary: ten cells a row; cornell-sphere's photon paths measured, smoke's empty (no
+    // caustic caster).
+    for (scene, photons) in [("cornell-sphere", true), ("smoke", false)] {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("| {scene} | ")));
+        let row: Vec<&str> = line
+            .unwrap()
+            .trim_matches('|')
+            .split('|')
+            .map(str::trim)
+            .collect();
+        assert_eq!(row.len(), 10, "{row:?}");
+        assert_eq!(!row[6].is_empty(), photons, "{row:?}");
+    }
+    assert!(
+        stdout.contains("| cornell-sphere | photon paths"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("| smoke | photon paths"), "{stdout}");
     for scene in ["cornell-sphere", "smoke"] {
         for set in [
             "coherent closest-hit",

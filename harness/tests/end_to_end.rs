@@ -409,6 +409,10 @@ fn compare_writes_tables_images_and_caches_the_reference() {
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(json["skipped"].as_array().unwrap().len(), 2);
     assert_eq!(json["references"][0]["cached"], false);
+    assert_eq!(
+        json["references"][0]["miss"], "no cached reference of this scene",
+        "a miss says why"
+    );
     assert_eq!(json["references"].as_array().unwrap().len(), 3);
     assert_eq!(json["rows"][1]["errors_at"][2]["time"], 2.0);
     assert_eq!(
@@ -449,6 +453,7 @@ fn compare_writes_tables_images_and_caches_the_reference() {
     assert!(again.panics.is_empty(), "{:?}", again.panics);
     assert_eq!(truth.renders.load(Ordering::SeqCst), 3);
     assert!(again.references[0].cached);
+    assert_eq!(again.references[0].miss, None);
     assert_eq!(again.rows.len(), 1);
     assert_eq!(again.rows[0].rmse, c.rmse);
     let _ = std::fs::remove_dir_all(&out);

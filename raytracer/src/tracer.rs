@@ -782,7 +782,8 @@ impl GpuTracer {
 /// panic on a renderer's device with default limits (128 MiB: about 2560 x 2160).
 fn check_pixel_buffers(ctx: &Context, width: u32, height: u32) -> TechniqueResult<()> {
     let bytes = width as u64 * height as u64 * 24;
-    let limit = ctx.device.limits().max_storage_buffer_binding_size as u64;
+    let limits = ctx.device.limits();
+    let limit = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
     if bytes <= limit {
         return Ok(());
     }

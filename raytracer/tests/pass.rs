@@ -281,4 +281,16 @@ fn what_it_cannot_draw_is_refused() {
         .expect_err("a view too large is refused")
         .to_string();
     assert!(error.contains("storage binding limit"), "{error}");
+    // A projection that mirrors y (a renderer drawing y down).
+    let mirrored = EyeView {
+        projection: glam::Mat4::from_scale(glam::Vec3::new(1.0, -1.0, 1.0)) * view.projection,
+        ..view
+    };
+    let refusal = Frame::untimed(ctx, &mut encoder, |frame| {
+        pass.draw(frame, &mirrored, 0.0, &color, &depth)
+    });
+    let error = refusal
+        .expect_err("a mirroring projection is refused")
+        .to_string();
+    assert!(error.contains("mirrors an axis"), "{error}");
 }

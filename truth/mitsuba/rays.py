@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Mitsuba 3's ray casts on the scenes `harness export-scene` writes: the same four ray sets as
-`harness rays` (truth::throughput), on the same number of threads, so the reference's BVH can be
+"""Mitsuba 3's ray casts on the scenes `harness export-scene` writes: the first four ray sets of
+`harness rays` (truth::throughput; the fifth, the reference's own photon paths, has no
+counterpart here), on the same number of threads, so the reference's BVH can be
 set beside Mitsuba's (Embree, through its llvm variant) as a ratio.
 
     pip install mitsuba numpy
@@ -264,20 +265,25 @@ def main():
         open(args.markdown, "w").write(md)
 
 
+SET_NAMES = ("coherent closest-hit", "incoherent closest-hit", "coherent any-hit", "incoherent any-hit")
+
+
 def read_ours(path):
-    """Scene -> the four medians of `harness rays`' summary table, and the (rays, hits) of each
-    set from its ray-set table, in the sets' order."""
+    """Scene -> the four medians of `harness rays`' summary table (0 for an empty set), and the
+    (rays, hits) of each of the four sets from its ray-set table, found by the set's name (None
+    for a set the table leaves out)."""
     ours = {}
     for line in open(path):
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) == 10 and cells[1].isdigit():
             try:
-                ours[cells[0]] = ([float(c) for c in cells[2:6]], [])
+                ours[cells[0]] = ([float(c) if c else 0.0 for c in cells[2:6]], [None] * 4)
             except ValueError:
                 pass
         elif len(cells) == 7 and cells[2] in ("closest", "any") and cells[0] in ours:
-            if len(ours[cells[0]][1]) < 4:  # the photon paths have no Mitsuba counterpart
-                ours[cells[0]][1].append((int(cells[3]), int(cells[4])))
+            for k, name in enumerate(SET_NAMES):
+                if cells[1].startswith(name):
+                    ours[cells[0]][1][k] = (int(cells[3]), int(cells[4]))
     return ours
 
 
@@ -318,7 +324,7 @@ def render(rows, args, size, mi, dr):
     for name, _triangles, _rates, hits, ours in rows:
         cells = []
         for k, h in enumerate(hits):
-            theirs = ours[1][k] if ours and len(ours[1]) > k else None
+            theirs = ours[1][k] if ours else None
             if h is None:
                 cells.append("")
             elif theirs is None:

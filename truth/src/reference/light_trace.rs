@@ -32,6 +32,8 @@ pub(super) struct ChunkResult {
     pub(super) beams: Vec<Vec3>,
     pub(super) deposited: Vec<Vec3>,
     pub(super) rays: u64,
+    /// Photon path segments among `rays` (the rest are connections to the eye).
+    pub(super) segments: u64,
 }
 
 /// Chunks traced in parallel before their results are added up in order: bounds the memory of
@@ -83,6 +85,7 @@ pub(super) fn light_trace_with(
             },
             deposited: vec![Vec3::ZERO; n_lights],
             rays: 0,
+            segments: 0,
         };
         for _ in 0..count {
             let (u, v) = (rng.next_f32(), rng.next_f32());
@@ -113,6 +116,7 @@ pub(super) fn light_trace_with(
                 },
             );
             out.rays += rays + eye_rays;
+            out.segments += rays;
         }
         out
     };
@@ -136,6 +140,7 @@ pub(super) fn light_trace_with(
         photons_traced: emitters.iter().map(|e| e.photons).sum(),
         photons_stored: sums.stored,
         rays: sums.rays,
+        segments: sums.segments,
     }
 }
 
@@ -162,6 +167,7 @@ struct Sums {
     beam_radiance: Vec<DVec3>,
     deposited: Vec<Vec3>,
     rays: u64,
+    segments: u64,
     stored: u64,
 }
 
@@ -172,6 +178,7 @@ impl Sums {
             beam_radiance: vec![DVec3::ZERO; if beams { pixels } else { 0 }],
             deposited: vec![Vec3::ZERO; lights],
             rays: 0,
+            segments: 0,
             stored: 0,
         }
     }
@@ -188,6 +195,7 @@ impl Sums {
             *d += *x;
         }
         self.rays += r.rays;
+        self.segments += r.segments;
     }
 }
 

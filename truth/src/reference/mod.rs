@@ -531,6 +531,8 @@ pub struct LightTrace {
     pub photons_stored: u64,
     /// Rays cast (path segments plus visibility rays to the eye).
     pub rays: u64,
+    /// The path segments among them ([`photon_rays`] replays them).
+    pub segments: u64,
 }
 
 /// Runs the light pass on its own (the caustic part of [`render`] with
