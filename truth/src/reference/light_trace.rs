@@ -62,14 +62,7 @@ pub(super) fn light_trace_with(
     let work = work_units(&emitters);
     let media = Media::new(scene, time);
     let medium = scene.medium.as_ref();
-    let tracer = Tracer {
-        scene,
-        bvh,
-        media: &media,
-        medium,
-        max_depth: opts.max_depth,
-        clock,
-    };
+    let tracer = Tracer::new(scene, bvh, &media, opts, clock);
     let eye = Eye::new(camera, width, height, &media, medium);
     let beams = medium.map(|m| BeamSplatter::new(m, camera, width, height, depths));
     let trace_chunk = |&(ei, first, count): &(usize, u64, u64)| {
@@ -213,14 +206,7 @@ pub fn photon_rays(
     let bvh = SceneBvh::build(scene, time);
     let media = Media::new(scene, time);
     let clock = PartClock::new(false);
-    let tracer = Tracer {
-        scene,
-        bvh: &bvh,
-        media: &media,
-        medium: scene.medium.as_ref(),
-        max_depth: opts.max_depth,
-        clock: &clock,
-    };
+    let tracer = Tracer::new(scene, &bvh, &media, opts, &clock);
     let setup = PhotonSetup::caustics(scene);
     let emitters = emitters(scene, time, &setup.targets, photons);
     let mut rays = Vec::new();
@@ -239,4 +225,26 @@ pub fn photon_rays(
         }
     }
     rays
+}
+
+impl<'a> Tracer<'a> {
+    /// The tracer of `scene` at one time (its BVH and volumes built for it), with the options'
+    /// depth bound and the scene's medium: what the eye pass, the light pass and
+    /// [`photon_rays`] trace with.
+    pub(super) fn new(
+        scene: &'a Scene,
+        bvh: &'a SceneBvh,
+        media: &'a Media,
+        opts: &ReferenceOptions,
+        clock: &'a PartClock,
+    ) -> Self {
+        Tracer {
+            scene,
+            bvh,
+            media,
+            medium: scene.medium.as_ref(),
+            max_depth: opts.max_depth,
+            clock,
+        }
+    }
 }

@@ -332,14 +332,7 @@ fn render_with(
     let start = Instant::now();
     let bvh = SceneBvh::build(scene, time);
     let media = Media::new(scene, time);
-    let tracer = Tracer {
-        scene,
-        bvh: &bvh,
-        media: &media,
-        medium: scene.medium.as_ref(),
-        max_depth: opts.max_depth,
-        clock,
-    };
+    let tracer = Tracer::new(scene, &bvh, &media, opts, clock);
     let bvh_seconds = start.elapsed().as_secs_f64();
     let eye_pass = EyePass {
         tracer: &tracer,
