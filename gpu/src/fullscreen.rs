@@ -49,7 +49,8 @@ pub fn vertex_module(ctx: &crate::Context) -> wgpu::ShaderModule {
 
 /// Builds a full-screen render pipeline from a fragment shader `fs_main` taking
 /// `gpu::fullscreen::FullscreenOut` (its text, or a [`crate::wgsl::Shader`] with imports and
-/// definitions); the vertex stage is [`vertex_module`]'s.
+/// definitions) into one colour target of `format`, blended by `blend`; the vertex stage is
+/// [`vertex_module`]'s.
 pub fn pipeline<'s>(
     ctx: &crate::Context,
     label: &str,
@@ -57,6 +58,31 @@ pub fn pipeline<'s>(
     bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
     format: wgpu::TextureFormat,
     blend: Option<wgpu::BlendState>,
+) -> wgpu::RenderPipeline {
+    let output = Output {
+        entry: "fs_main",
+        color: crate::pass::color_target(format, blend),
+        depth: None,
+    };
+    pipeline_into(ctx, label, fragment, bind_group_layouts, output)
+}
+
+/// What a full-screen pipeline writes: its fragment entry point, its colour target (a
+/// renderer's formats: `TargetFormats::color_target`) and, for a fragment shader that writes
+/// `@builtin(frag_depth)`, its depth state.
+pub struct Output<'a> {
+    pub entry: &'a str,
+    pub color: Option<wgpu::ColorTargetState>,
+    pub depth: Option<wgpu::DepthStencilState>,
+}
+
+/// [`pipeline`] with the fragment entry point, colour target and depth state of `output`.
+pub fn pipeline_into<'s>(
+    ctx: &crate::Context,
+    label: &str,
+    fragment: impl Into<crate::wgsl::Shader<'s>>,
+    bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
+    output: Output,
 ) -> wgpu::RenderPipeline {
     let vertex = vertex_module(ctx);
     let module = crate::shader(ctx, fragment.into());
@@ -79,16 +105,12 @@ pub fn pipeline<'s>(
             },
             fragment: Some(wgpu::FragmentState {
                 module: &module,
-                entry_point: Some("fs_main"),
+                entry_point: Some(output.entry),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
+                targets: &[output.color],
             }),
             primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
+            depth_stencil: output.depth,
             multisample: wgpu::MultisampleState::default(),
             multiview_mask: None,
             cache: ctx.pipeline_cache(),

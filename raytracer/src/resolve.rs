@@ -137,43 +137,17 @@ impl Resolve {
             wgpu::ShaderStages::FRAGMENT,
             &[bind::uniform(), bind::storage(true), bind::storage(true)],
         );
-        let vertex = gpu::fullscreen::vertex_module(ctx);
-        let fragment = gpu::shader(
-            ctx,
-            gpu::wgsl::Shader::new("ray tracer resolve", RESOLVE_WGSL),
-        );
-        let pipeline_layout = ctx
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("ray tracer resolve"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-        let pipeline = ctx
-            .device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("ray tracer resolve"),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &vertex,
-                    entry_point: Some(gpu::fullscreen::VERTEX_ENTRY),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &fragment,
-                    entry_point: Some(if depth { "fs_with_depth" } else { "fs_main" }),
-                    compilation_options: Default::default(),
-                    targets: &[formats.color_target()],
-                }),
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: depth.then(|| {
-                    gpu::pass::depth_state_for(formats.depth, true, wgpu::CompareFunction::Always)
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                multiview_mask: None,
-                cache: ctx.pipeline_cache(),
-            });
+        let output = gpu::fullscreen::Output {
+            entry: if depth { "fs_with_depth" } else { "fs_main" },
+            color: formats.color_target(),
+            depth: depth.then(|| {
+                gpu::pass::depth_state_for(formats.depth, true, wgpu::CompareFunction::Always)
+            }),
+        };
+        let shader = gpu::wgsl::Shader::new("ray tracer resolve", RESOLVE_WGSL);
+        let layouts = [Some(&layout)];
+        let pipeline =
+            gpu::fullscreen::pipeline_into(ctx, "ray tracer resolve", shader, &layouts, output);
         Self {
             layout,
             pipeline,
