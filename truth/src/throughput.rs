@@ -22,7 +22,7 @@
 //! The rays are made once, before any is timed; each set is cast `rounds` times and each
 //! round's rate kept, so a table can give the median and the spread.
 
-use crate::reference::ReferenceOptions;
+use crate::reference::{ReferenceOptions, SplitMix64};
 use glam::Vec3;
 use rayon::prelude::*;
 use scene::bvh::SceneBvh;
@@ -76,9 +76,10 @@ pub fn ray_sets(
         .collect();
     let count = camera_rays.len();
     let shadow_rays = shadow_rays(scene, bvh, &camera_rays);
-    let mut random = Random(seed);
+    let mut random = SplitMix64::new(seed as u64);
     let (low, high) = bvh.bounds();
-    let mut point = || low + (high - low) * Vec3::new(random.unit(), random.unit(), random.unit());
+    let mut point =
+        || low + (high - low) * Vec3::new(random.next_f32(), random.next_f32(), random.next_f32());
     let (mut scattered, mut segments) = (Vec::with_capacity(count), Vec::with_capacity(count));
     for _ in 0..count {
         let (a, b) = (point(), point());
@@ -95,7 +96,7 @@ pub fn ray_sets(
         });
     }
     for ray in &mut scattered {
-        ray.dir = uniform_direction(random.unit(), random.unit());
+        ray.dir = uniform_direction(random.next_f32(), random.next_f32());
     }
     vec![
         RaySet {
@@ -225,16 +226,6 @@ fn uniform_direction(u: f32, v: f32) -> Vec3 {
     let r = (1.0 - z * z).max(0.0).sqrt();
     let phi = std::f32::consts::TAU * v;
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
-/// A small deterministic generator (PCG hash of a counter), uniform in [0, 1).
-struct Random(u32);
-
-impl Random {
-    fn unit(&mut self) -> f32 {
-        self.0 = gpu::prelude::pcg_hash(self.0);
-        (self.0 >> 8) as f32 / (1u32 << 24) as f32
-    }
 }
 
 #[cfg(test)]

@@ -224,6 +224,7 @@ mod eye;
 mod light_trace;
 mod parts;
 use eye::*;
+pub(crate) use light_trace::SplitMix64;
 pub use light_trace::photon_rays;
 use light_trace::*;
 use parts::{Part, PartClock};
