@@ -45,6 +45,7 @@ pub fn ray_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32) -> Vec2 {
 /// 1e-30 in magnitude is "flat": its slab does not limit t when the origin lies in it (boundary
 /// planes included: the box is closed) and empties the interval otherwise, so there is no
 /// division by zero and no NaN (an origin on a slab plane would give 0 * inf).
+#[inline]
 pub fn ray_box(o: Vec3, d: Vec3, bmin: Vec3, bmax: Vec3) -> Vec2 {
     let flat = d.abs().cmplt(Vec3::splat(1e-30));
     let inside = o.cmpge(bmin) & o.cmple(bmax);

@@ -104,6 +104,7 @@ impl Medium {
 
     /// The part `[t0, t1]` of `origin + t dir`, `t` in `[0, t_max]`, inside the box, or `None`
     /// (`dir` need not be unit length: `t` is in its units).
+    #[inline]
     pub fn clip(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Vec2> {
         let t = ray_box(origin, dir, self.min, self.max);
         let (t0, t1) = (t.x.max(0.0), t.y.min(t_max));
@@ -111,6 +112,7 @@ impl Medium {
     }
 
     /// Length of `origin + t dir` (unit `dir`), `t` in `[0, t_max]`, inside the box.
+    #[inline]
     pub fn length_inside(&self, origin: Vec3, dir: Vec3, t_max: f32) -> f32 {
         self.clip(origin, dir, t_max).map_or(0.0, |t| t.y - t.x)
     }
@@ -145,7 +147,12 @@ impl Medium {
 }
 
 /// `exp(-sigma_t * length)` per channel.
+#[inline]
 pub fn transmittance_of(extinction: Vec3, length: f32) -> Vec3 {
+    // A grey medium (water, smoke) needs one exponential, not three: the same bits.
+    if extinction.x == extinction.y && extinction.y == extinction.z {
+        return Vec3::splat((-extinction.x * length).exp());
+    }
     Vec3::new(
         (-extinction.x * length).exp(),
         (-extinction.y * length).exp(),
@@ -156,6 +163,7 @@ pub fn transmittance_of(extinction: Vec3, length: f32) -> Vec3 {
 /// The Henyey-Greenstein phase function (per steradian, integrates to 1 over the sphere):
 /// `(1 - g^2) / (4 pi (1 + g^2 - 2 g cos)^(3/2))`, `cos_theta` the cosine between the
 /// direction light travels in and the direction it leaves in.
+#[inline]
 pub fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
     let denom = (1.0 + g * g - 2.0 * g * cos_theta.clamp(-1.0, 1.0)).max(1e-12);
     (1.0 - g * g) / (4.0 * std::f32::consts::PI * denom * denom.sqrt())

@@ -126,6 +126,7 @@ impl Camera {
     /// Where light leaving `p` toward the camera ends, `(unit direction, distance)`: the eye
     /// of a pinhole; for an orthographic camera, the eye's plane, straight back along the
     /// view direction. Light tracing connects its photons to the image along it.
+    #[inline]
     pub fn toward_camera(&self, p: Vec3) -> (Vec3, f32) {
         match self.orthographic {
             Some(_) => {
@@ -173,6 +174,7 @@ impl Film {
     /// light-tracing splat multiplies a point's intensity toward the camera by). A pinhole's
     /// is `1 / (A cos^3 d^2)`; an orthographic camera's film lies in the world and gathers
     /// parallel light, so its is `1 / A` whatever the distance.
+    #[inline]
     pub fn importance(&self, cos_camera: f32, distance: f32) -> f32 {
         if self.orthographic {
             return 1.0 / self.pixel_area;
