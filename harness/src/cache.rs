@@ -149,6 +149,23 @@ pub fn reference(
     Ok((reference, false))
 }
 
+/// [`reference`] with where it came from, given the view's [`status`] asked before rendering:
+/// a hit, or a miss with its reason (an entry found but unreadable is a miss too).
+pub fn reference_as_found(
+    cache_dir: &Path,
+    truth: &dyn GroundTruth,
+    view: &RefView,
+    found: Cached,
+) -> Result<(Reference, Cached)> {
+    let (reference, cached) = reference(cache_dir, truth, view)?;
+    let how = match (cached, found) {
+        (true, _) => Cached::Hit,
+        (false, Cached::Miss(reason)) => Cached::Miss(reason),
+        (false, Cached::Hit) => Cached::Miss("its cache entry could not be read back".into()),
+    };
+    Ok((reference, how))
+}
+
 /// The parts of a key ([`reference_key`]) with what a difference in each means to a user.
 const KEY_PARTS: [(&str, &str); 6] = [
     ("v", "the cache's format"),

@@ -831,15 +831,9 @@ fn path_references(
         .zip(found)
         .map(|(view, found)| {
             let time = view.time;
-            let (reference, cached) = cache::reference(&cache_dir, env.ground_truth, view)
-                .with_context(|| format!("reference at time {time}"))?;
-            let how = match (cached, found) {
-                (true, _) => cache::Cached::Hit,
-                (false, cache::Cached::Miss(reason)) => cache::Cached::Miss(reason),
-                (false, cache::Cached::Hit) => {
-                    cache::Cached::Miss("its cache entry could not be read back".into())
-                }
-            };
+            let (reference, how) =
+                cache::reference_as_found(&cache_dir, env.ground_truth, view, found)
+                    .with_context(|| format!("reference at time {time}"))?;
             Ok((TimedReference { time, reference }, how))
         })
         .collect()

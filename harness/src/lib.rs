@@ -65,6 +65,7 @@ pub mod plot;
 mod progress;
 pub mod provenance;
 pub mod rays;
+pub mod render;
 pub mod report;
 pub mod score;
 pub mod sweep;

@@ -3,6 +3,7 @@
 
 use anyhow::{Context as _, Result, bail};
 use clap::{Args, Parser, Subcommand};
+use harness::cache::Cached;
 use harness::compare::CompareOptions;
 use harness::engine::{DevicePolicy, ExecOptions};
 use harness::model::RunReport;
@@ -367,6 +368,11 @@ struct RenderArgs {
     size: Size,
     #[command(flatten)]
     reference: RefArgs,
+    /// The reference cache `--technique reference` reads and fills: by default the one
+    /// `cargo xtask compare` (`harness compare --out out`) keeps, so a view it rendered is not
+    /// rendered again.
+    #[arg(long, default_value = "out/.cache", value_name = "DIR")]
+    cache: PathBuf,
 }
 
 #[derive(Args)]
@@ -813,15 +819,19 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     harness::limits::check_memory(&ctx, size, one_image)?;
     let image = match id {
         None => {
-            let options = args
-                .reference
-                .reference()
-                .options_for(size.width, size.height);
-            let camera = scene.camera_at(0.0);
-            let (w, h) = (size.width, size.height);
-            harness::backend::render_reference(&scene, &camera, 0.0, w, h, &options)?.image
+            let truth = args.reference.reference();
+            let (image, how) =
+                harness::render::reference_image(&args.cache, &truth, spec, &scene, size)?;
+            let cache = args.cache.display();
+            match how {
+                Cached::Hit => eprintln!("reference: read from the cache in {cache}"),
+                Cached::Miss(why) => {
+                    eprintln!("reference: rendered into the cache in {cache} ({why})")
+                }
+            }
+            image
         }
-        Some(id) => render_technique(&ctx, &id, spec, &scene, size, one_image)?,
+        Some(id) => harness::render::technique_image(&ctx, &id, spec, &scene, size, one_image)?,
     };
     images::write_by_extension(out, &image)?;
     let bad = image.non_finite_count();
@@ -843,56 +853,6 @@ fn one_technique(name: &str) -> Result<String> {
             ids.join(", ")
         ),
     }
-}
-
-/// Why a technique refuses a scene, as its `prepare` says (": ..."), or nothing when it
-/// prepares anyway or panics: `supports` gives no reason, `prepare` checks again and names it.
-fn unsupported_reason(
-    ctx: &gpu::Context,
-    technique: &mut dyn scene::Technique,
-    scene: &scene::GpuScene,
-) -> String {
-    let prepared = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        scene::runner::prepare(ctx, &mut gpu::GpuTimer::off(), technique, scene)
-    }));
-    match prepared {
-        Ok(Err(e)) => format!(": {e}"),
-        _ => String::new(),
-    }
-}
-
-/// Technique `id`'s image of `scene` at time 0.
-fn render_technique(
-    ctx: &gpu::Context,
-    id: &str,
-    spec: &str,
-    scene: &scene::Scene,
-    size: Size,
-    frames: Frames,
-) -> Result<gpu::HdrImage> {
-    let mut t = harness::registry()
-        .into_iter()
-        .find(|t| t.id() == id)
-        .with_context(|| format!("technique {id} vanished"))?;
-    ctx.require(t.required_features())
-        .with_context(|| format!("technique {id}"))?;
-    if !t.supports(scene) {
-        let gpu_scene = harness::backend::upload_scene(ctx, scene)?;
-        bail!(
-            "technique {id} does not support scene {spec}{}",
-            unsupported_reason(ctx, t.as_mut(), &gpu_scene)
-        );
-    }
-    let mut gpu_scene = harness::backend::upload_scene(ctx, scene)?;
-    let run = harness::measure::run_technique(
-        ctx,
-        t.as_mut(),
-        &mut gpu_scene,
-        size,
-        frames,
-        &mut |_, _, _| {},
-    )?;
-    Ok(run.image().clone())
 }
 
 #[cfg(test)]

@@ -448,26 +448,47 @@ fn export_render_and_reimport() {
         String::from_utf8_lossy(&run.stderr)
     );
     let png = tmp("from-glb.png");
-    let run = harness(&[
-        "render",
-        "--scene",
-        &glb.display().to_string(),
-        "--technique",
-        "reference",
-        "--ref-photons",
-        "0",
-        "--size",
-        "16x12",
-        "--out",
-        &png.display().to_string(),
-    ]);
+    let cache = tmp("render-cache");
+    let _ = std::fs::remove_dir_all(&cache);
+    let render = || {
+        let run = harness(&[
+            "render",
+            "--scene",
+            &glb.display().to_string(),
+            "--technique",
+            "reference",
+            "--ref-photons",
+            "0",
+            "--size",
+            "16x12",
+            "--cache",
+            &cache.display().to_string(),
+            "--out",
+            &png.display().to_string(),
+        ]);
+        let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+        assert!(run.status.success(), "{stderr}");
+        (stderr, std::fs::read(&png).unwrap())
+    };
+    let (first, rendered) = render();
     assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+        first.contains("reference: rendered into the cache in")
+            && first.contains("(no cached reference of this scene)"),
+        "{first}"
     );
-    let img = image::open(&png).unwrap();
+    let img = image::load_from_memory(&rendered).unwrap();
     assert_eq!((img.width(), img.height()), (16, 12));
+    // The second render of the same view reads the first one back: the same image.
+    let (second, cached) = render();
+    assert!(
+        second.contains("reference: read from the cache in"),
+        "{second}"
+    );
+    assert!(
+        rendered == cached,
+        "the cached reference differs from the rendered one"
+    );
+    let _ = std::fs::remove_dir_all(&cache);
 }
 
 /// Every option of every subcommand says what it is for, and the top-level help ends with
