@@ -44,7 +44,7 @@
 //!   it crosses (`truth/tests/reference_scattering.rs` shows the convergence). Most of a beam's
 //!   steps land off the image or behind the surface its pixel sees: the image's edges bound
 //!   the steps taken before any is evaluated, and each step's pixel and depth come from the
-//!   beam's affine clip coordinates before anything else is computed ([`BeamLine`]).
+//!   beam's affine clip coordinates before anything else is computed.
 //!
 //! Neither estimator counts the medium within [`EYE_CLEARANCE`] of the eye (its rays'
 //! in-scattering starts there; their transmittance at the eye): beams passing the eye closer
