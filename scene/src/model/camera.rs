@@ -109,7 +109,12 @@ impl Camera {
     /// Pixel coordinates (continuous) of a world point, or None behind the camera (behind
     /// the plane through an orthographic camera's eye).
     pub fn project(&self, p: Vec3, width: u32, height: u32) -> Option<Vec2> {
-        let clip = self.view_proj(width, height) * p.extend(1.0);
+        self.project_with(&self.view_proj(width, height), p, width, height)
+    }
+    /// [`Camera::project`] with the camera's [`Camera::view_proj`] made once by the caller:
+    /// for a light pass that projects millions of points.
+    pub fn project_with(&self, view_proj: &Mat4, p: Vec3, width: u32, height: u32) -> Option<Vec2> {
+        let clip = *view_proj * p.extend(1.0);
         let behind = match self.orthographic {
             Some(_) => self.basis().0.dot(p - self.eye) <= 0.0,
             None => clip.w <= 1e-6,

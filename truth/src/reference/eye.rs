@@ -1,6 +1,7 @@
 //! The camera as the light pass sees it.
 
 use super::*;
+use glam::Mat4;
 
 /// The camera (pinhole or orthographic) as the light pass sees it: where a point lands on
 /// the image, and what one pixel's importance is (`Film::importance`).
@@ -12,6 +13,8 @@ pub(super) struct Eye<'a> {
     /// So does the scattering medium.
     pub(super) medium: Option<&'a Medium>,
     pub(super) forward: Vec3,
+    /// The camera's view-projection, made once ([`Camera::project_with`]).
+    view_proj: Mat4,
     pub(super) film: Film,
     pub(super) width: u32,
     pub(super) height: u32,
@@ -30,6 +33,7 @@ impl<'a> Eye<'a> {
             media,
             medium,
             forward: camera.basis().0,
+            view_proj: camera.view_proj(width, height),
             film: camera.film(width, height),
             width,
             height,
@@ -56,7 +60,9 @@ impl<'a> Eye<'a> {
         if cos_surface <= 0.0 || cos_camera <= 0.0 {
             return None;
         }
-        let px = self.camera.project(s.p, self.width, self.height)?;
+        let px = self
+            .camera
+            .project_with(&self.view_proj, s.p, self.width, self.height)?;
         if !(px.x >= 0.0 && px.y >= 0.0 && px.x < self.width as f32 && px.y < self.height as f32) {
             return None;
         }
