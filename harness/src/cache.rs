@@ -120,6 +120,9 @@ pub fn reference(
     if let Some(found) = load(&paths, &key, width, height) {
         return Ok((found, true));
     }
+    // Before the render: a folder that cannot be made fails now, not after minutes of work.
+    std::fs::create_dir_all(cache_dir)
+        .with_context(|| format!("cannot create the reference cache {}", cache_dir.display()))?;
     let reference = truth.render(view.scene, &view.camera, view.time, width, height)?;
     let n = (width * height) as usize;
     anyhow::ensure!(
@@ -130,8 +133,6 @@ pub fn reference(
             && reference.mask.len() == n,
         "the reference renderer returned an image of the wrong size"
     );
-    std::fs::create_dir_all(cache_dir)
-        .with_context(|| format!("cannot create {}", cache_dir.display()))?;
     images::write_exr(&paths.1, &reference.image)?;
     images::write_ids(
         &paths.2,

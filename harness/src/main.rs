@@ -198,7 +198,7 @@ enum Command {
     )]
     Bench(BenchArgs),
     /// Renders one image of the camera path's view at time 0 (.png or .exr by extension).
-    /// `--technique reference` renders the ground truth.
+    /// `--technique reference` gives the ground truth, through the reference cache.
     #[command(
         after_help = "Example: harness render --scene pool:light=sun --technique reference --size 256x256 --out pool.exr"
     )]
@@ -368,11 +368,15 @@ struct RenderArgs {
     size: Size,
     #[command(flatten)]
     reference: RefArgs,
-    /// The reference cache `--technique reference` reads and fills: by default the one
-    /// `cargo xtask compare` (`harness compare --out out`) keeps, so a view it rendered is not
-    /// rendered again.
+    /// The reference cache `--technique reference` reads and fills. The default is the one
+    /// `harness compare --out out` keeps (`cargo xtask compare`, run from the workspace root):
+    /// a view it rendered at the same --size (its default is 128x128) is read back.
     #[arg(long, default_value = "out/.cache", value_name = "DIR")]
     cache: PathBuf,
+    /// Render the reference without reading or filling a cache (after a change to the
+    /// reference renderer, whose code is not part of the cache key).
+    #[arg(long, conflicts_with = "cache")]
+    no_cache: bool,
 }
 
 #[derive(Args)]
@@ -820,14 +824,15 @@ fn render(args: &RenderArgs) -> Result<ExitCode> {
     let image = match id {
         None => {
             let truth = args.reference.reference();
-            let (image, how) =
-                harness::render::reference_image(&args.cache, &truth, spec, &scene, size)?;
-            let cache = args.cache.display();
+            let cache = (!args.no_cache).then_some(args.cache.as_path());
+            let (image, how) = harness::render::reference_image(cache, &truth, spec, &scene, size)?;
+            let dir = args.cache.display();
             match how {
-                Cached::Hit => eprintln!("reference: read from the cache in {cache}"),
-                Cached::Miss(why) => {
-                    eprintln!("reference: rendered into the cache in {cache} ({why})")
+                Some(Cached::Hit) => eprintln!("reference: read from the cache in {dir}"),
+                Some(Cached::Miss(why)) => {
+                    eprintln!("reference: rendered into the cache in {dir} ({why})")
                 }
+                None => {}
             }
             image
         }

@@ -4,19 +4,20 @@
 //! `compare`.
 
 use crate::cache::{self, Cached, RefView};
-use crate::{CpuReference, Frames, Size};
+use crate::{CpuReference, Frames, GroundTruth as _, Size};
 use anyhow::{Context as _, Result, bail};
 use std::path::Path;
 
-/// The reference image of `scene`'s view at time 0 from `cache_dir`, rendered and stored when
-/// absent, and where it came from ([`Cached`]: a miss says why).
+/// The reference image of `scene`'s view at time 0: from `cache_dir`, rendered and stored when
+/// absent, with where it came from ([`Cached`]: a miss says why); rendered without a cache
+/// when there is none (`None` beside the image).
 pub fn reference_image(
-    cache_dir: &Path,
+    cache_dir: Option<&Path>,
     truth: &CpuReference,
     spec: &str,
     scene: &scene::Scene,
     size: Size,
-) -> Result<(gpu::HdrImage, Cached)> {
+) -> Result<(gpu::HdrImage, Option<Cached>)> {
     let view = RefView {
         spec,
         scene,
@@ -24,9 +25,14 @@ pub fn reference_image(
         time: 0.0,
         size,
     };
-    let found = cache::status(cache_dir, truth, &view);
-    let (reference, how) = cache::reference_as_found(cache_dir, truth, &view, found)?;
-    Ok((reference.image, how))
+    let Some(dir) = cache_dir else {
+        let (w, h) = (size.width, size.height);
+        let reference = truth.render(scene, &view.camera, view.time, w, h)?;
+        return Ok((reference.image, None));
+    };
+    let found = cache::status(dir, truth, &view);
+    let (reference, how) = cache::reference_as_found(dir, truth, &view, found)?;
+    Ok((reference.image, Some(how)))
 }
 
 /// Technique `id`'s image of `scene` at time 0, after `frames` (a technique that refuses the

@@ -143,6 +143,7 @@ fn s(v: &str) -> String {
 fn render(scene: &Path, technique: &str, out: &Path) -> Vec<String> {
     vec![
         s("render"),
+        s("--no-cache"),
         s("--scene"),
         scene.display().to_string(),
         s("--technique"),

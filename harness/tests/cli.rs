@@ -447,7 +447,7 @@ fn export_render_and_reimport() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let png = tmp("from-glb.png");
+    let exr = tmp("from-glb.exr");
     let cache = tmp("render-cache");
     let _ = std::fs::remove_dir_all(&cache);
     let render = || {
@@ -464,11 +464,11 @@ fn export_render_and_reimport() {
             "--cache",
             &cache.display().to_string(),
             "--out",
-            &png.display().to_string(),
+            &exr.display().to_string(),
         ]);
         let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
         assert!(run.status.success(), "{stderr}");
-        (stderr, std::fs::read(&png).unwrap())
+        (stderr, harness::images::read_exr(&exr).unwrap())
     };
     let (first, rendered) = render();
     assert!(
@@ -476,19 +476,54 @@ fn export_render_and_reimport() {
             && first.contains("(no cached reference of this scene)"),
         "{first}"
     );
-    let img = image::load_from_memory(&rendered).unwrap();
-    assert_eq!((img.width(), img.height()), (16, 12));
-    // The second render of the same view reads the first one back: the same image.
+    assert_eq!((rendered.width, rendered.height), (16, 12));
+    // The second render of the same view reads the first one back: the same radiance, bit
+    // for bit.
     let (second, cached) = render();
     assert!(
         second.contains("reference: read from the cache in"),
         "{second}"
     );
+    let bits = |image: &gpu::HdrImage| -> Vec<u32> {
+        image
+            .pixels
+            .iter()
+            .flat_map(|p| p.map(f32::to_bits))
+            .collect()
+    };
     assert!(
-        rendered == cached,
+        bits(&rendered) == bits(&cached),
         "the cached reference differs from the rendered one"
     );
+    // --no-cache renders afresh, the same image, and says nothing of a cache.
     let _ = std::fs::remove_dir_all(&cache);
+    let glb = glb.display().to_string();
+    let exr_path = exr.display().to_string();
+    let run = harness(&[
+        "render",
+        "--no-cache",
+        "--scene",
+        &glb,
+        "--technique",
+        "reference",
+        "--ref-photons",
+        "0",
+        "--size",
+        "16x12",
+        "--out",
+        &exr_path,
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        run.status.success() && !stderr.contains("cache"),
+        "{stderr}"
+    );
+    let fresh = harness::images::read_exr(&exr).unwrap();
+    assert!(
+        bits(&fresh) == bits(&rendered),
+        "--no-cache gave another image"
+    );
+    assert!(!cache.exists(), "--no-cache made {}", cache.display());
 }
 
 /// Every option of every subcommand says what it is for, and the top-level help ends with

@@ -76,9 +76,10 @@ fn render_small(scene: &str, technique: &str, png: &Path) -> std::process::Outpu
 }
 
 /// The arguments of [`render_small`].
-fn small_render_args<'a>(scene: &'a str, technique: &'a str, png: &'a Path) -> [&'a str; 11] {
+fn small_render_args<'a>(scene: &'a str, technique: &'a str, png: &'a Path) -> [&'a str; 12] {
     [
         "render",
+        "--no-cache",
         "--scene",
         scene,
         "--technique",
@@ -249,6 +250,7 @@ fn render_reference_uses_the_reference_options() {
         let exr = dir.join(format!("p{photons}.exr"));
         let out = harness(&[
             "render",
+            "--no-cache",
             "--scene",
             "cornell-sphere",
             "--technique",

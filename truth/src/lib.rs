@@ -37,6 +37,16 @@ pub fn offset_epsilon(p: glam::Vec3) -> f32 {
     1e-4 * p.length().max(1.0)
 }
 
+/// The pixel (row by row from the top) the continuous image point `p` falls in, `None` off
+/// the `width` x `height` image: where the light pass splats what it lands.
+pub(crate) fn pixel_at(p: glam::Vec2, width: u32, height: u32) -> Option<usize> {
+    if !(p.x >= 0.0 && p.y >= 0.0 && p.x < width as f32 && p.y < height as f32) {
+        return None;
+    }
+    let (x, y) = ((p.x as u32).min(width - 1), (p.y as u32).min(height - 1));
+    Some((y * width + x) as usize)
+}
+
 /// This crate's family: `reference`, with no image check of its own (it is what the checks
 /// measure against).
 pub const FAMILY: scene::Family = scene::Family {

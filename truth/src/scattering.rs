@@ -199,8 +199,8 @@ impl<'a> BeamSplatter<'a> {
     }
 
     /// Adds the beam `origin + s dir`, `s` in `[0, length]`, of flux `power` at `origin`, to
-    /// `image` (one radiance per pixel). Returns the number of steps of its midpoint rule (those
-    /// off the image are counted but never evaluated).
+    /// `image` (one radiance per pixel). Returns the number of steps of its midpoint rule, those
+    /// off the image included (they are skipped unevaluated).
     pub fn splat(
         &self,
         origin: Vec3,
@@ -267,11 +267,7 @@ impl<'a> BeamSplatter<'a> {
     /// in front of that pixel's surface.
     fn visible_pixel(&self, line: &BeamLine, s: f32) -> Option<usize> {
         let p = self.pixel_coordinates(line.clip0 + line.clip_ds * s)?;
-        if !(p.x >= 0.0 && p.y >= 0.0 && p.x < self.width as f32 && p.y < self.height as f32) {
-            return None;
-        }
-        let i = (p.y as u32).min(self.height - 1) * self.width + (p.x as u32).min(self.width - 1);
-        let i = i as usize;
+        let i = crate::pixel_at(p, self.width, self.height)?;
         let depth = line.depth0 + line.depth_ds * s;
         (depth < self.depths[i]).then_some(i)
     }
@@ -428,12 +424,9 @@ mod tests {
             if !(d >= EYE_CLEARANCE) || cos_camera <= 0.0 {
                 continue;
             }
-            let Some(p) = b.project(x) else { continue };
-            if !(p.x >= 0.0 && p.y >= 0.0 && p.x < WIDTH as f32 && p.y < HEIGHT as f32) {
+            let Some(pixel) = b.project(x).and_then(|p| crate::pixel_at(p, WIDTH, HEIGHT)) else {
                 continue;
-            }
-            let pixel =
-                ((p.y as u32).min(HEIGHT - 1) * WIDTH + (p.x as u32).min(WIDTH - 1)) as usize;
+            };
             if !(cos_camera * d < b.depths[pixel]) {
                 continue;
             }
@@ -501,9 +494,7 @@ mod tests {
             let taken = b.line(origin, dir).steps_on_image(span, ds, steps);
             for i in 0..steps {
                 let x = origin + dir * (span.x + (i as f32 + 0.5) * ds);
-                let on_image = b.project(x).is_some_and(|p| {
-                    p.x >= 0.0 && p.y >= 0.0 && p.x < WIDTH as f32 && p.y < HEIGHT as f32
-                });
+                let on_image = b.project(x).and_then(|p| crate::pixel_at(p, WIDTH, HEIGHT)).is_some();
                 prop_assert!(!on_image || taken.contains(&i), "step {i} of {steps} is on the image, outside {taken:?}");
             }
         }
@@ -536,6 +527,57 @@ mod tests {
                 .filter(|(a, b)| (**a - **b).abs().max_element() > 1e-4 * a.max(**b).max_element() + 1e-30)
                 .count();
             prop_assert!(differing <= 2 * beams.len(), "{differing} pixels differ");
+            // Without surfaces no step can vanish: a step rounded across a pixel's edge keeps
+            // its share, so the totals agree to rounding.
+            let open = vec![f32::INFINITY; depths.len()];
+            let b = BeamSplatter::new(&m, &camera, WIDTH, HEIGHT, &open);
+            let (mut fast, mut slow) = (vec![Vec3::ZERO; open.len()], vec![Vec3::ZERO; open.len()]);
+            for &beam in &beams {
+                b.splat(beam.0, beam.1, beam.2, power, &mut fast);
+                splat_step_by_step(&b, beam, power, &mut slow);
+            }
+            let total = |image: &[Vec3]| image.iter().map(|v| v.as_dvec3()).sum::<glam::DVec3>();
+            let (fast, slow) = (total(&fast), total(&slow));
+            prop_assert!((fast - slow).abs().max_element() <= 1e-4 * slow.max_element() + 1e-30, "{fast} against {slow}");
         }
+    }
+
+    /// A beam that leaves the image through its right edge: the steps taken stop soon after
+    /// it (the others are never evaluated), hold every step on the image, and light it.
+    #[test]
+    fn a_beam_leaving_the_image_is_stepped_only_on_it() {
+        let m = medium();
+        let camera = Camera {
+            eye: Vec3::new(0.0, 0.0, 3.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y_deg: 20.0,
+            orthographic: None,
+        };
+        let depths = vec![f32::INFINITY; (WIDTH * HEIGHT) as usize];
+        let b = BeamSplatter::new(&m, &camera, WIDTH, HEIGHT, &depths);
+        // Along +x from the view's centre: the image ends at x ~ 0.79, the medium at x = 2.
+        let (origin, dir) = (Vec3::ZERO, Vec3::X);
+        let span = m.clip(origin, dir, 10.0).unwrap();
+        let steps = b.steps(origin, dir, span);
+        let ds = (span.y - span.x) / steps as f32;
+        let taken = b.line(origin, dir).steps_on_image(span, ds, steps);
+        let on_image: Vec<u32> = (0..steps)
+            .filter(|&i| {
+                let x = origin + dir * (span.x + (i as f32 + 0.5) * ds);
+                b.project(x)
+                    .is_some_and(|p| p.x >= 0.0 && p.x < WIDTH as f32)
+            })
+            .collect();
+        assert!(on_image.len() > 10 && on_image.iter().all(|i| taken.contains(i)));
+        assert!(
+            taken.start == 0 && taken.end < steps / 2 && taken.end <= on_image.len() as u32 + 4,
+            "{taken:?} of {steps} steps, {} on the image",
+            on_image.len()
+        );
+        let mut image = vec![Vec3::ZERO; depths.len()];
+        b.splat(origin, dir, 10.0, Vec3::ONE, &mut image);
+        let lit = image.iter().filter(|v| v.max_element() > 0.0).count();
+        assert!(lit >= WIDTH as usize / 2 - 2, "{lit} pixels lit");
     }
 }

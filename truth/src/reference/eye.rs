@@ -63,13 +63,7 @@ impl<'a> Eye<'a> {
         let px = self
             .camera
             .project_with(&self.view_proj, s.p, self.width, self.height)?;
-        if !(px.x >= 0.0 && px.y >= 0.0 && px.x < self.width as f32 && px.y < self.height as f32) {
-            return None;
-        }
-        let (x, y) = (
-            (px.x as u32).min(self.width - 1),
-            (px.y as u32).min(self.height - 1),
-        );
+        let pixel = crate::pixel_at(px, self.width, self.height)?;
         *rays += 1;
         let origin = s.above();
         // The eye, or the point of an orthographic camera's film that sees s.p.
@@ -89,6 +83,6 @@ impl<'a> Eye<'a> {
                 .medium
                 .map_or(Vec3::ONE, |m| m.transmittance(film, -w_c, distance));
         let value = power * albedo * FRAC_1_PI * (correction * cos_surface * importance * seen);
-        Some(((y * self.width + x) as usize, value))
+        Some((pixel, value))
     }
 }
