@@ -364,6 +364,7 @@ struct RenderArgs {
     /// The image to write: .png (sRGB of the clamped radiance) or .exr (linear radiance).
     #[arg(long, value_name = "FILE")]
     out: PathBuf,
+    /// The image's width and height in pixels (compare's default is 128x128).
     #[arg(long, default_value = "256x256", value_name = "WxH")]
     size: Size,
     #[command(flatten)]
