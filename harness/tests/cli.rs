@@ -450,27 +450,36 @@ fn export_render_and_reimport() {
     let exr = tmp("from-glb.exr");
     let cache = tmp("render-cache");
     let _ = std::fs::remove_dir_all(&cache);
-    let render = || {
-        let run = harness(&[
+    let (glb, exr_path) = (glb.display().to_string(), exr.display().to_string());
+    let cache_path = cache.display().to_string();
+    let render = |cache_args: &[&str]| {
+        let mut args = vec![
             "render",
             "--scene",
-            &glb.display().to_string(),
+            &glb,
             "--technique",
             "reference",
             "--ref-photons",
             "0",
             "--size",
             "16x12",
-            "--cache",
-            &cache.display().to_string(),
             "--out",
-            &exr.display().to_string(),
-        ]);
+            &exr_path,
+        ];
+        args.extend_from_slice(cache_args);
+        let run = harness(&args);
         let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
         assert!(run.status.success(), "{stderr}");
         (stderr, harness::images::read_exr(&exr).unwrap())
     };
-    let (first, rendered) = render();
+    let bits = |image: &gpu::HdrImage| -> Vec<u32> {
+        image
+            .pixels
+            .iter()
+            .flat_map(|p| p.map(f32::to_bits))
+            .collect()
+    };
+    let (first, rendered) = render(&["--cache", &cache_path]);
     assert!(
         first.contains("reference: rendered into the cache in")
             && first.contains("(no cached reference of this scene)"),
@@ -479,46 +488,19 @@ fn export_render_and_reimport() {
     assert_eq!((rendered.width, rendered.height), (16, 12));
     // The second render of the same view reads the first one back: the same radiance, bit
     // for bit.
-    let (second, cached) = render();
+    let (second, cached) = render(&["--cache", &cache_path]);
     assert!(
         second.contains("reference: read from the cache in"),
         "{second}"
     );
-    let bits = |image: &gpu::HdrImage| -> Vec<u32> {
-        image
-            .pixels
-            .iter()
-            .flat_map(|p| p.map(f32::to_bits))
-            .collect()
-    };
     assert!(
         bits(&rendered) == bits(&cached),
         "the cached reference differs from the rendered one"
     );
     // --no-cache renders afresh, the same image, and says nothing of a cache.
     let _ = std::fs::remove_dir_all(&cache);
-    let glb = glb.display().to_string();
-    let exr_path = exr.display().to_string();
-    let run = harness(&[
-        "render",
-        "--no-cache",
-        "--scene",
-        &glb,
-        "--technique",
-        "reference",
-        "--ref-photons",
-        "0",
-        "--size",
-        "16x12",
-        "--out",
-        &exr_path,
-    ]);
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(
-        run.status.success() && !stderr.contains("cache"),
-        "{stderr}"
-    );
-    let fresh = harness::images::read_exr(&exr).unwrap();
+    let (third, fresh) = render(&["--no-cache"]);
+    assert!(!third.contains("cache"), "{third}");
     assert!(
         bits(&fresh) == bits(&rendered),
         "--no-cache gave another image"
