@@ -162,10 +162,13 @@ pub fn reference_as_found(
     let how = match (cached, found) {
         (true, _) => Cached::Hit,
         (false, Cached::Miss(reason)) => Cached::Miss(reason),
-        (false, Cached::Hit) => Cached::Miss("its cache entry could not be read back".into()),
+        (false, Cached::Hit) => Cached::Miss(UNREADABLE.into()),
     };
     Ok((reference, how))
 }
+
+/// Why an entry whose key matches was still rendered again.
+const UNREADABLE: &str = "its cache entry could not be read back";
 
 /// The parts of a key ([`reference_key`]) with what a difference in each means to a user.
 const KEY_PARTS: [(&str, &str); 6] = [
@@ -220,7 +223,7 @@ pub fn miss_reason(cache_dir: &Path, key: &str) -> String {
     };
     match entries.iter().map(differing).min_by_key(|d| d.len()) {
         None => none,
-        Some(d) if d.is_empty() => "its cache entry could not be read back".into(),
+        Some(d) if d.is_empty() => UNREADABLE.into(),
         Some(d) => format!(
             "the nearest cached reference of this scene differs in {}",
             d.join(" and ")

@@ -262,35 +262,27 @@ fn what_it_cannot_draw_is_refused() {
     let color = targets.color.create_view(&Default::default());
     let depth = targets.depth.create_view(&Default::default());
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    let refusal = Frame::untimed(ctx, &mut encoder, |frame| {
-        pass.draw(frame, &off_centre, 0.0, &color, &depth)
-    });
-    let error = refusal
-        .expect_err("an off-centre projection is refused")
-        .to_string();
+    // The sentence `draw` refuses `view` with.
+    let mut refused = |view: &EyeView, what: &str| -> String {
+        let refusal = Frame::untimed(ctx, &mut encoder, |frame| {
+            pass.draw(frame, view, 0.0, &color, &depth)
+        });
+        refusal.expect_err(what).to_string()
+    };
+    let error = refused(&off_centre, "an off-centre projection is refused");
     assert!(
         error.contains("centred perspective or orthographic"),
         "{error}"
     );
     // A view whose per-pixel buffers no device binds: refused before anything is allocated.
     let huge = eye_view_of(&world().camera, 1 << 16, 1 << 16);
-    let refusal = Frame::untimed(ctx, &mut encoder, |frame| {
-        pass.draw(frame, &huge, 0.0, &color, &depth)
-    });
-    let error = refusal
-        .expect_err("a view too large is refused")
-        .to_string();
+    let error = refused(&huge, "a view too large is refused");
     assert!(error.contains("storage binding limit"), "{error}");
     // A projection that mirrors y (a renderer drawing y down).
     let mirrored = EyeView {
         projection: glam::Mat4::from_scale(glam::Vec3::new(1.0, -1.0, 1.0)) * view.projection,
         ..view
     };
-    let refusal = Frame::untimed(ctx, &mut encoder, |frame| {
-        pass.draw(frame, &mirrored, 0.0, &color, &depth)
-    });
-    let error = refusal
-        .expect_err("a mirroring projection is refused")
-        .to_string();
+    let error = refused(&mirrored, "a mirroring projection is refused");
     assert!(error.contains("mirrors an axis"), "{error}");
 }
