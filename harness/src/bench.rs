@@ -86,6 +86,8 @@ pub struct BenchReport {
     pub rounds: u32,
     pub frames: u32,
     pub rows: Vec<BenchRow>,
+    /// The command line, commit, date and driver that made the run.
+    pub provenance: crate::provenance::Provenance,
     #[serde(skip)]
     pub markdown: String,
 }
@@ -339,17 +341,38 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
         rounds: opts.rounds,
         frames: opts.frames,
         rows: bench_rows(opts, &samples),
+        provenance: crate::provenance::Provenance::capture(String::new()),
         markdown: String::new(),
     };
     report.markdown = to_markdown(&report);
     if let Some(out) = &opts.out {
         let _lock = crate::OutputLock::acquire(out)?;
-        write_text(&out.join("bench.md"), &report.markdown)?;
+        write_text(&out.join("bench.md"), &page_markdown(&report))?;
         let json = serde_json::to_string_pretty(&report)
             .map_err(|e| anyhow!("cannot encode the bench report: {e}"))?;
         write_text(&out.join("bench.json"), &json)?;
     }
     Ok(report)
+}
+
+/// `bench.md`: what made the run (command line, commit, date, adapter, driver), then the
+/// table, so that a copy of the file says where its figures come from.
+pub fn page_markdown(report: &BenchReport) -> String {
+    let p = &report.provenance;
+    let rows: [(&str, &str); 7] = [
+        ("command line", &p.command_line),
+        ("git commit", &p.git_commit),
+        ("date (UTC)", &p.date_utc),
+        ("adapter", &crate::provenance::adapter_line(&report.adapter)),
+        ("timer", &report.adapter.timer_kind),
+        ("Vulkan drivers", &p.vulkan_drivers),
+        ("harness", &p.harness_version),
+    ];
+    let list: String = rows
+        .iter()
+        .map(|(what, v)| format!("- {what}: {v}\n"))
+        .collect();
+    format!("# Bench\n\n{list}\n{}", report.markdown)
 }
 
 /// The markdown table: one row per technique, ratios to the first.

@@ -122,7 +122,7 @@ fn utc(secs: u64) -> String {
     )
 }
 
-fn adapter_line(a: &AdapterJson) -> String {
+pub(crate) fn adapter_line(a: &AdapterJson) -> String {
     format!(
         "{} ({}, {}, driver {}{})",
         a.name,

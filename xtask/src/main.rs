@@ -42,9 +42,13 @@
 //!   and `scene` crates at opt-level 3 (the CPU reference and its BVH, FLIP, wgpu), so it runs
 //!   as fast as a release build for this job (see the README for the measurements).
 //!   `cargo xtask compare --release` builds and runs a release harness instead.
+//! - `evidence CRATE [NAME...]`: the same test build's `harness` (and `cargo test` for test
+//!   runs) over the runs of `CRATE/docs/measured/runs.txt`, each written to
+//!   `CRATE/docs/measured/NAME.md` ([`evidence`]).
 //!
 //! Every command is printed before it runs; the exit status is the child's.
 
+mod evidence;
 mod runner;
 
 use std::path::{Path, PathBuf};
@@ -58,10 +62,11 @@ const ICD_DIRS: &[&str] = &[
 
 fn usage() -> ExitCode {
     eprintln!(
-        "usage: cargo xtask <test|compare|ray-query> [ARGS...]\n\
+        "usage: cargo xtask <test|compare|ray-query|evidence> [ARGS...]\n\
          \x20 test      cargo test --workspace [ARGS...], every test on Mesa 25's lavapipe where there is no GPU\n\
          \x20 compare   harness compare --out out [ARGS...] on the test build   (--release for a release build)\n\
-         \x20 ray-query the tests that must run on Mesa 25's lavapipe (ray queries, flat memory, every image check), alone"
+         \x20 ray-query the tests that must run on Mesa 25's lavapipe (ray queries, flat memory, every image check), alone\n\
+         \x20 evidence  CRATE [NAME...]: the runs of CRATE/docs/measured/runs.txt, each into CRATE/docs/measured/NAME.md"
     );
     ExitCode::from(2)
 }
@@ -76,7 +81,7 @@ fn main() -> ExitCode {
     let command = match job.as_str() {
         "test" => test_command(&rest),
         "compare" if release => compare_command(&rest),
-        "compare" | "ray-query" => Vec::new(),
+        "compare" | "ray-query" | "evidence" => Vec::new(),
         "-h" | "--help" | "help" => {
             usage();
             return ExitCode::SUCCESS;
@@ -101,6 +106,7 @@ fn main() -> ExitCode {
             timed_tests(&rest)
         }
         "compare" if !release => compare_with_test_build(&rest),
+        "evidence" => evidence::evidence(&rest),
         "ray-query" => match test_build() {
             Ok(artifacts) => tests_on_backported_lavapipe(&artifacts),
             Err(code) => code,
@@ -369,11 +375,7 @@ fn compare_with_test_build(rest: &[String]) -> ExitCode {
             format!(": {}", compiled.join(", "))
         }
     );
-    let Some(harness) = artifacts
-        .iter()
-        .find(|a| a.name == "harness" && a.bin && !a.test_profile)
-        .and_then(|a| a.executable.clone())
-    else {
+    let Some(harness) = harness_of(&artifacts) else {
         eprintln!("error: the test build made no harness binary");
         return ExitCode::FAILURE;
     };
@@ -389,6 +391,14 @@ fn compare_with_test_build(rest: &[String]) -> ExitCode {
         }
         None => run_in(&user_dir(), &cmd, &[]),
     }
+}
+
+/// The `harness` binary of the test build.
+fn harness_of(artifacts: &[Artifact]) -> Option<String> {
+    artifacts
+        .iter()
+        .find(|a| a.name == "harness" && a.bin && !a.test_profile)
+        .and_then(|a| a.executable.clone())
 }
 
 /// Where `compare` writes without `--out`: `out/` at the workspace's root, wherever it runs.

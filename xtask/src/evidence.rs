@@ -1,0 +1,297 @@
+//! `cargo xtask evidence CRATE [NAME...]`: a crate's measurements, regenerated from runs.
+//!
+//! A technique crate's README states findings; the figures behind them live in generated
+//! files under `CRATE/docs/measured/`, one per run, never edited by hand. The runs are listed
+//! in `CRATE/docs/measured/runs.txt`, one per line: a name, then the command
+//!
+//! ```text
+//! # comment
+//! against-distance-maps  harness compare --scenes chess --techniques height-maps --size 256x256
+//! search-rates           cargo test -p rtapprox-height-maps --test search_properties -- --nocapture
+//! ```
+//!
+//! - `harness ...` runs the test build's `harness` binary (the one `cargo xtask compare` runs,
+//!   on the same driver) with `--out target/evidence/CRATE/NAME`; the references are shared by
+//!   every run through one cache (`target/evidence/.cache`). The run's own markdown
+//!   (`results.md` of compare, `sweep.md` of sweep, `bench.md` of bench: each says the
+//!   command line, commit, date and adapter that made it) becomes `NAME.md`, and a sweep's
+//!   plot `NAME.svg`.
+//! - `cargo test ...` runs with the same driver; its standard output (the tables the test
+//!   prints with `--nocapture`) becomes `NAME.md` under the command, commit and date.
+//!
+//! Every file starts with the line that regenerates it, and its wall-clock time. With NAMEs,
+//! only those runs; without, all of them in order.
+
+use std::path::Path;
+use std::process::{Command, ExitCode};
+use std::time::Instant;
+
+/// The manifest of a crate's runs, relative to the crate.
+const RUNS: &str = "docs/measured/runs.txt";
+
+/// One line of the manifest.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Run {
+    pub name: String,
+    pub kind: RunKind,
+    /// The words after `harness` or `cargo`.
+    pub args: Vec<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum RunKind {
+    Harness,
+    CargoTest,
+}
+
+/// The runs of a manifest's text, or the first line that is not one (with its number).
+pub(crate) fn parse_runs(text: &str) -> Result<Vec<Run>, String> {
+    let mut runs: Vec<Run> = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let words: Vec<String> = line.split_whitespace().map(String::from).collect();
+        let bad = |why: &str| format!("line {}: {why}: {line}", number + 1);
+        let [name, program, rest @ ..] = words.as_slice() else {
+            return Err(bad("a run is a name and a command"));
+        };
+        if !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-') {
+            return Err(bad("a name is letters, digits and '-'"));
+        }
+        if runs.iter().any(|r| &r.name == name) {
+            return Err(bad("the name is taken by an earlier line"));
+        }
+        let kind = match (program.as_str(), rest.first().map(String::as_str)) {
+            ("harness", Some("compare" | "sweep" | "bench")) => RunKind::Harness,
+            ("cargo", Some("test")) => RunKind::CargoTest,
+            _ => {
+                return Err(bad(
+                    "the command is `harness compare|sweep|bench ...` or `cargo test ...`",
+                ));
+            }
+        };
+        if kind == RunKind::Harness && rest.iter().any(|w| w == "--out") {
+            return Err(bad("xtask chooses --out"));
+        }
+        runs.push(Run {
+            name: name.clone(),
+            kind,
+            args: rest.to_vec(),
+        });
+    }
+    Ok(runs)
+}
+
+/// `cargo xtask evidence CRATE [NAME...]`.
+pub(crate) fn evidence(rest: &[String]) -> ExitCode {
+    let Some((krate, names)) = rest.split_first() else {
+        eprintln!("usage: cargo xtask evidence CRATE [NAME...]   (runs CRATE/{RUNS})");
+        return ExitCode::from(2);
+    };
+    let root = crate::workspace_root();
+    let manifest = root.join(krate).join(RUNS);
+    let runs = match std::fs::read_to_string(&manifest) {
+        Ok(text) => parse_runs(&text),
+        Err(e) => Err(format!("cannot read it: {e}")),
+    };
+    let runs = match runs {
+        Ok(runs) => runs,
+        Err(why) => {
+            eprintln!("error: {}: {why}", manifest.display());
+            return ExitCode::FAILURE;
+        }
+    };
+    if let Some(unknown) = names.iter().find(|n| !runs.iter().any(|r| &r.name == *n)) {
+        let known: Vec<&str> = runs.iter().map(|r| r.name.as_str()).collect();
+        eprintln!(
+            "error: {} has no run \"{unknown}\"; its runs are {}",
+            manifest.display(),
+            known.join(", ")
+        );
+        return ExitCode::FAILURE;
+    }
+    let harness = match crate::test_build().map(|a| crate::harness_of(&a)) {
+        Ok(Some(h)) => h,
+        Ok(None) => {
+            eprintln!("error: the test build made no harness binary");
+            return ExitCode::FAILURE;
+        }
+        Err(code) => return code,
+    };
+    let docs = manifest
+        .parent()
+        .expect("the manifest is in a folder")
+        .to_path_buf();
+    for run in runs
+        .iter()
+        .filter(|r| names.is_empty() || names.contains(&r.name))
+    {
+        if let Err(why) = regenerate(&root, krate, &docs, &harness, run) {
+            eprintln!("error: run {}: {why}", run.name);
+            return ExitCode::FAILURE;
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// Runs `run` and writes its `NAME.md` (and plot) into `docs`.
+fn regenerate(
+    root: &Path,
+    krate: &str,
+    docs: &Path,
+    harness: &str,
+    run: &Run,
+) -> Result<(), String> {
+    let driver = crate::compare_driver();
+    let env: Vec<(&str, &std::ffi::OsStr)> = driver
+        .iter()
+        .map(|icd| ("VK_ICD_FILENAMES", icd.as_os_str()))
+        .collect();
+    let started = Instant::now();
+    let body = match run.kind {
+        RunKind::Harness => {
+            let out = root.join("target/evidence").join(krate).join(&run.name);
+            prepare_out(root, &out)?;
+            let mut cmd = vec![harness.to_string()];
+            cmd.extend(run.args.iter().cloned());
+            cmd.extend(["--out".to_string(), out.to_string_lossy().into_owned()]);
+            if crate::run_in(root, &cmd, &env) != ExitCode::SUCCESS {
+                return Err("the harness failed (above)".into());
+            }
+            copy_plot(&out, docs, &run.name)?;
+            harness_markdown(&out)?
+        }
+        RunKind::CargoTest => test_markdown(root, run, &env)?,
+    };
+    let seconds = started.elapsed().as_secs();
+    let text = format!(
+        "<!-- Generated by `cargo xtask evidence {krate} {}` from {RUNS}; edits are lost when \
+         it runs again. -->\n\n{body}\n_Wall clock of the run: {} min {} s._\n",
+        run.name,
+        seconds / 60,
+        seconds % 60
+    );
+    let path = docs.join(format!("{}.md", run.name));
+    std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    eprintln!("xtask: wrote {}", path.display());
+    Ok(())
+}
+
+/// An empty output folder whose reference cache is the one every evidence run shares.
+fn prepare_out(root: &Path, out: &Path) -> Result<(), String> {
+    let cache = root.join("target/evidence/.cache");
+    let _ = std::fs::remove_dir_all(out);
+    std::fs::create_dir_all(out)
+        .and_then(|()| std::fs::create_dir_all(&cache))
+        .and_then(|()| std::os::unix::fs::symlink(&cache, out.join(".cache")))
+        .map_err(|e| format!("cannot prepare {}: {e}", out.display()))
+}
+
+/// The run's own markdown: compare's `results.md`, sweep's `sweep.md`, bench's `bench.md`.
+fn harness_markdown(out: &Path) -> Result<String, String> {
+    ["sweep.md", "bench.md", "results.md"]
+        .iter()
+        .map(|f| out.join(f))
+        .find(|p| p.is_file())
+        .ok_or_else(|| format!("{} has no results.md, sweep.md or bench.md", out.display()))
+        .and_then(|p| std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display())))
+}
+
+/// A sweep's plot beside its table.
+fn copy_plot(out: &Path, docs: &Path, name: &str) -> Result<(), String> {
+    let plot = out.join("sweep.svg");
+    if !plot.is_file() {
+        return Ok(());
+    }
+    let to = docs.join(format!("{name}.svg"));
+    std::fs::copy(&plot, &to)
+        .map(drop)
+        .map_err(|e| format!("cannot copy {} to {}: {e}", plot.display(), to.display()))
+}
+
+/// A test's standard output under the command, commit and date that made it.
+fn test_markdown(
+    root: &Path,
+    run: &Run,
+    env: &[(&str, &std::ffi::OsStr)],
+) -> Result<String, String> {
+    let mut cmd = vec![crate::cargo()];
+    cmd.extend(run.args.iter().cloned());
+    crate::print_command(&cmd);
+    let output = Command::new(&cmd[0])
+        .args(&cmd[1..])
+        .current_dir(root)
+        .envs(env.iter().copied())
+        .env("CARGO_INCREMENTAL", crate::ONE_BUILD_INCREMENTAL)
+        .env("NODEVICE_SELECT", "1")
+        .stderr(std::process::Stdio::inherit())
+        .output()
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
+    if !output.status.success() {
+        return Err(format!("`cargo {}` failed", run.args.join(" ")));
+    }
+    let drivers = env.first().map_or("system".to_string(), |(_, v)| {
+        v.to_string_lossy().into_owned()
+    });
+    Ok(format!(
+        "# Test output\n\n- command line: cargo {}\n- git commit: {}\n- date (UTC): {}\n- Vulkan \
+         drivers: {drivers}\n\n```text\n{}```\n",
+        run.args.join(" "),
+        shell_line(root, "git", &["rev-parse", "HEAD"]),
+        shell_line(root, "date", &["-u", "+%Y-%m-%dT%H:%M:%SZ"]),
+        String::from_utf8_lossy(&output.stdout)
+    ))
+}
+
+/// The first line a command prints, or "unknown".
+fn shell_line(dir: &Path, program: &str, args: &[&str]) -> String {
+    Command::new(program)
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .and_then(|s| s.lines().next().map(String::from))
+        .unwrap_or_else(|| "unknown".into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_are_named_commands() {
+        let runs = parse_runs(
+            "# a comment\n\n\
+             steps  harness sweep --scene chess --technique height-maps/single --param steps=1,2\n\
+             rates  cargo test -p x --test y -- --nocapture\n",
+        )
+        .unwrap();
+        assert_eq!(runs.len(), 2);
+        assert_eq!(runs[0].name, "steps");
+        assert_eq!(runs[0].kind, RunKind::Harness);
+        assert_eq!(runs[0].args[0], "sweep");
+        assert_eq!(runs[1].kind, RunKind::CargoTest);
+        assert_eq!(runs[1].args.last().unwrap(), "--nocapture");
+    }
+
+    #[test]
+    fn bad_lines_are_refused_with_their_number() {
+        let cases = [
+            ("lonely\n", "line 1: a run is a name and a command"),
+            ("a harness render --scene x\n", "line 1: the command is"),
+            ("a/b harness compare\n", "line 1: a name is"),
+            (
+                "a harness compare\n\na harness bench\n",
+                "line 3: the name is taken",
+            ),
+            ("a harness compare --out x\n", "line 1: xtask chooses --out"),
+        ];
+        for (text, why) in cases {
+            let err = parse_runs(text).unwrap_err();
+            assert!(err.starts_with(why), "{text:?}: {err}");
+        }
+    }
+}
