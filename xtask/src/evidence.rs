@@ -239,10 +239,25 @@ fn test_markdown(
         "# Test output\n\n- command line: cargo {}\n- git commit: {}\n- date (UTC): {}\n- Vulkan \
          drivers: {drivers}\n\n```text\n{}```\n",
         run.args.join(" "),
-        shell_line(root, "git", &["rev-parse", "HEAD"]),
+        commit(root),
         shell_line(root, "date", &["-u", "+%Y-%m-%dT%H:%M:%SZ"]),
         String::from_utf8_lossy(&output.stdout)
     ))
+}
+
+/// The checkout's commit, `-dirty` when a tracked file has changed (as the harness says it).
+fn commit(root: &Path) -> String {
+    let head = shell_line(root, "git", &["rev-parse", "HEAD"]);
+    let changed = Command::new("git")
+        .args(["status", "--porcelain", "--untracked-files=no"])
+        .current_dir(root)
+        .output()
+        .is_ok_and(|o| !o.stdout.is_empty());
+    if changed {
+        format!("{head}-dirty")
+    } else {
+        head
+    }
 }
 
 /// The first line a command prints, or "unknown".
