@@ -19,8 +19,10 @@
 //! - `cargo test ...` runs with the same driver; its standard output (the tables the test
 //!   prints with `--nocapture`) becomes `NAME.md` under the command, commit and date.
 //!
-//! Every file starts with the line that regenerates it, and its wall-clock time. With NAMEs,
-//! only those runs; without, all of them in order.
+//! Every file starts with the line that regenerates it, and ends with its wall-clock time.
+//! With NAMEs, only those runs; without, all of them in order. The files are written when the
+//! last run has finished (or one has failed: then those of the runs before it), so that every
+//! run finds the checkout as it was committed and says so (`git commit` without `-dirty`).
 
 use std::path::Path;
 use std::process::{Command, ExitCode};
@@ -72,7 +74,8 @@ pub(crate) fn parse_runs(text: &str) -> Result<Vec<Run>, String> {
                 ));
             }
         };
-        if kind == RunKind::Harness && rest.iter().any(|w| w == "--out") {
+        if kind == RunKind::Harness && rest.iter().any(|w| w == "--out" || w.starts_with("--out="))
+        {
             return Err(bad("xtask chooses --out"));
         }
         runs.push(Run {
@@ -124,33 +127,81 @@ pub(crate) fn evidence(rest: &[String]) -> ExitCode {
         .parent()
         .expect("the manifest is in a folder")
         .to_path_buf();
+    let mut done = Vec::new();
+    let mut failed = None;
     for run in runs
         .iter()
         .filter(|r| names.is_empty() || names.contains(&r.name))
     {
-        if let Err(why) = regenerate(&root, krate, &docs, &harness, run) {
-            eprintln!("error: run {}: {why}", run.name);
-            return ExitCode::FAILURE;
+        match regenerate(&root, krate, &harness, run) {
+            Ok(output) => done.push(output),
+            Err(why) => {
+                failed = Some(format!("run {}: {why}", run.name));
+                break;
+            }
         }
     }
-    ExitCode::SUCCESS
+    let written = done.iter().try_for_each(|output| output.write(&docs));
+    match (failed, written) {
+        (None, Ok(())) => ExitCode::SUCCESS,
+        (Some(why), _) | (None, Err(why)) => {
+            eprintln!("error: {why}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
-/// Runs `run` and writes its `NAME.md` (and plot) into `docs`.
-fn regenerate(
-    root: &Path,
-    krate: &str,
-    docs: &Path,
-    harness: &str,
-    run: &Run,
-) -> Result<(), String> {
-    let driver = crate::compare_driver();
-    let env: Vec<(&str, &std::ffi::OsStr)> = driver
-        .iter()
-        .map(|icd| ("VK_ICD_FILENAMES", icd.as_os_str()))
-        .collect();
+/// What one run leaves for its crate's `docs/measured/`: `NAME.md` and a sweep's plot.
+struct Output {
+    name: String,
+    markdown: String,
+    plot: Option<std::path::PathBuf>,
+}
+
+impl Output {
+    /// Writes `NAME.md` (and `NAME.svg`) into `docs`.
+    fn write(&self, docs: &Path) -> Result<(), String> {
+        if let Some(plot) = &self.plot {
+            let to = docs.join(format!("{}.svg", self.name));
+            std::fs::copy(plot, &to)
+                .map_err(|e| format!("cannot copy {} to {}: {e}", plot.display(), to.display()))?;
+        }
+        let path = docs.join(format!("{}.md", self.name));
+        std::fs::write(&path, &self.markdown)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        eprintln!("xtask: wrote {}", path.display());
+        Ok(())
+    }
+}
+
+/// The Vulkan driver the runs load: the one `cargo xtask compare` chooses, or none (the
+/// caller's environment or the system's).
+fn driver_env() -> Vec<(&'static str, std::ffi::OsString)> {
+    crate::compare_driver()
+        .map(|icd| ("VK_ICD_FILENAMES", icd.into_os_string()))
+        .into_iter()
+        .collect()
+}
+
+/// The driver files a run loads, as the harness's provenance names them.
+fn drivers_named(env: &[(&str, &std::ffi::OsStr)]) -> String {
+    env.first()
+        .map(|(_, v)| v.to_string_lossy().into_owned())
+        .or_else(|| {
+            ["VK_DRIVER_FILES", "VK_ICD_FILENAMES"]
+                .iter()
+                .find_map(|k| std::env::var(k).ok().filter(|v| !v.is_empty()))
+        })
+        .unwrap_or_else(|| "system".into())
+}
+
+/// Runs `run`: its markdown and plot, not yet written.
+fn regenerate(root: &Path, krate: &str, harness: &str, run: &Run) -> Result<Output, String> {
+    let driver = driver_env();
+    let env: Vec<(&str, &std::ffi::OsStr)> =
+        driver.iter().map(|(k, v)| (*k, v.as_os_str())).collect();
     let started = Instant::now();
-    let body = match run.kind {
+    let (body, plot) = match run.kind {
         RunKind::Harness => {
             let out = root.join("target/evidence").join(krate).join(&run.name);
             prepare_out(root, &out)?;
@@ -160,23 +211,24 @@ fn regenerate(
             if crate::run_in(root, &cmd, &env) != ExitCode::SUCCESS {
                 return Err("the harness failed (above)".into());
             }
-            copy_plot(&out, docs, &run.name)?;
-            harness_markdown(&out)?
+            let plot = Some(out.join("sweep.svg")).filter(|p| p.is_file());
+            (harness_markdown(&out)?, plot)
         }
-        RunKind::CargoTest => test_markdown(root, run, &env)?,
+        RunKind::CargoTest => (test_markdown(root, run, &env)?, None),
     };
     let seconds = started.elapsed().as_secs();
-    let text = format!(
+    let markdown = format!(
         "<!-- Generated by `cargo xtask evidence {krate} {}` from {RUNS}; edits are lost when \
          it runs again. -->\n\n{body}\n_Wall clock of the run: {} min {} s._\n",
         run.name,
         seconds / 60,
         seconds % 60
     );
-    let path = docs.join(format!("{}.md", run.name));
-    std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    eprintln!("xtask: wrote {}", path.display());
-    Ok(())
+    Ok(Output {
+        name: run.name.clone(),
+        markdown,
+        plot,
+    })
 }
 
 /// An empty output folder whose reference cache is the one every evidence run shares.
@@ -197,18 +249,6 @@ fn harness_markdown(out: &Path) -> Result<String, String> {
         .find(|p| p.is_file())
         .ok_or_else(|| format!("{} has no results.md, sweep.md or bench.md", out.display()))
         .and_then(|p| std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display())))
-}
-
-/// A sweep's plot beside its table.
-fn copy_plot(out: &Path, docs: &Path, name: &str) -> Result<(), String> {
-    let plot = out.join("sweep.svg");
-    if !plot.is_file() {
-        return Ok(());
-    }
-    let to = docs.join(format!("{name}.svg"));
-    std::fs::copy(&plot, &to)
-        .map(drop)
-        .map_err(|e| format!("cannot copy {} to {}: {e}", plot.display(), to.display()))
 }
 
 /// A test's standard output under the command, commit and date that made it.
@@ -232,9 +272,7 @@ fn test_markdown(
     if !output.status.success() {
         return Err(format!("`cargo {}` failed", run.args.join(" ")));
     }
-    let drivers = env.first().map_or("system".to_string(), |(_, v)| {
-        v.to_string_lossy().into_owned()
-    });
+    let drivers = drivers_named(env);
     Ok(format!(
         "# Test output\n\n- command line: cargo {}\n- git commit: {}\n- date (UTC): {}\n- Vulkan \
          drivers: {drivers}\n\n```text\n{}```\n",
@@ -303,6 +341,7 @@ mod tests {
                 "line 3: the name is taken",
             ),
             ("a harness compare --out x\n", "line 1: xtask chooses --out"),
+            ("a harness sweep --out=x\n", "line 1: xtask chooses --out"),
         ];
         for (text, why) in cases {
             let err = parse_runs(text).unwrap_err();
