@@ -23,6 +23,8 @@
 //! With NAMEs, only those runs; without, all of them in order. The files are written when the
 //! last run has finished (or one has failed: then those of the runs before it), so that every
 //! run finds the checkout as it was committed and says so (`git commit` without `-dirty`).
+//! Run it on a committed checkout, and commit a crate's files before running another crate's
+//! runs: a run that finds tracked files changed says `-dirty` (xtask warns before it starts).
 
 use std::path::Path;
 use std::process::{Command, ExitCode};
@@ -123,6 +125,12 @@ pub(crate) fn evidence(rest: &[String]) -> ExitCode {
         }
         Err(code) => return code,
     };
+    if commit(&root).ends_with("-dirty") {
+        eprintln!(
+            "xtask: warning: tracked files have changed since the last commit; every file these \
+             runs write will say -dirty (commit first for files that name their commit)"
+        );
+    }
     let docs = manifest
         .parent()
         .expect("the manifest is in a folder")
