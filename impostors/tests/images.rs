@@ -104,11 +104,12 @@ fn evaluate_frames(spec: &str, ids: &[&str], times: &[f32], keep_first_map: bool
             image,
         });
     }
+    // One header line per table, naming it, so that a run's output has no two alike.
     println!(
-        "{spec} at times {times:?} ({SIZE}x{SIZE}, {} masked pixels)",
+        "{spec} at times {times:?} ({SIZE}x{SIZE}, {} masked pixels): technique, masked FLIP, \
+         FLIP, RMSE",
         rows[0].metrics.masked_pixels
     );
-    println!("  technique                          masked FLIP   FLIP      RMSE");
     for r in &rows {
         println!(
             "  {:<34} {:.4}        {:.4}    {:.5}",
@@ -124,10 +125,8 @@ fn evaluate_frames(spec: &str, ids: &[&str], times: &[f32], keep_first_map: bool
         times.last().unwrap(),
         if keep_first_map { "-stale" } else { "" }
     );
-    println!(
-        "  strip: {}",
-        common::save_strip(&strip, &name, 2).display()
-    );
+    common::save_strip(&strip, &name, 2);
+    println!("  strip: {name} (target/impostors-tests/)");
     rows
 }
 

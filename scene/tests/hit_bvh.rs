@@ -106,8 +106,12 @@ fn shown_errors(map: &BvhMap, rays: &[&Ray], method: Method, iterations: u32) ->
 
 fn table(label: &str, map: &BvhMap, rays: &[&Ray]) -> Vec<(Method, u32, f32, f32, f32)> {
     let mut rows = Vec::new();
-    println!("{label}: {} rays; error of the shown point (m)", rays.len());
-    println!("  method         iters   p50        p90        p99        max");
+    // One header line per table, naming it, so that a run's output has no two alike.
+    println!(
+        "{label}, {} rays: error of the shown point (m) by method and iterations: p50, p90, \
+         p99, max",
+        rays.len()
+    );
     for method in [Method::Secant, Method::FalsePosition] {
         for iterations in [0u32, 1, 2, 4, 8] {
             let e = shown_errors(map, rays, method, iterations);
