@@ -118,8 +118,15 @@ fn evaluate_frames(spec: &str, ids: &[&str], times: &[f32], keep_first_map: bool
     }
     let mut strip: Vec<&HdrImage> = vec![&reference.image];
     strip.extend(rows.iter().map(|r| &r.image));
+    // Named after the test (libtest names each test's thread after it): several tests render
+    // the same scene at the same times with other techniques, and one strip each is kept.
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("images")
+        .to_string();
     let name = format!(
-        "images-{}-t{}-at{}{}.png",
+        "{}-{}-t{}-at{}{}.png",
+        test.rsplit("::").next().unwrap_or("images"),
         spec.replace([':', '=', ','], "_"),
         times.len(),
         times.last().unwrap(),
