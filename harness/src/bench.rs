@@ -355,23 +355,16 @@ pub fn run(env: &Env, opts: &BenchOptions) -> Result<BenchReport> {
     Ok(report)
 }
 
-/// `bench.md`: what made the run (command line, commit, date, adapter, driver), then the
-/// table, so that a copy of the file says where its figures come from.
+/// `bench.md`: what made the run (the list `results.md` starts with), then the table, so
+/// that a copy of the file says where its figures come from.
 pub fn page_markdown(report: &BenchReport) -> String {
-    let p = &report.provenance;
-    let rows: [(&str, &str); 7] = [
-        ("command line", &p.command_line),
-        ("git commit", &p.git_commit),
-        ("date (UTC)", &p.date_utc),
-        ("adapter", &crate::provenance::adapter_line(&report.adapter)),
-        ("timer", &report.adapter.timer_kind),
-        ("Vulkan drivers", &p.vulkan_drivers),
-        ("harness", &p.harness_version),
-    ];
-    let list: String = rows
-        .iter()
-        .map(|(what, v)| format!("- {what}: {v}\n"))
-        .collect();
+    let frames = format!(
+        "{} rounds of {} frames per technique",
+        report.rounds, report.frames
+    );
+    let list = report
+        .provenance
+        .markdown(&report.adapter, &report.size, frames);
     format!("# Bench\n\n{list}\n{}", report.markdown)
 }
 

@@ -265,10 +265,7 @@ fn provenance_markdown(report: &RunReport) -> String {
     );
     report
         .provenance
-        .rows(&report.adapter, &report.size, frames)
-        .into_iter()
-        .map(|(what, value)| format!("- {what}: {value}\n"))
-        .collect()
+        .markdown(&report.adapter, &report.size, frames)
 }
 
 /// `results.md`: what made the run, then the markdown table, so that a copy of the file says

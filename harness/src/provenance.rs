@@ -44,6 +44,18 @@ impl Provenance {
             ("Vulkan drivers", self.vulkan_drivers.clone()),
             ("harness", self.harness_version.clone()),
         ]
+        .into_iter()
+        // A run without a ground truth (a bench) has no reference to name.
+        .filter(|(what, value)| !(*what == "reference" && value.is_empty()))
+        .collect()
+    }
+
+    /// [`Provenance::rows`] as the markdown list a page starts with.
+    pub(crate) fn markdown(&self, adapter: &AdapterJson, size: &str, frames: String) -> String {
+        self.rows(adapter, size, frames)
+            .into_iter()
+            .map(|(what, value)| format!("- {what}: {value}\n"))
+            .collect()
     }
 
     /// This process's command line, the working directory's commit and the time now.
@@ -122,7 +134,7 @@ fn utc(secs: u64) -> String {
     )
 }
 
-pub(crate) fn adapter_line(a: &AdapterJson) -> String {
+fn adapter_line(a: &AdapterJson) -> String {
     format!(
         "{} ({}, {}, driver {}{})",
         a.name,
