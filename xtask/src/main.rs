@@ -50,6 +50,7 @@
 
 mod evidence;
 mod runner;
+mod runs;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -733,17 +734,7 @@ fn run_with(cmd: &[String], env: &[(&str, &std::ffi::OsStr)]) -> ExitCode {
 
 /// [`run_with`] in folder `dir`.
 fn run_in(dir: &Path, cmd: &[String], env: &[(&str, &std::ffi::OsStr)]) -> ExitCode {
-    print_command(cmd);
-    let status = Command::new(&cmd[0])
-        .args(&cmd[1..])
-        .current_dir(dir)
-        .envs(env.iter().copied())
-        .env("CARGO_INCREMENTAL", ONE_BUILD_INCREMENTAL)
-        .env("NODEVICE_SELECT", "1")
-        // The HTML report's browser test fails, rather than skips, without Chromium: the
-        // `test` job has installed it.
-        .env("HARNESS_BROWSER_TEST", "require")
-        .status();
+    let status = command_in(dir, cmd, env).status();
     match status {
         Ok(s) => match s.code() {
             Some(0) => ExitCode::SUCCESS,
@@ -758,6 +749,22 @@ fn run_in(dir: &Path, cmd: &[String], env: &[(&str, &std::ffi::OsStr)]) -> ExitC
             ExitCode::FAILURE
         }
     }
+}
+
+/// `cmd` in folder `dir` with `env` and the environment every job's commands share, printed.
+fn command_in(dir: &Path, cmd: &[String], env: &[(&str, &std::ffi::OsStr)]) -> Command {
+    print_command(cmd);
+    let mut command = Command::new(&cmd[0]);
+    command
+        .args(&cmd[1..])
+        .current_dir(dir)
+        .envs(env.iter().copied())
+        .env("CARGO_INCREMENTAL", ONE_BUILD_INCREMENTAL)
+        .env("NODEVICE_SELECT", "1")
+        // The HTML report's browser test fails, rather than skips, without Chromium: the
+        // `test` job has installed it.
+        .env("HARNESS_BROWSER_TEST", "require");
+    command
 }
 
 /// Output of a command, or None when it cannot run.
